@@ -1,0 +1,2 @@
+//! GPU rendering.
+pub mod settings;

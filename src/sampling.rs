@@ -1,0 +1,115 @@
+//! The sample grid along a ray, shared by every strategy so that leaping never changes which
+//! samples are taken (DESIGN.md, "Conventions").
+//!
+//! A ray inside the volume runs from `t = 0` (entry) to `t = L` (exit), in millimetres. It is cut
+//! into `n = ceil(L / Δt)` segments `[kΔt, min((k+1)Δt, L)]`; segment `k` is represented by one
+//! sample at `t_k = min((k + offset)·Δt, L)` with weight `w_k = min(Δt, L − kΔt) / Δt`. The
+//! weight scales the opacity correction, `α' = 1 − (1 − α)^(w_k·Δt/d₀)`, so a ray through a
+//! homogeneous region composites exactly `1 − (1 − α)^(L/d₀)` whatever the step. Only the last
+//! segment can be partial. The WGSL ray loop (`shaders/march.wgsl`) implements the same rule.
+
+/// The samples of one ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleGrid {
+    /// Path length inside the volume, millimetres.
+    pub length_mm: f64,
+    /// Step between samples, millimetres.
+    pub step_mm: f64,
+    /// Offset of the first sample within its segment, in steps, in `[0, 1)`.
+    pub offset: f64,
+}
+
+/// One sample of a [`SampleGrid`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridSample {
+    /// Segment index.
+    pub index: u64,
+    /// Distance from the entry point, millimetres.
+    pub t_mm: f64,
+    /// Length of the segment the sample represents, as a fraction of the step (in `(0, 1]`).
+    pub weight: f64,
+}
+
+impl SampleGrid {
+    /// Number of segments (and samples); zero for an empty or degenerate path.
+    pub fn count(&self) -> u64 {
+        if !(self.length_mm > 0.0 && self.step_mm > 0.0) {
+            return 0;
+        }
+        (self.length_mm / self.step_mm).ceil() as u64
+    }
+
+    /// Sample `k` (`k < count()`).
+    pub fn sample(&self, k: u64) -> GridSample {
+        let start = k as f64 * self.step_mm;
+        GridSample {
+            index: k,
+            t_mm: ((k as f64 + self.offset) * self.step_mm).min(self.length_mm),
+            weight: ((self.length_mm - start).min(self.step_mm) / self.step_mm).clamp(0.0, 1.0),
+        }
+    }
+
+    /// All samples, front to back.
+    pub fn samples(&self) -> impl Iterator<Item = GridSample> + '_ {
+        (0..self.count()).map(|k| self.sample(k))
+    }
+}
+
+/// Opacity of a sample of weight `weight` (fraction of a step), for a transfer-function opacity
+/// `alpha` defined per `d0` and a step of `step_over_d0` units of `d0`.
+pub fn corrected_opacity(alpha: f64, step_over_d0: f64, weight: f64) -> f64 {
+    let alpha = alpha.clamp(0.0, 1.0);
+    if alpha >= 1.0 {
+        return 1.0;
+    }
+    1.0 - (1.0 - alpha).powf(step_over_d0 * weight)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn weights_sum_to_the_path_length() {
+        for (length, step) in [(10.0, 3.0), (9.0, 3.0), (0.1, 4.0), (7.3, 0.125)] {
+            let grid = SampleGrid {
+                length_mm: length,
+                step_mm: step,
+                offset: 0.5,
+            };
+            let total: f64 = grid.samples().map(|s| s.weight * step).sum();
+            assert!((total - length).abs() < 1e-9, "{length} {step}: {total}");
+            assert!(grid.samples().all(|s| s.t_mm <= length && s.t_mm >= 0.0));
+        }
+    }
+
+    #[test]
+    fn homogeneous_slab_composites_to_the_analytic_opacity() {
+        let (alpha, d0, length) = (0.3, 1.0, 10.0);
+        for step in [0.125, 0.5, 1.0, 3.0, 4.0] {
+            let grid = SampleGrid {
+                length_mm: length,
+                step_mm: step,
+                offset: 0.5,
+            };
+            let transmittance: f64 = grid
+                .samples()
+                .map(|s| 1.0 - corrected_opacity(alpha, step / d0, s.weight))
+                .product();
+            let expected = (1.0_f64 - alpha).powf(length / d0);
+            assert!((transmittance - expected).abs() < 1e-12, "step {step}");
+        }
+    }
+
+    #[test]
+    fn degenerate_paths_have_no_samples() {
+        for (l, s) in [(0.0, 1.0), (-1.0, 1.0), (1.0, 0.0), (f64::NAN, 1.0)] {
+            let grid = SampleGrid {
+                length_mm: l,
+                step_mm: s,
+                offset: 0.5,
+            };
+            assert_eq!(grid.count(), 0);
+        }
+    }
+}

@@ -1,0 +1,253 @@
+//! The volume model: a regular 3D grid of scalar samples, its spacing in millimetres, the mapping
+//! from stored values to the data units the user sees, and statistics over those values.
+//!
+//! Conventions shared by every part of LeapView:
+//! - Samples are stored x fastest, then y, then z (`index = x + dims[0] * (y + dims[1] * z)`).
+//! - Voxel centre `(i, j, k)` sits at world position `(i * sx, j * sy, k * sz)` millimetres, so the
+//!   volume's bounding box spans `[-s/2, (n - 1/2) * s]` on each axis: `n * s` millimetres, the
+//!   paper's `size_i * spacing_i`.
+//! - Data units are `stored * slope + intercept` (NIfTI `scl_slope`/`scl_inter`, DICOM rescale).
+//!   Ranges, histograms, transfer functions and iso values are all in data units.
+//! - Non-finite samples (NaN, ±Inf in float volumes) are kept out of the range and the histogram
+//!   and are rendered transparent.
+
+pub mod error;
+pub mod limits;
+pub mod load;
+pub mod nifti;
+pub mod nrrd;
+pub mod raw;
+pub mod samples;
+pub mod stats;
+pub mod synthetic;
+
+pub use error::VolumeError;
+pub use load::{LoadOptions, load_volume};
+pub use samples::{Samples, ScalarType};
+pub use stats::{Histogram, ValueRange};
+
+/// The affine map from stored sample values to data units: `data = stored * slope + intercept`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ValueMapping {
+    /// Multiplier applied to stored values (NIfTI `scl_slope`); never zero or non-finite.
+    pub slope: f64,
+    /// Offset added after the multiplication (NIfTI `scl_inter`, DICOM rescale intercept).
+    pub intercept: f64,
+}
+
+impl ValueMapping {
+    /// The identity mapping: data units are the stored values.
+    pub const IDENTITY: Self = Self {
+        slope: 1.0,
+        intercept: 0.0,
+    };
+
+    /// Maps a stored value to data units.
+    pub fn apply(&self, stored: f64) -> f64 {
+        stored * self.slope + self.intercept
+    }
+}
+
+impl Default for ValueMapping {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+/// A scalar volume on a regular grid, with its statistics computed once at construction.
+#[derive(Clone, Debug)]
+pub struct Volume {
+    name: String,
+    dims: [u32; 3],
+    spacing_mm: [f64; 3],
+    samples: Samples,
+    mapping: ValueMapping,
+    range: Option<ValueRange>,
+    histogram: Histogram,
+    non_finite_count: u64,
+}
+
+impl Volume {
+    /// Builds a volume, checking that the sample count matches the dimensions and that the spacing
+    /// and mapping are usable, and computes its value range and histogram.
+    pub fn new(
+        name: impl Into<String>,
+        dims: [u32; 3],
+        spacing_mm: [f64; 3],
+        samples: Samples,
+        mapping: ValueMapping,
+    ) -> Result<Self, VolumeError> {
+        if dims.contains(&0) {
+            return Err(VolumeError::ZeroDimension { dims });
+        }
+        let expected = dims.iter().map(|&d| d as u64).product::<u64>();
+        if samples.len() as u64 != expected {
+            return Err(VolumeError::SampleCountMismatch {
+                dims,
+                expected,
+                actual: samples.len() as u64,
+            });
+        }
+        if spacing_mm.iter().any(|s| !s.is_finite() || *s <= 0.0) {
+            return Err(VolumeError::BadSpacing { spacing_mm });
+        }
+        if !mapping.slope.is_finite() || mapping.slope == 0.0 || !mapping.intercept.is_finite() {
+            return Err(VolumeError::BadValueMapping {
+                slope: mapping.slope,
+                intercept: mapping.intercept,
+            });
+        }
+        let (range, histogram, non_finite_count) = stats::compute(&samples, mapping);
+        Ok(Self {
+            name: name.into(),
+            dims,
+            spacing_mm,
+            samples,
+            mapping,
+            range,
+            histogram,
+            non_finite_count,
+        })
+    }
+
+    /// A short human-readable name (usually the file name).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Number of samples along x, y and z.
+    pub fn dims(&self) -> [u32; 3] {
+        self.dims
+    }
+
+    /// Total number of samples.
+    pub fn sample_count(&self) -> u64 {
+        self.dims.iter().map(|&d| d as u64).product()
+    }
+
+    /// Distance between neighbouring voxel centres along x, y and z, in millimetres.
+    pub fn spacing_mm(&self) -> [f64; 3] {
+        self.spacing_mm
+    }
+
+    /// The smallest spacing: the unit length `d0` that transfer-function opacities refer to.
+    pub fn min_spacing_mm(&self) -> f64 {
+        self.spacing_mm
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Size of the bounding box (`dims * spacing`) in millimetres.
+    pub fn extent_mm(&self) -> [f64; 3] {
+        std::array::from_fn(|a| self.dims[a] as f64 * self.spacing_mm[a])
+    }
+
+    /// The stored samples, x fastest.
+    pub fn samples(&self) -> &Samples {
+        &self.samples
+    }
+
+    /// The stored type of the samples.
+    pub fn scalar_type(&self) -> ScalarType {
+        self.samples.scalar_type()
+    }
+
+    /// The map from stored values to data units.
+    pub fn mapping(&self) -> ValueMapping {
+        self.mapping
+    }
+
+    /// Smallest and largest finite value in data units; `None` when no sample is finite.
+    pub fn value_range(&self) -> Option<ValueRange> {
+        self.range
+    }
+
+    /// The range used to normalise values for the GPU and the transfer-function lookup: the value
+    /// range, widened to a unit interval when the volume is constant (or has no finite sample) so
+    /// that normalising never divides by zero.
+    pub fn normalization_range(&self) -> ValueRange {
+        match self.range {
+            Some(r) if r.max > r.min => r,
+            Some(r) => ValueRange {
+                min: r.min,
+                max: r.min + 1.0,
+            },
+            None => ValueRange { min: 0.0, max: 1.0 },
+        }
+    }
+
+    /// Histogram of the finite values in data units.
+    pub fn histogram(&self) -> &Histogram {
+        &self.histogram
+    }
+
+    /// Number of NaN or infinite samples (always zero for integer volumes).
+    pub fn non_finite_count(&self) -> u64 {
+        self.non_finite_count
+    }
+
+    /// Linear index of voxel `(x, y, z)`; the caller keeps coordinates inside `dims`.
+    pub fn index(&self, x: u32, y: u32, z: u32) -> usize {
+        x as usize + self.dims[0] as usize * (y as usize + self.dims[1] as usize * z as usize)
+    }
+
+    /// The value of voxel `(x, y, z)` in data units (NaN or ±Inf where the sample is not finite).
+    pub fn value(&self, x: u32, y: u32, z: u32) -> f64 {
+        self.mapping
+            .apply(self.samples.get_f64(self.index(x, y, z)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn new_checks_sample_count_and_spacing() {
+        let ok = Volume::new(
+            "t",
+            [2, 2, 1],
+            [1.0, 1.0, 2.0],
+            Samples::U8(vec![0, 1, 2, 3]),
+            ValueMapping::IDENTITY,
+        );
+        let v = ok.expect("valid volume");
+        assert_eq!(v.value(1, 1, 0), 3.0);
+        assert_eq!(v.extent_mm(), [2.0, 2.0, 2.0]);
+        assert!(matches!(
+            Volume::new(
+                "t",
+                [2, 2, 2],
+                [1.0; 3],
+                Samples::U8(vec![0; 4]),
+                ValueMapping::IDENTITY
+            ),
+            Err(VolumeError::SampleCountMismatch { .. })
+        ));
+        assert!(matches!(
+            Volume::new(
+                "t",
+                [1, 1, 1],
+                [1.0, 0.0, 1.0],
+                Samples::U8(vec![0]),
+                ValueMapping::IDENTITY
+            ),
+            Err(VolumeError::BadSpacing { .. })
+        ));
+    }
+
+    #[test]
+    fn constant_volume_normalises_over_a_unit_interval() {
+        let v = Volume::new(
+            "c",
+            [2, 1, 1],
+            [1.0; 3],
+            Samples::I16(vec![7, 7]),
+            ValueMapping::IDENTITY,
+        )
+        .expect("valid volume");
+        let r = v.normalization_range();
+        assert_eq!((r.min, r.max), (7.0, 8.0));
+    }
+}

@@ -1,0 +1,133 @@
+//! Typed storage of a volume's samples, in the type the file stored them.
+
+/// The stored type of a volume's samples.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ScalarType {
+    /// Unsigned 8-bit integer.
+    U8,
+    /// Signed 8-bit integer.
+    I8,
+    /// Unsigned 16-bit integer.
+    U16,
+    /// Signed 16-bit integer.
+    I16,
+    /// Unsigned 32-bit integer.
+    U32,
+    /// Signed 32-bit integer.
+    I32,
+    /// 32-bit IEEE float.
+    F32,
+    /// 64-bit IEEE float.
+    F64,
+}
+
+impl ScalarType {
+    /// Size of one sample in bytes.
+    pub fn size_bytes(self) -> usize {
+        match self {
+            Self::U8 | Self::I8 => 1,
+            Self::U16 | Self::I16 => 2,
+            Self::U32 | Self::I32 | Self::F32 => 4,
+            Self::F64 => 8,
+        }
+    }
+
+    /// Whether the type can hold NaN or infinities.
+    pub fn is_float(self) -> bool {
+        matches!(self, Self::F32 | Self::F64)
+    }
+
+    /// The name used by NRRD headers and the command line (`uint8`, `int16`, `float`…).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::U8 => "uint8",
+            Self::I8 => "int8",
+            Self::U16 => "uint16",
+            Self::I16 => "int16",
+            Self::U32 => "uint32",
+            Self::I32 => "int32",
+            Self::F32 => "float",
+            Self::F64 => "double",
+        }
+    }
+}
+
+impl std::fmt::Display for ScalarType {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A volume's samples in their stored type, x fastest.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Samples {
+    /// Unsigned 8-bit samples.
+    U8(Vec<u8>),
+    /// Signed 8-bit samples.
+    I8(Vec<i8>),
+    /// Unsigned 16-bit samples.
+    U16(Vec<u16>),
+    /// Signed 16-bit samples.
+    I16(Vec<i16>),
+    /// Unsigned 32-bit samples.
+    U32(Vec<u32>),
+    /// Signed 32-bit samples.
+    I32(Vec<i32>),
+    /// 32-bit float samples (may hold NaN or ±Inf).
+    F32(Vec<f32>),
+    /// 64-bit float samples (may hold NaN or ±Inf).
+    F64(Vec<f64>),
+}
+
+/// Applies `$body` to the inner vector of every variant, bound as `$v`.
+macro_rules! each_variant {
+    ($samples:expr, $v:ident => $body:expr) => {
+        match $samples {
+            Samples::U8($v) => $body,
+            Samples::I8($v) => $body,
+            Samples::U16($v) => $body,
+            Samples::I16($v) => $body,
+            Samples::U32($v) => $body,
+            Samples::I32($v) => $body,
+            Samples::F32($v) => $body,
+            Samples::F64($v) => $body,
+        }
+    };
+}
+
+impl Samples {
+    /// The stored type.
+    pub fn scalar_type(&self) -> ScalarType {
+        match self {
+            Self::U8(_) => ScalarType::U8,
+            Self::I8(_) => ScalarType::I8,
+            Self::U16(_) => ScalarType::U16,
+            Self::I16(_) => ScalarType::I16,
+            Self::U32(_) => ScalarType::U32,
+            Self::I32(_) => ScalarType::I32,
+            Self::F32(_) => ScalarType::F32,
+            Self::F64(_) => ScalarType::F64,
+        }
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        each_variant!(self, v => v.len())
+    }
+
+    /// Whether there are no samples.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The stored value at `index` as f64 (exact for every stored type but u64-range integers,
+    /// which we do not store). Panics if `index` is out of bounds, like slice indexing.
+    pub fn get_f64(&self, index: usize) -> f64 {
+        each_variant!(self, v => v[index] as f64)
+    }
+
+    /// Calls `f` with every stored value as f64, in storage order.
+    pub fn for_each_f64(&self, mut f: impl FnMut(f64)) {
+        each_variant!(self, v => v.iter().for_each(|&x| f(x as f64)))
+    }
+}

@@ -1,0 +1,215 @@
+//! Value statistics of a volume in data units: range, histogram, percentiles, empty fraction.
+
+use super::{Samples, ValueMapping};
+
+/// Number of histogram bins kept with every volume.
+pub const HISTOGRAM_BINS: usize = 256;
+
+/// A closed interval of data values.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ValueRange {
+    /// Smallest value.
+    pub min: f64,
+    /// Largest value.
+    pub max: f64,
+}
+
+impl ValueRange {
+    /// `max - min`.
+    pub fn width(&self) -> f64 {
+        self.max - self.min
+    }
+
+    /// Maps `value` to `[0, 1]` over this range (not clamped).
+    pub fn normalize(&self, value: f64) -> f64 {
+        (value - self.min) / (self.max - self.min)
+    }
+
+    /// Maps a normalised coordinate back to data units.
+    pub fn denormalize(&self, t: f64) -> f64 {
+        self.min + t * (self.max - self.min)
+    }
+}
+
+/// Counts of finite data values in equal-width bins over the volume's value range.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Histogram {
+    /// The interval the bins cover (the volume's value range).
+    pub range: ValueRange,
+    /// Sample counts per bin; the last bin includes `range.max`.
+    pub counts: Vec<u64>,
+}
+
+impl Histogram {
+    /// The bin a value falls into, clamped to the first and last bin.
+    pub fn bin_of(&self, value: f64) -> usize {
+        let n = self.counts.len();
+        if n == 0 || self.range.width() <= 0.0 {
+            return 0;
+        }
+        let t = self.range.normalize(value) * n as f64;
+        (t.max(0.0) as usize).min(n - 1)
+    }
+
+    /// Total number of counted (finite) samples.
+    pub fn total(&self) -> u64 {
+        self.counts.iter().sum()
+    }
+}
+
+/// Computes the finite value range, the histogram and the number of non-finite samples.
+pub(super) fn compute(
+    samples: &Samples,
+    mapping: ValueMapping,
+) -> (Option<ValueRange>, Histogram, u64) {
+    let mut min = f64::INFINITY;
+    let mut max = f64::NEG_INFINITY;
+    let mut non_finite = 0u64;
+    samples.for_each_f64(|s| {
+        let v = mapping.apply(s);
+        if v.is_finite() {
+            min = min.min(v);
+            max = max.max(v);
+        } else {
+            non_finite += 1;
+        }
+    });
+    let range = (min <= max).then_some(ValueRange { min, max });
+    let hist_range = range.unwrap_or(ValueRange { min: 0.0, max: 0.0 });
+    let mut histogram = Histogram {
+        range: hist_range,
+        counts: vec![0; HISTOGRAM_BINS],
+    };
+    if range.is_some() {
+        samples.for_each_f64(|s| {
+            let v = mapping.apply(s);
+            if v.is_finite() {
+                let bin = histogram.bin_of(v);
+                histogram.counts[bin] += 1;
+            }
+        });
+    }
+    (range, histogram, non_finite)
+}
+
+/// The `q`-th quantile (`q` in `[0, 1]`, nearest-rank on the sorted finite values, as numpy's
+/// `method="lower"` would not interpolate) of the volume's finite data values; `None` when
+/// no sample is finite.
+///
+/// Exact for every type: 8- and 16-bit volumes are counted per stored value, wider types are
+/// copied and partially sorted.
+pub fn quantile(samples: &Samples, mapping: ValueMapping, q: f64) -> Option<f64> {
+    let q = q.clamp(0.0, 1.0);
+    let finite: Vec<f64> = match samples {
+        Samples::U8(v) => return quantile_by_counting(v.iter().map(|&x| x as i64), 0, q, mapping),
+        Samples::I8(v) => {
+            return quantile_by_counting(v.iter().map(|&x| x as i64), -128, q, mapping);
+        }
+        Samples::U16(v) => return quantile_by_counting(v.iter().map(|&x| x as i64), 0, q, mapping),
+        Samples::I16(v) => {
+            return quantile_by_counting(v.iter().map(|&x| x as i64), -32768, q, mapping);
+        }
+        other => {
+            let mut all = Vec::with_capacity(other.len());
+            other.for_each_f64(|s| {
+                let v = mapping.apply(s);
+                if v.is_finite() {
+                    all.push(v);
+                }
+            });
+            all
+        }
+    };
+    let mut finite = finite;
+    if finite.is_empty() {
+        return None;
+    }
+    let rank = nearest_rank(finite.len(), q);
+    let (_, value, _) = finite.select_nth_unstable_by(rank, f64::total_cmp);
+    Some(*value)
+}
+
+/// Index into the sorted values that numpy's default (`linear`) quantile would start from.
+fn nearest_rank(n: usize, q: f64) -> usize {
+    ((q * (n - 1) as f64).floor() as usize).min(n - 1)
+}
+
+fn quantile_by_counting(
+    stored: impl Iterator<Item = i64>,
+    lowest: i64,
+    q: f64,
+    mapping: ValueMapping,
+) -> Option<f64> {
+    let mut counts = vec![0u64; 65536];
+    let mut n = 0usize;
+    for s in stored {
+        counts[(s - lowest) as usize] += 1;
+        n += 1;
+    }
+    if n == 0 {
+        return None;
+    }
+    let rank = nearest_rank(n, q) as u64;
+    let mut seen = 0u64;
+    // A negative slope reverses the order of data values relative to stored values.
+    let order: Box<dyn Iterator<Item = usize>> = if mapping.slope > 0.0 {
+        Box::new(0..counts.len())
+    } else {
+        Box::new((0..counts.len()).rev())
+    };
+    for i in order {
+        seen += counts[i];
+        if seen > rank {
+            return Some(mapping.apply((i as i64 + lowest) as f64));
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn range_and_histogram_skip_non_finite_values() {
+        let s = Samples::F32(vec![1.0, f32::NAN, 3.0, f32::INFINITY, 2.0]);
+        let (range, hist, bad) = compute(&s, ValueMapping::IDENTITY);
+        assert_eq!(range, Some(ValueRange { min: 1.0, max: 3.0 }));
+        assert_eq!(bad, 2);
+        assert_eq!(hist.total(), 3);
+        assert_eq!(hist.counts[0], 1);
+        assert_eq!(hist.counts[HISTOGRAM_BINS - 1], 1);
+    }
+
+    #[test]
+    fn slope_and_intercept_apply_to_the_range() {
+        let s = Samples::U8(vec![0, 10]);
+        let m = ValueMapping {
+            slope: 2.0,
+            intercept: -5.0,
+        };
+        let (range, _, _) = compute(&s, m);
+        assert_eq!(
+            range,
+            Some(ValueRange {
+                min: -5.0,
+                max: 15.0
+            })
+        );
+    }
+
+    #[test]
+    fn quantiles_agree_between_counting_and_sorting() {
+        let values: Vec<i16> = (0..1000).map(|i| ((i * 37) % 1000) as i16 - 300).collect();
+        let as_f32: Vec<f32> = values.iter().map(|&v| v as f32).collect();
+        for q in [0.0, 0.1, 0.5, 0.999, 1.0] {
+            let a = quantile(&Samples::I16(values.clone()), ValueMapping::IDENTITY, q);
+            let b = quantile(&Samples::F32(as_f32.clone()), ValueMapping::IDENTITY, q);
+            assert_eq!(a, b, "q = {q}");
+        }
+        assert_eq!(
+            quantile(&Samples::I16(values), ValueMapping::IDENTITY, 0.0),
+            Some(-300.0)
+        );
+    }
+}
