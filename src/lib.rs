@@ -5,6 +5,8 @@
 //! window, the command line and the tests share.
 
 pub mod camera;
+pub mod imaging;
+pub mod reference;
 pub mod render;
 pub mod sampling;
 pub mod transfer;

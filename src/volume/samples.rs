@@ -52,6 +52,24 @@ impl ScalarType {
     }
 }
 
+impl ScalarType {
+    /// Parses a type name as the command line takes it: `uint8`/`u8`, `int8`/`i8`, `uint16`/`u16`,
+    /// `int16`/`i16`, `uint32`/`u32`, `int32`/`i32`, `float`/`f32`, `double`/`f64`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Some(match name.trim().to_ascii_lowercase().as_str() {
+            "uint8" | "u8" | "uchar" => Self::U8,
+            "int8" | "i8" => Self::I8,
+            "uint16" | "u16" | "ushort" => Self::U16,
+            "int16" | "i16" | "short" => Self::I16,
+            "uint32" | "u32" | "uint" => Self::U32,
+            "int32" | "i32" | "int" => Self::I32,
+            "float" | "f32" | "float32" => Self::F32,
+            "double" | "f64" | "float64" => Self::F64,
+            _ => return None,
+        })
+    }
+}
+
 impl std::fmt::Display for ScalarType {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.name())
@@ -122,11 +140,14 @@ impl Samples {
 
     /// The stored value at `index` as f64 (exact for every stored type but u64-range integers,
     /// which we do not store). Panics if `index` is out of bounds, like slice indexing.
+    // The f64 variant casts to itself; the macro treats all variants alike.
+    #[allow(clippy::unnecessary_cast)]
     pub fn get_f64(&self, index: usize) -> f64 {
         each_variant!(self, v => v[index] as f64)
     }
 
     /// Calls `f` with every stored value as f64, in storage order.
+    #[allow(clippy::unnecessary_cast)]
     pub fn for_each_f64(&self, mut f: impl FnMut(f64)) {
         each_variant!(self, v => v.iter().for_each(|&x| f(x as f64)))
     }

@@ -1,0 +1,192 @@
+//! The command-line grammar (DESIGN.md, "The command line").
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+use leapview::camera::ProjectionKind;
+use leapview::render::{Mode, RenderPath, Strategy};
+
+/// LeapView: GPU volume ray casting for CT and MRI with empty-space leaping.
+#[derive(Parser, Debug)]
+#[command(version, about, args_conflicts_with_subcommands = true)]
+pub struct Cli {
+    /// What to do; without a command, the viewer window opens.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    /// Volume to open in the window (NRRD, NIfTI, raw); without one, a generated Shepp–Logan head
+    /// phantom opens.
+    pub file: Option<PathBuf>,
+    /// Layout of a raw file.
+    #[command(flatten)]
+    pub raw: RawArgs,
+}
+
+/// Subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a volume to a PNG or EXR file without a window.
+    Render(Box<RenderArgs>),
+    /// Print a volume's dimensions, spacing, type, value range and histogram summary.
+    Info(InfoArgs),
+}
+
+/// How to read a headerless raw file.
+#[derive(Args, Debug, Clone, Default)]
+pub struct RawArgs {
+    /// Raw files: samples along x, y, z (e.g. `256,256,128`).
+    #[arg(long, value_parser = parse_dims, global = true)]
+    pub dims: Option<[u32; 3]>,
+    /// Raw files: sample type (uint8, int8, uint16, int16, uint32, int32, float, double).
+    #[arg(long = "type", global = true)]
+    pub scalar_type: Option<String>,
+    /// Raw files: voxel spacing in millimetres (default 1,1,1).
+    #[arg(long, value_parser = parse_vec3, global = true)]
+    pub spacing: Option<[f64; 3]>,
+    /// Raw files: samples are big-endian (default little).
+    #[arg(long, global = true)]
+    pub big_endian: bool,
+}
+
+/// `leapview render`.
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// The volume file.
+    pub file: PathBuf,
+    /// Output image: `.png` (8-bit RGBA) or `.exr` (linear RGBA f32).
+    #[arg(long, short)]
+    pub out: PathBuf,
+    /// Visual effect.
+    #[arg(long, value_enum, default_value = "dvr")]
+    pub mode: Mode,
+    /// Ray-casting strategy.
+    #[arg(long, value_enum, default_value = "rc-t")]
+    pub strategy: Strategy,
+    /// Where the ray loop runs; `auto` times both once and picks the faster.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub path: RenderPath,
+    /// Image size `WxH`.
+    #[arg(long, value_parser = parse_size, default_value = "512x512")]
+    pub size: [u32; 2],
+    /// Camera placement.
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    /// Transfer function: a preset name or a JSON file.
+    #[arg(long, default_value = "grey-ramp")]
+    pub tf: String,
+    /// Sample step in units of the smallest voxel spacing.
+    #[arg(long, default_value_t = 0.5)]
+    pub step: f64,
+    /// RC-t stops once accumulated opacity exceeds this.
+    #[arg(long, default_value_t = leapview::render::settings::DEFAULT_TERMINATION_ALPHA)]
+    pub termination: f64,
+    /// Background colour `R,G,B` in 0..1.
+    #[arg(long, value_parser = parse_vec3, default_value = "0,0,0")]
+    pub background: [f64; 3],
+    /// Print samples taken, samples with non-zero opacity, rays and GPU milliseconds (median of
+    /// several frames after a warm-up).
+    #[arg(long)]
+    pub stats: bool,
+}
+
+/// Camera placement shared by `render` (and later `bench`).
+#[derive(Args, Debug, Clone)]
+pub struct CameraArgs {
+    /// Perspective or orthographic projection.
+    #[arg(long, value_enum, default_value = "perspective")]
+    pub projection: ProjectionKind,
+    /// Look along an axis of the volume (`+x`, `-x`, `+y`, `-y`, `+z`, `-z`) or `oblique`.
+    #[arg(long, allow_hyphen_values = true, default_value = "oblique")]
+    pub view: String,
+    /// Orbit azimuth in degrees (0 looks along +y; overrides --view).
+    #[arg(long, allow_hyphen_values = true)]
+    pub azimuth: Option<f64>,
+    /// Orbit elevation in degrees (with --azimuth; default 0).
+    #[arg(long, allow_hyphen_values = true)]
+    pub elevation: Option<f64>,
+    /// Explicit eye position `X,Y,Z` in world millimetres (voxel centre (i,j,k) at (i·sx, j·sy, k·sz)).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub eye: Option<[f64; 3]>,
+    /// Point looked at, with --eye (default: the volume's centre).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub target: Option<[f64; 3]>,
+    /// Up direction, with --eye (default +z, or −y when looking along z).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub up: Option<[f64; 3]>,
+    /// Vertical field of view in degrees (perspective).
+    #[arg(long)]
+    pub fov: Option<f64>,
+}
+
+/// `leapview info`.
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    /// The volume file.
+    pub file: PathBuf,
+    /// Also report the share of voxels this transfer function (preset or JSON file) makes
+    /// fully transparent.
+    #[arg(long)]
+    pub tf: Option<String>,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn parse_list<const N: usize, T: std::str::FromStr>(s: &str, what: &str) -> Result<[T; N], String> {
+    let parts: Vec<&str> = s.split([',', 'x', 'X']).map(str::trim).collect();
+    if parts.len() != N {
+        return Err(format!(
+            "expected {N} {what} separated by commas, got {s:?}"
+        ));
+    }
+    let mut values = Vec::with_capacity(N);
+    for p in parts {
+        values.push(
+            p.parse::<T>()
+                .map_err(|_| format!("{p:?} is not a valid number in {s:?}"))?,
+        );
+    }
+    values
+        .try_into()
+        .map_err(|_| format!("expected {N} {what}"))
+}
+
+fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
+    let v: [f64; 3] = parse_list(s, "numbers")?;
+    if v.iter().any(|x| !x.is_finite()) {
+        return Err(format!("{s:?} holds a value that is not finite"));
+    }
+    Ok(v)
+}
+
+fn parse_dims(s: &str) -> Result<[u32; 3], String> {
+    parse_list(s, "dimensions")
+}
+
+fn parse_size(s: &str) -> Result<[u32; 2], String> {
+    let v: [u32; 2] = parse_list(s, "sizes (WxH)")?;
+    if v.contains(&0) {
+        return Err(format!("image size {s:?} has a zero side"));
+    }
+    Ok(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lists_parse_and_reject() {
+        assert_eq!(parse_size("640x480"), Ok([640, 480]));
+        assert!(parse_size("640x0").is_err());
+        assert_eq!(parse_vec3("1,-2.5,3"), Ok([1.0, -2.5, 3.0]));
+        assert!(parse_vec3("1,2").is_err());
+        assert!(parse_vec3("1,nan,2").is_err());
+        assert_eq!(parse_dims("4,5,6"), Ok([4, 5, 6]));
+    }
+
+    #[test]
+    fn grammar_is_consistent() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
+}

@@ -1,0 +1,117 @@
+//! `leapview render`: one frame to a PNG or EXR file, optionally with statistics.
+
+use anyhow::Context;
+use leapview::camera::Aabb;
+use leapview::render::renderer::RenderError;
+use leapview::render::{FrameRequest, GpuContext, RenderSettings, VolumeRenderer};
+use leapview::transfer::TransferFunction;
+
+use super::args::{RawArgs, RenderArgs};
+use super::{Failure, camera_from_args, load};
+
+/// Frames timed for `--stats`, after one warm-up frame; the median is reported.
+const TIMED_FRAMES: usize = 5;
+
+/// Maps a renderer error to a failure: volumes or images past the GPU's limits are bad input.
+fn render_failure(e: RenderError) -> Failure {
+    match e {
+        RenderError::Volume(_) | RenderError::ImageSize { .. } | RenderError::Settings(_) => {
+            Failure::BadInput(e.into())
+        }
+        other => Failure::Other(other.into()),
+    }
+}
+
+/// Runs the command.
+pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
+    let volume = load(&args.file, raw)?;
+    let tf =
+        TransferFunction::from_preset_or_file(&args.tf).map_err(|e| Failure::BadInput(e.into()))?;
+    let settings = RenderSettings {
+        mode: args.mode,
+        strategy: args.strategy,
+        path: args.path,
+        step_vox: args.step,
+        termination_alpha: args.termination,
+        background: args.background,
+        ..RenderSettings::default()
+    };
+    settings
+        .validate()
+        .map_err(|e| Failure::BadInput(e.into()))?;
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let camera = camera_from_args(&args.camera, &bounds)?;
+    let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
+    let adapter = ctx.adapter_summary();
+    let mut renderer = VolumeRenderer::new(ctx).map_err(render_failure)?;
+    renderer.set_volume(&volume).map_err(render_failure)?;
+    renderer.set_transfer_function(&tf);
+    let request = FrameRequest {
+        camera: &camera,
+        size: args.size,
+        settings: &settings,
+        stats: false,
+    };
+    let (submitted, first) = renderer.render_and_wait(&request).map_err(render_failure)?;
+    let image = renderer.read_image().map_err(render_failure)?;
+    image
+        .save(&args.out)
+        .context("writing the image")
+        .map_err(Failure::Other)?;
+    if args.stats {
+        let mut times = Vec::new();
+        for _ in 0..TIMED_FRAMES {
+            let (_, r) = renderer.render_and_wait(&request).map_err(render_failure)?;
+            times.extend(r.gpu_ms);
+        }
+        times.sort_by(f64::total_cmp);
+        let (_, counted) = renderer
+            .render_and_wait(&FrameRequest {
+                stats: true,
+                ..request
+            })
+            .map_err(render_failure)?;
+        let c = counted.counters.unwrap_or_default();
+        let pixels = (args.size[0] as u64 * args.size[1] as u64) as f64;
+        println!("adapter: {adapter}");
+        println!(
+            "volume: {} {:?} {}",
+            volume.name(),
+            volume.dims(),
+            volume.scalar_type()
+        );
+        println!(
+            "image: {}x{}  mode: {:?}  strategy: {}  path: {:?}  step: {} voxel",
+            args.size[0],
+            args.size[1],
+            settings.mode,
+            settings.strategy.label(),
+            submitted.key.path,
+            settings.step_vox
+        );
+        match times.get(times.len() / 2) {
+            Some(ms) => println!(
+                "gpu_ms: {ms:.3} (median of {} frames after a warm-up)",
+                times.len()
+            ),
+            None => println!("gpu_ms: unavailable (the adapter has no timestamp queries)"),
+        }
+        println!("rays: {}", c.rays);
+        println!(
+            "samples: {} ({:.1} per pixel)",
+            c.samples,
+            c.samples as f64 / pixels
+        );
+        println!(
+            "visible_samples: {} (non-zero opacity; {:.1} % of samples)",
+            c.visible_samples,
+            100.0 * c.visible_samples as f64 / c.samples.max(1) as f64
+        );
+    } else if let Some(ms) = first.gpu_ms {
+        eprintln!(
+            "rendered {}x{} in {ms:.2} ms GPU ({:?} path, first frame) on {adapter}",
+            args.size[0], args.size[1], submitted.key.path
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,174 @@
+//! The CPU reference ray caster, in f64: what the GPU images are checked against.
+//!
+//! It shares only the conventions with the GPU code (DESIGN.md, src/sampling.rs), not its
+//! mechanisms: rays come from inverting the camera per pixel and an analytic slab test instead of
+//! rasterised faces; values come from a hand-written trilinear interpolation with clamp-to-edge
+//! instead of the texture unit; the transfer function is evaluated exactly instead of through the
+//! baked table. Slow by design; meant for small volumes and images.
+
+mod trilinear;
+
+use glam::{DMat4, DVec2, DVec3};
+
+use crate::camera::{Aabb, Camera, pixel_to_ndc, unproject};
+use crate::imaging::ImageF32;
+use crate::render::settings::{RenderSettings, Strategy};
+use crate::sampling::{SampleGrid, corrected_opacity};
+use crate::transfer::TransferFunction;
+use crate::volume::Volume;
+
+pub use trilinear::sample_trilinear;
+
+/// Sample counts of a reference image (comparable with the GPU's statistics variants).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReferenceCounts {
+    /// Samples taken.
+    pub samples: u64,
+    /// Samples with non-zero opacity.
+    pub visible_samples: u64,
+    /// Rays that met the volume.
+    pub rays: u64,
+}
+
+/// A reference image and its counts.
+#[derive(Clone, Debug)]
+pub struct ReferenceImage {
+    /// The image (alpha = 1: composited over the background).
+    pub image: ImageF32,
+    /// Sample counts.
+    pub counts: ReferenceCounts,
+}
+
+/// Renders `volume` as the GPU would, in f64, on all cores.
+pub fn render(
+    volume: &Volume,
+    tf: &TransferFunction,
+    camera: &Camera,
+    size: [u32; 2],
+    settings: &RenderSettings,
+) -> ReferenceImage {
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let world_from_clip = camera.clip_from_world(size, &bounds).inverse();
+    let caster = Caster {
+        volume,
+        tf,
+        bounds,
+        world_from_clip,
+        size,
+        settings,
+    };
+    let rows: Vec<u32> = (0..size[1]).collect();
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(size[1].max(1) as usize);
+    let chunk = rows.len().div_ceil(threads.max(1)).max(1);
+    let parts: Vec<(Vec<[f32; 4]>, ReferenceCounts)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = rows
+            .chunks(chunk)
+            .map(|ys| {
+                let caster = &caster;
+                scope.spawn(move || {
+                    let mut counts = ReferenceCounts::default();
+                    let mut pixels = Vec::with_capacity(ys.len() * size[0] as usize);
+                    for &y in ys {
+                        for x in 0..size[0] {
+                            pixels.push(caster.pixel(x, y, &mut counts));
+                        }
+                    }
+                    (pixels, counts)
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    });
+    let mut counts = ReferenceCounts::default();
+    let mut pixels = Vec::with_capacity(size[0] as usize * size[1] as usize);
+    for (p, c) in parts {
+        pixels.extend(p);
+        counts.samples += c.samples;
+        counts.visible_samples += c.visible_samples;
+        counts.rays += c.rays;
+    }
+    ReferenceImage {
+        image: ImageF32 {
+            width: size[0],
+            height: size[1],
+            pixels,
+        },
+        counts,
+    }
+}
+
+struct Caster<'a> {
+    volume: &'a Volume,
+    tf: &'a TransferFunction,
+    bounds: Aabb,
+    world_from_clip: DMat4,
+    size: [u32; 2],
+    settings: &'a RenderSettings,
+}
+
+impl Caster<'_> {
+    fn pixel(&self, x: u32, y: u32, counts: &mut ReferenceCounts) -> [f32; 4] {
+        let bg = DVec3::from_array(self.settings.background);
+        let ndc = pixel_to_ndc(DVec2::new(x as f64 + 0.5, y as f64 + 0.5), self.size);
+        // The ray starts on the near plane (t = 0), like the GPU's near-plane cap.
+        let origin = unproject(self.world_from_clip, ndc, 0.0);
+        let dir = (unproject(self.world_from_clip, ndc, 1.0) - origin).normalize();
+        let rgb = match self.bounds.intersect(origin, dir) {
+            Some((t0, t1)) if t1 > t0.max(0.0) => {
+                counts.rays += 1;
+                let entry = t0.max(0.0);
+                let c = self.march(origin + dir * entry, dir, t1 - entry, counts);
+                c.0 + (1.0 - c.1) * bg
+            }
+            _ => bg,
+        };
+        [rgb.x as f32, rgb.y as f32, rgb.z as f32, 1.0]
+    }
+
+    /// Front-to-back compositing along `length_mm` from `entry`; returns (colour, opacity).
+    fn march(
+        &self,
+        entry: DVec3,
+        dir: DVec3,
+        length_mm: f64,
+        counts: &mut ReferenceCounts,
+    ) -> (DVec3, f64) {
+        let d0 = self.volume.min_spacing_mm();
+        let step_mm = self.settings.step_vox * d0;
+        let grid = SampleGrid {
+            length_mm,
+            step_mm,
+            offset: self.settings.sample_offset,
+        };
+        let range = self.volume.normalization_range();
+        let (mut color, mut alpha) = (DVec3::ZERO, 0.0);
+        for s in grid.samples() {
+            let p = entry + dir * s.t_mm;
+            counts.samples += 1;
+            let Some(value) = sample_trilinear(self.volume, p) else {
+                continue;
+            };
+            let a = corrected_opacity(
+                self.tf.opacity_at(value, range),
+                self.settings.step_vox,
+                s.weight,
+            );
+            if a <= 0.0 {
+                continue;
+            }
+            counts.visible_samples += 1;
+            let c = DVec3::from_array(self.tf.color_at(value, range));
+            color += (1.0 - alpha) * a * c;
+            alpha += (1.0 - alpha) * a;
+            if self.settings.strategy == Strategy::RcT && alpha > self.settings.termination_alpha {
+                break;
+            }
+        }
+        (color, alpha)
+    }
+}

@@ -1,0 +1,170 @@
+//! The GPU device the renderer works with: created headless for the command line and tests, or
+//! taken from eframe in the window. Knows which optional features the adapter gave us.
+
+use std::sync::Arc;
+
+/// Optional features LeapView uses when the adapter has them.
+pub fn wanted_features() -> wgpu::Features {
+    wgpu::Features::TIMESTAMP_QUERY
+        | wgpu::Features::TEXTURE_FORMAT_16BIT_NORM
+        | wgpu::Features::FLOAT32_FILTERABLE
+}
+
+/// The features and limits to ask a device for on `adapter`: the wanted features it has, and its
+/// own limits (large volumes need its full 3D texture size and buffer size).
+pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
+    wgpu::DeviceDescriptor {
+        label: Some("leapview"),
+        required_features: adapter.features() & wanted_features(),
+        required_limits: adapter.limits(),
+        experimental_features: wgpu::ExperimentalFeatures::disabled(),
+        memory_hints: wgpu::MemoryHints::Performance,
+        trace: wgpu::Trace::Off,
+    }
+}
+
+/// Why no GPU device could be had.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    /// No adapter was found at all.
+    #[error(
+        "no GPU adapter found (Vulkan, GL). Install a Vulkan driver; without a GPU, Mesa's CPU \
+         driver works: `sudo apt-get install mesa-vulkan-drivers`"
+    )]
+    NoAdapter,
+    /// The adapter refused to create a device.
+    #[error("the GPU adapter {adapter} could not create a device: {reason}")]
+    NoDevice {
+        /// Adapter name.
+        adapter: String,
+        /// What wgpu said.
+        reason: String,
+    },
+}
+
+/// A device, its queue and what the adapter supports.
+#[derive(Clone)]
+pub struct GpuContext {
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// Name, backend and driver of the adapter.
+    pub adapter_info: wgpu::AdapterInfo,
+    /// Features enabled on the device.
+    pub features: wgpu::Features,
+    /// Limits of the device.
+    pub limits: wgpu::Limits,
+    /// Format capabilities of the adapter, asked once per format the renderer may use.
+    format_features: Arc<Vec<(wgpu::TextureFormat, wgpu::TextureFormatFeatures)>>,
+}
+
+/// Formats whose adapter-specific capabilities the renderer checks.
+const CHECKED_FORMATS: [wgpu::TextureFormat; 5] = [
+    wgpu::TextureFormat::R8Unorm,
+    wgpu::TextureFormat::R16Unorm,
+    wgpu::TextureFormat::R16Float,
+    wgpu::TextureFormat::R32Float,
+    wgpu::TextureFormat::Rgba16Float,
+];
+
+impl GpuContext {
+    /// Creates a device without a window. Prefers Vulkan (on data-centre GPUs the GL backend
+    /// fails or renders nothing, see GPU.md); falls back to GL where there is no Vulkan driver.
+    /// `LEAPVIEW_BACKEND=vulkan|gl` forces one.
+    pub fn headless() -> Result<Self, GpuError> {
+        let backends = match std::env::var("LEAPVIEW_BACKEND").as_deref() {
+            Ok("gl") => wgpu::Backends::GL,
+            Ok("vulkan") => wgpu::Backends::VULKAN,
+            _ => wgpu::Backends::VULKAN | wgpu::Backends::GL,
+        };
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = backends;
+        let instance = wgpu::Instance::new(desc);
+        let adapters = pollster::block_on(instance.enumerate_adapters(backends));
+        // Vulkan before GL, discrete before integrated before CPU.
+        let rank = |a: &wgpu::Adapter| {
+            let info = a.get_info();
+            let backend = if info.backend == wgpu::Backend::Vulkan {
+                0
+            } else {
+                1
+            };
+            let kind = match info.device_type {
+                wgpu::DeviceType::DiscreteGpu => 0,
+                wgpu::DeviceType::IntegratedGpu => 1,
+                wgpu::DeviceType::VirtualGpu => 2,
+                wgpu::DeviceType::Cpu => 3,
+                wgpu::DeviceType::Other => 4,
+            };
+            (backend, kind)
+        };
+        let adapter = adapters
+            .into_iter()
+            .min_by_key(rank)
+            .ok_or(GpuError::NoAdapter)?;
+        let info = adapter.get_info();
+        let (device, queue) = pollster::block_on(
+            adapter.request_device(&device_descriptor(&adapter)),
+        )
+        .map_err(|e| GpuError::NoDevice {
+            adapter: info.name.clone(),
+            reason: e.to_string(),
+        })?;
+        Ok(Self::new(&adapter, device, queue))
+    }
+
+    /// Wraps a device created elsewhere (eframe) from `adapter`.
+    pub fn new(adapter: &wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue) -> Self {
+        // wgpu's default handler panics on errors no error scope caught; log them instead, so a
+        // driver problem in the window becomes a message, not a crash. Every operation that can
+        // fail on bad input is wrapped in an error scope by the renderer.
+        device.on_uncaptured_error(Arc::new(|e| log::error!("GPU error: {e}")));
+        let format_features = CHECKED_FORMATS
+            .iter()
+            .map(|&f| (f, adapter.get_texture_format_features(f)))
+            .collect();
+        Self {
+            features: device.features(),
+            limits: device.limits(),
+            adapter_info: adapter.get_info(),
+            device,
+            queue,
+            format_features: Arc::new(format_features),
+        }
+    }
+
+    /// Whether `format` can be sampled with linear filtering on this adapter.
+    pub fn is_filterable(&self, format: wgpu::TextureFormat) -> bool {
+        let needs_feature = match format {
+            wgpu::TextureFormat::R16Unorm => self
+                .features
+                .contains(wgpu::Features::TEXTURE_FORMAT_16BIT_NORM),
+            wgpu::TextureFormat::R32Float => {
+                self.features.contains(wgpu::Features::FLOAT32_FILTERABLE)
+            }
+            _ => true,
+        };
+        needs_feature
+            && self.format_features.iter().any(|(f, ff)| {
+                *f == format
+                    && ff
+                        .flags
+                        .contains(wgpu::TextureFormatFeatureFlags::FILTERABLE)
+            })
+    }
+
+    /// Whether GPU timestamps can be taken around passes.
+    pub fn has_timestamps(&self) -> bool {
+        self.features.contains(wgpu::Features::TIMESTAMP_QUERY)
+    }
+
+    /// One line naming the adapter, its type, backend and driver.
+    pub fn adapter_summary(&self) -> String {
+        let i = &self.adapter_info;
+        format!(
+            "{} | {:?} | {:?} | {} {}",
+            i.name, i.device_type, i.backend, i.driver, i.driver_info
+        )
+    }
+}

@@ -1,0 +1,386 @@
+//! Pipeline variants: one per key {mode, strategy, path, stats}, composed from the shared WGSL
+//! modules, created on first use and cached; plus the two proxy pipelines that rasterise ray
+//! entry and exit points.
+
+use std::collections::HashMap;
+
+use super::settings::{Mode, Strategy};
+use super::shader::{ShaderError, compose};
+
+/// Format of the exit- and entry-point textures: box coordinates need f32 (f16 would put them
+/// an eighth of a voxel off in a 256³ volume).
+pub const POSITION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Format of the rendered image: blendable, filterable (for the window) and a storage format.
+pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Compute workgroup edge (must match `@workgroup_size` in raycast_compute.wgsl).
+pub const WORKGROUP: u32 = 8;
+/// Number of 64-bit counters in the statistics buffer (see shaders/stats.wgsl).
+pub const COUNTERS: usize = 3;
+
+/// Where the ray loop runs, once `auto` has been resolved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub enum ConcretePath {
+    /// In the fragment shader of the front faces.
+    Fragment,
+    /// In a compute shader over rasterised entry/exit points.
+    Compute,
+}
+
+/// Identifies one ray-casting pipeline variant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PipelineKey {
+    /// Visual effect.
+    pub mode: Mode,
+    /// Work-saving strategy.
+    pub strategy: Strategy,
+    /// Fragment or compute.
+    pub path: ConcretePath,
+    /// Whether the variant counts samples (atomics); normal variants carry no counting code.
+    pub stats: bool,
+}
+
+impl PipelineKey {
+    /// Every variant, for validation tests.
+    pub fn all() -> Vec<Self> {
+        let mut keys = Vec::new();
+        for mode in [Mode::Dvr] {
+            for strategy in [Strategy::Rc, Strategy::RcT] {
+                for path in [ConcretePath::Fragment, ConcretePath::Compute] {
+                    for stats in [false, true] {
+                        keys.push(Self {
+                            mode,
+                            strategy,
+                            path,
+                            stats,
+                        });
+                    }
+                }
+            }
+        }
+        keys
+    }
+
+    /// The preprocessor symbols this variant is compiled with.
+    pub fn defines(&self) -> Vec<&'static str> {
+        let mut defines = Vec::new();
+        match self.mode {
+            Mode::Dvr => defines.push("MODE_DVR"),
+        }
+        if self.strategy.terminates_early() {
+            defines.push("EARLY_TERMINATION");
+        }
+        if self.stats {
+            defines.push("STATS");
+        }
+        defines
+    }
+
+    /// The composed WGSL of this variant.
+    pub fn source(&self) -> Result<String, ShaderError> {
+        let entry = match self.path {
+            ConcretePath::Fragment => "raycast_fragment.wgsl",
+            ConcretePath::Compute => "raycast_compute.wgsl",
+        };
+        compose(entry, &self.defines())
+    }
+}
+
+/// The bind group layouts shared by all pipelines.
+pub struct Layouts {
+    /// Group 0: frame uniforms, volume, sampler, transfer-function table.
+    pub frame: wgpu::BindGroupLayout,
+    /// Group 1 of the fragment path: the exit-point texture.
+    pub fragment_io: wgpu::BindGroupLayout,
+    /// Group 1 of the compute path: exit and entry points, output image.
+    pub compute_io: wgpu::BindGroupLayout,
+    /// Group 2 of statistics variants: the counters.
+    pub stats: wgpu::BindGroupLayout,
+}
+
+fn texture_entry(
+    binding: u32,
+    dim: wgpu::TextureViewDimension,
+    filterable: bool,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable },
+            view_dimension: dim,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+impl Layouts {
+    /// Creates the layouts.
+    pub fn new(device: &wgpu::Device) -> Self {
+        use wgpu::ShaderStages as S;
+        let shading = S::FRAGMENT | S::COMPUTE;
+        let frame = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("frame"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: S::VERTEX | shading,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                texture_entry(1, wgpu::TextureViewDimension::D3, true, shading),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: shading,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+                texture_entry(3, wgpu::TextureViewDimension::D2, true, shading),
+            ],
+        });
+        let fragment_io = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("fragment io"),
+            entries: &[texture_entry(
+                0,
+                wgpu::TextureViewDimension::D2,
+                false,
+                S::FRAGMENT,
+            )],
+        });
+        let compute_io = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("compute io"),
+            entries: &[
+                texture_entry(0, wgpu::TextureViewDimension::D2, false, S::COMPUTE),
+                texture_entry(1, wgpu::TextureViewDimension::D2, false, S::COMPUTE),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: S::COMPUTE,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: OUTPUT_FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let stats = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("stats"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: shading,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: false },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        Self {
+            frame,
+            fragment_io,
+            compute_io,
+            stats,
+        }
+    }
+}
+
+/// The two pipelines that rasterise positions: back faces → exit points, front faces and cap →
+/// entry points.
+pub struct ProxyPipelines {
+    /// Pass 1, both paths.
+    pub exit: wgpu::RenderPipeline,
+    /// Entry points, compute path only.
+    pub entry: wgpu::RenderPipeline,
+}
+
+fn proxy_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment: &str,
+    target: wgpu::TextureFormat,
+    cull: wgpu::Face,
+    label: &str,
+) -> wgpu::RenderPipeline {
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_proxy"),
+            buffers: &[],
+            compilation_options: Default::default(),
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            front_face: wgpu::FrontFace::Ccw,
+            cull_mode: Some(cull),
+            ..Default::default()
+        },
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fragment),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: target,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+            compilation_options: Default::default(),
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+impl ProxyPipelines {
+    /// Creates both proxy pipelines.
+    pub fn new(device: &wgpu::Device, layouts: &Layouts) -> Result<Self, ShaderError> {
+        let source = compose("proxy_passes.wgsl", &[])?;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("proxy passes"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("proxy"),
+            bind_group_layouts: &[Some(&layouts.frame)],
+            immediate_size: 0,
+        });
+        Ok(Self {
+            exit: proxy_pipeline(
+                device,
+                &layout,
+                &module,
+                "fs_exit",
+                POSITION_FORMAT,
+                wgpu::Face::Front,
+                "exit points",
+            ),
+            entry: proxy_pipeline(
+                device,
+                &layout,
+                &module,
+                "fs_entry",
+                POSITION_FORMAT,
+                wgpu::Face::Back,
+                "entry points",
+            ),
+        })
+    }
+}
+
+/// A compiled ray-casting variant.
+pub enum RaycastPipeline {
+    /// Fragment path: drawn over the front faces and cap.
+    Fragment(wgpu::RenderPipeline),
+    /// Compute path: dispatched over the image.
+    Compute(wgpu::ComputePipeline),
+}
+
+/// Lazily built ray-casting pipelines, by key.
+#[derive(Default)]
+pub struct PipelineCache {
+    pipelines: HashMap<PipelineKey, RaycastPipeline>,
+}
+
+impl PipelineCache {
+    /// The pipeline for `key`, building it on first use.
+    pub fn get(
+        &mut self,
+        device: &wgpu::Device,
+        layouts: &Layouts,
+        key: PipelineKey,
+    ) -> Result<&RaycastPipeline, ShaderError> {
+        Ok(match self.pipelines.entry(key) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(e) => e.insert(build(device, layouts, key)?),
+        })
+    }
+
+    /// Number of pipelines built so far.
+    pub fn len(&self) -> usize {
+        self.pipelines.len()
+    }
+
+    /// Whether no pipeline has been built yet.
+    pub fn is_empty(&self) -> bool {
+        self.pipelines.is_empty()
+    }
+}
+
+fn build(
+    device: &wgpu::Device,
+    layouts: &Layouts,
+    key: PipelineKey,
+) -> Result<RaycastPipeline, ShaderError> {
+    let label = format!("{key:?}");
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(&label),
+        source: wgpu::ShaderSource::Wgsl(key.source()?.into()),
+    });
+    let io = match key.path {
+        ConcretePath::Fragment => &layouts.fragment_io,
+        ConcretePath::Compute => &layouts.compute_io,
+    };
+    let mut groups = vec![Some(&layouts.frame), Some(io)];
+    if key.stats {
+        groups.push(Some(&layouts.stats));
+    }
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(&label),
+        bind_group_layouts: &groups,
+        immediate_size: 0,
+    });
+    Ok(match key.path {
+        ConcretePath::Fragment => RaycastPipeline::Fragment(device.create_render_pipeline(
+            &wgpu::RenderPipelineDescriptor {
+                label: Some(&label),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_proxy"),
+                    buffers: &[],
+                    compilation_options: Default::default(),
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: Some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+                depth_stencil: None,
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_raycast"),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: OUTPUT_FORMAT,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                    compilation_options: Default::default(),
+                }),
+                multiview_mask: None,
+                cache: None,
+            },
+        )),
+        ConcretePath::Compute => RaycastPipeline::Compute(device.create_compute_pipeline(
+            &wgpu::ComputePipelineDescriptor {
+                label: Some(&label),
+                layout: Some(&layout),
+                module: &module,
+                entry_point: Some("cs_raycast"),
+                compilation_options: Default::default(),
+                cache: None,
+            },
+        )),
+    })
+}

@@ -1,0 +1,245 @@
+//! What a frame measured on the GPU: timestamps around its passes and, for statistics variants,
+//! its sample counters. Read back asynchronously through a small pool of buffers so that the
+//! window never waits for the GPU, or synchronously for the command line and benchmarks.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU8, Ordering};
+
+use super::pipelines::COUNTERS;
+
+const FREE: u8 = 0;
+const IN_FLIGHT: u8 = 1;
+const MAPPED: u8 = 2;
+const FAILED: u8 = 3;
+
+/// Bytes of the two timestamps.
+const TIMESTAMP_BYTES: u64 = 16;
+/// Bytes of the counters (a low and a high u32 each).
+const COUNTER_BYTES: u64 = COUNTERS as u64 * 8;
+
+/// Per-frame sample statistics from a statistics variant.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct FrameCounters {
+    /// Samples taken (volume reads classified through the transfer function).
+    pub samples: u64,
+    /// Samples whose transfer-function opacity was non-zero.
+    pub visible_samples: u64,
+    /// Rays cast (pixels whose ray met the volume).
+    pub rays: u64,
+}
+
+/// What came back for one frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameResults {
+    /// Frame number the results belong to.
+    pub frame: u64,
+    /// GPU time from the start of the first pass to the end of the last, milliseconds (when the
+    /// adapter has timestamp queries).
+    pub gpu_ms: Option<f64>,
+    /// Sample counters (statistics variants only).
+    pub counters: Option<FrameCounters>,
+}
+
+/// One set of query and read-back resources.
+struct Probe {
+    queries: Option<wgpu::QuerySet>,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    state: Arc<AtomicU8>,
+    frame: u64,
+    has_counters: bool,
+}
+
+/// A pool of probes; the counters buffer is shared (frames using statistics are serialised by
+/// the queue).
+pub struct ProbePool {
+    probes: Vec<Probe>,
+    /// Storage buffer the statistics variants add to.
+    pub counters: wgpu::Buffer,
+    timestamp_period_ns: f64,
+}
+
+/// The probe a frame records into.
+pub struct ProbeSlot(usize);
+
+/// Most frames in flight at once before the window skips measuring one.
+const POOL_SIZE: usize = 4;
+
+impl ProbePool {
+    /// Creates the pool; timestamps only where `timestamps` is true.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, timestamps: bool) -> Self {
+        let probes = (0..POOL_SIZE)
+            .map(|i| Probe {
+                queries: timestamps.then(|| {
+                    device.create_query_set(&wgpu::QuerySetDescriptor {
+                        label: Some("frame timestamps"),
+                        ty: wgpu::QueryType::Timestamp,
+                        count: 2,
+                    })
+                }),
+                resolve: device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("timestamp resolve"),
+                    size: TIMESTAMP_BYTES,
+                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                }),
+                readback: device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(&format!("probe readback {i}")),
+                    size: TIMESTAMP_BYTES + COUNTER_BYTES,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }),
+                state: Arc::new(AtomicU8::new(FREE)),
+                frame: 0,
+                has_counters: false,
+            })
+            .collect();
+        let counters = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sample counters"),
+            size: COUNTER_BYTES,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            probes,
+            counters,
+            timestamp_period_ns: queue.get_timestamp_period() as f64,
+        }
+    }
+
+    /// Takes a free probe for frame `frame`, or `None` when all are still in flight.
+    pub fn acquire(&mut self, frame: u64, has_counters: bool) -> Option<ProbeSlot> {
+        let index = self
+            .probes
+            .iter()
+            .position(|p| p.state.load(Ordering::Acquire) == FREE)?;
+        let probe = &mut self.probes[index];
+        probe.frame = frame;
+        probe.has_counters = has_counters;
+        Some(ProbeSlot(index))
+    }
+
+    /// Timestamp writes for a render pass: `first` writes the start, `last` the end.
+    pub fn render_timestamps(
+        &self,
+        slot: &ProbeSlot,
+        first: bool,
+        last: bool,
+    ) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        let q = self.probes[slot.0].queries.as_ref()?;
+        (first || last).then_some(wgpu::RenderPassTimestampWrites {
+            query_set: q,
+            beginning_of_pass_write_index: first.then_some(0),
+            end_of_pass_write_index: last.then_some(1),
+        })
+    }
+
+    /// Timestamp writes for a compute pass (always the last pass of a frame).
+    pub fn compute_timestamps(
+        &self,
+        slot: &ProbeSlot,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let q = self.probes[slot.0].queries.as_ref()?;
+        Some(wgpu::ComputePassTimestampWrites {
+            query_set: q,
+            beginning_of_pass_write_index: None,
+            end_of_pass_write_index: Some(1),
+        })
+    }
+
+    /// Clears the counters before a statistics frame.
+    pub fn clear_counters(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.clear_buffer(&self.counters, 0, None);
+    }
+
+    /// After the frame's passes: resolve timestamps and copy results to the read-back buffer.
+    pub fn finish(&self, slot: &ProbeSlot, encoder: &mut wgpu::CommandEncoder) {
+        let probe = &self.probes[slot.0];
+        if let Some(q) = &probe.queries {
+            encoder.resolve_query_set(q, 0..2, &probe.resolve, 0);
+            encoder.copy_buffer_to_buffer(&probe.resolve, 0, &probe.readback, 0, TIMESTAMP_BYTES);
+        }
+        if probe.has_counters {
+            encoder.copy_buffer_to_buffer(
+                &self.counters,
+                0,
+                &probe.readback,
+                TIMESTAMP_BYTES,
+                COUNTER_BYTES,
+            );
+        }
+    }
+
+    /// After submission: start mapping the read-back buffer.
+    pub fn submitted(&self, slot: ProbeSlot) {
+        let probe = &self.probes[slot.0];
+        probe.state.store(IN_FLIGHT, Ordering::Release);
+        let state = probe.state.clone();
+        probe
+            .readback
+            .map_async(wgpu::MapMode::Read, .., move |result| {
+                state.store(
+                    if result.is_ok() { MAPPED } else { FAILED },
+                    Ordering::Release,
+                );
+            });
+    }
+
+    /// Whether any frame's results are still on their way.
+    pub fn any_in_flight(&self) -> bool {
+        self.probes
+            .iter()
+            .any(|p| p.state.load(Ordering::Acquire) == IN_FLIGHT)
+    }
+
+    /// Collects the results of every frame whose read-back has completed, oldest first. With
+    /// `wait`, first blocks until all submitted work is done.
+    pub fn collect(&mut self, device: &wgpu::Device, wait: bool) -> Vec<FrameResults> {
+        let poll = if wait {
+            wgpu::PollType::wait_indefinitely()
+        } else {
+            wgpu::PollType::Poll
+        };
+        if let Err(e) = device.poll(poll) {
+            log::warn!("waiting for the GPU failed: {e}");
+        }
+        let mut results = Vec::new();
+        for probe in &mut self.probes {
+            match probe.state.load(Ordering::Acquire) {
+                MAPPED => {
+                    let Ok(data) = probe.readback.get_mapped_range(..) else {
+                        probe.readback.unmap();
+                        probe.state.store(FREE, Ordering::Release);
+                        continue;
+                    };
+                    let words: &[u32] = bytemuck::cast_slice(&data);
+                    let ticks = |i: usize| words[2 * i] as u64 | (words[2 * i + 1] as u64) << 32;
+                    let gpu_ms = probe.queries.as_ref().map(|_| {
+                        ticks(1).saturating_sub(ticks(0)) as f64 * self.timestamp_period_ns * 1e-6
+                    });
+                    let counters = probe.has_counters.then(|| FrameCounters {
+                        samples: ticks(2),
+                        visible_samples: ticks(3),
+                        rays: ticks(4),
+                    });
+                    drop(data);
+                    probe.readback.unmap();
+                    probe.state.store(FREE, Ordering::Release);
+                    results.push(FrameResults {
+                        frame: probe.frame,
+                        gpu_ms,
+                        counters,
+                    });
+                }
+                FAILED => {
+                    probe.state.store(FREE, Ordering::Release);
+                }
+                _ => {}
+            }
+        }
+        results.sort_by_key(|r| r.frame);
+        results
+    }
+}

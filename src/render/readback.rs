@@ -1,0 +1,78 @@
+//! Copying a rendered image from the GPU to the CPU.
+
+use crate::imaging::ImageF32;
+
+use super::context::GpuContext;
+
+/// Reads an RGBA16F texture of `size` pixels into linear f32 pixels, waiting for the GPU.
+pub fn read_texture(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    size: [u32; 2],
+) -> Result<ImageF32, String> {
+    const BYTES_PER_PIXEL: u32 = 8;
+    let unpadded = size[0] * BYTES_PER_PIXEL;
+    let padded =
+        unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("image readback"),
+        size: padded as u64 * size[1] as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("readback"),
+        });
+    encoder.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded),
+                rows_per_image: Some(size[1]),
+            },
+        },
+        wgpu::Extent3d {
+            width: size[0],
+            height: size[1],
+            depth_or_array_layers: 1,
+        },
+    );
+    ctx.queue.submit([encoder.finish()]);
+    let (tx, rx) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+        // The receiver waits below; a send can only fail if it is gone, and then nobody cares.
+        let _ = tx.send(r);
+    });
+    ctx.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| e.to_string())?;
+    rx.recv()
+        .map_err(|e| e.to_string())?
+        .map_err(|e| e.to_string())?;
+    let data = buffer.get_mapped_range(..).map_err(|e| e.to_string())?;
+    let mut pixels = Vec::with_capacity(size[0] as usize * size[1] as usize);
+    for row in data.chunks_exact(padded as usize) {
+        let halves: &[half::f16] = bytemuck::cast_slice(&row[..unpadded as usize]);
+        pixels.extend(
+            halves
+                .chunks_exact(4)
+                .map(|p| [p[0].to_f32(), p[1].to_f32(), p[2].to_f32(), p[3].to_f32()]),
+        );
+    }
+    drop(data);
+    buffer.unmap();
+    Ok(ImageF32 {
+        width: size[0],
+        height: size[1],
+        pixels,
+    })
+}

@@ -1,0 +1,132 @@
+//! Per-frame uniforms, built by a pure function of the camera, the viewport, the volume's
+//! geometry and the render settings.
+//!
+//! Ray positions in the shaders are *box* coordinates: `[0, 1]³` over the volume's bounding box,
+//! which are also its texture coordinates. Lengths along rays are measured in millimetres
+//! through `extent_mm`.
+
+use glam::{DMat4, Mat4};
+
+use crate::camera::{Aabb, Camera};
+
+use super::settings::RenderSettings;
+
+/// The uniform block every ray-casting shader reads. Keep in sync with `Frame` in
+/// `shaders/common.wgsl` (a test checks the size against the WGSL declaration).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct FrameUniforms {
+    /// Box coordinates → clip space.
+    pub clip_from_box: [[f32; 4]; 4],
+    /// Clip space → box coordinates (to put rays of the near-plane cap in the box).
+    pub box_from_clip: [[f32; 4]; 4],
+    /// Size of the bounding box in millimetres (w unused).
+    pub extent_mm: [f32; 4],
+    /// Background colour composited behind the volume (a = 1).
+    pub background: [f32; 4],
+    /// Viewport width and height in pixels.
+    pub viewport: [f32; 2],
+    /// Distance between samples, millimetres.
+    pub step_mm: f32,
+    /// First sample at `(k + sample_offset) * step`, k = 0, 1, …
+    pub sample_offset: f32,
+    /// RC-t stops once accumulated opacity exceeds this.
+    pub termination_alpha: f32,
+    /// Normalised value = texel * texel_scale + texel_bias.
+    pub texel_scale: f32,
+    /// See `texel_scale`.
+    pub texel_bias: f32,
+    /// Number of entries in the transfer-function lookup table.
+    pub lut_size: f32,
+}
+
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192);
+
+/// The camera-dependent geometry of a frame, in f64.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameGeometry {
+    /// Box coordinates → clip space.
+    pub clip_from_box: DMat4,
+    /// Whether the near plane cuts the box, so some rays start on it rather than on a front face.
+    pub needs_near_cap: bool,
+}
+
+impl FrameGeometry {
+    /// Geometry for `camera` looking at a volume of `dims` voxels and `spacing_mm`, rendered at
+    /// `size` pixels.
+    pub fn new(camera: &Camera, size: [u32; 2], dims: [u32; 3], spacing_mm: [f64; 3]) -> Self {
+        let bounds = Aabb::of_volume(dims, spacing_mm);
+        let clip_from_box = camera.clip_from_world(size, &bounds) * bounds.world_from_box();
+        let (near, _) = camera.near_far(&bounds);
+        let view = camera.view_from_world();
+        let nearest = bounds
+            .corners()
+            .iter()
+            .map(|&c| -view.transform_point3(c).z)
+            .fold(f64::INFINITY, f64::min);
+        Self {
+            clip_from_box,
+            needs_near_cap: nearest <= near,
+        }
+    }
+}
+
+/// Texel decoding and lookup-table size, fixed per volume and table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleDecoding {
+    /// Normalised value = texel * scale + bias.
+    pub texel_scale: f32,
+    /// See `texel_scale`.
+    pub texel_bias: f32,
+    /// Entries in the lookup table.
+    pub lut_size: u32,
+}
+
+/// Builds the uniforms of one frame.
+pub fn frame_uniforms(
+    geometry: &FrameGeometry,
+    size: [u32; 2],
+    dims: [u32; 3],
+    spacing_mm: [f64; 3],
+    settings: &RenderSettings,
+    decoding: SampleDecoding,
+) -> FrameUniforms {
+    let bounds = Aabb::of_volume(dims, spacing_mm);
+    let extent = bounds.size();
+    let d0 = spacing_mm.iter().copied().fold(f64::INFINITY, f64::min);
+    let to_f32 =
+        |m: DMat4| Mat4::from_cols_array(&m.to_cols_array().map(|x| x as f32)).to_cols_array_2d();
+    let [r, g, b] = settings.background.map(|c| c as f32);
+    FrameUniforms {
+        clip_from_box: to_f32(geometry.clip_from_box),
+        box_from_clip: to_f32(geometry.clip_from_box.inverse()),
+        extent_mm: [extent.x as f32, extent.y as f32, extent.z as f32, 0.0],
+        background: [r, g, b, 1.0],
+        viewport: [size[0] as f32, size[1] as f32],
+        step_mm: (settings.step_vox * d0) as f32,
+        sample_offset: settings.sample_offset as f32,
+        termination_alpha: settings.termination_alpha as f32,
+        texel_scale: decoding.texel_scale,
+        texel_bias: decoding.texel_bias,
+        lut_size: decoding.lut_size as f32,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::{ProjectionKind, ViewPreset};
+    use glam::DVec3;
+
+    #[test]
+    fn near_cap_only_when_the_eye_is_inside_or_touching() {
+        let dims = [16, 16, 16];
+        let spacing = [1.0; 3];
+        let bounds = Aabb::of_volume(dims, spacing);
+        let (dir, up) = ViewPreset::PlusZ.direction_and_up();
+        let mut cam = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+        assert!(!FrameGeometry::new(&cam, [8, 8], dims, spacing).needs_near_cap);
+        cam.eye = bounds.center() + DVec3::new(0.0, 0.0, -2.0);
+        assert!(FrameGeometry::new(&cam, [8, 8], dims, spacing).needs_near_cap);
+    }
+}

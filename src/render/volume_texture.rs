@@ -1,0 +1,385 @@
+//! The volume as a 3D texture: which format holds it, how stored values become texels, and the
+//! upload in slabs.
+//!
+//! The shader works on normalised values `s` in `[0, 1]` over the volume's normalisation range
+//! (data units). Integer volumes keep their exact stored values in unorm texels (`s` is then an
+//! affine function of the texel, `s = texel * scale + bias`); float formats hold `s` directly.
+//! Non-finite samples become [`MISSING`], far below 0, so that any interpolation touching one
+//! stays negative and the shader renders it transparent (hardware filter weights are multiples
+//! of 1/256, so a non-zero weight on `MISSING` gives at most −65504/256 + 1 < 0).
+
+use crate::volume::{Samples, ScalarType, Volume};
+
+use super::context::GpuContext;
+
+/// Texel value of a NaN or infinite sample (the most negative finite f16).
+pub const MISSING: f32 = -65504.0;
+
+/// Largest slab uploaded in one `write_texture` call, in bytes.
+const SLAB_BYTES: usize = 64 << 20;
+
+/// How a volume is laid out in its texture.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TexelEncoding {
+    /// The texture format.
+    pub format: wgpu::TextureFormat,
+    /// `s = texel * scale + bias`, with `s` the normalised value.
+    pub scale: f32,
+    /// See `scale`.
+    pub bias: f32,
+    /// A precision warning to log, when the format loses information.
+    pub warning: Option<&'static str>,
+}
+
+/// Formats to try for a scalar type, best first.
+fn candidates(scalar: ScalarType, has_non_finite: bool) -> &'static [wgpu::TextureFormat] {
+    use wgpu::TextureFormat::{R8Unorm, R16Float, R16Unorm, R32Float};
+    match scalar {
+        ScalarType::U8 | ScalarType::I8 => &[R8Unorm],
+        ScalarType::U16 | ScalarType::I16 => &[R16Unorm, R32Float, R16Float],
+        ScalarType::U32 | ScalarType::I32 => &[R32Float, R16Unorm, R16Float],
+        // Only a signed float format can hold the MISSING marker.
+        ScalarType::F32 | ScalarType::F64 if has_non_finite => &[R32Float, R16Float],
+        ScalarType::F32 | ScalarType::F64 => &[R32Float, R16Unorm, R16Float],
+    }
+}
+
+/// Picks the format and encoding for `volume` given which formats the adapter can filter.
+pub fn choose_encoding(
+    volume: &Volume,
+    filterable: impl Fn(wgpu::TextureFormat) -> bool,
+) -> TexelEncoding {
+    let scalar = volume.scalar_type();
+    let options = candidates(scalar, volume.non_finite_count() > 0);
+    // R16Float is filterable everywhere (WebGPU core), so the last candidate always works.
+    let format = options
+        .iter()
+        .copied()
+        .find(|&f| filterable(f))
+        .unwrap_or(wgpu::TextureFormat::R16Float);
+    let range = volume.normalization_range();
+    let mapping = volume.mapping();
+    let w = range.width();
+    let (scale, bias) = match (format, integer_offset(scalar)) {
+        (wgpu::TextureFormat::R8Unorm | wgpu::TextureFormat::R16Unorm, Some((offset, max)))
+            if max as f64 >= unorm_max(format) =>
+        {
+            // texel = (stored + offset) / max  ⇒  stored = texel * max − offset.
+            let m = unorm_max(format);
+            let scale = m * mapping.slope / w;
+            let bias = (mapping.apply(-offset) - range.min) / w;
+            (scale, bias)
+        }
+        // Float formats and quantised unorm hold s itself.
+        _ => (1.0, 0.0),
+    };
+    let warning = match format {
+        wgpu::TextureFormat::R16Float => Some(
+            "this adapter cannot filter 16-bit normalised or 32-bit float textures; the volume is \
+             stored as 16-bit float (about 3 significant digits)",
+        ),
+        wgpu::TextureFormat::R16Unorm if scalar.size_bytes() > 2 => {
+            Some("32-bit values are quantised to 65536 levels over the value range")
+        }
+        _ => None,
+    };
+    TexelEncoding {
+        format,
+        scale: scale as f32,
+        bias: bias as f32,
+        warning,
+    }
+}
+
+/// For 8- and 16-bit integers: the offset that makes stored values non-negative and the largest
+/// texel integer of their natural unorm format.
+fn integer_offset(scalar: ScalarType) -> Option<(f64, u32)> {
+    match scalar {
+        ScalarType::U8 => Some((0.0, 255)),
+        ScalarType::I8 => Some((128.0, 255)),
+        ScalarType::U16 => Some((0.0, 65535)),
+        ScalarType::I16 => Some((32768.0, 65535)),
+        _ => None,
+    }
+}
+
+fn unorm_max(format: wgpu::TextureFormat) -> f64 {
+    match format {
+        wgpu::TextureFormat::R8Unorm => 255.0,
+        _ => 65535.0,
+    }
+}
+
+/// Bytes per texel of the volume formats.
+pub fn bytes_per_texel(format: wgpu::TextureFormat) -> usize {
+    match format {
+        wgpu::TextureFormat::R8Unorm => 1,
+        wgpu::TextureFormat::R16Unorm | wgpu::TextureFormat::R16Float => 2,
+        _ => 4,
+    }
+}
+
+/// Appends the texels of samples `range` of `volume` in `encoding` to `out` (little-endian).
+pub fn encode_texels(
+    volume: &Volume,
+    encoding: &TexelEncoding,
+    range: std::ops::Range<usize>,
+    out: &mut Vec<u8>,
+) {
+    use wgpu::TextureFormat as F;
+    let norm = volume.normalization_range();
+    let mapping = volume.mapping();
+    let normalized = |stored: f64| -> f32 {
+        let v = mapping.apply(stored);
+        if v.is_finite() {
+            norm.normalize(v) as f32
+        } else {
+            MISSING
+        }
+    };
+    let exact = encoding.scale != 1.0
+        || encoding.bias != 0.0
+        || matches!(volume.scalar_type(), ScalarType::U8);
+    match (encoding.format, volume.samples()) {
+        (F::R8Unorm, Samples::U8(v)) => out.extend_from_slice(&v[range]),
+        (F::R8Unorm, Samples::I8(v)) => {
+            out.extend(v[range].iter().map(|&x| (x as i16 + 128) as u8))
+        }
+        (F::R16Unorm, Samples::U16(v)) if exact => v[range]
+            .iter()
+            .for_each(|x| out.extend_from_slice(&x.to_le_bytes())),
+        (F::R16Unorm, Samples::I16(v)) if exact => v[range]
+            .iter()
+            .for_each(|&x| out.extend_from_slice(&((x as i32 + 32768) as u16).to_le_bytes())),
+        (F::R16Unorm, samples) => range.for_each(|i| {
+            let q = (normalized(samples.get_f64(i)).clamp(0.0, 1.0) * 65535.0).round() as u16;
+            out.extend_from_slice(&q.to_le_bytes())
+        }),
+        (F::R16Float, samples) => range.for_each(|i| {
+            out.extend_from_slice(
+                &half::f16::from_f32(normalized(samples.get_f64(i))).to_le_bytes(),
+            )
+        }),
+        (_, samples) => {
+            range.for_each(|i| out.extend_from_slice(&normalized(samples.get_f64(i)).to_le_bytes()))
+        }
+    }
+}
+
+/// Why a volume cannot go to the GPU.
+#[derive(Debug, thiserror::Error)]
+pub enum VolumeTextureError {
+    /// A dimension is larger than the adapter's 3D texture limit.
+    #[error(
+        "the volume is {dims:?} voxels but this GPU ({adapter}) takes at most {max} per axis in a \
+         3D texture; crop or downsample it"
+    )]
+    TooLarge {
+        /// Volume dimensions.
+        dims: [u32; 3],
+        /// The adapter's `max_texture_dimension_3d`.
+        max: u32,
+        /// Adapter name.
+        adapter: String,
+    },
+    /// The GPU ran out of memory creating the texture.
+    #[error("the GPU ({adapter}) has not enough memory for a {megabytes:.0} MB volume texture")]
+    OutOfMemory {
+        /// Texture size.
+        megabytes: f64,
+        /// Adapter name.
+        adapter: String,
+    },
+    /// Any other error creating or filling the texture.
+    #[error("the GPU refused the volume texture: {0}")]
+    Gpu(String),
+}
+
+/// The volume on the GPU.
+pub struct VolumeTexture {
+    /// The 3D texture.
+    pub texture: wgpu::Texture,
+    /// A view of all of it.
+    pub view: wgpu::TextureView,
+    /// How texels map to normalised values.
+    pub encoding: TexelEncoding,
+}
+
+impl VolumeTexture {
+    /// Checks the size against the adapter, creates the texture and uploads the samples in slabs.
+    pub fn upload(ctx: &GpuContext, volume: &Volume) -> Result<Self, VolumeTextureError> {
+        let dims = volume.dims();
+        let max = ctx.limits.max_texture_dimension_3d;
+        if dims.iter().any(|&d| d > max) {
+            return Err(VolumeTextureError::TooLarge {
+                dims,
+                max,
+                adapter: ctx.adapter_info.name.clone(),
+            });
+        }
+        let encoding = choose_encoding(volume, |f| ctx.is_filterable(f));
+        if let Some(w) = encoding.warning {
+            log::warn!("{w} ({})", volume.name());
+        }
+        let bpt = bytes_per_texel(encoding.format);
+        let size = wgpu::Extent3d {
+            width: dims[0],
+            height: dims[1],
+            depth_or_array_layers: dims[2],
+        };
+        let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("volume"),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: encoding.format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let slice_texels = dims[0] as usize * dims[1] as usize;
+        let slices_per_slab = (SLAB_BYTES / (slice_texels * bpt)).max(1);
+        let mut bytes = Vec::new();
+        let mut z = 0usize;
+        while z < dims[2] as usize {
+            let z_end = (z + slices_per_slab).min(dims[2] as usize);
+            bytes.clear();
+            encode_texels(
+                volume,
+                &encoding,
+                z * slice_texels..z_end * slice_texels,
+                &mut bytes,
+            );
+            ctx.queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: 0,
+                        z: z as u32,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                &bytes,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(dims[0] * bpt as u32),
+                    rows_per_image: Some(dims[1]),
+                },
+                wgpu::Extent3d {
+                    width: dims[0],
+                    height: dims[1],
+                    depth_or_array_layers: (z_end - z) as u32,
+                },
+            );
+            z = z_end;
+        }
+        let validation = pollster::block_on(validation.pop());
+        let oom = pollster::block_on(oom.pop());
+        if oom.is_some() {
+            return Err(VolumeTextureError::OutOfMemory {
+                megabytes: volume.sample_count() as f64 * bpt as f64 / 1e6,
+                adapter: ctx.adapter_info.name.clone(),
+            });
+        }
+        if let Some(e) = validation {
+            return Err(VolumeTextureError::Gpu(e.to_string()));
+        }
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        Ok(Self {
+            texture,
+            view,
+            encoding,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::volume::ValueMapping;
+
+    fn volume(samples: Samples, mapping: ValueMapping) -> Volume {
+        let n = samples.len() as u32;
+        Volume::new("t", [n, 1, 1], [1.0; 3], samples, mapping).expect("valid")
+    }
+
+    /// Decodes texel `i` as the GPU would (unorm: integer / max) and applies the encoding.
+    fn decoded(v: &Volume, e: &TexelEncoding, i: usize) -> f64 {
+        let mut bytes = Vec::new();
+        encode_texels(v, e, i..i + 1, &mut bytes);
+        let texel = match e.format {
+            wgpu::TextureFormat::R8Unorm => bytes[0] as f64 / 255.0,
+            wgpu::TextureFormat::R16Unorm => {
+                u16::from_le_bytes([bytes[0], bytes[1]]) as f64 / 65535.0
+            }
+            wgpu::TextureFormat::R16Float => {
+                half::f16::from_le_bytes([bytes[0], bytes[1]]).to_f64()
+            }
+            _ => f32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]) as f64,
+        };
+        texel * e.scale as f64 + e.bias as f64
+    }
+
+    #[test]
+    fn every_type_and_format_decodes_to_the_normalised_value() {
+        let m = ValueMapping {
+            slope: 2.0,
+            intercept: -7.0,
+        };
+        let cases = [
+            Samples::U8(vec![0, 17, 255]),
+            Samples::I8(vec![-128, 5, 127]),
+            Samples::U16(vec![3, 1000, 3272]),
+            Samples::I16(vec![-1024, 40, 3071]),
+            Samples::U32(vec![0, 70000, 4_000_000]),
+            Samples::I32(vec![-5, 0, 5]),
+            Samples::F32(vec![-1.5, 0.25, 8.0]),
+            Samples::F64(vec![-1e3, 0.0, 1e3]),
+        ];
+        use wgpu::TextureFormat as F;
+        for samples in cases {
+            let v = volume(samples, m);
+            for allowed in [
+                [F::R8Unorm, F::R16Unorm, F::R32Float],
+                [F::R8Unorm, F::R16Float, F::R16Float],
+            ] {
+                let e = choose_encoding(&v, |f| allowed.contains(&f));
+                let norm = v.normalization_range();
+                for i in 0..3 {
+                    let expected = norm.normalize(v.value(i as u32, 0, 0));
+                    // f32 scale/bias round at ~1e-7 relative; f16 holds 11 significant bits;
+                    // 32-bit integers quantised to 16 bits are within half a level (1/131070).
+                    let tol = match e.format {
+                        F::R16Float => 1e-3,
+                        F::R16Unorm if v.scalar_type().size_bytes() > 2 => 1.0 / 131070.0,
+                        _ => 1e-6,
+                    };
+                    let got = decoded(&v, &e, i);
+                    assert!(
+                        (got - expected).abs() <= tol,
+                        "{:?} {:?} #{i}: {got} vs {expected}",
+                        v.scalar_type(),
+                        e.format
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn non_finite_samples_become_missing_in_a_signed_format() {
+        let v = volume(
+            Samples::F32(vec![0.0, f32::NAN, 1.0, f32::NEG_INFINITY]),
+            ValueMapping::IDENTITY,
+        );
+        let e = choose_encoding(&v, |f| f != wgpu::TextureFormat::R32Float);
+        assert_eq!(e.format, wgpu::TextureFormat::R16Float);
+        assert_eq!(decoded(&v, &e, 1), MISSING as f64);
+        assert_eq!(decoded(&v, &e, 3), MISSING as f64);
+        assert_eq!(decoded(&v, &e, 2), 1.0);
+    }
+}

@@ -1,0 +1,85 @@
+//! Helpers shared by the integration tests: the GPU, output folders, image comparison.
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+use leapview::imaging::{ImageDiff, ImageF32};
+use leapview::render::{GpuContext, VolumeRenderer};
+
+/// A headless GPU context; fails the test with the install hint when no adapter exists (never a
+/// silent skip).
+pub fn gpu() -> GpuContext {
+    match GpuContext::headless() {
+        Ok(ctx) => ctx,
+        Err(e) => panic!(
+            "{e}\n(The tests render on the GPU; on a machine without one, Mesa's Vulkan CPU driver lavapipe works: `sudo apt-get install mesa-vulkan-drivers`.)"
+        ),
+    }
+}
+
+/// A renderer on a fresh headless context.
+pub fn renderer() -> VolumeRenderer {
+    VolumeRenderer::new(gpu()).unwrap_or_else(|e| panic!("renderer: {e}"))
+}
+
+/// Folder for images written by tests (actual, expected, difference).
+pub fn output_dir() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/test-output");
+    std::fs::create_dir_all(&dir)
+        .unwrap_or_else(|e| panic!("cannot create {}: {e}", dir.display()));
+    dir
+}
+
+/// Writes `name-actual.png`, `name-expected.png` and `name-difference.png` (×16) and returns the
+/// folder, for failure messages.
+pub fn save_comparison(name: &str, actual: &ImageF32, expected: &ImageF32) -> PathBuf {
+    let dir = output_dir();
+    let save = |img: &ImageF32, suffix: &str| {
+        let p = dir.join(format!("{name}-{suffix}.png"));
+        img.save(&p).unwrap_or_else(|e| panic!("{e}"));
+    };
+    save(actual, "actual");
+    save(expected, "expected");
+    if actual.width == expected.width && actual.height == expected.height {
+        save(&actual.difference_image(expected, 16.0), "difference");
+    }
+    dir
+}
+
+/// Directory of the shared real datasets (`../shared/data`, or `LEAPVIEW_DATA_DIR`). Panics with
+/// the place it looked when missing: tests on real data never skip silently.
+pub fn data_dir() -> PathBuf {
+    let dir = std::env::var_os("LEAPVIEW_DATA_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"));
+    assert!(
+        dir.is_dir(),
+        "the shared datasets are missing: looked in {} (set LEAPVIEW_DATA_DIR)",
+        dir.display()
+    );
+    dir
+}
+
+/// Asserts `diff` is within bounds, saving the images on failure.
+pub fn assert_close(
+    name: &str,
+    actual: &ImageF32,
+    expected: &ImageF32,
+    max_abs: f64,
+    max_share_over: f64,
+) -> ImageDiff {
+    let diff = actual
+        .diff(expected)
+        .unwrap_or_else(|| panic!("{name}: image sizes differ"));
+    if diff.max_abs > max_abs || diff.share_over_1_255 > max_share_over || actual.has_non_finite() {
+        let dir = save_comparison(name, actual, expected);
+        panic!(
+            "{name}: {diff:?} exceeds max_abs {max_abs} / share {max_share_over}; images in {}",
+            dir.display()
+        );
+    }
+    if std::env::var_os("LEAPVIEW_SAVE_IMAGES").is_some() {
+        save_comparison(name, actual, expected);
+    }
+    diff
+}
