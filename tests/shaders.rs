@@ -1,0 +1,52 @@
+//! Every pipeline variant's WGSL, validated with naga without a GPU, and the uniform block's
+//! layout checked against the Rust struct.
+
+use leapview::render::pipelines::PipelineKey;
+use leapview::render::shader::{compose, module_names};
+use leapview::render::uniforms::FrameUniforms;
+
+fn validate(name: &str, source: &str) -> naga::Module {
+    let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+    module
+}
+
+#[test]
+fn every_variant_validates() {
+    for key in PipelineKey::all() {
+        let source = key.source().unwrap_or_else(|e| panic!("{key:?}: {e}"));
+        validate(&format!("{key:?}"), &source);
+    }
+    validate("proxy passes", &compose("proxy_passes.wgsl", &[]).expect("composes"));
+}
+
+#[test]
+fn every_module_is_used_and_composes_alone() {
+    for name in module_names() {
+        compose(name, &[]).unwrap_or_else(|e| panic!("{name}: {e}"));
+    }
+}
+
+#[test]
+fn statistics_code_only_in_statistics_variants() {
+    for key in PipelineKey::all() {
+        let module = validate(&format!("{key:?}"), &key.source().expect("composes"));
+        let has_storage = module.global_variables.iter().any(|(_, g)| matches!(g.space, naga::AddressSpace::Storage { .. }));
+        assert_eq!(has_storage, key.stats, "{key:?}: the counters buffer must exist exactly in stats variants");
+    }
+}
+
+#[test]
+fn frame_uniforms_match_the_wgsl_struct() {
+    let module = validate("common", &compose("common.wgsl", &[]).expect("composes"));
+    let (handle, _) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some("Frame"))
+        .expect("struct Frame in common.wgsl");
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout");
+    assert_eq!(layouter[handle].size as usize, std::mem::size_of::<FrameUniforms>());
+}
