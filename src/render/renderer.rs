@@ -436,6 +436,12 @@ impl VolumeRenderer {
         self.probes.collect(&self.ctx.device, wait)
     }
 
+    /// Whether measurements of submitted frames are still on their way. The window polls
+    /// [`Self::collect_results`] without waiting and asks for another pass while this is true.
+    pub fn results_pending(&self) -> bool {
+        self.probes.any_in_flight()
+    }
+
     /// Renders a frame and waits for its measurements.
     pub fn render_and_wait(
         &mut self,
