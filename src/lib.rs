@@ -4,10 +4,12 @@
 //! reference ray caster) are independent of the GPU; `render` holds the wgpu renderer that the
 //! window, the command line and the tests share.
 
+pub mod app;
 pub mod camera;
 pub mod imaging;
 pub mod reference;
 pub mod render;
 pub mod sampling;
 pub mod transfer;
+pub mod ui;
 pub mod volume;

@@ -6,15 +6,23 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use cli::{Cli, Failure};
+use leapview::app::{AppError, AppOptions};
 
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
     let result = match cli.command {
         Some(command) => cli::run(command, &cli.raw),
-        None => Err(Failure::Other(anyhow::anyhow!(
-            "the window is not built yet"
-        ))),
+        None => cli::load_options(&cli.raw).and_then(|load_options| {
+            let options = AppOptions {
+                file: cli.file,
+                load_options,
+            };
+            leapview::app::run(options).map_err(|e| match e {
+                AppError::Automation(_) => Failure::BadInput(e.into()),
+                other => Failure::Other(other.into()),
+            })
+        }),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,176 @@
+//! The side panel: transfer-function preset, strategy, ray-loop path, step, termination
+//! threshold, background, projection and views, and what is loaded.
+
+use egui::{ComboBox, Slider};
+
+use crate::camera::ProjectionKind;
+use crate::render::settings::DEFAULT_TERMINATION_ALPHA;
+use crate::render::{ConcretePath, RenderPath, Strategy};
+use crate::transfer::presets::NAMES;
+
+use super::menu::VIEWS;
+use super::{Action, ViewerState, VolumeSummary};
+
+/// Step slider range in voxels: 1/8 voxel is finer than any visible difference; 4 voxels is
+/// coarse enough to show the undersampling artefacts the step trades against speed.
+pub const STEP_RANGE_VOX: std::ops::RangeInclusive<f64> = 0.125..=4.0;
+
+/// Termination slider range: below 0.5 the image visibly loses everything behind the first
+/// half-opaque surface; 1 means "never stop early".
+pub const TERMINATION_RANGE: std::ops::RangeInclusive<f64> = 0.5..=1.0;
+
+/// What the panel shows besides the state it edits.
+pub struct PanelInfo<'a> {
+    /// The path `auto` resolved to (from the last frame), if known.
+    pub path_used: Option<ConcretePath>,
+    /// The volume on screen.
+    pub volume: Option<&'a VolumeSummary>,
+}
+
+/// Draws the panel contents; returns an action for the buttons that need the app.
+pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo) -> Option<Action> {
+    let mut action = None;
+    ui.heading("Rendering");
+    egui::Grid::new("render controls")
+        .num_columns(2)
+        .spacing([8.0, 6.0])
+        .show(ui, |ui| {
+            ui.label("Transfer function");
+            ComboBox::from_id_salt("preset")
+                .selected_text(state.preset.as_str())
+                .show_ui(ui, |ui| {
+                    for name in NAMES {
+                        ui.selectable_value(&mut state.preset, name.to_string(), name);
+                    }
+                });
+            ui.end_row();
+
+            ui.label("Strategy");
+            ui.horizontal(|ui| {
+                ui.selectable_value(&mut state.strategy, Strategy::Rc, "RC")
+                    .on_hover_text("Every sample from entry to exit");
+                ui.selectable_value(&mut state.strategy, Strategy::RcT, "RC-t")
+                    .on_hover_text("Stop once the ray is (nearly) opaque");
+            });
+            ui.end_row();
+
+            ui.label("Ray loop");
+            ui.horizontal(|ui| {
+                ComboBox::from_id_salt("path")
+                    .selected_text(path_label(state.path))
+                    .show_ui(ui, |ui| {
+                        for path in [RenderPath::Auto, RenderPath::Fragment, RenderPath::Compute] {
+                            ui.selectable_value(&mut state.path, path, path_label(path));
+                        }
+                    });
+                if state.path == RenderPath::Auto {
+                    let chosen = match info.path_used {
+                        Some(ConcretePath::Fragment) => "uses fragment",
+                        Some(ConcretePath::Compute) => "uses compute",
+                        None => "(decided at the first frame)",
+                    };
+                    ui.label(chosen).on_hover_text(
+                        "Auto timed both paths once on this GPU and kept the faster",
+                    );
+                }
+            });
+            ui.end_row();
+
+            ui.label("Step (voxels)");
+            ui.add(
+                Slider::new(&mut state.step_vox, STEP_RANGE_VOX)
+                    .logarithmic(true)
+                    .max_decimals(3),
+            )
+            .on_hover_text(
+                "Distance between samples along a ray, in units of the smallest voxel spacing",
+            );
+            ui.end_row();
+
+            ui.label("Termination");
+            ui.add_enabled_ui(state.strategy.terminates_early(), |ui| {
+                ui.horizontal(|ui| {
+                    ui.add(
+                        Slider::new(&mut state.termination_alpha, TERMINATION_RANGE)
+                            .max_decimals(4),
+                    )
+                    .on_hover_text("RC-t stops once accumulated opacity exceeds this");
+                    if ui
+                        .small_button("1−1/255")
+                        .on_hover_text("The default: what is left is below one 8-bit level")
+                        .clicked()
+                    {
+                        state.termination_alpha = DEFAULT_TERMINATION_ALPHA;
+                    }
+                });
+            });
+            ui.end_row();
+
+            ui.label("Background");
+            ui.color_edit_button_srgb(&mut state.background);
+            ui.end_row();
+
+            ui.label("Projection");
+            ui.horizontal(|ui| {
+                for (kind, label) in [
+                    (ProjectionKind::Perspective, "Perspective"),
+                    (ProjectionKind::Orthographic, "Orthographic"),
+                ] {
+                    if ui
+                        .selectable_label(state.projection == kind, label)
+                        .clicked()
+                    {
+                        action = Some(Action::SetProjection(kind));
+                    }
+                }
+            });
+            ui.end_row();
+        });
+
+    ui.separator();
+    ui.heading("View");
+    ui.horizontal_wrapped(|ui| {
+        for (preset, label) in VIEWS {
+            let short = label.trim_start_matches("Along ");
+            if ui.button(short).on_hover_text(label).clicked() {
+                action = Some(Action::SetView(preset));
+            }
+        }
+    });
+    if ui.button("Reset view (R)").clicked() {
+        action = Some(Action::ResetView);
+    }
+
+    ui.separator();
+    ui.heading("Volume");
+    match info.volume {
+        Some(v) => {
+            ui.label(v.name.as_str());
+            ui.label(v.line());
+            if let Some(r) = v.range {
+                ui.label(format!("values {} … {}", short(r.min), short(r.max)));
+            }
+        }
+        None => {
+            ui.label("none yet");
+        }
+    }
+    action
+}
+
+/// A data value without trailing noise: integers as integers, others to four decimals.
+fn short(v: f64) -> String {
+    if v.fract() == 0.0 {
+        format!("{v:.0}")
+    } else {
+        format!("{v:.4}")
+    }
+}
+
+fn path_label(path: RenderPath) -> &'static str {
+    match path {
+        RenderPath::Auto => "auto",
+        RenderPath::Fragment => "fragment",
+        RenderPath::Compute => "compute",
+    }
+}

@@ -1,0 +1,209 @@
+//! Dialogs: the error message (an egui modal with the one-line message), the system file dialog
+//! (rfd through the XDG desktop portal, on a thread so the window keeps drawing), and a typed-path
+//! prompt for systems without a portal.
+
+use std::path::PathBuf;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use egui::{Id, Modal};
+
+/// A file dialog that answers "nothing chosen" faster than this did not show at all (no portal
+/// and no zenity): no person closes a file dialog within half a second.
+const DIALOG_FAILED_WITHIN: Duration = Duration::from_millis(500);
+
+/// File extensions offered in the file dialog.
+const VOLUME_EXTENSIONS: [&str; 5] = ["nrrd", "nhdr", "nii", "gz", "raw"];
+
+/// The window's dialogs.
+#[derive(Default)]
+pub struct Dialogs {
+    /// Error messages waiting to be seen, oldest first.
+    errors: Vec<String>,
+    /// The typed path while the prompt is open, and whether it has had the focus yet.
+    prompt: Option<(String, bool)>,
+    /// The system file dialog while it is open: (started, answer).
+    picker: Option<(Instant, mpsc::Receiver<Option<PathBuf>>)>,
+}
+
+impl Dialogs {
+    /// Shows `message` in a modal dialog, on one line (wgpu's errors come with a "Caused by"
+    /// chain over several), once even when the same error repeats.
+    pub fn show_error(&mut self, message: impl Into<String>) {
+        let message = one_line(&message.into());
+        log::warn!("{message}");
+        if !self.errors.contains(&message) {
+            self.errors.push(message);
+        }
+    }
+
+    /// Whether an error is on screen.
+    pub fn has_error(&self) -> bool {
+        !self.errors.is_empty()
+    }
+
+    /// Opens the path prompt.
+    pub fn open_prompt(&mut self) {
+        self.prompt.get_or_insert_with(|| (String::new(), false));
+    }
+
+    /// Opens the system file dialog, or the path prompt where there can be none.
+    pub fn open_file_dialog(&mut self, ctx: &egui::Context) {
+        if self.picker.is_some() {
+            return;
+        }
+        if !portal_possible() {
+            log::info!("no D-Bus session and no zenity: asking for a path instead");
+            self.open_prompt();
+            return;
+        }
+        let (tx, rx) = mpsc::channel();
+        let ctx = ctx.clone();
+        let spawned = std::thread::Builder::new()
+            .name("file dialog".into())
+            .spawn(move || {
+                let picked = rfd::FileDialog::new()
+                    .set_title("Open a volume")
+                    .add_filter("Volumes (NRRD, NIfTI, raw)", &VOLUME_EXTENSIONS)
+                    .add_filter("All files", &["*"])
+                    .pick_file();
+                let _ = tx.send(picked);
+                ctx.request_repaint();
+            });
+        match spawned {
+            Ok(_) => self.picker = Some((Instant::now(), rx)),
+            Err(e) => {
+                log::warn!("cannot start the file dialog: {e}");
+                self.open_prompt();
+            }
+        }
+    }
+
+    /// Draws the open dialogs and returns a file the user chose.
+    pub fn ui(&mut self, ctx: &egui::Context) -> Option<PathBuf> {
+        let mut chosen = self.poll_picker();
+        if let Some(message) = self.errors.first() {
+            let response = Modal::new(Id::unique("leapview error")).show(ctx, |ui| {
+                ui.set_max_width(480.0);
+                ui.heading("Something went wrong");
+                ui.add_space(4.0);
+                ui.label(message.as_str());
+                ui.add_space(8.0);
+                ui.button("OK").clicked()
+            });
+            if response.inner || response.should_close() {
+                self.errors.remove(0);
+            }
+        } else if self.prompt.is_some() {
+            chosen = chosen.or_else(|| self.prompt_ui(ctx));
+        }
+        chosen
+    }
+
+    /// The answer of the system file dialog; opens the prompt when the dialog could not show.
+    fn poll_picker(&mut self) -> Option<PathBuf> {
+        let (started, rx) = self.picker.as_ref()?;
+        let answer = match rx.try_recv() {
+            Ok(answer) => answer,
+            Err(mpsc::TryRecvError::Empty) => return None,
+            Err(mpsc::TryRecvError::Disconnected) => None,
+        };
+        let elapsed = started.elapsed();
+        self.picker = None;
+        if answer.is_none() && elapsed < DIALOG_FAILED_WITHIN {
+            log::info!("the file dialog did not show (no desktop portal?): asking for a path");
+            self.open_prompt();
+        }
+        answer
+    }
+
+    fn prompt_ui(&mut self, ctx: &egui::Context) -> Option<PathBuf> {
+        let (text, focused_once) = self.prompt.as_mut()?;
+        let mut open = false;
+        let mut cancel = false;
+        let response = Modal::new(Id::unique("leapview open path")).show(ctx, |ui| {
+            ui.set_width(520.0);
+            ui.heading("Open a volume");
+            ui.label("Path of a NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz) or raw file:");
+            let edit = ui.add(
+                egui::TextEdit::singleline(text)
+                    .desired_width(f32::INFINITY)
+                    .hint_text("/path/to/volume.nii.gz"),
+            );
+            if !*focused_once {
+                edit.request_focus();
+                *focused_once = true;
+            }
+            let entered = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+            ui.horizontal(|ui| {
+                open = ui.button("Open").clicked() || entered;
+                cancel = ui.button("Cancel").clicked();
+            });
+        });
+        if response.should_close() {
+            cancel = true;
+        }
+        let path = expand_home(text.trim());
+        if open && !path.as_os_str().is_empty() {
+            self.prompt = None;
+            return Some(path);
+        }
+        if cancel {
+            self.prompt = None;
+        }
+        None
+    }
+}
+
+/// Whether rfd can show a dialog at all: it needs the desktop portal on the D-Bus session bus,
+/// or zenity as its fallback.
+fn portal_possible() -> bool {
+    let has_session_bus = std::env::var_os("DBUS_SESSION_BUS_ADDRESS").is_some()
+        || std::env::var_os("XDG_RUNTIME_DIR")
+            .is_some_and(|dir| PathBuf::from(dir).join("bus").exists());
+    let has_zenity = std::env::var_os("PATH")
+        .is_some_and(|paths| std::env::split_paths(&paths).any(|p| p.join("zenity").is_file()));
+    has_session_bus || has_zenity
+}
+
+/// The lines of `text`, trimmed and joined by spaces.
+fn one_line(text: &str) -> String {
+    text.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// `~/x` → `$HOME/x`; anything else as it is.
+fn expand_home(text: &str) -> PathBuf {
+    match (text.strip_prefix("~/"), std::env::var_os("HOME")) {
+        (Some(rest), Some(home)) => PathBuf::from(home).join(rest),
+        _ => PathBuf::from(text),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn home_is_expanded_only_at_the_start() {
+        let home = std::env::var_os("HOME").map(PathBuf::from);
+        if let Some(home) = home {
+            assert_eq!(expand_home("~/a.nrrd"), home.join("a.nrrd"));
+        }
+        assert_eq!(expand_home("/x/~/a.nrrd"), PathBuf::from("/x/~/a.nrrd"));
+    }
+
+    #[test]
+    fn repeated_errors_show_once() {
+        let mut dialogs = Dialogs::default();
+        dialogs.show_error("the GPU refused");
+        dialogs.show_error("the GPU refused");
+        assert_eq!(dialogs.errors.len(), 1);
+        assert!(dialogs.has_error());
+        dialogs.show_error("Validation Error\n\nCaused by:\n    In a pass\n");
+        assert_eq!(dialogs.errors[1], "Validation Error Caused by: In a pass");
+    }
+}

@@ -1,0 +1,204 @@
+//! Loading or generating a volume on a background thread, so that the window stays responsive
+//! and the old volume stays on screen until the new one is ready. One load at a time: starting
+//! another abandons the first (its result is dropped when it arrives).
+
+use std::path::PathBuf;
+use std::sync::mpsc;
+use std::time::Instant;
+
+use crate::volume::error::LoadError;
+use crate::volume::{LoadOptions, Volume, VolumeError, load_volume};
+
+use super::standin;
+
+/// Edge length of the generated volumes, in voxels.
+pub const GENERATED_SIZE: u32 = 256;
+/// Seed of the generated vessel tree (any fixed value: the tree is the same on every run).
+pub const VESSEL_SEED: u64 = 7;
+
+/// Where a volume comes from.
+#[derive(Clone, Debug)]
+pub enum VolumeSource {
+    /// A file (NRRD, NIfTI or raw with `options`).
+    File {
+        /// The file.
+        path: PathBuf,
+        /// Raw-file layout from the command line.
+        options: LoadOptions,
+    },
+    /// The generated 3D Shepp–Logan head phantom in HU.
+    SheppLogan,
+    /// The generated sparse vessel tree.
+    VesselTree,
+}
+
+impl VolumeSource {
+    /// What the loader is busy with, for the spinner.
+    pub fn label(&self) -> String {
+        match self {
+            Self::File { path, .. } => path.file_name().map_or_else(
+                || path.display().to_string(),
+                |n| n.to_string_lossy().into(),
+            ),
+            Self::SheppLogan => "Shepp–Logan phantom".into(),
+            Self::VesselTree => "vessel tree".into(),
+        }
+    }
+
+    /// Loads or generates the volume (slow: call it off the UI thread).
+    pub fn load(&self) -> Result<Volume, LoadFailure> {
+        match self {
+            Self::File { path, options } => Ok(load_volume(path, options)?),
+            Self::SheppLogan => Ok(standin::shepp_logan(GENERATED_SIZE)?),
+            Self::VesselTree => Ok(standin::vessel_tree(GENERATED_SIZE, VESSEL_SEED)?),
+        }
+    }
+}
+
+/// Why no volume came back.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadFailure {
+    /// The file could not be read.
+    #[error(transparent)]
+    File(#[from] LoadError),
+    /// The generator produced an invalid volume (a bug).
+    #[error("the generated volume is invalid: {0}")]
+    Generate(#[from] VolumeError),
+    /// The loader thread could not start or stopped without an answer.
+    #[error("loading {what} stopped unexpectedly: {reason}")]
+    Thread {
+        /// What was being loaded.
+        what: String,
+        /// What happened.
+        reason: String,
+    },
+}
+
+struct Pending {
+    label: String,
+    started: Instant,
+    rx: mpsc::Receiver<Result<Volume, LoadFailure>>,
+}
+
+/// Wakes the UI when the loader thread ends, whether it answered or panicked.
+struct RepaintOnDrop(egui::Context);
+
+impl Drop for RepaintOnDrop {
+    fn drop(&mut self) {
+        self.0.request_repaint();
+    }
+}
+
+/// The background loader.
+#[derive(Default)]
+pub struct Loader {
+    pending: Option<Pending>,
+}
+
+impl Loader {
+    /// Starts loading `source`, abandoning any load in progress. `ctx` is woken when it is done.
+    pub fn start(&mut self, source: VolumeSource, ctx: &egui::Context) -> Result<(), LoadFailure> {
+        let label = source.label();
+        let (tx, rx) = mpsc::channel();
+        let waker = RepaintOnDrop(ctx.clone());
+        std::thread::Builder::new()
+            .name("volume loader".into())
+            .spawn(move || {
+                let _waker = waker;
+                let started = Instant::now();
+                let result = source.load();
+                log::info!(
+                    "loaded {} in {:.2} s",
+                    source.label(),
+                    started.elapsed().as_secs_f64()
+                );
+                // The receiver is gone when this load was abandoned: nothing to do then.
+                let _ = tx.send(result);
+            })
+            .map_err(|e| LoadFailure::Thread {
+                what: label.clone(),
+                reason: e.to_string(),
+            })?;
+        self.pending = Some(Pending {
+            label,
+            started: Instant::now(),
+            rx,
+        });
+        Ok(())
+    }
+
+    /// What is being loaded and since when, while a load is in progress.
+    pub fn busy(&self) -> Option<(&str, Instant)> {
+        self.pending.as_ref().map(|p| (p.label.as_str(), p.started))
+    }
+
+    /// The result of the load in progress, once it has arrived.
+    pub fn poll(&mut self) -> Option<Result<Volume, LoadFailure>> {
+        let pending = self.pending.as_ref()?;
+        let result = match pending.rx.try_recv() {
+            Ok(result) => result,
+            Err(mpsc::TryRecvError::Empty) => return None,
+            Err(mpsc::TryRecvError::Disconnected) => Err(LoadFailure::Thread {
+                what: pending.label.clone(),
+                reason: "the loader thread ended without a result (see the log)".into(),
+            }),
+        };
+        self.pending = None;
+        Some(result)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wait(loader: &mut Loader) -> Result<Volume, LoadFailure> {
+        let deadline = Instant::now() + std::time::Duration::from_secs(60);
+        loop {
+            if let Some(result) = loader.poll() {
+                return result;
+            }
+            assert!(Instant::now() < deadline, "the loader never answered");
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+    }
+
+    #[test]
+    fn a_missing_file_comes_back_as_an_error_naming_it() {
+        let ctx = egui::Context::default();
+        let mut loader = Loader::default();
+        let path = PathBuf::from("/nonexistent/leapview-test.nrrd");
+        loader
+            .start(
+                VolumeSource::File {
+                    path: path.clone(),
+                    options: LoadOptions::default(),
+                },
+                &ctx,
+            )
+            .expect("thread starts");
+        assert_eq!(loader.busy().map(|b| b.0), Some("leapview-test.nrrd"));
+        let err = wait(&mut loader).expect_err("no such file");
+        assert!(err.to_string().contains("/nonexistent/leapview-test.nrrd"));
+        assert!(loader.busy().is_none());
+        assert!(loader.poll().is_none());
+    }
+
+    #[test]
+    fn a_newer_load_replaces_an_older_one() {
+        let ctx = egui::Context::default();
+        let mut loader = Loader::default();
+        let missing = VolumeSource::File {
+            path: PathBuf::from("/nonexistent/a.nrrd"),
+            options: LoadOptions::default(),
+        };
+        loader.start(missing, &ctx).expect("thread starts");
+        loader
+            .start(VolumeSource::SheppLogan, &ctx)
+            .expect("thread starts");
+        let volume = wait(&mut loader).expect("the phantom generates");
+        assert_eq!(volume.dims(), [GENERATED_SIZE; 3]);
+        // Air in HU: the phantom must be recognised as CT.
+        assert!(super::super::is_ct_like(volume.value_range()));
+    }
+}

@@ -1,0 +1,101 @@
+//! The menu bar: File (open, generated volumes, quit), View (standard views, projection, panels)
+//! and Help (the mouse and keyboard controls).
+
+use egui::MenuBar;
+
+use crate::camera::{ProjectionKind, ViewPreset};
+
+use super::{Action, ViewerState};
+
+/// The standard views with their menu labels, in menu order.
+pub const VIEWS: [(ViewPreset, &str); 7] = [
+    (ViewPreset::PlusX, "Along +x"),
+    (ViewPreset::MinusX, "Along −x"),
+    (ViewPreset::PlusY, "Along +y"),
+    (ViewPreset::MinusY, "Along −y"),
+    (ViewPreset::PlusZ, "Along +z"),
+    (ViewPreset::MinusZ, "Along −z"),
+    (ViewPreset::Oblique, "Oblique"),
+];
+
+/// The controls, one `(gesture, effect)` pair a line, for the Help menu and the view's tooltip.
+pub const CONTROLS: [(&str, &str); 8] = [
+    (
+        "Left drag",
+        "orbit about the centre (horizontal: azimuth, vertical: elevation)",
+    ),
+    ("Middle drag, Shift + left drag", "pan"),
+    ("Mouse wheel, pinch, Ctrl + wheel", "zoom"),
+    ("R, or View menu: Reset view", "reset the view"),
+    ("View menu: Along ±x/±y/±z, Oblique", "standard views"),
+    ("View menu: Perspective / Orthographic", "projection"),
+    ("Ctrl + O", "open a file (or drop one onto the window)"),
+    ("Ctrl + Q", "quit"),
+];
+
+/// Draws the menu bar; returns what the user chose.
+pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
+    let mut action = None;
+    MenuBar::new().ui(ui, |ui| {
+        ui.menu_button("File", |ui| {
+            if ui.button("Open…").clicked() {
+                action = Some(Action::OpenDialog);
+            }
+            if ui.button("Open path…").clicked() {
+                action = Some(Action::OpenPathPrompt);
+            }
+            ui.separator();
+            if ui.button("Shepp–Logan phantom").clicked() {
+                action = Some(Action::LoadPhantom);
+            }
+            if ui.button("Vessel tree (generated)").clicked() {
+                action = Some(Action::LoadVessels);
+            }
+            ui.separator();
+            if ui.button("Quit").clicked() {
+                action = Some(Action::Quit);
+            }
+        });
+        ui.menu_button("View", |ui| {
+            for (preset, label) in VIEWS {
+                if ui.button(label).clicked() {
+                    action = Some(Action::SetView(preset));
+                }
+            }
+            if ui.button("Reset view (R)").clicked() {
+                action = Some(Action::ResetView);
+            }
+            ui.separator();
+            for (kind, label) in [
+                (ProjectionKind::Perspective, "Perspective"),
+                (ProjectionKind::Orthographic, "Orthographic"),
+            ] {
+                if ui.radio(state.projection == kind, label).clicked() {
+                    action = Some(Action::SetProjection(kind));
+                }
+            }
+            ui.separator();
+            ui.checkbox(&mut state.show_controls, "Controls panel");
+            ui.checkbox(&mut state.show_readout, "Readout (FPS, GPU time)");
+        });
+        ui.menu_button("Help", |ui| {
+            ui.label(egui::RichText::new("Controls").strong());
+            controls_grid(ui);
+        });
+    });
+    action
+}
+
+/// The controls as a two-column grid.
+pub fn controls_grid(ui: &mut egui::Ui) {
+    egui::Grid::new("controls help")
+        .num_columns(2)
+        .striped(true)
+        .show(ui, |ui| {
+            for (gesture, effect) in CONTROLS {
+                ui.label(gesture);
+                ui.label(effect);
+                ui.end_row();
+            }
+        });
+}

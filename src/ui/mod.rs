@@ -1,0 +1,218 @@
+//! The viewer window's user interface, in small parts that `app.rs` wires together: the plain
+//! state the controls edit ([`ViewerState`]), the view with its mouse and keyboard handling, the
+//! side panel, the menus, the readout overlay, the background loader, dialogs, and the
+//! automation hooks (exit after N frames, screenshot) used by scripts and smoke tests.
+//!
+//! As in egui's `custom3d_wgpu` example, the state here holds only plain values; the renderer
+//! and every GPU object live in the app struct, never in a widget.
+
+pub mod controls;
+pub mod dialogs;
+pub mod interaction;
+pub mod loading;
+pub mod menu;
+pub mod overlay;
+pub mod redraw;
+pub mod scene;
+pub mod screenshot;
+mod standin;
+pub mod viewport;
+pub mod window;
+
+use serde::{Deserialize, Serialize};
+
+use crate::camera::{ProjectionKind, ViewPreset};
+use crate::render::settings::DEFAULT_TERMINATION_ALPHA;
+use crate::render::{RenderPath, RenderSettings, Strategy};
+use crate::volume::{ScalarType, ValueRange, Volume};
+
+/// Preset chosen for volumes that look like CT (values in Hounsfield units).
+pub const DEFAULT_CT_PRESET: &str = "ct-bone";
+/// Preset chosen for every other volume (MRI and unitless data).
+pub const DEFAULT_OTHER_PRESET: &str = "mr-default";
+
+/// Below this minimum (data units) a volume is taken for CT: air is −1000 HU, and no MRI or
+/// unitless volume has values this negative.
+pub const CT_MINIMUM_BELOW: f64 = -500.0;
+
+/// Everything the controls edit, as plain serialisable values (persisted in a later issue).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ViewerState {
+    /// Transfer-function preset name (one of [`crate::transfer::presets::NAMES`]).
+    pub preset: String,
+    /// RC or RC-t.
+    pub strategy: Strategy,
+    /// Fragment, compute, or let the renderer pick.
+    pub path: RenderPath,
+    /// Sample step in units of the smallest voxel spacing.
+    pub step_vox: f64,
+    /// RC-t stops once accumulated opacity exceeds this.
+    pub termination_alpha: f64,
+    /// Background colour as 8-bit RGB; stored into the image as it is, like the PNG output.
+    pub background: [u8; 3],
+    /// Perspective or orthographic projection.
+    pub projection: ProjectionKind,
+    /// Whether the side panel is open.
+    pub show_controls: bool,
+    /// Whether the readout (FPS, GPU time, adapter, volume) is drawn over the view.
+    pub show_readout: bool,
+}
+
+impl Default for ViewerState {
+    fn default() -> Self {
+        let render = RenderSettings::default();
+        Self {
+            preset: DEFAULT_CT_PRESET.to_string(),
+            strategy: render.strategy,
+            path: render.path,
+            step_vox: render.step_vox,
+            termination_alpha: DEFAULT_TERMINATION_ALPHA,
+            background: [0, 0, 0],
+            projection: ProjectionKind::Perspective,
+            show_controls: true,
+            show_readout: true,
+        }
+    }
+}
+
+impl ViewerState {
+    /// The renderer's settings for this state.
+    pub fn render_settings(&self) -> RenderSettings {
+        RenderSettings {
+            strategy: self.strategy,
+            path: self.path,
+            step_vox: self.step_vox,
+            termination_alpha: self.termination_alpha,
+            background: self.background.map(|c| f64::from(c) / 255.0),
+            ..RenderSettings::default()
+        }
+    }
+}
+
+/// Whether a volume with this value range looks like CT (see [`CT_MINIMUM_BELOW`]).
+pub fn is_ct_like(range: Option<ValueRange>) -> bool {
+    range.is_some_and(|r| r.min < CT_MINIMUM_BELOW)
+}
+
+/// The preset to use after opening a volume: the current one when it suits the volume's kind
+/// (a `ct-*` preset for CT, an `mr-*` preset otherwise, the grey ramp for either), else the
+/// default for that kind.
+pub fn preset_for_volume(current: &str, ct_like: bool) -> String {
+    let fits = current == "grey-ramp"
+        || (ct_like && current.starts_with("ct-"))
+        || (!ct_like && current.starts_with("mr-"));
+    if fits {
+        current.to_string()
+    } else if ct_like {
+        DEFAULT_CT_PRESET.to_string()
+    } else {
+        DEFAULT_OTHER_PRESET.to_string()
+    }
+}
+
+/// What the window shows about the loaded volume.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VolumeSummary {
+    /// Name (file name or generator).
+    pub name: String,
+    /// Samples along x, y, z.
+    pub dims: [u32; 3],
+    /// Voxel spacing in millimetres.
+    pub spacing_mm: [f64; 3],
+    /// Stored sample type.
+    pub scalar_type: ScalarType,
+    /// Finite value range in data units.
+    pub range: Option<ValueRange>,
+}
+
+impl VolumeSummary {
+    /// Summarises `volume`.
+    pub fn of(volume: &Volume) -> Self {
+        Self {
+            name: volume.name().to_string(),
+            dims: volume.dims(),
+            spacing_mm: volume.spacing_mm(),
+            scalar_type: volume.scalar_type(),
+            range: volume.value_range(),
+        }
+    }
+
+    /// One line: dims, type and spacing, e.g. `256×256×256 int16, 0.8×0.8×1 mm`.
+    pub fn line(&self) -> String {
+        let [x, y, z] = self.dims;
+        let [sx, sy, sz] = self.spacing_mm;
+        format!(
+            "{x}×{y}×{z} {}, {sx:.3}×{sy:.3}×{sz:.3} mm",
+            self.scalar_type
+        )
+    }
+}
+
+/// Something the user asked for through a menu, the side panel or a key.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action {
+    /// Show the system file dialog (or the path prompt where there is none).
+    OpenDialog,
+    /// Show the path prompt.
+    OpenPathPrompt,
+    /// Generate the Shepp–Logan head phantom.
+    LoadPhantom,
+    /// Generate the vessel tree.
+    LoadVessels,
+    /// Close the window.
+    Quit,
+    /// Look along a standard direction, framing the whole volume.
+    SetView(ViewPreset),
+    /// Back to the default (oblique) view, framing the whole volume.
+    ResetView,
+    /// Switch projection, keeping the size of what is at the orbit centre.
+    SetProjection(ProjectionKind),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::transfer::presets::NAMES;
+
+    #[test]
+    fn ct_is_recognised_by_air() {
+        let ct = ValueRange {
+            min: -1024.0,
+            max: 3071.0,
+        };
+        let mr = ValueRange {
+            min: 0.0,
+            max: 4095.0,
+        };
+        assert!(is_ct_like(Some(ct)));
+        assert!(!is_ct_like(Some(mr)));
+        assert!(!is_ct_like(None));
+    }
+
+    #[test]
+    fn preset_follows_the_kind_of_volume() {
+        assert_eq!(preset_for_volume("ct-skin", true), "ct-skin");
+        assert_eq!(preset_for_volume("ct-skin", false), DEFAULT_OTHER_PRESET);
+        assert_eq!(preset_for_volume("mr-angio", true), DEFAULT_CT_PRESET);
+        assert_eq!(preset_for_volume("grey-ramp", false), "grey-ramp");
+        // Whatever is chosen is a preset that exists.
+        for name in NAMES {
+            for ct in [false, true] {
+                assert!(NAMES.contains(&preset_for_volume(name, ct).as_str()));
+            }
+        }
+    }
+
+    #[test]
+    fn state_gives_valid_settings() {
+        let state = ViewerState {
+            background: [255, 128, 0],
+            ..ViewerState::default()
+        };
+        let settings = state.render_settings();
+        assert_eq!(settings.validate(), Ok(()));
+        assert_eq!(settings.background[0], 1.0);
+        assert_eq!(settings.background[2], 0.0);
+        assert!(NAMES.contains(&state.preset.as_str()));
+    }
+}

@@ -1,0 +1,195 @@
+//! The readout drawn over the view: frames rendered per second over the last second (or "idle"),
+//! the GPU time of the last frame from timestamp queries, the adapter, and the volume; plus the
+//! loading spinner.
+
+use std::collections::VecDeque;
+use std::time::{Duration, Instant};
+
+use egui::{Align2, Color32, Frame, Rect, RichText, UiBuilder};
+
+use crate::render::ConcretePath;
+
+use super::VolumeSummary;
+
+/// The window the frame rate is measured over.
+pub const FPS_WINDOW: Duration = Duration::from_secs(1);
+
+/// Counts rendered volume frames over the last [`FPS_WINDOW`].
+#[derive(Clone, Debug, Default)]
+pub struct FpsCounter {
+    frames: VecDeque<Instant>,
+}
+
+impl FpsCounter {
+    /// Records a frame rendered at `at`.
+    pub fn record(&mut self, at: Instant) {
+        self.frames.push_back(at);
+        self.forget_before(at);
+    }
+
+    /// Frames rendered in the second before `now`; `None` when there were none (idle).
+    pub fn fps(&mut self, now: Instant) -> Option<usize> {
+        self.forget_before(now);
+        (!self.frames.is_empty()).then_some(self.frames.len())
+    }
+
+    /// How long until the count changes by itself (the oldest frame leaving the window), so that
+    /// the readout can be refreshed then; `None` when idle.
+    pub fn next_change(&self, now: Instant) -> Option<Duration> {
+        self.frames
+            .front()
+            .map(|&oldest| (oldest + FPS_WINDOW).saturating_duration_since(now))
+    }
+
+    fn forget_before(&mut self, now: Instant) {
+        while let Some(&oldest) = self.frames.front() {
+            if now.saturating_duration_since(oldest) >= FPS_WINDOW {
+                self.frames.pop_front();
+            } else {
+                break;
+            }
+        }
+    }
+}
+
+/// What the readout shows.
+pub struct Readout<'a> {
+    /// Frames per second, `None` when idle.
+    pub fps: Option<usize>,
+    /// GPU milliseconds of the last measured frame.
+    pub gpu_ms: Option<f64>,
+    /// Whether the adapter has timestamp queries at all.
+    pub has_timestamps: bool,
+    /// Adapter name and backend.
+    pub adapter: &'a str,
+    /// The path the last frame used.
+    pub path: Option<ConcretePath>,
+    /// Strategy label of the last frame (RC, RC-t).
+    pub strategy: &'a str,
+    /// The volume on screen.
+    pub volume: Option<&'a VolumeSummary>,
+}
+
+impl Readout<'_> {
+    /// The lines of text, top to bottom.
+    pub fn lines(&self) -> Vec<String> {
+        let fps = self
+            .fps
+            .map_or_else(|| "idle".to_string(), |n| format!("{n} fps"));
+        let gpu = match (self.gpu_ms, self.has_timestamps) {
+            (Some(ms), _) => format!("{ms:.2} ms GPU"),
+            (None, true) => "… ms GPU".to_string(),
+            (None, false) => "GPU time n/a (no timestamp queries)".to_string(),
+        };
+        let path = match self.path {
+            Some(ConcretePath::Fragment) => " fragment",
+            Some(ConcretePath::Compute) => " compute",
+            None => "",
+        };
+        let mut lines = vec![
+            format!("{fps} · {gpu} · {}{path}", self.strategy),
+            self.adapter.to_string(),
+        ];
+        if let Some(v) = self.volume {
+            lines.push(format!("{} · {}", v.name, v.line()));
+        }
+        lines
+    }
+}
+
+/// Draws the readout in the top-left corner of `view`; returns the rectangle it covers.
+pub fn draw_readout(ui: &mut egui::Ui, view: Rect, readout: &Readout) -> Rect {
+    let area = view.shrink(8.0);
+    let mut child = ui.new_child(UiBuilder::new().max_rect(area));
+    child.style_mut().interaction.selectable_labels = false;
+    Frame::new()
+        .fill(Color32::from_black_alpha(170))
+        .corner_radius(4.0)
+        .inner_margin(6.0)
+        .show(&mut child, |ui| {
+            for line in readout.lines() {
+                ui.label(
+                    RichText::new(line)
+                        .monospace()
+                        .color(Color32::from_gray(230)),
+                );
+            }
+        })
+        .response
+        .rect
+}
+
+/// Draws a spinner and "Loading …" in the top-right corner of `view`.
+pub fn draw_loading(ui: &mut egui::Ui, view: Rect, what: &str, since: Instant) {
+    let text = format!("Loading {what}… {:.0} s", since.elapsed().as_secs_f64());
+    let galley = ui.painter().layout_no_wrap(
+        text,
+        egui::FontId::proportional(14.0),
+        Color32::from_gray(230),
+    );
+    let size = galley.size() + egui::vec2(36.0, 12.0);
+    let rect = Align2::RIGHT_TOP.align_size_within_rect(size, view.shrink(8.0));
+    ui.painter()
+        .rect_filled(rect, 4.0, Color32::from_black_alpha(170));
+    let spinner = Rect::from_center_size(
+        rect.left_center() + egui::vec2(16.0, 0.0),
+        egui::vec2(16.0, 16.0),
+    );
+    egui::Spinner::new().paint_at(ui, spinner);
+    ui.painter().galley(
+        rect.left_top() + egui::vec2(30.0, 6.0),
+        galley,
+        Color32::from_gray(230),
+    );
+    // The elapsed seconds change by themselves; the spinner already asks for repaints.
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fps_counts_the_last_second_and_goes_idle() {
+        let t0 = Instant::now();
+        let mut fps = FpsCounter::default();
+        assert_eq!(fps.fps(t0), None);
+        assert_eq!(fps.next_change(t0), None);
+        // 30 frames 1/30 s apart: all 30 lie within the second after the first.
+        for i in 0..30 {
+            fps.record(t0 + Duration::from_millis(33 * i));
+        }
+        let end = t0 + Duration::from_millis(33 * 29);
+        assert_eq!(fps.fps(end), Some(30));
+        // Half a second later the first half has left the window.
+        assert_eq!(fps.fps(t0 + Duration::from_millis(1500)), Some(14));
+        assert_eq!(
+            fps.next_change(t0 + Duration::from_millis(1500)),
+            Some(Duration::from_millis(33 * 16 + 1000 - 1500))
+        );
+        assert_eq!(fps.fps(end + FPS_WINDOW), None);
+    }
+
+    #[test]
+    fn readout_says_idle_and_why_gpu_time_is_missing() {
+        let readout = Readout {
+            fps: None,
+            gpu_ms: None,
+            has_timestamps: false,
+            adapter: "llvmpipe",
+            path: Some(ConcretePath::Compute),
+            strategy: "RC-t",
+            volume: None,
+        };
+        let lines = readout.lines();
+        assert!(lines[0].starts_with("idle"));
+        assert!(lines[0].contains("n/a"));
+        assert!(lines[0].contains("compute"));
+        let busy = Readout {
+            fps: Some(24),
+            gpu_ms: Some(3.25),
+            has_timestamps: true,
+            ..readout
+        };
+        assert!(busy.lines()[0].starts_with("24 fps · 3.25 ms GPU"));
+    }
+}

@@ -1,0 +1,245 @@
+//! The volume on screen: the one [`VolumeRenderer`] of the window, the camera, the egui texture
+//! the image is shown through, and the frame bookkeeping — render only when the inputs changed,
+//! frames per second, GPU time of the last frame.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use egui::mutex::RwLock;
+
+use crate::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
+use crate::imaging::ImageF32;
+use crate::render::{ConcretePath, FrameRequest, GpuContext, RenderError, VolumeRenderer};
+use crate::transfer::presets;
+use crate::volume::Volume;
+
+use super::interaction::{framed, with_projection};
+use super::overlay::{FpsCounter, Readout};
+use super::redraw::{FrameInputs, RedrawTracker};
+use super::viewport::ViewTexture;
+use super::{ViewerState, VolumeSummary};
+
+/// The renderer and everything about the frame on screen.
+pub struct Scene {
+    renderer: VolumeRenderer,
+    device: wgpu::Device,
+    egui_renderer: Arc<RwLock<egui_wgpu::Renderer>>,
+    adapter_label: String,
+    texture: ViewTexture,
+    camera: Option<Camera>,
+    bounds: Option<Aabb>,
+    volume: Option<VolumeSummary>,
+    volume_generation: u64,
+    /// The preset given to the renderer and its generation.
+    transfer: Option<(String, u64)>,
+    redraw: RedrawTracker,
+    fps: FpsCounter,
+    gpu_ms: Option<f64>,
+    path_used: Option<ConcretePath>,
+    frames_rendered: u64,
+    quiet_passes: u32,
+}
+
+impl Scene {
+    /// Creates the renderer on eframe's device.
+    pub fn new(rs: &egui_wgpu::RenderState) -> Result<Self, RenderError> {
+        let ctx = GpuContext::new(&rs.adapter, rs.device.clone(), rs.queue.clone());
+        let info = &ctx.adapter_info;
+        let adapter_label = format!("{} ({:?})", info.name, info.backend);
+        log::info!("window GPU: {}", ctx.adapter_summary());
+        Ok(Self {
+            renderer: VolumeRenderer::new(ctx)?,
+            device: rs.device.clone(),
+            egui_renderer: rs.renderer.clone(),
+            adapter_label,
+            texture: ViewTexture::default(),
+            camera: None,
+            bounds: None,
+            volume: None,
+            volume_generation: 0,
+            transfer: None,
+            redraw: RedrawTracker::default(),
+            fps: FpsCounter::default(),
+            gpu_ms: None,
+            path_used: None,
+            frames_rendered: 0,
+            quiet_passes: 0,
+        })
+    }
+
+    /// Uploads `volume` and frames it in the default view. On error the old volume stays.
+    pub fn show_volume(
+        &mut self,
+        volume: &Volume,
+        projection: ProjectionKind,
+    ) -> Result<&VolumeSummary, RenderError> {
+        self.renderer.set_volume(volume)?;
+        let summary = VolumeSummary::of(volume);
+        let bounds = Aabb::of_volume(summary.dims, summary.spacing_mm);
+        self.camera = Some(framed(&bounds, ViewPreset::Oblique, projection));
+        self.bounds = Some(bounds);
+        self.volume_generation += 1;
+        log::info!("showing {}: {}", summary.name, summary.line());
+        Ok(self.volume.insert(summary))
+    }
+
+    /// The volume on screen.
+    pub fn volume(&self) -> Option<&VolumeSummary> {
+        self.volume.as_ref()
+    }
+
+    /// The camera, once a volume is shown.
+    pub fn camera_mut(&mut self) -> Option<&mut Camera> {
+        self.camera.as_mut()
+    }
+
+    /// Looks along `preset`, framing the whole volume.
+    pub fn set_view(&mut self, preset: ViewPreset, projection: ProjectionKind) {
+        if let Some(bounds) = &self.bounds {
+            self.camera = Some(framed(bounds, preset, projection));
+        }
+    }
+
+    /// Switches projection without a jump in size.
+    pub fn set_projection(&mut self, kind: ProjectionKind) {
+        self.camera = self.camera.map(|c| with_projection(&c, kind));
+    }
+
+    /// Takes the GPU timings that have arrived; returns whether more are on their way.
+    pub fn collect_measurements(&mut self) -> bool {
+        for result in self.renderer.collect_results(false) {
+            if result.gpu_ms.is_some() {
+                self.gpu_ms = result.gpu_ms;
+            }
+        }
+        self.renderer.results_pending()
+    }
+
+    /// Gives the renderer the chosen preset when it changed (an unknown name reverts `state`).
+    fn apply_transfer(&mut self, state: &mut ViewerState) -> Result<(), String> {
+        if self
+            .transfer
+            .as_ref()
+            .is_some_and(|(name, _)| *name == state.preset)
+        {
+            return Ok(());
+        }
+        match presets::preset(&state.preset) {
+            Ok(tf) => {
+                self.renderer.set_transfer_function(&tf);
+                let generation = self.transfer.as_ref().map_or(1, |(_, g)| g + 1);
+                self.transfer = Some((state.preset.clone(), generation));
+                Ok(())
+            }
+            Err(e) => {
+                if let Some((name, _)) = &self.transfer {
+                    state.preset = name.clone();
+                }
+                Err(e.to_string())
+            }
+        }
+    }
+
+    /// Renders a frame at `size_px` when anything it depends on changed since the last one.
+    /// Returns whether a frame was rendered; an error is a one-line message for the user.
+    pub fn render_if_changed(
+        &mut self,
+        state: &mut ViewerState,
+        size_px: [u32; 2],
+    ) -> Result<bool, String> {
+        let Some(camera) = self.camera else {
+            return Ok(false);
+        };
+        if !self.renderer.has_volume() || size_px.contains(&0) {
+            return Ok(false);
+        }
+        self.apply_transfer(state)?;
+        let inputs = FrameInputs {
+            camera,
+            size_px,
+            settings: state.render_settings(),
+            transfer_generation: self.transfer.as_ref().map_or(0, |(_, g)| *g),
+            volume_generation: self.volume_generation,
+        };
+        if !self.redraw.needs_render(&inputs) {
+            return Ok(false);
+        }
+        let request = FrameRequest {
+            camera: &inputs.camera,
+            size: size_px,
+            settings: &inputs.settings,
+            stats: false,
+        };
+        let result = self.renderer.render(&request);
+        // Marked even on failure, so a failing frame is not retried on every pass.
+        self.redraw.mark_rendered(inputs);
+        let submitted = result.map_err(|e| format!("Cannot render the volume: {e}"))?;
+        self.frames_rendered += 1;
+        self.quiet_passes = 0;
+        self.fps.record(Instant::now());
+        self.path_used = Some(submitted.key.path);
+        if let Some(view) = self.renderer.output_view() {
+            self.texture
+                .sync(&self.egui_renderer, &self.device, view, size_px);
+        }
+        log::debug!(
+            "rendered volume frame {} at {size_px:?}",
+            self.frames_rendered
+        );
+        Ok(true)
+    }
+
+    /// Draws the last image with its top-left corner at `origin`.
+    pub fn paint(&self, ui: &egui::Ui, origin: egui::Pos2) {
+        self.texture.paint(ui, origin);
+    }
+
+    /// What the readout shows now.
+    pub fn readout(&mut self, state: &ViewerState, now: Instant) -> Readout<'_> {
+        Readout {
+            fps: self.fps.fps(now),
+            gpu_ms: self.gpu_ms,
+            has_timestamps: self.renderer.context().has_timestamps(),
+            adapter: &self.adapter_label,
+            path: self.path_used,
+            strategy: state.strategy.label(),
+            volume: self.volume.as_ref(),
+        }
+    }
+
+    /// When the frame rate shown changes by itself (down to idle), if it will.
+    pub fn fps_next_change(&self, now: Instant) -> Option<Duration> {
+        self.fps.next_change(now)
+    }
+
+    /// The path the last frame used (what `auto` chose).
+    pub fn path_used(&self) -> Option<ConcretePath> {
+        self.path_used
+    }
+
+    /// Volume frames rendered so far.
+    pub fn frames_rendered(&self) -> u64 {
+        self.frames_rendered
+    }
+
+    /// Counts a pass; returns the passes since the last rendered frame.
+    pub fn note_pass(&mut self) -> u32 {
+        self.quiet_passes = self.quiet_passes.saturating_add(1);
+        self.quiet_passes
+    }
+
+    /// The inputs of the frame on screen.
+    pub fn last_inputs(&self) -> Option<&FrameInputs> {
+        self.redraw.last()
+    }
+
+    /// The frame on screen, read back from the GPU (waits for it).
+    pub fn read_image(&self) -> Result<ImageF32, RenderError> {
+        self.renderer.read_image()
+    }
+
+    /// Whether GPU timings are still on their way.
+    pub fn results_pending(&self) -> bool {
+        self.renderer.results_pending()
+    }
+}

@@ -1,0 +1,114 @@
+//! The view: the area the volume is shown in, its mouse gestures, and the renderer's output
+//! texture registered once with egui-wgpu and drawn 1:1 in physical pixels, with nearest
+//! filtering, so the window shows exactly the values the PNG output holds.
+
+use egui::mutex::RwLock;
+use egui::{Color32, CursorIcon, PointerButton, Pos2, Rect, Sense, TextureId, pos2, vec2};
+
+use crate::camera::Camera;
+
+use super::interaction::{orbit_drag, pan_drag, zoom_scroll};
+
+/// The area allocated for the view this pass.
+pub struct ViewArea {
+    /// In points, aligned to physical pixels.
+    pub rect: Rect,
+    /// In physical pixels (what the renderer renders at).
+    pub size_px: [u32; 2],
+    /// Whether R was pressed (reset view) while the view had the keyboard.
+    pub reset_requested: bool,
+}
+
+/// Allocates all remaining space for the view and applies the pointer gestures to `camera`.
+pub fn view_ui(ui: &mut egui::Ui, camera: Option<&mut Camera>) -> ViewArea {
+    let ppp = ui.ctx().pixels_per_point();
+    let rect = ui.available_rect_before_wrap();
+    // Align the corner to a physical pixel so texels map 1:1 onto the screen.
+    let min = pos2(
+        (rect.min.x * ppp).round() / ppp,
+        (rect.min.y * ppp).round() / ppp,
+    );
+    let size_px = [
+        ((rect.max.x - min.x) * ppp).floor().max(0.0) as u32,
+        ((rect.max.y - min.y) * ppp).floor().max(0.0) as u32,
+    ];
+    let rect = Rect::from_min_size(min, vec2(size_px[0] as f32 / ppp, size_px[1] as f32 / ppp));
+    let response = ui.allocate_rect(rect, Sense::click_and_drag());
+    // Clicking the view gives it egui's focus, so only a text field blocks the shortcut.
+    let reset_requested = !ui.ctx().text_edit_focused()
+        && ui.input(|i| i.key_pressed(egui::Key::R) && i.modifiers.is_none());
+    if let Some(camera) = camera {
+        let shift = ui.input(|i| i.modifiers.shift);
+        let delta = response.drag_delta();
+        let panning = response.dragged_by(PointerButton::Middle)
+            || (response.dragged_by(PointerButton::Primary) && shift);
+        if panning {
+            pan_drag(camera, [delta.x, delta.y], rect.height());
+            ui.ctx().set_cursor_icon(CursorIcon::Move);
+        } else if response.dragged_by(PointerButton::Primary) {
+            orbit_drag(camera, [delta.x, delta.y]);
+            ui.ctx().set_cursor_icon(CursorIcon::Grabbing);
+        }
+        if response.hovered() {
+            let (scrolled, pinch) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
+            zoom_scroll(camera, scrolled, pinch);
+        }
+    }
+    ViewArea {
+        rect,
+        size_px,
+        reset_requested,
+    }
+}
+
+/// The renderer's output image as an egui texture: registered once, re-pointed when the renderer
+/// replaces its output texture (on a size change).
+#[derive(Default)]
+pub struct ViewTexture {
+    id: Option<TextureId>,
+    view: Option<wgpu::TextureView>,
+    size_px: [u32; 2],
+}
+
+impl ViewTexture {
+    /// Makes the texture id show `view` (of `size_px` pixels).
+    pub fn sync(
+        &mut self,
+        egui_renderer: &RwLock<egui_wgpu::Renderer>,
+        device: &wgpu::Device,
+        view: &wgpu::TextureView,
+        size_px: [u32; 2],
+    ) {
+        self.size_px = size_px;
+        if self.view.as_ref() == Some(view) {
+            return;
+        }
+        let mut renderer = egui_renderer.write();
+        // Nearest: at 1:1 it reads each texel exactly, where linear could blend neighbours when
+        // the panel edge is not exactly on a pixel.
+        let filter = wgpu::FilterMode::Nearest;
+        match self.id {
+            Some(id) => renderer.update_egui_texture_from_wgpu_texture(device, view, filter, id),
+            None => self.id = Some(renderer.register_native_texture(device, view, filter)),
+        }
+        self.view = Some(view.clone());
+    }
+
+    /// Size of the image on display, in physical pixels.
+    pub fn size_px(&self) -> [u32; 2] {
+        self.size_px
+    }
+
+    /// Draws the image with its top-left corner at `origin`, one texel per physical pixel.
+    pub fn paint(&self, ui: &egui::Ui, origin: Pos2) -> Option<Rect> {
+        let id = self.id?;
+        let ppp = ui.ctx().pixels_per_point();
+        let rect = Rect::from_min_size(
+            origin,
+            vec2(self.size_px[0] as f32 / ppp, self.size_px[1] as f32 / ppp),
+        );
+        let uv = Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0));
+        ui.painter().image(id, rect, uv, Color32::WHITE);
+        Some(rect)
+    }
+}
