@@ -97,7 +97,7 @@ pub enum VolumeError {
         why: &'static str,
     },
     /// A header field holds a value that cannot be used.
-    #[error("the {format} header field '{field}' is '{value}', but {expected}")]
+    #[error("the {format} header field '{field}' is '{value}'; {expected}")]
     BadField {
         /// `NRRD` or `NIfTI-1`.
         format: &'static str,
@@ -105,7 +105,7 @@ pub enum VolumeError {
         field: String,
         /// The value as written.
         value: String,
-        /// What it should be.
+        /// What it should be, as a clause ("it must be …").
         expected: String,
     },
     /// The sample type is unknown or not one LeapView stores.

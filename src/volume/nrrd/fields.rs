@@ -48,7 +48,7 @@ pub fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
     let dimension_text = required("dimension", "")?;
     let dimension: usize = dimension_text
         .parse()
-        .map_err(|_| bad_field("dimension", dimension_text, "a whole number"))?;
+        .map_err(|_| bad_field("dimension", dimension_text, "it must be a whole number"))?;
     let sizes_text = required("sizes", "")?;
     let sizes = parse_sizes(sizes_text, dimension)?;
     // Axes to keep: all three of a 3-D file, or the last three of a 4-D file whose first is 1.
@@ -69,7 +69,7 @@ pub fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
     let big_endian = match field("endian") {
         Some(e) if e.eq_ignore_ascii_case("little") => false,
         Some(e) if e.eq_ignore_ascii_case("big") => true,
-        Some(e) => return Err(bad_field("endian", e, "'little' or 'big'")),
+        Some(e) => return Err(bad_field("endian", e, "it must be 'little' or 'big'")),
         None if scalar_type.size_bytes() > 1 => {
             return Err(VolumeError::MissingField {
                 format: NRRD,
@@ -91,26 +91,30 @@ pub fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
         (None, None) => None,
     };
     let line_skip = match field("line skip") {
-        Some(v) => v
-            .parse::<u64>()
-            .map_err(|_| bad_field("line skip", v, "a whole number of lines, 0 or more"))?,
+        Some(v) => v.parse::<u64>().map_err(|_| {
+            bad_field(
+                "line skip",
+                v,
+                "it must be a whole number of lines, 0 or more",
+            )
+        })?,
         None => 0,
     };
-    let byte_skip = match field("byte skip") {
-        Some("-1") if encoding == Encoding::Raw => None,
-        Some("-1") => {
-            return Err(bad_field(
-                "byte skip",
-                "-1",
-                "-1 (data at the end of the file) is only possible with raw encoding",
-            ));
-        }
-        Some(v) => Some(
-            v.parse::<u64>()
-                .map_err(|_| bad_field("byte skip", v, "a whole number of bytes, or -1"))?,
-        ),
-        None => Some(0),
-    };
+    let byte_skip =
+        match field("byte skip") {
+            Some("-1") if encoding == Encoding::Raw => None,
+            Some("-1") => {
+                return Err(bad_field(
+                    "byte skip",
+                    "-1",
+                    "-1 (data at the end of the file) is only possible with raw encoding",
+                ));
+            }
+            Some(v) => Some(v.parse::<u64>().map_err(|_| {
+                bad_field("byte skip", v, "it must be a whole number of bytes, or -1")
+            })?),
+            None => Some(0),
+        };
 
     Ok(NrrdHeader {
         dims,
@@ -161,7 +165,7 @@ fn parse_encoding(name: &str) -> Result<Encoding, VolumeError> {
 }
 
 fn parse_sizes(text: &str, dimension: usize) -> Result<Vec<u64>, VolumeError> {
-    let expected = "positive whole numbers, one per axis";
+    let expected = "they must be positive whole numbers, one per axis";
     let sizes = text
         .split_whitespace()
         .map(|s| s.parse::<u64>().ok().filter(|&n| n > 0))
@@ -184,7 +188,13 @@ fn parse_spacings(text: &str, dimension: usize, first: usize) -> Result<[f64; 3]
         .map(|s| s.parse::<f64>().ok())
         .collect::<Option<Vec<f64>>>()
         .filter(|v| v.len() == dimension)
-        .ok_or_else(|| bad_field("spacings", text, "one number (or nan) per axis"))?;
+        .ok_or_else(|| {
+            bad_field(
+                "spacings",
+                text,
+                "it must hold one number (or nan) per axis",
+            )
+        })?;
     Ok(std::array::from_fn(|a| {
         usable_spacing(values[first + a], "spacings")
     }))
@@ -197,7 +207,7 @@ fn parse_space_directions(
     dimension: usize,
     first: usize,
 ) -> Result<[f64; 3], VolumeError> {
-    let expected = "one vector such as (1,0,0), or none, per axis";
+    let expected = "it must hold one vector such as (1,0,0), or none, per axis";
     let bad = || bad_field("space directions", text, expected);
     let mut lengths = Vec::new();
     let mut rest = text.trim_start();
@@ -261,30 +271,24 @@ fn parse_data_file(text: &str) -> Result<String, VolumeError> {
 /// `nifti_scl_slope`/`nifti_scl_inter`, else `rescale_slope`/`rescale_intercept`. A slope of 0 or
 /// one that is not finite means "no scaling", as in NIfTI.
 fn parse_mapping(text: &HeaderText) -> Result<ValueMapping, VolumeError> {
-    let number = |keys: [&str; 2]| -> Result<Option<f64>, VolumeError> {
+    // A finite number under the first of `keys` present; `None` when neither is.
+    let number = |keys: [&str; 2], finite: bool| -> Result<Option<f64>, VolumeError> {
         let Some((key, value)) = keys
             .iter()
             .find_map(|&k| text.key_values.get(k).map(|v| (k, v.trim())))
         else {
             return Ok(None);
         };
-        value
-            .parse::<f64>()
-            .map(Some)
-            .map_err(|_| bad_field(key, value, "a number"))
+        match value.parse::<f64>() {
+            Ok(x) if x.is_finite() || !finite => Ok(Some(x)),
+            _ => Err(bad_field(key, value, "it must be a finite number")),
+        }
     };
-    let slope = number(["nifti_scl_slope", "rescale_slope"])?.unwrap_or(1.0);
-    let intercept = number(["nifti_scl_inter", "rescale_intercept"])?.unwrap_or(0.0);
+    let slope = number(["nifti_scl_slope", "rescale_slope"], false)?.unwrap_or(1.0);
+    let intercept = number(["nifti_scl_inter", "rescale_intercept"], true)?.unwrap_or(0.0);
     if slope == 0.0 || !slope.is_finite() {
         log::info!("NRRD value scaling slope {slope} means no scaling");
         return Ok(ValueMapping::IDENTITY);
-    }
-    if !intercept.is_finite() {
-        return Err(bad_field(
-            "intercept",
-            &intercept.to_string(),
-            "a finite number",
-        ));
     }
     Ok(ValueMapping { slope, intercept })
 }
