@@ -5,8 +5,10 @@
 
 mod common;
 
-#[path = "loaders/bad_input.rs"]
-mod bad_input;
+#[path = "loaders/bad_data.rs"]
+mod bad_data;
+#[path = "loaders/bad_files.rs"]
+mod bad_files;
 #[path = "loaders/nifti_round_trip.rs"]
 mod nifti_round_trip;
 #[path = "loaders/nrrd_round_trip.rs"]

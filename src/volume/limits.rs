@@ -15,9 +15,10 @@ pub const MAX_VOLUME_BYTES: u64 = 8 << 30;
 /// Hard cap on the number of samples along one axis (GPU 3D textures are far smaller anyway).
 pub const MAX_DIMENSION: u32 = 65536;
 
-/// The most a deflate stream can expand: 1032:1. A deflate block can describe at most 258 bytes
-/// with a 1-bit code plus the 1-bit distance code, i.e. 258 bytes per 2 bits = 1032 bytes per
-/// compressed byte (zlib's technical details, "Maximum compression factor").
+/// The most a deflate stream can expand: 1032:1. The longest match (258 bytes) costs at least two
+/// bits, a 1-bit length code and a 1-bit distance code, so one compressed byte yields at most
+/// 4 × 258 = 1032 bytes (zlib's technical details, "maximum compression factor"). Gzip framing
+/// only adds compressed bytes, so the bound holds for whole gzip files too.
 pub const MAX_DEFLATE_RATIO: u64 = 1032;
 
 /// Where the sample bytes come from, as far as bounding their size goes.

@@ -4,6 +4,7 @@
 
 mod fields;
 mod header;
+mod names;
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, ErrorKind};
@@ -16,7 +17,7 @@ use super::error::VolumeError;
 use super::limits::{self, DataSource};
 use super::{Samples, Volume};
 
-pub use fields::NrrdHeader;
+use fields::NrrdHeader;
 use header::HeaderEnd;
 
 /// Reads a NRRD volume; `name` becomes the volume's name.

@@ -8,7 +8,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use leapview::volume::error::{LoadError, VolumeError};
 use leapview::volume::load::{LoadOptions, load_volume};
+use leapview::volume::raw::RawParams;
 use leapview::volume::{Samples, ScalarType, Volume};
 
 /// Every stored type, in a fixed order.
@@ -245,4 +247,41 @@ impl NiftiSpec {
 pub fn load_ok(path: &Path) -> Volume {
     load_volume(path, &LoadOptions::default())
         .unwrap_or_else(|e| panic!("loading should succeed: {e}"))
+}
+
+/// Loads a file that must fail; checks that the message is one line ending with the path.
+pub fn load_err(path: &Path, options: &LoadOptions) -> LoadError {
+    let err = match load_volume(path, options) {
+        Ok(v) => panic!(
+            "{} should not load, but gave {:?}",
+            path.display(),
+            v.dims()
+        ),
+        Err(e) => e,
+    };
+    let message = err.to_string();
+    assert_eq!(err.path, path);
+    assert!(
+        message.ends_with(&format!(": {}", path.display())),
+        "the message should name the file last: {message}"
+    );
+    assert!(!message.contains('\n'), "one line: {message}");
+    err
+}
+
+/// Loads a file with default options that must fail; returns the problem.
+pub fn fails(path: &Path) -> VolumeError {
+    load_err(path, &LoadOptions::default()).problem
+}
+
+/// Options that read a file as raw little-endian samples with 1 mm spacing.
+pub fn raw_options(dims: [u32; 3], scalar_type: ScalarType) -> LoadOptions {
+    LoadOptions {
+        raw: Some(RawParams {
+            dims,
+            scalar_type,
+            spacing_mm: [1.0; 3],
+            big_endian: false,
+        }),
+    }
 }

@@ -134,9 +134,9 @@ fn spacings_and_space_directions_give_the_same_spacing() {
         let lines = lines_with(ScalarType::F32, "raw", false, extra);
         let v = load_ok(&dir.write(&format!("{i}.nrrd"), &file(&lines, &data)));
         // 0.3² + 0.4² and 0.6² + 0.8² are not exact in binary: a few ulps.
-        for a in 0..3 {
+        for (got, want) in v.spacing_mm().iter().zip(spacing) {
             assert!(
-                (v.spacing_mm()[a] - spacing[a]).abs() < 1e-12,
+                (got - want).abs() < 1e-12,
                 "{extra:?}: {:?}",
                 v.spacing_mm()
             );

@@ -40,75 +40,36 @@ struct Expected {
     t: f64,
 }
 
-const fn row(
-    file: &'static str,
-    dims: [u32; 3],
-    scalar_type: ScalarType,
-    spacing_mm: [f64; 3],
-    stored: (f64, f64),
-    slope: f64,
-    air_percent: f64,
-    t: f64,
-) -> Expected {
-    Expected {
-        file,
-        dims,
-        scalar_type,
-        spacing_mm,
-        stored,
-        slope,
-        air_percent,
-        t,
-    }
-}
-
 /// data/README.md, "The volumes" table.
 #[rustfmt::skip]
 const VOLUMES: [Expected; 8] = [
-    row("ct_head_cthead_256x256x113_uint16.nrrd", [256, 256, 113], ScalarType::U16,
-        [1.0, 1.0, 2.0], (0.0, 3272.0), 1.0, 69.8, 271.5),
-    row("cta_stent_128x128x256_int16.nrrd", [128, 128, 256], ScalarType::I16,
-        [1.0, 1.0, 1.0], (0.0, 2000.0), 1.0, 90.0, 112.5),
-    row("cta_avm_337x319x154_uint8.nrrd", [337, 319, 154], ScalarType::U8,
-        [0.5469, 0.5469, 1.0], (0.0, 255.0), 2.20863, 97.6, 20.1),
-    row("ct_engine_256x256x128_uint8.nrrd", [256, 256, 128], ScalarType::U8,
-        [1.0, 1.0, 1.0], (0.0, 255.0), 1.0, 83.1, 25.5),
-    row("ct_bonsai_256x256x256_uint8.nrrd", [256, 256, 256], ScalarType::U8,
-        [1.0, 1.0, 1.0], (0.0, 255.0), 1.0, 87.2, 22.0),
-    row("mr_head_t1_seg3d_160x232x160_uint8.nrrd", [160, 232, 160], ScalarType::U8,
-        [1.0, 0.898437, 0.898437], (0.0, 255.0), 2.00784, 43.1, 25.5),
-    row("mr_brain_t1_stripped_124x160x140_uint8.nrrd", [124, 160, 140], ScalarType::U8,
-        [1.0, 1.0, 1.0], (0.0, 252.0), 1.0, 62.4, 21.4),
-    row("mra_head_200x256x120_uint8.nrrd", [200, 256, 120], ScalarType::U8,
-        [0.5208329, 0.52083373, 0.65000015], (0.0, 254.0), 1.0, 99.1, 19.0),
+    Expected { file: "ct_head_cthead_256x256x113_uint16.nrrd", dims: [256, 256, 113], scalar_type: ScalarType::U16,
+        spacing_mm: [1.0, 1.0, 2.0], stored: (0.0, 3272.0), slope: 1.0, air_percent: 69.8, t: 271.5 },
+    Expected { file: "cta_stent_128x128x256_int16.nrrd", dims: [128, 128, 256], scalar_type: ScalarType::I16,
+        spacing_mm: [1.0, 1.0, 1.0], stored: (0.0, 2000.0), slope: 1.0, air_percent: 90.0, t: 112.5 },
+    Expected { file: "cta_avm_337x319x154_uint8.nrrd", dims: [337, 319, 154], scalar_type: ScalarType::U8,
+        spacing_mm: [0.5469, 0.5469, 1.0], stored: (0.0, 255.0), slope: 2.20863, air_percent: 97.6, t: 20.1 },
+    Expected { file: "ct_engine_256x256x128_uint8.nrrd", dims: [256, 256, 128], scalar_type: ScalarType::U8,
+        spacing_mm: [1.0, 1.0, 1.0], stored: (0.0, 255.0), slope: 1.0, air_percent: 83.1, t: 25.5 },
+    Expected { file: "ct_bonsai_256x256x256_uint8.nrrd", dims: [256, 256, 256], scalar_type: ScalarType::U8,
+        spacing_mm: [1.0, 1.0, 1.0], stored: (0.0, 255.0), slope: 1.0, air_percent: 87.2, t: 22.0 },
+    Expected { file: "mr_head_t1_seg3d_160x232x160_uint8.nrrd", dims: [160, 232, 160], scalar_type: ScalarType::U8,
+        spacing_mm: [1.0, 0.898437, 0.898437], stored: (0.0, 255.0), slope: 2.00784, air_percent: 43.1, t: 25.5 },
+    Expected { file: "mr_brain_t1_stripped_124x160x140_uint8.nrrd", dims: [124, 160, 140], scalar_type: ScalarType::U8,
+        spacing_mm: [1.0, 1.0, 1.0], stored: (0.0, 252.0), slope: 1.0, air_percent: 62.4, t: 21.4 },
+    Expected { file: "mra_head_200x256x120_uint8.nrrd", dims: [200, 256, 120], scalar_type: ScalarType::U8,
+        spacing_mm: [0.5208329, 0.52083373, 0.65000015], stored: (0.0, 254.0), slope: 1.0, air_percent: 99.1, t: 19.0 },
 ];
 
 /// data/README.md, "More detail" table: each NIfTI original and its NRRD twin.
+#[rustfmt::skip]
 const TWINS: [(&str, &str); 6] = [
-    (
-        "MRIcroGL_chris_MRA.nii.gz",
-        "mra_head_200x256x120_uint8.nrrd",
-    ),
-    (
-        "VolumeRenderingData_OpenSciVis_bonsai.nii.gz",
-        "ct_bonsai_256x256x256_uint8.nrrd",
-    ),
-    (
-        "VolumeRenderingData_OpenSciVis_engine.nii.gz",
-        "ct_engine_256x256x128_uint8.nrrd",
-    ),
-    (
-        "VolumeRenderingData_Prism_AVM.nii.gz",
-        "cta_avm_337x319x154_uint8.nrrd",
-    ),
-    (
-        "VolumeRenderingData_seg3D_MR.nii.gz",
-        "mr_head_t1_seg3d_160x232x160_uint8.nrrd",
-    ),
-    (
-        "VolumeRenderingData_stroke_T1.nii.gz",
-        "mr_brain_t1_stripped_124x160x140_uint8.nrrd",
-    ),
+    ("MRIcroGL_chris_MRA.nii.gz", "mra_head_200x256x120_uint8.nrrd"),
+    ("VolumeRenderingData_OpenSciVis_bonsai.nii.gz", "ct_bonsai_256x256x256_uint8.nrrd"),
+    ("VolumeRenderingData_OpenSciVis_engine.nii.gz", "ct_engine_256x256x128_uint8.nrrd"),
+    ("VolumeRenderingData_Prism_AVM.nii.gz", "cta_avm_337x319x154_uint8.nrrd"),
+    ("VolumeRenderingData_seg3D_MR.nii.gz", "mr_head_t1_seg3d_160x232x160_uint8.nrrd"),
+    ("VolumeRenderingData_stroke_T1.nii.gz", "mr_brain_t1_stripped_124x160x140_uint8.nrrd"),
 ];
 
 fn relative_difference(a: f64, b: f64) -> f64 {
