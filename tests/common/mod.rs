@@ -1,5 +1,8 @@
 //! Helpers shared by the integration tests: the GPU, output folders, image comparison.
-#![allow(dead_code)]
+#![allow(dead_code, unused_imports)]
+
+mod files;
+pub use files::*;
 
 use std::path::PathBuf;
 
