@@ -2,7 +2,6 @@
 //! stored type, and small NRRD and NIfTI-1 writers. Test volumes are generated at test time and
 //! never committed.
 
-
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
