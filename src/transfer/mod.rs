@@ -62,17 +62,18 @@ impl TransferFunction {
 
     /// Opacity per `d0` at `value` (data units).
     pub fn opacity_at(&self, value: f64, range: ValueRange) -> f64 {
-        let x = self.from_data(value, range);
+        let x = self.curve_coordinate(value, range);
         evaluate(&self.opacity, x, |p| p[0], |p| [p[1]])[0]
     }
 
     /// Linear RGB colour at `value` (data units).
     pub fn color_at(&self, value: f64, range: ValueRange) -> [f64; 3] {
-        let x = self.from_data(value, range);
+        let x = self.curve_coordinate(value, range);
         evaluate(&self.color, x, |p| p[0], |p| [p[1], p[2], p[3]])
     }
 
-    fn from_data(&self, value: f64, range: ValueRange) -> f64 {
+    /// The inverse of [`Self::to_data`]: where `value` (data units) falls on the curves' axis.
+    fn curve_coordinate(&self, value: f64, range: ValueRange) -> f64 {
         match self.space {
             ValueSpace::Data => value,
             ValueSpace::Normalized => range.normalize(value),

@@ -122,11 +122,14 @@ impl Samples {
 
     /// The stored value at `index` as f64 (exact for every stored type but u64-range integers,
     /// which we do not store). Panics if `index` is out of bounds, like slice indexing.
+    // The cast is a no-op only in the F64 arm of the macro.
+    #[allow(clippy::unnecessary_cast)]
     pub fn get_f64(&self, index: usize) -> f64 {
         each_variant!(self, v => v[index] as f64)
     }
 
     /// Calls `f` with every stored value as f64, in storage order.
+    #[allow(clippy::unnecessary_cast)]
     pub fn for_each_f64(&self, mut f: impl FnMut(f64)) {
         each_variant!(self, v => v.iter().for_each(|&x| f(x as f64)))
     }
