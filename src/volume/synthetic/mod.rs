@@ -13,13 +13,25 @@
 
 pub mod analytic;
 pub mod rng;
+pub mod shepp_logan;
 
 pub use analytic::{Axis, checkerboard, constant, ramp, slab_x, sphere};
+pub use shepp_logan::shepp_logan;
+
+use super::VolumeError;
 
 /// Partial-volume coverage of a voxel whose centre lies at signed distance `d` from a surface
 /// (negative inside), for voxels `voxel` long: `clamp(0.5 − d / voxel, 0, 1)`.
 pub(crate) fn coverage(d: f64, voxel: f64) -> f64 {
     (0.5 - d / voxel).clamp(0.0, 1.0)
+}
+
+/// `n³` samples as a `Vec` length, or [`VolumeError::ZeroDimension`] when `n` is zero.
+pub(crate) fn cube_len(n: u32) -> Result<usize, VolumeError> {
+    if n == 0 {
+        return Err(VolumeError::ZeroDimension { dims: [0; 3] });
+    }
+    Ok((n as usize).pow(3))
 }
 
 /// Fills `buf` (`slice_len` samples per z slice) in parallel, one contiguous slab of z slices
