@@ -14,9 +14,11 @@
 pub mod analytic;
 pub mod rng;
 pub mod shepp_logan;
+pub mod vessels;
 
 pub use analytic::{Axis, checkerboard, constant, ramp, slab_x, sphere};
 pub use shepp_logan::shepp_logan;
+pub use vessels::vessel_tree;
 
 use super::VolumeError;
 
