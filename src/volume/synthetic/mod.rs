@@ -12,11 +12,13 @@
 //! parallel to a voxel face).
 
 pub mod analytic;
+pub mod dense_head;
 pub mod rng;
 pub mod shepp_logan;
 pub mod vessels;
 
 pub use analytic::{Axis, checkerboard, constant, ramp, slab_x, sphere};
+pub use dense_head::dense_head;
 pub use shepp_logan::shepp_logan;
 pub use vessels::vessel_tree;
 
