@@ -24,8 +24,6 @@ pub const FIELD_OF_VIEW_MM: f64 = 200.0;
 /// Semi-axes of the outline in half fields of view (left–right, front–back, height); beyond 1
 /// the box crops the head.
 const SEMI_AXES: [f64; 3] = [1.0, 1.08, 1.03];
-/// Exponent of the superellipsoid outline.
-const EXPONENT: f64 = 3.0;
 /// Layers from the outside in: (outer boundary as an outline radius, T1 intensity): scalp fat,
 /// skull, cerebrospinal fluid, cortex. One unit of radius is about 100 mm.
 const LAYERS: [(f64, f64); 4] = [(1.0, 185.0), (0.95, 30.0), (0.90, 50.0), (0.88, 105.0)];
@@ -75,10 +73,14 @@ impl ValueNoise {
         let mut hi = [0usize; 3];
         let mut w = [0.0f64; 3];
         for a in 0..3 {
-            let floor = p[a].floor();
-            let f = p[a] - floor;
-            lo[a] = (floor as i64).rem_euclid(g as i64) as usize;
-            hi[a] = (lo[a] + 1) % g;
+            // Rotated points of the unit cube lie within ±√3·g of the origin: shifting by a
+            // multiple of the period makes them positive, so a plain remainder wraps them.
+            let t = p[a] + (2 * g) as f64;
+            // t is positive, so truncation is the floor (and much cheaper than `floor`).
+            let cell = t as u32;
+            let f = t - cell as f64;
+            lo[a] = (cell % g as u32) as usize;
+            hi[a] = if lo[a] + 1 == g { 0 } else { lo[a] + 1 };
             w[a] = f * f * (3.0 - 2.0 * f);
         }
         let v = |x: usize, y: usize, z: usize| self.values[x + g * (y + g * z)];
@@ -91,8 +93,23 @@ impl ValueNoise {
 
 /// The outline's radius at `u` (normalised coordinates in [−1, 1]³): below 1 is inside.
 fn outline_radius(u: [f64; 3]) -> f64 {
+    // A superellipsoid of exponent 3.
     let s: f64 = (0..3).map(|a| (u[a] / SEMI_AXES[a]).abs().powi(3)).sum();
-    s.powf(1.0 / EXPONENT)
+    cube_root(s)
+}
+
+/// `s^(1/3)` for `s ≥ 0`: an exponent-dividing first guess (within 5 %) and four Newton steps
+/// (each squares the relative error), exact to rounding and several times faster than the
+/// software `cbrt` the standard library uses here.
+fn cube_root(s: f64) -> f64 {
+    if s <= 0.0 {
+        return 0.0;
+    }
+    let mut y = f64::from_bits(s.to_bits() / 3 + 0x2A9F_7893_782D_A1CE);
+    for _ in 0..4 {
+        y -= (y * y * y - s) / (3.0 * y * y);
+    }
+    y
 }
 
 /// Whether `u` lies in one of the two ventricles, as a coverage in [0, 1] for voxel size `h`.
@@ -141,11 +158,15 @@ pub fn dense_head(n: u32, seed: u64) -> Result<Volume, VolumeError> {
             for (boundary, intensity) in LAYERS {
                 value += (intensity - value) * coverage(rho - boundary, h);
             }
-            if rho < BRAIN_SURFACE + h {
+            let depth = BRAIN_SURFACE - rho;
+            if depth > SULCUS_DEPTH + CORTEX + h {
+                // Deep white matter: no sulcus reaches here, and none is within a cortex.
+                value = WHITE_MATTER;
+                value += (CSF - value) * ventricle(u, h);
+            } else if depth > -h {
                 // Sulci: sheets where the field is near zero, narrowing to their fundus 16 mm
                 // below the surface. The field changes by about one per half cell, which turns
                 // it into a distance; below the fundus the distance is at least the depth past it.
-                let depth = BRAIN_SURFACE - rho;
                 let width = SULCUS_HALF_WIDTH * (1.0 - depth / SULCUS_DEPTH).max(0.0);
                 let field = 0.6 * sulci.at(unit) + 0.4 * sulci_fine.at(unit);
                 let to_sulcus =
@@ -160,7 +181,8 @@ pub fn dense_head(n: u32, seed: u64) -> Result<Volume, VolumeError> {
             let tissue = coverage(rho - 1.0, h);
             value += tissue * (6.0 * texture.at(unit) + TISSUE_NOISE * unit_noise(seed, index));
             value *= 1.0 + 0.08 * bias.at(unit);
-            *out = value.round().clamp(0.0, 255.0) as u8;
+            // Adding ½ and truncating rounds the non-negative values like `round`, but cheaply.
+            *out = (value.clamp(0.0, 255.0) + 0.5) as u8;
         }
     });
     Volume::new(
@@ -175,6 +197,18 @@ pub fn dense_head(n: u32, seed: u64) -> Result<Volume, VolumeError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn cube_root_matches_the_standard_library() {
+        for s in [0.0, 1e-9, 0.3, 0.5, 1.0, 1.7, 3.0, 27.0] {
+            let (ours, std) = (cube_root(s), f64::cbrt(s));
+            // Four Newton steps from a 5 % guess leave only rounding: a few ulps.
+            assert!(
+                (ours - std).abs() <= 4.0 * f64::EPSILON * std.max(1e-300),
+                "{s}"
+            );
+        }
+    }
 
     #[test]
     fn tissue_fills_most_of_the_box_and_most_bricks() {
