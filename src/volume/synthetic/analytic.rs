@@ -2,7 +2,7 @@
 //! test can predict what a ray must see (a constant, a slab, a sphere, a ramp, a checkerboard).
 
 use super::{coverage, fill_slabs};
-use crate::volume::{Samples, ValueMapping, Volume, VolumeError};
+use crate::volume::{Samples, ScalarType, ValueMapping, Volume, VolumeError};
 
 /// An axis of the volume grid.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -26,11 +26,10 @@ impl Axis {
     }
 }
 
-/// Number of samples for `dims`, refusing zero dimensions before anything is allocated.
-fn sample_count(dims: [u32; 3]) -> Result<usize, VolumeError> {
-    if dims.contains(&0) {
-        return Err(VolumeError::ZeroDimension { dims });
-    }
+/// Number of samples for `dims`, refusing zero dimensions and sizes past the loaders' limits
+/// before anything is allocated.
+fn sample_count(dims: [u32; 3], scalar_type: ScalarType) -> Result<usize, VolumeError> {
+    let (dims, _) = crate::volume::limits::check_dims(dims.map(u64::from), scalar_type)?;
     Ok(dims.iter().map(|&d| d as usize).product())
 }
 
@@ -41,7 +40,7 @@ fn from_fn_f32(
     spacing_mm: [f64; 3],
     f: impl Fn(u32, u32, u32) -> f32 + Sync,
 ) -> Result<Volume, VolumeError> {
-    let mut samples = vec![0.0f32; sample_count(dims)?];
+    let mut samples = vec![0.0f32; sample_count(dims, ScalarType::F32)?];
     let [nx, ny, _] = dims.map(|d| d as usize);
     fill_slabs(&mut samples, nx * ny, |z_first, slab| {
         for (i, v) in slab.iter_mut().enumerate() {
@@ -111,7 +110,7 @@ pub fn sphere(n: u32, radius_vox: f64, inside: f32, outside: f32) -> Result<Volu
 /// A linear ramp along `axis` (`u16`): voxel `i` holds `round(65535 · i / (n − 1))`, so the
 /// first slice is 0 and the last 65535 (a single slice holds 0).
 pub fn ramp(dims: [u32; 3], spacing_mm: [f64; 3], axis: Axis) -> Result<Volume, VolumeError> {
-    let mut samples = vec![0u16; sample_count(dims)?];
+    let mut samples = vec![0u16; sample_count(dims, ScalarType::U16)?];
     let a = axis.index();
     let last = (dims[a] - 1).max(1) as f64;
     let [nx, ny, _] = dims.map(|d| d as usize);

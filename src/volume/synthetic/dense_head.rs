@@ -131,7 +131,7 @@ fn ventricle(u: [f64; 3], h: f64) -> f64 {
 ///
 /// Fails with [`VolumeError::ZeroDimension`] when `n` is zero.
 pub fn dense_head(n: u32, seed: u64) -> Result<Volume, VolumeError> {
-    let len = cube_len(n)?;
+    let len = cube_len(n, crate::volume::ScalarType::U8)?;
     let nu = n as usize;
     let h = 2.0 / n as f64;
     let mut rng = SplitMix64::new(seed);

@@ -30,12 +30,11 @@ pub(crate) fn coverage(d: f64, voxel: f64) -> f64 {
     (0.5 - d / voxel).clamp(0.0, 1.0)
 }
 
-/// `n³` samples as a `Vec` length, or [`VolumeError::ZeroDimension`] when `n` is zero.
-pub(crate) fn cube_len(n: u32) -> Result<usize, VolumeError> {
-    if n == 0 {
-        return Err(VolumeError::ZeroDimension { dims: [0; 3] });
-    }
-    Ok((n as usize).pow(3))
+/// `n³` samples of `scalar_type` as a `Vec` length; refuses a zero `n` and sizes past the
+/// loaders' limits (`limits::check_dims`) before anything is allocated.
+pub(crate) fn cube_len(n: u32, scalar_type: super::ScalarType) -> Result<usize, VolumeError> {
+    let (dims, _) = super::limits::check_dims([n as u64; 3], scalar_type)?;
+    Ok(dims.iter().map(|&d| d as usize).product())
 }
 
 /// Fills `buf` (`slice_len` samples per z slice) in parallel, one contiguous slab of z slices
@@ -86,5 +85,26 @@ mod tests {
         assert_eq!(coverage(0.0, 2.0), 0.5);
         assert_eq!(coverage(0.25, 1.0), 0.25);
         assert_eq!(coverage(3.0, 1.0), 0.0);
+    }
+}
+
+#[cfg(test)]
+mod limit_tests {
+    use super::*;
+
+    #[test]
+    fn absurd_sizes_are_refused_before_allocating() {
+        assert!(matches!(
+            shepp_logan(100_000),
+            Err(VolumeError::DimensionTooLarge { .. })
+        ));
+        assert!(matches!(
+            vessel_tree(4096, 1),
+            Err(VolumeError::TooLarge { .. })
+        ));
+        assert!(matches!(
+            constant([60_000, 60_000, 60_000], [1.0; 3], 0.0),
+            Err(VolumeError::TooLarge { .. })
+        ));
     }
 }

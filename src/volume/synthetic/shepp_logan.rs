@@ -181,7 +181,7 @@ pub fn shepp_logan(n: u32) -> Result<Volume, VolumeError> {
 
 /// The phantom with noise of standard deviation `noise_sigma_hu` on tissue (0 for none).
 pub(crate) fn generate(n: u32, noise_sigma_hu: f64) -> Result<Volume, VolumeError> {
-    let len = cube_len(n)?;
+    let len = cube_len(n, crate::volume::ScalarType::I16)?;
     let nu = n as usize;
     let voxel = 2.0 / n as f64;
     let ellipsoids: Vec<Prepared> = (0..TABLE.len())

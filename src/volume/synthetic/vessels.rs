@@ -173,7 +173,7 @@ fn grow_branch(
 ///
 /// Fails with [`VolumeError::ZeroDimension`] when `n` is zero.
 pub fn vessel_tree(n: u32, seed: u64) -> Result<Volume, VolumeError> {
-    let len = cube_len(n)?;
+    let len = cube_len(n, crate::volume::ScalarType::U8)?;
     let nu = n as usize;
     let voxel = FIELD_OF_VIEW_MM / n as f64;
     let capsules = grow(seed);
