@@ -6,10 +6,14 @@ use leapview::render::shader::{compose, module_names};
 use leapview::render::uniforms::FrameUniforms;
 
 fn validate(name: &str, source: &str) -> naga::Module {
-    let module = naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
-    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
-        .validate(&module)
-        .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+    let module = naga::front::wgsl::parse_str(source)
+        .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .unwrap_or_else(|e| panic!("{name}: {e:?}"));
     module
 }
 
@@ -19,7 +23,10 @@ fn every_variant_validates() {
         let source = key.source().unwrap_or_else(|e| panic!("{key:?}: {e}"));
         validate(&format!("{key:?}"), &source);
     }
-    validate("proxy passes", &compose("proxy_passes.wgsl", &[]).expect("composes"));
+    validate(
+        "proxy passes",
+        &compose("proxy_passes.wgsl", &[]).expect("composes"),
+    );
 }
 
 #[test]
@@ -33,8 +40,14 @@ fn every_module_is_used_and_composes_alone() {
 fn statistics_code_only_in_statistics_variants() {
     for key in PipelineKey::all() {
         let module = validate(&format!("{key:?}"), &key.source().expect("composes"));
-        let has_storage = module.global_variables.iter().any(|(_, g)| matches!(g.space, naga::AddressSpace::Storage { .. }));
-        assert_eq!(has_storage, key.stats, "{key:?}: the counters buffer must exist exactly in stats variants");
+        let has_storage = module
+            .global_variables
+            .iter()
+            .any(|(_, g)| matches!(g.space, naga::AddressSpace::Storage { .. }));
+        assert_eq!(
+            has_storage, key.stats,
+            "{key:?}: the counters buffer must exist exactly in stats variants"
+        );
     }
 }
 
@@ -48,5 +61,8 @@ fn frame_uniforms_match_the_wgsl_struct() {
         .expect("struct Frame in common.wgsl");
     let mut layouter = naga::proc::Layouter::default();
     layouter.update(module.to_ctx()).expect("layout");
-    assert_eq!(layouter[handle].size as usize, std::mem::size_of::<FrameUniforms>());
+    assert_eq!(
+        layouter[handle].size as usize,
+        std::mem::size_of::<FrameUniforms>()
+    );
 }

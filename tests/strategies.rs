@@ -4,7 +4,9 @@ mod common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
-use leapview::render::{FrameCounters, FrameRequest, RenderPath, RenderSettings, Strategy, VolumeRenderer};
+use leapview::render::{
+    FrameCounters, FrameRequest, RenderPath, RenderSettings, Strategy, VolumeRenderer,
+};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume};
 
@@ -20,7 +22,14 @@ fn dense() -> Volume {
             }
         }
     }
-    Volume::new("dense", [n; 3], [1.0; 3], Samples::U8(v), ValueMapping::IDENTITY).expect("valid")
+    Volume::new(
+        "dense",
+        [n; 3],
+        [1.0; 3],
+        Samples::U8(v),
+        ValueMapping::IDENTITY,
+    )
+    .expect("valid")
 }
 
 fn tf() -> TransferFunction {
@@ -31,12 +40,25 @@ fn tf() -> TransferFunction {
     }
 }
 
-fn render(r: &mut VolumeRenderer, camera: &Camera, settings: RenderSettings) -> (ImageF32, FrameCounters) {
-    let request = FrameRequest { camera, size: [64, 64], settings: &settings, stats: true };
+fn render(
+    r: &mut VolumeRenderer,
+    camera: &Camera,
+    settings: RenderSettings,
+) -> (ImageF32, FrameCounters) {
+    let request = FrameRequest {
+        camera,
+        size: [64, 64],
+        settings: &settings,
+        stats: true,
+    };
     let (_, results) = r.render_and_wait(&request).expect("render");
     let counted = r.read_image().expect("read");
     // The statistics variant must draw the same image as the normal one.
-    r.render(&FrameRequest { stats: false, ..request }).expect("render");
+    r.render(&FrameRequest {
+        stats: false,
+        ..request
+    })
+    .expect("render");
     let plain = r.read_image().expect("read");
     assert_eq!(counted, plain, "stats variant changed the image");
     (plain, results.counters.expect("counters"))
@@ -52,16 +74,49 @@ fn early_termination_changes_the_image_by_at_most_one_level_and_saves_samples() 
     let (dir, up) = ViewPreset::Oblique.direction_and_up();
     let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
     for path in [RenderPath::Fragment, RenderPath::Compute] {
-        let base = RenderSettings { path, ..RenderSettings::default() };
-        let (rc, rc_counts) = render(&mut r, &camera, RenderSettings { strategy: Strategy::Rc, ..base });
-        let (rct, rct_counts) = render(&mut r, &camera, RenderSettings { strategy: Strategy::RcT, ..base });
+        let base = RenderSettings {
+            path,
+            ..RenderSettings::default()
+        };
+        let (rc, rc_counts) = render(
+            &mut r,
+            &camera,
+            RenderSettings {
+                strategy: Strategy::Rc,
+                ..base
+            },
+        );
+        let (rct, rct_counts) = render(
+            &mut r,
+            &camera,
+            RenderSettings {
+                strategy: Strategy::RcT,
+                ..base
+            },
+        );
         // Stopping at opacity > 1 - 1/255 leaves less than 1/255 of the light unaccounted;
         // the f16 output adds at most 2^-11.
-        common::assert_close(&format!("rc-vs-rct-{path:?}"), &rct, &rc, 1.0 / 255.0 + 1.0 / 2048.0, 0.0);
+        common::assert_close(
+            &format!("rc-vs-rct-{path:?}"),
+            &rct,
+            &rc,
+            1.0 / 255.0 + 1.0 / 2048.0,
+            0.0,
+        );
         assert_eq!(rc_counts.rays, rct_counts.rays);
-        assert!(rct_counts.samples * 2 < rc_counts.samples, "{path:?}: RC-t {rct_counts:?} vs RC {rc_counts:?}");
+        assert!(
+            rct_counts.samples * 2 < rc_counts.samples,
+            "{path:?}: RC-t {rct_counts:?} vs RC {rc_counts:?}"
+        );
         // A lower threshold stops earlier still, and the image then differs visibly.
-        let (early, early_counts) = render(&mut r, &camera, RenderSettings { termination_alpha: 0.5, ..base });
+        let (early, early_counts) = render(
+            &mut r,
+            &camera,
+            RenderSettings {
+                termination_alpha: 0.5,
+                ..base
+            },
+        );
         assert!(early_counts.samples < rct_counts.samples);
         assert!(early.diff(&rc).expect("same size").max_abs > 0.05);
     }
@@ -78,11 +133,31 @@ fn fragment_and_compute_paths_give_the_same_image() {
         for kind in [ProjectionKind::Perspective, ProjectionKind::Orthographic] {
             let (dir, up) = view.direction_and_up();
             let camera = Camera::framing(&bounds, dir, up, kind);
-            let (frag, fc) = render(&mut r, &camera, RenderSettings { path: RenderPath::Fragment, ..RenderSettings::default() });
-            let (comp, cc) = render(&mut r, &camera, RenderSettings { path: RenderPath::Compute, ..RenderSettings::default() });
+            let (frag, fc) = render(
+                &mut r,
+                &camera,
+                RenderSettings {
+                    path: RenderPath::Fragment,
+                    ..RenderSettings::default()
+                },
+            );
+            let (comp, cc) = render(
+                &mut r,
+                &camera,
+                RenderSettings {
+                    path: RenderPath::Compute,
+                    ..RenderSettings::default()
+                },
+            );
             // Same WGSL ray loop; the entry point is interpolated in registers (fragment) or
             // stored as f32 (compute): both exact to f32, so within one f16 output step.
-            common::assert_close(&format!("paths-{view:?}-{kind:?}"), &comp, &frag, 1.0 / 2048.0, 0.0);
+            common::assert_close(
+                &format!("paths-{view:?}-{kind:?}"),
+                &comp,
+                &frag,
+                1.0 / 2048.0,
+                0.0,
+            );
             assert_eq!(fc, cc, "{view:?} {kind:?}");
         }
     }

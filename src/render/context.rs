@@ -73,35 +73,31 @@ impl GpuContext {
     /// fails or renders nothing, see GPU.md); falls back to GL where there is no Vulkan driver.
     /// `LEAPVIEW_BACKEND=vulkan|gl` forces one.
     pub fn headless() -> Result<Self, GpuError> {
-        let backends = match std::env::var("LEAPVIEW_BACKEND").as_deref() {
-            Ok("gl") => wgpu::Backends::GL,
-            Ok("vulkan") => wgpu::Backends::VULKAN,
-            _ => wgpu::Backends::VULKAN | wgpu::Backends::GL,
+        // Try Vulkan first and GL only when Vulkan has no adapter: probing GL where it is not
+        // usable logs EGL errors and can take seconds.
+        let order: &[wgpu::Backends] = match std::env::var("LEAPVIEW_BACKEND").as_deref() {
+            Ok("gl") => &[wgpu::Backends::GL],
+            Ok("vulkan") => &[wgpu::Backends::VULKAN],
+            _ => &[wgpu::Backends::VULKAN, wgpu::Backends::GL],
         };
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-        desc.backends = backends;
-        let instance = wgpu::Instance::new(desc);
-        let adapters = pollster::block_on(instance.enumerate_adapters(backends));
-        // Vulkan before GL, discrete before integrated before CPU.
-        let rank = |a: &wgpu::Adapter| {
-            let info = a.get_info();
-            let backend = if info.backend == wgpu::Backend::Vulkan {
-                0
-            } else {
-                1
-            };
-            let kind = match info.device_type {
-                wgpu::DeviceType::DiscreteGpu => 0,
-                wgpu::DeviceType::IntegratedGpu => 1,
-                wgpu::DeviceType::VirtualGpu => 2,
-                wgpu::DeviceType::Cpu => 3,
-                wgpu::DeviceType::Other => 4,
-            };
-            (backend, kind)
-        };
-        let adapter = adapters
-            .into_iter()
-            .min_by_key(rank)
+        let adapter = order
+            .iter()
+            .find_map(|&backends| {
+                let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+                desc.backends = backends;
+                let instance = wgpu::Instance::new(desc);
+                let adapters = pollster::block_on(instance.enumerate_adapters(backends));
+                // Discrete before integrated before virtual before CPU.
+                adapters
+                    .into_iter()
+                    .min_by_key(|a| match a.get_info().device_type {
+                        wgpu::DeviceType::DiscreteGpu => 0,
+                        wgpu::DeviceType::IntegratedGpu => 1,
+                        wgpu::DeviceType::VirtualGpu => 2,
+                        wgpu::DeviceType::Cpu => 3,
+                        wgpu::DeviceType::Other => 4,
+                    })
+            })
             .ok_or(GpuError::NoAdapter)?;
         let info = adapter.get_info();
         let (device, queue) = pollster::block_on(

@@ -1,1 +1,182 @@
-//! (in progress)
+//! Size limits that every loader checks against a header's declared size before it allocates
+//! anything, so that a corrupt or hostile header can neither exhaust memory nor make us read on
+//! forever.
+//!
+//! The rule: never allocate more than the file can hold (uncompressed data: the bytes present;
+//! gzip: [`MAX_DEFLATE_RATIO`] times the compressed bytes) and never more than
+//! [`MAX_VOLUME_BYTES`].
+
+use super::error::VolumeError;
+use super::{ScalarType, error};
+
+/// Hard cap on the decoded sample bytes of one volume: 8 GiB.
+pub const MAX_VOLUME_BYTES: u64 = 8 << 30;
+
+/// Hard cap on the number of samples along one axis (GPU 3D textures are far smaller anyway).
+pub const MAX_DIMENSION: u32 = 65536;
+
+/// The most a deflate stream can expand: 1032:1. The longest match (258 bytes) costs at least two
+/// bits, a 1-bit length code and a 1-bit distance code, so one compressed byte yields at most
+/// 4 × 258 = 1032 bytes (zlib's technical details, "maximum compression factor"). Gzip framing
+/// only adds compressed bytes, so the bound holds for whole gzip files too.
+pub const MAX_DEFLATE_RATIO: u64 = 1032;
+
+/// Where the sample bytes come from, as far as bounding their size goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DataSource {
+    /// Uncompressed bytes; this many are present from the start of the samples to the end of the
+    /// file.
+    Uncompressed {
+        /// Bytes available.
+        available_bytes: u64,
+    },
+    /// A gzip stream of this many bytes; `skip_bytes` decompressed bytes precede the samples.
+    Gzip {
+        /// Size of the compressed data in the file.
+        compressed_bytes: u64,
+        /// Decompressed bytes skipped before the samples (NRRD `byte skip`).
+        skip_bytes: u64,
+    },
+}
+
+/// Checks declared dimensions against the per-axis cap and the size cap; returns the dimensions
+/// as `u32` and the number of sample bytes they call for.
+pub fn check_dims(dims: [u64; 3], scalar_type: ScalarType) -> Result<([u32; 3], u64), VolumeError> {
+    if dims.iter().any(|&d| d > u64::from(MAX_DIMENSION)) {
+        return Err(VolumeError::DimensionTooLarge {
+            dims,
+            max: MAX_DIMENSION,
+        });
+    }
+    // Each axis fits u32 after the check above.
+    let dims32 = dims.map(|d| d as u32);
+    if dims.contains(&0) {
+        return Err(VolumeError::ZeroDimension { dims: dims32 });
+    }
+    // At most 65536³ · 8 = 2^51: no overflow.
+    let declared_bytes = dims.iter().product::<u64>() * scalar_type.size_bytes() as u64;
+    if declared_bytes > MAX_VOLUME_BYTES {
+        return Err(VolumeError::TooLarge {
+            dims: dims32,
+            scalar_type,
+            declared_bytes,
+            limit_bytes: MAX_VOLUME_BYTES,
+        });
+    }
+    Ok((dims32, declared_bytes))
+}
+
+/// Checks that the data can hold `declared_bytes` of samples at all.
+///
+/// Uncompressed data shorter than declared fails here, before anything is read; uncompressed data
+/// longer than declared is left to the reader, which knows whether trailing bytes are allowed.
+pub fn check_fits(
+    dims: [u32; 3],
+    scalar_type: ScalarType,
+    declared_bytes: u64,
+    source: DataSource,
+) -> Result<(), VolumeError> {
+    match source {
+        DataSource::Uncompressed { available_bytes } if available_bytes < declared_bytes => {
+            Err(VolumeError::DataTooShort {
+                dims,
+                scalar_type,
+                declared_bytes,
+                found_bytes: available_bytes,
+            })
+        }
+        DataSource::Uncompressed { .. } => Ok(()),
+        DataSource::Gzip {
+            compressed_bytes,
+            skip_bytes,
+        } => {
+            let max_bytes = compressed_bytes.saturating_mul(MAX_DEFLATE_RATIO);
+            let needed = declared_bytes.saturating_add(skip_bytes);
+            if needed > max_bytes {
+                Err(VolumeError::CompressedDataTooSmall {
+                    dims,
+                    scalar_type,
+                    declared_bytes: needed,
+                    compressed_bytes,
+                    max_bytes,
+                })
+            } else {
+                Ok(())
+            }
+        }
+    }
+}
+
+/// Checks a declared size against every limit: [`check_dims`] then [`check_fits`]. Returns the
+/// dimensions as `u32` and the sample bytes, which are then safe to allocate.
+pub fn check_declared_size(
+    dims: [u64; 3],
+    scalar_type: ScalarType,
+    source: DataSource,
+) -> Result<([u32; 3], u64), VolumeError> {
+    let (dims32, declared_bytes) = check_dims(dims, scalar_type)?;
+    check_fits(dims32, scalar_type, declared_bytes, source)?;
+    log::debug!(
+        "declared {} {scalar_type} samples ({}) fit {source:?}",
+        error::fmt_dims(&dims32),
+        error::fmt_bytes(declared_bytes)
+    );
+    Ok((dims32, declared_bytes))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PLENTY: DataSource = DataSource::Uncompressed {
+        available_bytes: u64::MAX,
+    };
+
+    #[test]
+    fn absurd_dimensions_are_refused() {
+        let r = check_declared_size([100_000; 3], ScalarType::U8, PLENTY);
+        assert!(
+            matches!(r, Err(VolumeError::DimensionTooLarge { .. })),
+            "{r:?}"
+        );
+        // 4096³ bytes = 64 GiB > 8 GiB, although every axis is allowed.
+        let r = check_declared_size([4096; 3], ScalarType::U8, PLENTY);
+        assert!(matches!(r, Err(VolumeError::TooLarge { .. })), "{r:?}");
+        let r = check_declared_size([4, 0, 4], ScalarType::U8, PLENTY);
+        assert!(matches!(r, Err(VolumeError::ZeroDimension { .. })), "{r:?}");
+    }
+
+    #[test]
+    fn the_limit_itself_is_allowed() {
+        // 2048 × 2048 × 1024 × 2 bytes = exactly 8 GiB.
+        let r = check_dims([2048, 2048, 1024], ScalarType::U16);
+        assert_eq!(r.ok(), Some(([2048, 2048, 1024], MAX_VOLUME_BYTES)));
+        let r = check_dims([2048, 2048, 1025], ScalarType::U16);
+        assert!(matches!(r, Err(VolumeError::TooLarge { .. })), "{r:?}");
+    }
+
+    #[test]
+    fn data_must_be_able_to_hold_the_declared_size() {
+        let short = DataSource::Uncompressed {
+            available_bytes: 63,
+        };
+        let r = check_declared_size([4; 3], ScalarType::U8, short);
+        assert!(matches!(
+            r,
+            Err(VolumeError::DataTooShort {
+                found_bytes: 63,
+                ..
+            })
+        ));
+        // 1 compressed byte expands to at most 1032 bytes; 1033 cannot fit, 1032 can.
+        let gz = |skip_bytes| DataSource::Gzip {
+            compressed_bytes: 1,
+            skip_bytes,
+        };
+        assert!(check_declared_size([1032, 1, 1], ScalarType::U8, gz(0)).is_ok());
+        let r = check_declared_size([1033, 1, 1], ScalarType::U8, gz(0));
+        assert!(matches!(r, Err(VolumeError::CompressedDataTooSmall { .. })));
+        let r = check_declared_size([1032, 1, 1], ScalarType::U8, gz(1));
+        assert!(matches!(r, Err(VolumeError::CompressedDataTooSmall { .. })));
+    }
+}

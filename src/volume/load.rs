@@ -2,9 +2,9 @@
 
 use std::path::Path;
 
-use super::Volume;
-use super::error::LoadError;
+use super::error::{LoadError, VolumeError};
 use super::raw::RawParams;
+use super::{Volume, decode, nifti, nrrd, raw};
 
 /// How to open a file beyond what its name tells.
 #[derive(Clone, Debug, Default)]
@@ -13,11 +13,91 @@ pub struct LoadOptions {
     pub raw: Option<RawParams>,
 }
 
-/// Loads a NRRD (`.nrrd`, `.nhdr`), NIfTI-1 (`.nii`, `.nii.gz`) or raw volume.
+/// The readers, as chosen from a file name and the options.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Format {
+    Nrrd,
+    Nifti,
+    Raw,
+}
+
+/// Loads a NRRD (`.nrrd`, `.nhdr`), NIfTI-1 (`.nii`, `.nii.gz`) or raw volume. Raw layout
+/// parameters in `options` make any file read as raw. The volume is named after the file.
+///
+/// Errors name the file last; no header, however corrupt, makes this allocate more than the file
+/// can hold or than [`super::limits::MAX_VOLUME_BYTES`].
 pub fn load_volume(path: &Path, options: &LoadOptions) -> Result<Volume, LoadError> {
-    let _ = options;
-    Err(LoadError {
+    load(path, options).map_err(|problem| LoadError {
         path: path.to_path_buf(),
-        problem: super::VolumeError::ZeroDimension { dims: [0, 0, 0] },
+        problem,
     })
+}
+
+fn load(path: &Path, options: &LoadOptions) -> Result<Volume, VolumeError> {
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    // A missing file, a folder or an empty file is reported as such whatever its name.
+    decode::open_file(path)?;
+    match (format_of(&name, options)?, &options.raw) {
+        (Format::Raw, Some(params)) => raw::read_raw(path, name, params),
+        (Format::Raw, None) => Err(VolumeError::RawNeedsParams),
+        (Format::Nrrd, _) => nrrd::read_nrrd(path, name),
+        (Format::Nifti, _) => nifti::read_nifti(path, name),
+    }
+}
+
+fn format_of(name: &str, options: &LoadOptions) -> Result<Format, VolumeError> {
+    let lower = name.to_ascii_lowercase();
+    let has = |suffix: &str| lower.ends_with(suffix);
+    if options.raw.is_some() || has(".raw") {
+        Ok(Format::Raw)
+    } else if has(".nrrd") || has(".nhdr") {
+        Ok(Format::Nrrd)
+    } else if has(".nii") || has(".nii.gz") {
+        Ok(Format::Nifti)
+    } else {
+        let extension = match lower.rsplit_once('.') {
+            Some((_, ext)) if !lower.starts_with('.') || lower.matches('.').count() > 1 => {
+                format!(".{ext}")
+            }
+            _ => String::new(),
+        };
+        Err(VolumeError::UnknownFormat { extension })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::volume::ScalarType;
+
+    #[test]
+    fn formats_follow_the_name_unless_raw_parameters_are_given() {
+        let none = LoadOptions::default();
+        let raw = LoadOptions {
+            raw: Some(RawParams {
+                dims: [1, 1, 1],
+                scalar_type: ScalarType::U8,
+                spacing_mm: [1.0; 3],
+                big_endian: false,
+            }),
+        };
+        assert_eq!(format_of("a.NRRD", &none).ok(), Some(Format::Nrrd));
+        assert_eq!(format_of("a.nhdr", &none).ok(), Some(Format::Nrrd));
+        assert_eq!(format_of("a.nii", &none).ok(), Some(Format::Nifti));
+        assert_eq!(format_of("a.Nii.Gz", &none).ok(), Some(Format::Nifti));
+        assert_eq!(format_of("a.raw", &none).ok(), Some(Format::Raw));
+        assert_eq!(format_of("a.nrrd", &raw).ok(), Some(Format::Raw));
+        assert_eq!(format_of("scan.img", &raw).ok(), Some(Format::Raw));
+        let r = format_of("scan.img", &none);
+        assert!(
+            matches!(r, Err(VolumeError::UnknownFormat { ref extension }) if extension == ".img")
+        );
+        let r = format_of("scan", &none);
+        assert!(
+            matches!(r, Err(VolumeError::UnknownFormat { ref extension }) if extension.is_empty())
+        );
+    }
 }

@@ -11,6 +11,7 @@
 //! - Non-finite samples (NaN, ±Inf in float volumes) are kept out of the range and the histogram
 //!   and are rendered transparent.
 
+pub mod decode;
 pub mod error;
 pub mod limits;
 pub mod load;

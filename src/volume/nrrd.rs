@@ -1,1 +1,135 @@
-//! (in progress)
+//! NRRD volumes: attached headers (`.nrrd`) and detached ones (`.nhdr` naming a single data file),
+//! raw or gzip-encoded, in any of the eight stored types. The declared size is checked against
+//! [`super::limits`] before anything is allocated.
+
+mod fields;
+mod header;
+mod names;
+
+use std::fs::File;
+use std::io::{BufRead, BufReader, ErrorKind};
+use std::path::{Path, PathBuf};
+
+use flate2::bufread::MultiGzDecoder;
+
+use super::decode::{self, Encoding, SampleLayout};
+use super::error::VolumeError;
+use super::limits::{self, DataSource};
+use super::{Samples, Volume};
+
+use fields::NrrdHeader;
+use header::HeaderEnd;
+
+/// Reads a NRRD volume; `name` becomes the volume's name.
+pub fn read_nrrd(path: &Path, name: String) -> Result<Volume, VolumeError> {
+    let (file, file_len) = decode::open_file(path)?;
+    let mut reader = BufReader::new(file);
+    let (text, end, header_len) = header::read_header_text(&mut reader)?;
+    let nrrd = fields::interpret(&text)?;
+    let (dims, _) = limits::check_dims(nrrd.dims, nrrd.scalar_type)?;
+    let layout = SampleLayout {
+        dims,
+        scalar_type: nrrd.scalar_type,
+        big_endian: nrrd.big_endian,
+    };
+    let samples = match &nrrd.data_file {
+        Some(data_file) => {
+            let (file, len) = open_data_file(path, data_file)?;
+            read_data(&mut BufReader::new(file), len, &nrrd, layout)?
+        }
+        None if end == HeaderEnd::EndOfFile => {
+            return Err(header::bad_header(
+                "no blank line ends the header, and no 'data file' field names a separate data \
+                 file"
+                    .to_string(),
+            ));
+        }
+        None => read_data(&mut reader, file_len - header_len, &nrrd, layout)?,
+    };
+    Volume::new(name, dims, nrrd.spacing_mm, samples, nrrd.mapping)
+}
+
+/// Reads the samples from `reader`, positioned at the start of the data with `available` bytes
+/// left in the file (before line and byte skips).
+fn read_data(
+    reader: &mut impl BufRead,
+    mut available: u64,
+    nrrd: &NrrdHeader,
+    layout: SampleLayout,
+) -> Result<Samples, VolumeError> {
+    let declared_bytes = layout.byte_len();
+    let too_short = |found_bytes| VolumeError::DataTooShort {
+        dims: layout.dims,
+        scalar_type: layout.scalar_type,
+        declared_bytes,
+        found_bytes,
+    };
+    for _ in 0..nrrd.line_skip {
+        let n = reader.skip_until(b'\n')? as u64;
+        if n == 0 {
+            return Err(too_short(0));
+        }
+        available = available.saturating_sub(n);
+    }
+    match nrrd.encoding {
+        Encoding::Raw => {
+            // `byte skip: -1`: the samples are the last bytes of the file.
+            let skip = nrrd
+                .byte_skip
+                .unwrap_or(available.saturating_sub(declared_bytes));
+            let data_bytes = available.saturating_sub(skip);
+            let source = DataSource::Uncompressed {
+                available_bytes: data_bytes,
+            };
+            limits::check_fits(layout.dims, layout.scalar_type, declared_bytes, source)?;
+            if data_bytes > declared_bytes {
+                return Err(VolumeError::DataTooLong {
+                    dims: layout.dims,
+                    scalar_type: layout.scalar_type,
+                    declared_bytes,
+                    found_bytes: data_bytes,
+                    exact: true,
+                });
+            }
+            if decode::skip_bytes(reader, skip, Encoding::Raw)? < skip {
+                return Err(too_short(0));
+            }
+            decode::read_samples(reader, layout, Encoding::Raw)
+        }
+        Encoding::Gzip => {
+            // The header parser refuses `byte skip: -1` with gzip.
+            let skip = nrrd.byte_skip.unwrap_or(0);
+            let source = DataSource::Gzip {
+                compressed_bytes: available,
+                skip_bytes: skip,
+            };
+            limits::check_fits(layout.dims, layout.scalar_type, declared_bytes, source)?;
+            let mut decoder = MultiGzDecoder::new(reader);
+            if decode::skip_bytes(&mut decoder, skip, Encoding::Gzip)? < skip {
+                return Err(too_short(0));
+            }
+            decode::read_samples(&mut decoder, layout, Encoding::Gzip)
+        }
+    }
+}
+
+/// Opens the data file a detached header names, relative to the header's folder.
+fn open_data_file(header_path: &Path, name: &str) -> Result<(File, u64), VolumeError> {
+    let unreadable = |source| VolumeError::DataFileUnreadable {
+        name: name.to_string(),
+        source,
+    };
+    let path = match Path::new(name) {
+        p if p.is_absolute() => p.to_path_buf(),
+        p => header_path
+            .parent()
+            .map_or_else(PathBuf::new, Path::to_path_buf)
+            .join(p),
+    };
+    let file = File::open(&path).map_err(unreadable)?;
+    let metadata = file.metadata().map_err(unreadable)?;
+    if metadata.is_dir() {
+        return Err(unreadable(ErrorKind::IsADirectory.into()));
+    }
+    Ok((file, metadata.len()))
+}

@@ -1,6 +1,12 @@
-//! Headerless raw volumes described on the command line.
+//! Headerless raw volumes described on the command line: the file must hold exactly the samples
+//! the given layout calls for.
 
-use super::ScalarType;
+use std::io::BufReader;
+use std::path::Path;
+
+use super::decode::{self, Encoding, SampleLayout};
+use super::error::VolumeError;
+use super::{ScalarType, ValueMapping, Volume, limits};
 
 /// Layout of a raw file: everything a header would otherwise say.
 #[derive(Clone, Debug, PartialEq)]
@@ -13,4 +19,32 @@ pub struct RawParams {
     pub spacing_mm: [f64; 3],
     /// Whether multi-byte samples are big-endian.
     pub big_endian: bool,
+}
+
+/// Reads a raw volume laid out as `params` says; `name` becomes the volume's name.
+pub fn read_raw(path: &Path, name: String, params: &RawParams) -> Result<Volume, VolumeError> {
+    let (dims, expected_bytes) =
+        limits::check_dims(params.dims.map(u64::from), params.scalar_type)?;
+    let (file, found_bytes) = decode::open_file(path)?;
+    if found_bytes != expected_bytes {
+        return Err(VolumeError::RawSizeMismatch {
+            dims,
+            scalar_type: params.scalar_type,
+            expected_bytes,
+            found_bytes,
+        });
+    }
+    let layout = SampleLayout {
+        dims,
+        scalar_type: params.scalar_type,
+        big_endian: params.big_endian,
+    };
+    let samples = decode::read_samples(&mut BufReader::new(file), layout, Encoding::Raw)?;
+    Volume::new(
+        name,
+        dims,
+        params.spacing_mm,
+        samples,
+        ValueMapping::IDENTITY,
+    )
 }

@@ -92,15 +92,15 @@ pub(super) fn compute(
     (range, histogram, non_finite)
 }
 
-/// The `q`-th quantile (`q` in `[0, 1]`, nearest-rank on the sorted finite values, as numpy's
-/// `method="lower"` would not interpolate) of the volume's finite data values; `None` when
-/// no sample is finite.
+/// The `q`-th quantile (`q` in `[0, 1]`) of the volume's finite data values, interpolated
+/// linearly between the two nearest ranks exactly as numpy's default `quantile`/`percentile`
+/// (`method="linear"`) does; `None` when no sample is finite.
 ///
 /// Exact for every type: 8- and 16-bit volumes are counted per stored value, wider types are
 /// copied and partially sorted.
 pub fn quantile(samples: &Samples, mapping: ValueMapping, q: f64) -> Option<f64> {
     let q = q.clamp(0.0, 1.0);
-    let finite: Vec<f64> = match samples {
+    let mut finite: Vec<f64> = match samples {
         Samples::U8(v) => return quantile_by_counting(v.iter().map(|&x| x as i64), 0, q, mapping),
         Samples::I8(v) => {
             return quantile_by_counting(v.iter().map(|&x| x as i64), -128, q, mapping);
@@ -120,18 +120,35 @@ pub fn quantile(samples: &Samples, mapping: ValueMapping, q: f64) -> Option<f64>
             all
         }
     };
-    let mut finite = finite;
     if finite.is_empty() {
         return None;
     }
-    let rank = nearest_rank(finite.len(), q);
-    let (_, value, _) = finite.select_nth_unstable_by(rank, f64::total_cmp);
-    Some(*value)
+    let (rank, fraction) = virtual_rank(finite.len(), q);
+    let (_, &mut below, above) = finite.select_nth_unstable_by(rank, f64::total_cmp);
+    // The next value in sorted order is the smallest of those above the rank.
+    let next = above
+        .iter()
+        .copied()
+        .min_by(f64::total_cmp)
+        .unwrap_or(below);
+    Some(lerp(below, next, fraction))
 }
 
-/// Index into the sorted values that numpy's default (`linear`) quantile would start from.
-fn nearest_rank(n: usize, q: f64) -> usize {
-    ((q * (n - 1) as f64).floor() as usize).min(n - 1)
+/// numpy's "virtual index" `q · (n − 1)`, split into the rank below it and the fraction past it.
+fn virtual_rank(n: usize, q: f64) -> (usize, f64) {
+    let h = q * (n - 1) as f64;
+    let rank = (h.floor() as usize).min(n - 1);
+    (rank, h - rank as f64)
+}
+
+/// numpy's `_lerp`: interpolates from the nearer end so that `t = 1` gives `b` exactly.
+fn lerp(a: f64, b: f64, t: f64) -> f64 {
+    let diff = b - a;
+    if t >= 0.5 {
+        b - diff * (1.0 - t)
+    } else {
+        a + diff * t
+    }
 }
 
 fn quantile_by_counting(
@@ -149,21 +166,30 @@ fn quantile_by_counting(
     if n == 0 {
         return None;
     }
-    let rank = nearest_rank(n, q) as u64;
-    let mut seen = 0u64;
+    let (rank, fraction) = virtual_rank(n, q);
+    let rank = rank as u64;
     // A negative slope reverses the order of data values relative to stored values.
     let order: Box<dyn Iterator<Item = usize>> = if mapping.slope > 0.0 {
         Box::new(0..counts.len())
     } else {
         Box::new((0..counts.len()).rev())
     };
+    let value_of = |i: usize| mapping.apply((i as i64 + lowest) as f64);
+    let mut seen = 0u64;
+    let mut below = None;
     for i in order {
         seen += counts[i];
-        if seen > rank {
-            return Some(mapping.apply((i as i64 + lowest) as f64));
+        if below.is_none() && seen > rank {
+            below = Some(value_of(i));
+        }
+        if let Some(b) = below
+            && seen > rank + 1
+        {
+            return Some(lerp(b, value_of(i), fraction));
         }
     }
-    None
+    // The rank is the last one: nothing lies above it.
+    below
 }
 
 #[cfg(test)]
@@ -195,6 +221,37 @@ mod tests {
                 min: -5.0,
                 max: 15.0
             })
+        );
+    }
+
+    #[test]
+    fn quantiles_interpolate_like_numpy() {
+        // numpy.quantile([0, 1, 2, 10], q) (default method "linear"): virtual index q·3.
+        // q = 0.5 → 1.5; q = 0.9 → 2 + 0.7·8 = 7.6; q = 0.999 → 2 + 0.997·8 = 9.976.
+        for s in [
+            Samples::U8(vec![10, 0, 2, 1]),
+            Samples::F32(vec![10.0, 0.0, 2.0, 1.0]),
+        ] {
+            let q = |q| quantile(&s, ValueMapping::IDENTITY, q).expect("finite samples");
+            assert_eq!(q(0.0), 0.0);
+            assert_eq!(q(0.5), 1.5);
+            // Float rounding of q·(n − 1) and of the interpolation: a few ulps of 10.
+            assert!((q(0.9) - 7.6).abs() < 1e-12, "{}", q(0.9));
+            assert!((q(0.999) - 9.976).abs() < 1e-12, "{}", q(0.999));
+            assert_eq!(q(1.0), 10.0);
+        }
+        // A negative slope reverses the order: data values are [-20, 0, -4, -2].
+        let m = ValueMapping {
+            slope: -2.0,
+            intercept: 0.0,
+        };
+        assert_eq!(
+            quantile(&Samples::U8(vec![10, 0, 2, 1]), m, 0.5),
+            Some(-3.0)
+        );
+        assert_eq!(
+            quantile(&Samples::F64(vec![10.0, 0.0, 2.0, 1.0]), m, 0.5),
+            Some(-3.0)
         );
     }
 

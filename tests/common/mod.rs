@@ -1,5 +1,8 @@
 //! Helpers shared by the integration tests: the GPU, output folders, image comparison.
-#![allow(dead_code)]
+#![allow(dead_code, unused_imports)]
+
+mod files;
+pub use files::*;
 
 use std::path::PathBuf;
 
@@ -91,16 +94,24 @@ pub fn assert_close(
 /// filtering differences between drivers (8-bit interpolation weights on lavapipe and most GPUs,
 /// more on some): at most 1 % of pixels may be off by more than 4/255, none by more than 32/255.
 pub fn assert_golden(name: &str, actual: &ImageF32) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden").join(format!("{name}.png"));
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/golden")
+        .join(format!("{name}.png"));
     if std::env::var_os("LEAPVIEW_BLESS").is_some() {
         std::fs::create_dir_all(path.parent().expect("has parent")).expect("create tests/golden");
         actual.save(&path).unwrap_or_else(|e| panic!("{e}"));
         eprintln!("blessed {}", path.display());
         return;
     }
-    assert!(path.exists(), "golden image {} is missing; render it with LEAPVIEW_BLESS=1 cargo test, then look at it", path.display());
+    assert!(
+        path.exists(),
+        "golden image {} is missing; render it with LEAPVIEW_BLESS=1 cargo test, then look at it",
+        path.display()
+    );
     let expected = ImageF32::read_png(&path).unwrap_or_else(|e| panic!("{e}"));
-    let diff = actual.diff(&expected).unwrap_or_else(|| panic!("{name}: size differs from the golden image"));
+    let diff = actual
+        .diff(&expected)
+        .unwrap_or_else(|| panic!("{name}: size differs from the golden image"));
     let off_by_4: usize = actual
         .pixels
         .iter()
@@ -110,6 +121,10 @@ pub fn assert_golden(name: &str, actual: &ImageF32) {
     let share = off_by_4 as f64 / actual.pixels.len() as f64;
     if diff.max_abs > 32.0 / 255.0 || share > 0.01 || actual.has_non_finite() {
         let dir = save_comparison(name, actual, &expected);
-        panic!("{name} differs from its golden image: {diff:?}, {:.2} % of pixels off by more than 4/255; actual and difference images in {}", 100.0 * share, dir.display());
+        panic!(
+            "{name} differs from its golden image: {diff:?}, {:.2} % of pixels off by more than 4/255; actual and difference images in {}",
+            100.0 * share,
+            dir.display()
+        );
     }
 }

@@ -1,0 +1,283 @@
+//! Bounded reading of sample bytes into typed storage, shared by every loader: reads exactly the
+//! declared number of bytes straight into a vector of the stored type, checks that no more follow
+//! (reading at most one byte more), and fixes the byte order.
+
+use std::fs::File;
+use std::io::{ErrorKind, Read};
+use std::path::Path;
+
+use super::error::VolumeError;
+use super::{Samples, ScalarType};
+
+/// What the loaders know about the samples before reading them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SampleLayout {
+    /// Samples along x, y, z.
+    pub dims: [u32; 3],
+    /// Stored type.
+    pub scalar_type: ScalarType,
+    /// Whether multi-byte samples are stored big-endian.
+    pub big_endian: bool,
+}
+
+impl SampleLayout {
+    /// Number of samples.
+    pub fn sample_count(&self) -> u64 {
+        self.dims.iter().map(|&d| u64::from(d)).product()
+    }
+
+    /// Number of bytes the samples take.
+    pub fn byte_len(&self) -> u64 {
+        self.sample_count() * self.scalar_type.size_bytes() as u64
+    }
+}
+
+/// How the bytes handed to [`read_samples`] were encoded, for reporting read errors.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Encoding {
+    /// Uncompressed bytes straight from a file.
+    Raw,
+    /// Bytes decompressed from a gzip stream.
+    Gzip,
+}
+
+/// A stored sample type: plain bytes plus a byte swap.
+trait Stored: bytemuck::Pod {
+    fn swap_bytes(self) -> Self;
+    fn into_samples(values: Vec<Self>) -> Samples;
+}
+
+macro_rules! stored_int {
+    ($t:ty, $variant:ident) => {
+        impl Stored for $t {
+            fn swap_bytes(self) -> Self {
+                <$t>::swap_bytes(self)
+            }
+            fn into_samples(values: Vec<Self>) -> Samples {
+                Samples::$variant(values)
+            }
+        }
+    };
+}
+
+macro_rules! stored_float {
+    ($t:ty, $variant:ident) => {
+        impl Stored for $t {
+            fn swap_bytes(self) -> Self {
+                <$t>::from_bits(self.to_bits().swap_bytes())
+            }
+            fn into_samples(values: Vec<Self>) -> Samples {
+                Samples::$variant(values)
+            }
+        }
+    };
+}
+
+stored_int!(u8, U8);
+stored_int!(i8, I8);
+stored_int!(u16, U16);
+stored_int!(i16, I16);
+stored_int!(u32, U32);
+stored_int!(i32, I32);
+stored_float!(f32, F32);
+stored_float!(f64, F64);
+
+/// Reads the samples of `layout` from `reader`, which must be positioned at the first sample and
+/// must end right after the last one.
+///
+/// The caller has already checked the declared size against [`super::limits`]; this allocates
+/// exactly that size (failing cleanly when memory is short), never grows it, and reads at most one
+/// byte past it to detect more data than declared.
+pub fn read_samples(
+    reader: &mut impl Read,
+    layout: SampleLayout,
+    encoding: Encoding,
+) -> Result<Samples, VolumeError> {
+    match layout.scalar_type {
+        ScalarType::U8 => read_typed::<u8>(reader, layout, encoding),
+        ScalarType::I8 => read_typed::<i8>(reader, layout, encoding),
+        ScalarType::U16 => read_typed::<u16>(reader, layout, encoding),
+        ScalarType::I16 => read_typed::<i16>(reader, layout, encoding),
+        ScalarType::U32 => read_typed::<u32>(reader, layout, encoding),
+        ScalarType::I32 => read_typed::<i32>(reader, layout, encoding),
+        ScalarType::F32 => read_typed::<f32>(reader, layout, encoding),
+        ScalarType::F64 => read_typed::<f64>(reader, layout, encoding),
+    }
+}
+
+fn read_typed<T: Stored>(
+    reader: &mut impl Read,
+    layout: SampleLayout,
+    encoding: Encoding,
+) -> Result<Samples, VolumeError> {
+    let declared_bytes = layout.byte_len();
+    let too_short = |found_bytes: u64| VolumeError::DataTooShort {
+        dims: layout.dims,
+        scalar_type: layout.scalar_type,
+        declared_bytes,
+        found_bytes,
+    };
+    let count = usize::try_from(layout.sample_count()).map_err(|_| VolumeError::OutOfMemory {
+        bytes: declared_bytes,
+    })?;
+    let mut values: Vec<T> = Vec::new();
+    values
+        .try_reserve_exact(count)
+        .map_err(|_| VolumeError::OutOfMemory {
+            bytes: declared_bytes,
+        })?;
+    values.resize(count, T::zeroed());
+
+    let bytes: &mut [u8] = bytemuck::cast_slice_mut(&mut values);
+    let mut filled = 0usize;
+    while filled < bytes.len() {
+        match reader.read(&mut bytes[filled..]) {
+            Ok(0) => return Err(too_short(filled as u64)),
+            Ok(n) => filled += n,
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            Err(e) if encoding == Encoding::Gzip && e.kind() == ErrorKind::UnexpectedEof => {
+                return Err(too_short(filled as u64));
+            }
+            Err(e) => return Err(read_error(e, encoding)),
+        }
+    }
+    let mut one = [0u8; 1];
+    loop {
+        match reader.read(&mut one) {
+            Ok(0) => break,
+            Ok(_) => {
+                return Err(VolumeError::DataTooLong {
+                    dims: layout.dims,
+                    scalar_type: layout.scalar_type,
+                    declared_bytes,
+                    found_bytes: declared_bytes + 1,
+                    exact: false,
+                });
+            }
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            Err(e) => return Err(read_error(e, encoding)),
+        }
+    }
+
+    if layout.big_endian != cfg!(target_endian = "big") && size_of::<T>() > 1 {
+        values.iter_mut().for_each(|v| *v = v.swap_bytes());
+    }
+    Ok(T::into_samples(values))
+}
+
+/// A read error in the user's terms: a decompressor error means corrupt data.
+pub fn read_error(e: std::io::Error, encoding: Encoding) -> VolumeError {
+    match encoding {
+        Encoding::Gzip if e.kind() == ErrorKind::UnexpectedEof => VolumeError::CorruptGzip {
+            reason: "the stream ends before its end marker; the file may be truncated".into(),
+        },
+        Encoding::Gzip if matches!(e.kind(), ErrorKind::InvalidInput | ErrorKind::InvalidData) => {
+            VolumeError::CorruptGzip {
+                reason: e.to_string(),
+            }
+        }
+        _ => VolumeError::Io { source: e },
+    }
+}
+
+/// Opens a file for reading and returns it with its length, telling a missing file, a folder and
+/// an empty file apart from other failures.
+pub fn open_file(path: &Path) -> Result<(File, u64), VolumeError> {
+    let open_error = |e: std::io::Error| match e.kind() {
+        ErrorKind::NotFound => VolumeError::NotFound,
+        _ => VolumeError::Io { source: e },
+    };
+    let metadata = std::fs::metadata(path).map_err(open_error)?;
+    if metadata.is_dir() {
+        return Err(VolumeError::IsDirectory);
+    }
+    let file = File::open(path).map_err(open_error)?;
+    let len = file.metadata()?.len();
+    if len == 0 {
+        return Err(VolumeError::EmptyFile);
+    }
+    Ok((file, len))
+}
+
+/// Skips `count` bytes of `reader` (decompressed bytes for gzip), reporting a short stream.
+pub fn skip_bytes(
+    reader: &mut impl Read,
+    count: u64,
+    encoding: Encoding,
+) -> Result<u64, VolumeError> {
+    std::io::copy(&mut reader.take(count), &mut std::io::sink())
+        .map_err(|e| read_error(e, encoding))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn layout(n: u32, scalar_type: ScalarType, big_endian: bool) -> SampleLayout {
+        SampleLayout {
+            dims: [n, 1, 1],
+            scalar_type,
+            big_endian,
+        }
+    }
+
+    #[test]
+    fn both_byte_orders_decode() {
+        let le = [1u8, 2, 3, 4];
+        let s = read_samples(
+            &mut &le[..],
+            layout(2, ScalarType::U16, false),
+            Encoding::Raw,
+        );
+        assert_eq!(s.ok(), Some(Samples::U16(vec![0x0201, 0x0403])));
+        let s = read_samples(
+            &mut &le[..],
+            layout(2, ScalarType::I16, true),
+            Encoding::Raw,
+        );
+        assert_eq!(s.ok(), Some(Samples::I16(vec![0x0102, 0x0304])));
+        let be = (-1.5f64).to_be_bytes();
+        let s = read_samples(
+            &mut &be[..],
+            layout(1, ScalarType::F64, true),
+            Encoding::Raw,
+        );
+        assert_eq!(s.ok(), Some(Samples::F64(vec![-1.5])));
+    }
+
+    #[test]
+    fn short_and_long_data_are_reported() {
+        let bytes = [0u8; 7];
+        let r = read_samples(
+            &mut &bytes[..],
+            layout(4, ScalarType::U16, false),
+            Encoding::Raw,
+        );
+        assert!(
+            matches!(r, Err(VolumeError::DataTooShort { found_bytes: 7, .. })),
+            "{r:?}"
+        );
+        let r = read_samples(
+            &mut &bytes[..],
+            layout(3, ScalarType::U16, false),
+            Encoding::Raw,
+        );
+        assert!(
+            matches!(r, Err(VolumeError::DataTooLong { exact: false, .. })),
+            "{r:?}"
+        );
+    }
+
+    #[test]
+    fn at_most_one_byte_past_the_data_is_read() {
+        // An endless reader: the read must stop right after the declared bytes plus one.
+        let mut endless = std::io::repeat(7).take(u64::MAX);
+        let r = read_samples(
+            &mut endless,
+            layout(5, ScalarType::U8, false),
+            Encoding::Raw,
+        );
+        assert!(matches!(r, Err(VolumeError::DataTooLong { .. })), "{r:?}");
+        assert_eq!(endless.limit(), u64::MAX - 6);
+    }
+}

@@ -1,0 +1,193 @@
+//! Tests of the Shepp–Logan phantom: region values, symmetry, range, partial-volume edges and
+//! noise.
+
+use super::*;
+
+/// The voxel nearest to a point given in table coordinates (y anterior), at grid size `n`.
+fn voxel_at(table: [f64; 3], n: u32) -> [u32; 3] {
+    let world = [table[0], -table[1], table[2]];
+    world.map(|u| (((u + 1.0) * n as f64 / 2.0 - 0.5).round() as u32).min(n - 1))
+}
+
+/// Points well inside each region (table coordinates) and the HU the module documents.
+const PROBES: [(&str, [f64; 3], f64); 12] = [
+    ("air", [0.95, 0.95, 0.95], AIR_HU),
+    ("skull at the forehead", [0.0, 0.888, 0.0], BONE_HU),
+    ("skull at the vertex", [0.0, 0.0, 0.795], BONE_HU),
+    ("brain", [0.4, -0.3, 0.3], BRAIN_HU),
+    ("right ventricle", [0.22, 0.0, 0.0], CSF_HU),
+    ("left ventricle", [-0.22, 0.0, 0.0], CSF_HU),
+    ("central mass", [0.0, 0.35, -0.15], 45.0),
+    ("anterior lesion", [0.0, 0.1, 0.25], 60.0),
+    ("posterior lesion", [0.0, -0.1, 0.25], 60.0),
+    ("feature 8", [-0.08, -0.605, 0.0], 80.0),
+    ("feature 9", [0.0, -0.606, 0.0], 50.0),
+    ("feature 10", [0.06, -0.605, 0.0], 15.0),
+];
+
+#[test]
+fn regions_have_their_hounsfield_values() {
+    // At n = 128 (1.8 mm voxels) the voxel nearest to each probe lies wholly inside its
+    // region, even for the 4.6 mm features 9 and 10, so without noise only rounding (0.5 HU)
+    // separates it from the documented value; the noise adds at most NOISE_BOUND_HU.
+    let n = 128;
+    let clean = generate(n, 0.0).expect("valid size");
+    let noisy = shepp_logan(n).expect("valid size");
+    for (name, point, expected) in PROBES {
+        let [x, y, z] = voxel_at(point, n);
+        let v = clean.value(x, y, z);
+        assert!(
+            (v - expected).abs() <= 0.5,
+            "{name}: {v} HU, expected {expected}"
+        );
+        let v = noisy.value(x, y, z);
+        assert!(
+            (v - expected).abs() <= NOISE_BOUND_HU + 0.5,
+            "{name} (noisy): {v} HU, expected {expected}"
+        );
+    }
+    assert_eq!(noisy.extent_mm(), [FIELD_OF_VIEW_MM; 3]);
+}
+
+#[test]
+fn mirror_symmetric_where_the_table_is() {
+    // Ellipsoids 3, 4, 8 and 10 differ between the left and right halves; everything else
+    // is symmetric under x → −x, and so must the noise-free samples be, exactly.
+    let n = 64;
+    let v = generate(n, 0.0).expect("valid size");
+    let voxel = 2.0 / n as f64;
+    let asymmetric: Vec<Prepared> = [2, 3, 7, 9].map(|i| Prepared::new(i, voxel)).into();
+    let near_asymmetric = |x: u32, y: u32, z: u32| {
+        let p = DVec3::new(x as f64 + 0.5, y as f64 + 0.5, z as f64 + 0.5) * voxel - 1.0;
+        asymmetric.iter().any(|e| {
+            let d = (p - e.centre).abs();
+            d.cmple(e.half_extent + voxel).all()
+        })
+    };
+    let mut compared = 0;
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n / 2 {
+                let m = n - 1 - x;
+                if near_asymmetric(x, y, z) || near_asymmetric(m, y, z) {
+                    continue;
+                }
+                assert_eq!(v.value(x, y, z), v.value(m, y, z), "at ({x}, {y}, {z})");
+                compared += 1;
+            }
+        }
+    }
+    // Most of the volume is compared, so the test cannot pass vacuously.
+    assert!(compared > n * n * n / 4, "compared only {compared}");
+}
+
+#[test]
+fn values_stay_in_range_and_air_is_exact() {
+    let v = shepp_logan(64).expect("valid size");
+    let range = v.value_range().expect("finite");
+    assert_eq!(range.min, AIR_HU);
+    assert!(
+        range.max <= BONE_HU + NOISE_BOUND_HU + 0.5,
+        "max {}",
+        range.max
+    );
+    assert!(range.max >= BONE_HU - NOISE_BOUND_HU, "max {}", range.max);
+    // The head is about 0.69·0.92·0.81·π/6 ≈ 27 % of the box; the rest is exact air.
+    let Samples::I16(s) = v.samples() else {
+        panic!("the phantom is stored as i16")
+    };
+    let air = s.iter().filter(|&&x| x == -1000).count() as f64 / s.len() as f64;
+    assert!((0.70..0.76).contains(&air), "air fraction {air}");
+}
+
+#[test]
+fn edges_are_anti_aliased_not_staircased() {
+    let n = 64;
+    let v = shepp_logan(n).expect("valid size");
+    // Walk out from the centre along ±x, ±y, ±z. A staircased phantom would jump from bone
+    // (or brain, where the skull is thinner than a voxel) straight to −1000; here the last
+    // voxel before the air is partial (the surface almost never falls exactly on a voxel
+    // face), and the skull's peak lies within two voxels of the air: the edge is not blurred.
+    let c = n / 2;
+    let rays: [(i32, i32, i32); 6] = [
+        (1, 0, 0),
+        (-1, 0, 0),
+        (0, 1, 0),
+        (0, -1, 0),
+        (0, 0, 1),
+        (0, 0, -1),
+    ];
+    for (dx, dy, dz) in rays {
+        let values: Vec<f64> = (0..n as i32 / 2)
+            .map(|t| {
+                let at = |c: u32, d: i32| (c as i32 + d * t) as u32;
+                v.value(at(c, dx), at(c, dy), at(c, dz))
+            })
+            .collect();
+        let Some(air) = values.iter().position(|&x| x == AIR_HU) else {
+            panic!("ray {dx},{dy},{dz} never reaches air: {values:?}")
+        };
+        let edge = values[air - 1];
+        assert!(
+            edge > AIR_HU + 20.0 && edge < BONE_HU - 20.0,
+            "ray {dx},{dy},{dz}: {values:?}"
+        );
+        let peak = (0..air)
+            .max_by(|&a, &b| values[a].total_cmp(&values[b]))
+            .unwrap_or(0);
+        assert!(air - peak <= 2, "ray {dx},{dy},{dz}: {values:?}");
+        // Where the skull (3.2 mm) is thinner than a voxel (3.6 mm) its peak is partial too,
+        // but still far above any soft tissue (at most 80 HU).
+        assert!(
+            values[peak] > 200.0,
+            "ray {dx},{dy},{dz}: no skull in {values:?}"
+        );
+    }
+    // And over the whole surface: at n = 64 the head's surface is roughly 8000 voxels.
+    let mut between = 0;
+    v.samples().for_each_f64(|x| {
+        if x > AIR_HU + 50.0 && x < BRAIN_HU - 50.0 {
+            between += 1;
+        }
+    });
+    assert!(between > 3000, "only {between} partial-volume voxels");
+}
+
+#[test]
+fn noise_is_mild_bounded_and_absent_in_air() {
+    let n = 64;
+    let clean = generate(n, 0.0).expect("valid size");
+    let noisy = shepp_logan(n).expect("valid size");
+    let (Samples::I16(a), Samples::I16(b)) = (clean.samples(), noisy.samples()) else {
+        panic!("the phantom is stored as i16")
+    };
+    let (mut n_brain, mut sum, mut sum_sq) = (0u32, 0.0, 0.0);
+    for (&c, &x) in a.iter().zip(b) {
+        let d = (x - c) as f64;
+        if c == -1000 {
+            assert_eq!(x, -1000, "noise in air");
+        }
+        // Two roundings separate the samples from the unrounded noise: 1 HU.
+        assert!(d.abs() <= NOISE_BOUND_HU + 1.0);
+        if c as f64 == BRAIN_HU {
+            n_brain += 1;
+            sum += d;
+            sum_sq += d * d;
+        }
+    }
+    let sigma = (sum_sq / n_brain as f64 - (sum / n_brain as f64).powi(2)).sqrt();
+    // Rounding to integers adds a variance of 1/12; over ~30 000 brain voxels the estimate
+    // of σ ≈ √(9 + 1/12) = 3.01 is good to about 1 %; allow 5 %.
+    assert!(n_brain > 20_000, "{n_brain} brain voxels");
+    assert!((sigma - 3.01).abs() < 0.15, "noise σ {sigma}");
+}
+
+#[test]
+fn zero_size_is_an_error() {
+    assert!(matches!(
+        shepp_logan(0),
+        Err(VolumeError::ZeroDimension { .. })
+    ));
+    let v = shepp_logan(1).expect("a single voxel is a valid volume");
+    assert_eq!(v.dims(), [1; 3]);
+}

@@ -1,0 +1,184 @@
+//! The `leapview` binary: render and info on real data, and one-line errors with status 2 on bad
+//! input.
+
+mod common;
+
+use std::process::{Command, Output};
+
+use leapview::imaging::ImageF32;
+
+fn leapview(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_leapview"))
+        .args(args)
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .expect("run the binary")
+}
+
+fn stderr_lines(out: &Output) -> Vec<String> {
+    String::from_utf8_lossy(&out.stderr)
+        .lines()
+        .filter(|l| l.starts_with("leapview:"))
+        .map(String::from)
+        .collect()
+}
+
+#[test]
+fn render_writes_png_and_exr_of_a_real_volume() {
+    let data = common::data_dir().join("mra_head_200x256x120_uint8.nrrd");
+    let dir = common::TempDir::new("cli-render");
+    let png = dir.path().join("mra.png");
+    let exr = dir.path().join("mra.exr");
+    for out in [&png, &exr] {
+        let o = leapview(&[
+            "render",
+            data.to_str().expect("utf-8"),
+            "--out",
+            out.to_str().expect("utf-8"),
+            "--tf",
+            "mr-angio",
+            "--size",
+            "96x64",
+            "--view",
+            "-z",
+            "--path",
+            "compute",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let a = ImageF32::read_png(&png).expect("png");
+    assert_eq!((a.width, a.height), (96, 64));
+    // Vessels are red: some pixels must be clearly red, most background black.
+    let red = a
+        .pixels
+        .iter()
+        .filter(|p| p[0] > 0.3 && p[0] > 2.0 * p[2])
+        .count();
+    assert!(red > 20, "vessels visible: {red} red pixels");
+    let exr_img = image::open(&exr).expect("exr").to_rgba32f();
+    assert_eq!(exr_img.dimensions(), (96, 64));
+    // The EXR holds the same values as the PNG before quantisation.
+    let max_diff = exr_img
+        .pixels()
+        .zip(&a.pixels)
+        .flat_map(|(e, p)| (0..3).map(move |c| (e.0[c] - p[c]).abs()))
+        .fold(0.0f32, f32::max);
+    assert!(max_diff <= 0.5 / 255.0 + 1e-6, "{max_diff}");
+}
+
+#[test]
+fn stats_report_samples_and_gpu_time() {
+    let data = common::data_dir().join("mra_head_200x256x120_uint8.nrrd");
+    let dir = common::TempDir::new("cli-stats");
+    let out = dir.path().join("s.png");
+    let o = leapview(&[
+        "render",
+        data.to_str().expect("utf-8"),
+        "--out",
+        out.to_str().expect("utf-8"),
+        "--size",
+        "32x32",
+        "--stats",
+        "--strategy",
+        "rc",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    let value = |key: &str| -> u64 {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(key))
+            .unwrap_or_else(|| panic!("no {key} in {text}"));
+        line.split_whitespace()
+            .nth(1)
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("{line}"))
+    };
+    assert!(value("samples:") > 0);
+    assert!(value("visible_samples:") <= value("samples:"));
+    assert!(value("rays:") <= 32 * 32);
+    assert!(text.contains("gpu_ms:"), "{text}");
+}
+
+#[test]
+fn info_prints_the_facts() {
+    let data = common::data_dir().join("cta_avm_337x319x154_uint8.nrrd");
+    let o = leapview(&["info", data.to_str().expect("utf-8"), "--json"]);
+    assert!(o.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(v["dims"], serde_json::json!([337, 319, 154]));
+    // data/README.md: 97.6 % of voxels below t = 20.1.
+    let air = v["air_fraction"].as_f64().expect("number");
+    assert!((air - 0.976).abs() < 0.0006, "{air}");
+}
+
+#[test]
+fn bad_input_prints_one_line_naming_the_file_and_exits_with_status_2() {
+    let dir = common::TempDir::new("cli-bad");
+    let empty = dir.write("empty.nrrd", b"");
+    let truncated = dir.write(
+        "short.nrrd",
+        &common::nrrd_file(
+            &[
+                "type: uint8",
+                "dimension: 3",
+                "sizes: 8 8 8",
+                "encoding: raw",
+            ],
+            &[0u8; 100],
+        ),
+    );
+    let huge = dir.write(
+        "huge.nrrd",
+        &common::nrrd_file(
+            &[
+                "type: uint16",
+                "dimension: 3",
+                "sizes: 100000 100000 100000",
+                "encoding: gzip",
+                "endian: little",
+            ],
+            &common::gzip(&[0u8; 64]),
+        ),
+    );
+    let png = dir.path().join("out.png");
+    let out = png.to_str().expect("utf-8");
+    let missing = dir.path().join("missing.nii.gz");
+    for path in [
+        &empty,
+        &truncated,
+        &huge,
+        &missing,
+        &dir.path().to_path_buf(),
+    ] {
+        let p = path.to_str().expect("utf-8");
+        for args in [vec!["render", p, "--out", out], vec!["info", p]] {
+            let o = leapview(&args);
+            assert_eq!(
+                o.status.code(),
+                Some(2),
+                "{args:?}: {}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+            let lines = stderr_lines(&o);
+            assert_eq!(lines.len(), 1, "{args:?}: {lines:?}");
+            assert!(
+                lines[0].ends_with(p),
+                "{args:?}: the line names the file last: {}",
+                lines[0]
+            );
+        }
+    }
+    assert!(!png.exists(), "no image for bad input");
+    let data = common::data_dir().join("mra_head_200x256x120_uint8.nrrd");
+    let o = leapview(&[
+        "render",
+        data.to_str().expect("utf-8"),
+        "--out",
+        out,
+        "--tf",
+        "no-such-preset",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr_lines(&o)[0].contains("no-such-preset"));
+}

@@ -1,0 +1,90 @@
+//! Volumes and images past the adapter's limits get clear errors, not panics or wrong pictures.
+
+mod common;
+
+use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
+use leapview::render::renderer::RenderError;
+use leapview::render::volume_texture::VolumeTextureError;
+use leapview::render::{FrameRequest, RenderSettings};
+use leapview::volume::{Samples, ValueMapping, Volume};
+
+fn line(n: u32) -> Volume {
+    Volume::new(
+        "line",
+        [n, 1, 1],
+        [1.0; 3],
+        Samples::U8(vec![7; n as usize]),
+        ValueMapping::IDENTITY,
+    )
+    .expect("valid")
+}
+
+#[test]
+fn volume_past_the_3d_texture_limit_is_refused_and_the_previous_one_kept() {
+    let mut r = common::renderer();
+    let max = r.context().limits.max_texture_dimension_3d;
+    r.set_volume(&line(4)).expect("small volume fits");
+    let err = r.set_volume(&line(max + 1)).expect_err("too large");
+    assert!(
+        matches!(
+            err,
+            RenderError::Volume(VolumeTextureError::TooLarge { .. })
+        ),
+        "{err:?}"
+    );
+    let msg = err.to_string();
+    assert!(msg.contains(&format!("at most {max}")), "{msg}");
+    // The previous volume is still there and renders.
+    assert_eq!(r.volume_geometry().map(|g| g.0), Some([4, 1, 1]));
+    let bounds = Aabb::of_volume([4, 1, 1], [1.0; 3]);
+    let (dir, up) = ViewPreset::Oblique.direction_and_up();
+    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    r.render(&FrameRequest {
+        camera: &camera,
+        size: [8, 8],
+        settings: &RenderSettings::default(),
+        stats: false,
+    })
+    .expect("renders");
+}
+
+#[test]
+fn image_sizes_outside_the_2d_limit_are_refused() {
+    let mut r = common::renderer();
+    r.set_volume(&line(4)).expect("fits");
+    let max = r.context().limits.max_texture_dimension_2d;
+    let bounds = Aabb::of_volume([4, 1, 1], [1.0; 3]);
+    let (dir, up) = ViewPreset::Oblique.direction_and_up();
+    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    for size in [[max + 1, 1], [1, 0]] {
+        let err = r
+            .render(&FrameRequest {
+                camera: &camera,
+                size,
+                settings: &RenderSettings::default(),
+                stats: false,
+            })
+            .expect_err("refused");
+        assert!(matches!(err, RenderError::ImageSize { .. }), "{err:?}");
+    }
+}
+
+#[test]
+fn rendering_without_a_volume_is_an_error() {
+    let mut r = common::renderer();
+    let bounds = Aabb::of_volume([4, 4, 4], [1.0; 3]);
+    let (dir, up) = ViewPreset::Oblique.direction_and_up();
+    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    let err = r
+        .render(&FrameRequest {
+            camera: &camera,
+            size: [8, 8],
+            settings: &RenderSettings {
+                path: leapview::render::RenderPath::Compute,
+                ..RenderSettings::default()
+            },
+            stats: false,
+        })
+        .expect_err("no volume");
+    assert!(matches!(err, RenderError::NoVolume), "{err:?}");
+}
