@@ -137,19 +137,21 @@ impl LeapViewApp {
     /// Takes a finished load: uploads it, frames it, picks a fitting preset.
     fn receive_volume(&mut self, ctx: &egui::Context) {
         match self.loader.poll() {
-            Some(Ok(volume)) => self.show_volume(&volume, ctx),
-            Some(Err(e)) => self
+            Some((source, Ok(volume))) => self.show_volume(&volume, &source, ctx),
+            Some((_, Err(e))) => self
                 .dialogs
                 .show_error(format!("Cannot open the volume: {e}")),
             None => {}
         }
     }
 
-    fn show_volume(&mut self, volume: &Volume, ctx: &egui::Context) {
+    fn show_volume(&mut self, volume: &Volume, source: &VolumeSource, ctx: &egui::Context) {
         match self.scene.show_volume(volume, self.state.projection) {
             Ok(summary) => {
-                self.state.preset =
-                    preset_for_volume(&self.state.preset, is_ct_like(summary.range));
+                self.state.preset = match source.preferred_preset() {
+                    Some(name) => name.to_string(),
+                    None => preset_for_volume(&self.state.preset, is_ct_like(summary.range)),
+                };
                 let title = format!("LeapView — {}", summary.name);
                 ctx.send_viewport_cmd(ViewportCommand::Title(title));
             }

@@ -7,9 +7,8 @@ use std::sync::mpsc;
 use std::time::Instant;
 
 use crate::volume::error::LoadError;
+use crate::volume::synthetic::{shepp_logan, vessel_tree};
 use crate::volume::{LoadOptions, Volume, VolumeError, load_volume};
-
-use super::standin;
 
 /// Edge length of the generated volumes, in voxels.
 pub const GENERATED_SIZE: u32 = 256;
@@ -45,12 +44,21 @@ impl VolumeSource {
         }
     }
 
+    /// The preset the volume is made for, where that is known: the vessel tree is an
+    /// angiogram without units, so the MR angiography preset suits it.
+    pub fn preferred_preset(&self) -> Option<&'static str> {
+        match self {
+            Self::VesselTree => Some("mr-angio"),
+            Self::File { .. } | Self::SheppLogan => None,
+        }
+    }
+
     /// Loads or generates the volume (slow: call it off the UI thread).
     pub fn load(&self) -> Result<Volume, LoadFailure> {
         match self {
             Self::File { path, options } => Ok(load_volume(path, options)?),
-            Self::SheppLogan => Ok(standin::shepp_logan(GENERATED_SIZE)?),
-            Self::VesselTree => Ok(standin::vessel_tree(GENERATED_SIZE, VESSEL_SEED)?),
+            Self::SheppLogan => Ok(shepp_logan(GENERATED_SIZE)?),
+            Self::VesselTree => Ok(vessel_tree(GENERATED_SIZE, VESSEL_SEED)?),
         }
     }
 }
@@ -75,6 +83,7 @@ pub enum LoadFailure {
 }
 
 struct Pending {
+    source: VolumeSource,
     label: String,
     started: Instant,
     rx: mpsc::Receiver<Result<Volume, LoadFailure>>,
@@ -99,6 +108,7 @@ impl Loader {
     /// Starts loading `source`, abandoning any load in progress. `ctx` is woken when it is done.
     pub fn start(&mut self, source: VolumeSource, ctx: &egui::Context) -> Result<(), LoadFailure> {
         let label = source.label();
+        let pending_source = source.clone();
         let (tx, rx) = mpsc::channel();
         let waker = RepaintOnDrop(ctx.clone());
         std::thread::Builder::new()
@@ -120,6 +130,7 @@ impl Loader {
                 reason: e.to_string(),
             })?;
         self.pending = Some(Pending {
+            source: pending_source,
             label,
             started: Instant::now(),
             rx,
@@ -132,8 +143,8 @@ impl Loader {
         self.pending.as_ref().map(|p| (p.label.as_str(), p.started))
     }
 
-    /// The result of the load in progress, once it has arrived.
-    pub fn poll(&mut self) -> Option<Result<Volume, LoadFailure>> {
+    /// The result of the load in progress, with its source, once it has arrived.
+    pub fn poll(&mut self) -> Option<(VolumeSource, Result<Volume, LoadFailure>)> {
         let pending = self.pending.as_ref()?;
         let result = match pending.rx.try_recv() {
             Ok(result) => result,
@@ -143,8 +154,8 @@ impl Loader {
                 reason: "the loader thread ended without a result (see the log)".into(),
             }),
         };
-        self.pending = None;
-        Some(result)
+        let source = self.pending.take()?.source;
+        Some((source, result))
     }
 }
 
@@ -155,7 +166,7 @@ mod tests {
     fn wait(loader: &mut Loader) -> Result<Volume, LoadFailure> {
         let deadline = Instant::now() + std::time::Duration::from_secs(60);
         loop {
-            if let Some(result) = loader.poll() {
+            if let Some((_, result)) = loader.poll() {
                 return result;
             }
             assert!(Instant::now() < deadline, "the loader never answered");

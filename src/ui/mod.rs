@@ -15,7 +15,6 @@ pub mod overlay;
 pub mod redraw;
 pub mod scene;
 pub mod screenshot;
-mod standin;
 pub mod viewport;
 pub mod window;
 
