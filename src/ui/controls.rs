@@ -1,7 +1,7 @@
 //! The side panel: transfer-function preset, strategy, ray-loop path, step, termination
 //! threshold, background, projection and views, and what is loaded.
 
-use egui::{ComboBox, Slider};
+use egui::{ComboBox, Slider, SliderClamping};
 
 use crate::camera::ProjectionKind;
 use crate::render::settings::DEFAULT_TERMINATION_ALPHA;
@@ -28,6 +28,10 @@ pub struct PanelInfo<'a> {
 }
 
 /// Draws the panel contents; returns an action for the buttons that need the app.
+///
+/// The sliders round only what the user edits (`SliderClamping::Edits`): with egui's default
+/// they would round the value on every pass, and the default termination 1 − 1/255 would
+/// silently become 0.9961, giving other images than `leapview render`.
 pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo) -> Option<Action> {
     let mut action = None;
     ui.heading("Rendering");
@@ -80,7 +84,8 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
             ui.add(
                 Slider::new(&mut state.step_vox, STEP_RANGE_VOX)
                     .logarithmic(true)
-                    .max_decimals(3),
+                    .max_decimals(3)
+                    .clamping(SliderClamping::Edits),
             )
             .on_hover_text(
                 "Distance between samples along a ray, in units of the smallest voxel spacing",
@@ -92,7 +97,8 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
                 ui.horizontal(|ui| {
                     ui.add(
                         Slider::new(&mut state.termination_alpha, TERMINATION_RANGE)
-                            .max_decimals(4),
+                            .max_decimals(4)
+                            .clamping(SliderClamping::Edits),
                     )
                     .on_hover_text("RC-t stops once accumulated opacity exceeds this");
                     if ui
@@ -172,5 +178,39 @@ fn path_label(path: RenderPath) -> &'static str {
         RenderPath::Auto => "auto",
         RenderPath::Fragment => "fragment",
         RenderPath::Compute => "compute",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Shows the panel once, without any input, and returns the state afterwards.
+    fn shown(mut state: ViewerState) -> ViewerState {
+        let ctx = egui::Context::default();
+        let info = PanelInfo {
+            path_used: None,
+            volume: None,
+        };
+        let mut output = ctx.run_ui(egui::RawInput::default(), |ui| {
+            let action = controls_ui(ui, &mut state, &info);
+            assert_eq!(action, None);
+        });
+        // No painter here: the font atlas upload is dropped on purpose.
+        output.textures_delta.clear();
+        state
+    }
+
+    #[test]
+    fn showing_the_panel_changes_nothing() {
+        let state = ViewerState::default();
+        assert_eq!(shown(state.clone()), state);
+        // Values with more digits than the sliders show survive too.
+        let odd = ViewerState {
+            step_vox: 0.333_333_333,
+            termination_alpha: 0.987_654_321,
+            ..ViewerState::default()
+        };
+        assert_eq!(shown(odd.clone()), odd);
     }
 }
