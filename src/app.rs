@@ -323,6 +323,8 @@ impl LeapViewApp {
 impl eframe::App for LeapViewApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
+        // The smoke test counts passes against rendered frames.
+        log::trace!("egui pass {}", ctx.cumulative_pass_nr());
         self.receive_volume(&ctx);
         if self.scene.collect_measurements() {
             ctx.request_repaint_after(RESULTS_POLL);
