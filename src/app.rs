@@ -138,10 +138,19 @@ impl LeapViewApp {
     fn receive_volume(&mut self, ctx: &egui::Context) {
         match self.loader.poll() {
             Some((source, Ok(volume))) => self.show_volume(&volume, &source, ctx),
-            Some((_, Err(e))) => self
-                .dialogs
-                .show_error(format!("Cannot open the volume: {e}")),
+            Some((_, Err(e))) => {
+                self.dialogs
+                    .show_error(format!("Cannot open the volume: {e}"));
+                self.untitle_if_empty(ctx);
+            }
             None => {}
+        }
+    }
+
+    /// The window was titled after a volume that never came: drop the name.
+    fn untitle_if_empty(&self, ctx: &egui::Context) {
+        if self.scene.volume().is_none() {
+            ctx.send_viewport_cmd(ViewportCommand::Title("LeapView".into()));
         }
     }
 
@@ -162,6 +171,7 @@ impl LeapViewApp {
                 };
                 self.dialogs
                     .show_error(format!("Cannot show {}: {message}", volume.name()));
+                self.untitle_if_empty(ctx);
             }
         }
     }

@@ -86,10 +86,12 @@ impl Readout<'_> {
             Some(ConcretePath::Compute) => " compute",
             None => "",
         };
-        let mut lines = vec![
-            format!("{fps} · {gpu} · {}{path}", self.strategy),
-            self.adapter.to_string(),
-        ];
+        let first = if self.path.is_none() && self.gpu_ms.is_none() {
+            "no frame yet".to_string()
+        } else {
+            format!("{fps} · {gpu} · {}{path}", self.strategy)
+        };
+        let mut lines = vec![first, self.adapter.to_string()];
         if let Some(v) = self.volume {
             lines.push(format!("{} · {}", v.name, v.line()));
         }
@@ -179,6 +181,15 @@ mod tests {
             path: Some(ConcretePath::Compute),
             strategy: "RC-t",
             volume: None,
+        };
+        let nothing_yet = Readout {
+            path: None,
+            ..readout
+        };
+        assert_eq!(nothing_yet.lines()[0], "no frame yet");
+        let readout = Readout {
+            path: Some(ConcretePath::Compute),
+            ..nothing_yet
         };
         let lines = readout.lines();
         assert!(lines[0].starts_with("idle"));
