@@ -13,6 +13,11 @@ struct Frame {
     texel_scale: f32,
     texel_bias: f32,
     lut_size: f32,
+    volume_dims: vec4<f32>,
+    leaf_level: u32,
+    level_count: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -4,6 +4,7 @@
 const COUNTER_SAMPLES: u32 = 0u;
 const COUNTER_VISIBLE_SAMPLES: u32 = 1u;
 const COUNTER_RAYS: u32 = 2u;
+const COUNTER_LEAPS: u32 = 3u;
 
 @group(2) @binding(0) var<storage, read_write> counters: array<atomic<u32>>;
 

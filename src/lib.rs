@@ -4,6 +4,7 @@
 //! reference ray caster) are independent of the GPU; `render` holds the wgpu renderer that the
 //! window, the command line and the tests share.
 
+pub mod accel;
 pub mod app;
 pub mod camera;
 pub mod imaging;

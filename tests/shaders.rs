@@ -40,13 +40,29 @@ fn every_module_is_used_and_composes_alone() {
 fn statistics_code_only_in_statistics_variants() {
     for key in PipelineKey::all() {
         let module = validate(&format!("{key:?}"), &key.source().expect("composes"));
-        let has_storage = module
+        let writable_storage = module.global_variables.iter().any(|(_, g)| {
+            matches!(g.space, naga::AddressSpace::Storage { access } if access.contains(naga::StorageAccess::STORE))
+        });
+        let atomics = module
+            .types
+            .iter()
+            .any(|(_, t)| matches!(t.inner, naga::TypeInner::Atomic(_)));
+        assert_eq!(
+            writable_storage, key.stats,
+            "{key:?}: writable storage exactly in stats variants"
+        );
+        assert_eq!(
+            atomics, key.stats,
+            "{key:?}: atomics exactly in stats variants"
+        );
+        let leap_reads = module
             .global_variables
             .iter()
-            .any(|(_, g)| matches!(g.space, naga::AddressSpace::Storage { .. }));
+            .any(|(_, g)| g.name.as_deref() == Some("node_empty"));
         assert_eq!(
-            has_storage, key.stats,
-            "{key:?}: the counters buffer must exist exactly in stats variants"
+            leap_reads,
+            key.strategy.leaps(),
+            "{key:?}: leaping data exactly in leaping variants"
         );
     }
 }

@@ -15,7 +15,7 @@ pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Compute workgroup edge (must match `@workgroup_size` in raycast_compute.wgsl).
 pub const WORKGROUP: u32 = 8;
 /// Number of 64-bit counters in the statistics buffer (see shaders/stats.wgsl).
-pub const COUNTERS: usize = 3;
+pub const COUNTERS: usize = 4;
 
 /// Where the ray loop runs, once `auto` has been resolved.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -44,7 +44,7 @@ impl PipelineKey {
     pub fn all() -> Vec<Self> {
         let mut keys = Vec::new();
         for mode in [Mode::Dvr] {
-            for strategy in [Strategy::Rc, Strategy::RcT] {
+            for strategy in Strategy::ALL {
                 for path in [ConcretePath::Fragment, ConcretePath::Compute] {
                     for stats in [false, true] {
                         keys.push(Self {
@@ -68,6 +68,12 @@ impl PipelineKey {
         }
         if self.strategy.terminates_early() {
             defines.push("EARLY_TERMINATION");
+        }
+        if self.strategy.leaps() {
+            defines.push("LEAP");
+        }
+        if self.strategy == Strategy::RcSDistance {
+            defines.push("LEAP_DISTANCE");
         }
         if self.stats {
             defines.push("STATS");
@@ -95,6 +101,8 @@ pub struct Layouts {
     pub compute_io: wgpu::BindGroupLayout,
     /// Group 2 of statistics variants: the counters.
     pub stats: wgpu::BindGroupLayout,
+    /// Group 3 of leaping variants: pyramid levels, node flags, distances.
+    pub leap: wgpu::BindGroupLayout,
 }
 
 fn texture_entry(
@@ -182,11 +190,26 @@ impl Layouts {
                 count: None,
             }],
         });
+        let storage = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: shading,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let leap = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("leap"),
+            entries: &[storage(0), storage(1), storage(2)],
+        });
         Self {
             frame,
             fragment_io,
             compute_io,
             stats,
+            leap,
         }
     }
 }
@@ -330,9 +353,13 @@ fn build(
         ConcretePath::Fragment => &layouts.fragment_io,
         ConcretePath::Compute => &layouts.compute_io,
     };
-    let mut groups = vec![Some(&layouts.frame), Some(io)];
-    if key.stats {
-        groups.push(Some(&layouts.stats));
+    let mut groups = vec![
+        Some(&layouts.frame),
+        Some(io),
+        key.stats.then_some(&layouts.stats),
+    ];
+    if key.strategy.leaps() {
+        groups.push(Some(&layouts.leap));
     }
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(&label),

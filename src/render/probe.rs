@@ -12,8 +12,11 @@ const IN_FLIGHT: u8 = 1;
 const MAPPED: u8 = 2;
 const FAILED: u8 = 3;
 
-/// Bytes of the two timestamps.
-const TIMESTAMP_BYTES: u64 = 16;
+/// Timestamps per frame: start and end of the frame's passes, start and end of the
+/// transfer-function rebuild (leaping structures) when the frame did one.
+const TIMESTAMPS: u32 = 4;
+/// Bytes of the timestamps.
+const TIMESTAMP_BYTES: u64 = TIMESTAMPS as u64 * 8;
 /// Bytes of the counters (a low and a high u32 each).
 const COUNTER_BYTES: u64 = COUNTERS as u64 * 8;
 
@@ -26,6 +29,8 @@ pub struct FrameCounters {
     pub visible_samples: u64,
     /// Rays cast (pixels whose ray met the volume).
     pub rays: u64,
+    /// Empty regions leapt over (RC-s).
+    pub leaps: u64,
 }
 
 /// What came back for one frame.
@@ -38,6 +43,9 @@ pub struct FrameResults {
     pub gpu_ms: Option<f64>,
     /// Sample counters (statistics variants only).
     pub counters: Option<FrameCounters>,
+    /// GPU time of the leaping structures' rebuild this frame recorded (after a transfer-function
+    /// or block-size change), milliseconds.
+    pub rebuild_ms: Option<f64>,
 }
 
 /// One set of query and read-back resources.
@@ -48,6 +56,7 @@ struct Probe {
     state: Arc<AtomicU8>,
     frame: u64,
     has_counters: bool,
+    has_rebuild: bool,
 }
 
 /// A pool of probes; the counters buffer is shared (frames using statistics are serialised by
@@ -74,7 +83,7 @@ impl ProbePool {
                     device.create_query_set(&wgpu::QuerySetDescriptor {
                         label: Some("frame timestamps"),
                         ty: wgpu::QueryType::Timestamp,
-                        count: 2,
+                        count: TIMESTAMPS,
                     })
                 }),
                 resolve: device.create_buffer(&wgpu::BufferDescriptor {
@@ -92,6 +101,7 @@ impl ProbePool {
                 state: Arc::new(AtomicU8::new(FREE)),
                 frame: 0,
                 has_counters: false,
+                has_rebuild: false,
             })
             .collect();
         let counters = device.create_buffer(&wgpu::BufferDescriptor {
@@ -118,6 +128,7 @@ impl ProbePool {
         let probe = &mut self.probes[index];
         probe.frame = frame;
         probe.has_counters = has_counters;
+        probe.has_rebuild = false;
         Some(ProbeSlot(index))
     }
 
@@ -149,6 +160,23 @@ impl ProbePool {
         })
     }
 
+    /// Timestamp writes for the rebuild's compute passes: `first` writes its start, `last` its end.
+    pub fn rebuild_timestamps(
+        &mut self,
+        slot: &ProbeSlot,
+        first: bool,
+        last: bool,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let probe = &mut self.probes[slot.0];
+        probe.has_rebuild = true;
+        let q = probe.queries.as_ref()?;
+        Some(wgpu::ComputePassTimestampWrites {
+            query_set: q,
+            beginning_of_pass_write_index: first.then_some(2),
+            end_of_pass_write_index: last.then_some(3),
+        })
+    }
+
     /// Clears the counters before a statistics frame.
     pub fn clear_counters(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.clear_buffer(&self.counters, 0, None);
@@ -158,7 +186,8 @@ impl ProbePool {
     pub fn finish(&self, slot: &ProbeSlot, encoder: &mut wgpu::CommandEncoder) {
         let probe = &self.probes[slot.0];
         if let Some(q) = &probe.queries {
-            encoder.resolve_query_set(q, 0..2, &probe.resolve, 0);
+            let count = if probe.has_rebuild { TIMESTAMPS } else { 2 };
+            encoder.resolve_query_set(q, 0..count, &probe.resolve, 0);
             encoder.copy_buffer_to_buffer(&probe.resolve, 0, &probe.readback, 0, TIMESTAMP_BYTES);
         }
         if probe.has_counters {
@@ -216,13 +245,18 @@ impl ProbePool {
                     };
                     let words: &[u32] = bytemuck::cast_slice(&data);
                     let ticks = |i: usize| words[2 * i] as u64 | (words[2 * i + 1] as u64) << 32;
-                    let gpu_ms = probe.queries.as_ref().map(|_| {
-                        ticks(1).saturating_sub(ticks(0)) as f64 * self.timestamp_period_ns * 1e-6
-                    });
+                    let ms = |a: usize, b: usize| {
+                        ticks(b).saturating_sub(ticks(a)) as f64 * self.timestamp_period_ns * 1e-6
+                    };
+                    let gpu_ms = probe.queries.as_ref().map(|_| ms(0, 1));
+                    let rebuild_ms =
+                        (probe.queries.is_some() && probe.has_rebuild).then(|| ms(2, 3));
+                    let c = TIMESTAMPS as usize;
                     let counters = probe.has_counters.then(|| FrameCounters {
-                        samples: ticks(2),
-                        visible_samples: ticks(3),
-                        rays: ticks(4),
+                        samples: ticks(c),
+                        visible_samples: ticks(c + 1),
+                        rays: ticks(c + 2),
+                        leaps: ticks(c + 3),
                     });
                     drop(data);
                     probe.readback.unmap();
@@ -231,6 +265,7 @@ impl ProbePool {
                         frame: probe.frame,
                         gpu_ms,
                         counters,
+                        rebuild_ms,
                     });
                 }
                 FAILED => {

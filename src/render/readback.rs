@@ -76,3 +76,37 @@ pub fn read_texture(
         pixels,
     })
 }
+
+/// Copies `size` bytes of `buffer` (which needs `COPY_SRC`) to the CPU, waiting for the GPU.
+pub fn read_buffer(ctx: &GpuContext, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>, String> {
+    let staging = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("buffer readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = ctx
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("buffer readback"),
+        });
+    encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+    ctx.queue.submit([encoder.finish()]);
+    let (tx, rx) = std::sync::mpsc::channel();
+    staging.map_async(wgpu::MapMode::Read, .., move |r| {
+        // The receiver waits below.
+        let _ = tx.send(r);
+    });
+    ctx.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| e.to_string())?;
+    rx.recv()
+        .map_err(|e| e.to_string())?
+        .map_err(|e| e.to_string())?;
+    let data = staging
+        .get_mapped_range(..)
+        .map_err(|e| e.to_string())?
+        .to_vec();
+    staging.unmap();
+    Ok(data)
+}

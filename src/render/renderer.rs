@@ -8,16 +8,17 @@ use crate::transfer::{TransferFunction, lut};
 use crate::volume::{ValueRange, Volume};
 
 use super::context::GpuContext;
+use super::leap::{LeapPipelines, LeapStructures};
 use super::lut_texture::LutTexture;
 use super::pipelines::{
     ConcretePath, Layouts, PipelineCache, PipelineKey, ProxyPipelines, RaycastPipeline, WORKGROUP,
 };
-use super::probe::{FrameResults, ProbePool};
+use super::probe::{FrameResults, ProbePool, ProbeSlot};
 use super::readback::read_texture;
 use super::settings::{RenderPath, RenderSettings, SettingsError};
 use super::shader::ShaderError;
 use super::targets::Targets;
-use super::uniforms::{FrameGeometry, FrameUniforms, SampleDecoding, frame_uniforms};
+use super::uniforms::{FrameGeometry, FrameUniforms, LeapLevels, SampleDecoding, frame_uniforms};
 use super::volume_texture::{VolumeTexture, VolumeTextureError};
 
 /// Why a frame could not be rendered.
@@ -102,6 +103,9 @@ pub struct VolumeRenderer {
     stats_group: wgpu::BindGroup,
     probes: ProbePool,
     frame_counter: u64,
+    leap_pipelines: LeapPipelines,
+    /// Leaping structures of the current volume (built lazily) and their ray-loop bind group.
+    leap: Option<(LeapStructures, wgpu::BindGroup)>,
     pub(super) auto_path: Option<ConcretePath>,
 }
 
@@ -127,6 +131,7 @@ impl VolumeRenderer {
             mapped_at_creation: false,
         });
         let probes = ProbePool::new(device, &ctx.queue, ctx.has_timestamps());
+        let leap_pipelines = LeapPipelines::new(device)?;
         let stats_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("stats"),
             layout: &layouts.stats,
@@ -152,6 +157,8 @@ impl VolumeRenderer {
             stats_group,
             probes,
             frame_counter: 0,
+            leap_pipelines,
+            leap: None,
             auto_path: None,
         })
     }
@@ -190,6 +197,14 @@ impl VolumeRenderer {
                     ],
                 }),
         );
+        let structures = LeapStructures::new(
+            &self.ctx,
+            volume.dims(),
+            texture.encoding.scale,
+            texture.encoding.bias,
+        );
+        let group = structures.march_group(&self.ctx.device, &self.layouts.leap);
+        self.leap = Some((structures, group));
         self.volume = Some(LoadedVolume {
             texture,
             dims: volume.dims(),
@@ -210,6 +225,9 @@ impl VolumeRenderer {
         if *transfer != self.transfer {
             self.transfer = transfer.clone();
             self.transfer_generation += 1;
+            if let Some((leap, _)) = &mut self.leap {
+                leap.flags_ready = false;
+            }
         }
     }
 
@@ -299,9 +317,8 @@ impl VolumeRenderer {
         };
         self.ensure_targets(request.size)?;
         self.refresh_lut(request.settings.step_vox);
-        let (volume, frame_group) = match (&self.volume, &self.frame_group) {
-            (Some(v), Some(g)) => (v, g),
-            _ => return Err(RenderError::NoVolume),
+        let Some(volume) = &self.volume else {
+            return Err(RenderError::NoVolume);
         };
         let geometry =
             FrameGeometry::new(request.camera, request.size, volume.dims, volume.spacing_mm);
@@ -317,25 +334,53 @@ impl VolumeRenderer {
             volume.spacing_mm,
             request.settings,
             decoding,
+            LeapLevels::default(),
         );
-        let device = &self.ctx.device;
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        self.ctx
-            .queue
-            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
-        let pipeline = self.pipelines.get(device, &self.layouts, key)?;
-        // Targets were created by ensure_targets above.
-        let Some((targets, fragment_io, compute_io)) = &self.targets else {
-            return Err(RenderError::Gpu("render targets missing".into()));
-        };
+        let scope = self
+            .ctx
+            .device
+            .push_error_scope(wgpu::ErrorFilter::Validation);
         self.frame_counter += 1;
         let slot = self.probes.acquire(self.frame_counter, request.stats);
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("frame"),
-        });
+        let mut encoder = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            });
         if request.stats {
             self.probes.clear_counters(&mut encoder);
         }
+        let leap_levels = if key.strategy.leaps() {
+            self.prepare_leaping(
+                &mut encoder,
+                slot.as_ref(),
+                request.settings.block_vox,
+                key.strategy,
+            )
+        } else {
+            LeapLevels::default()
+        };
+        let uniforms = FrameUniforms {
+            leaf_level: leap_levels.leaf_level,
+            level_count: leap_levels.level_count,
+            ..uniforms
+        };
+        self.ctx
+            .queue
+            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
+        let device = &self.ctx.device;
+        let pipeline = self.pipelines.get(device, &self.layouts, key)?;
+        let (Some((targets, fragment_io, compute_io)), Some(frame_group)) =
+            (&self.targets, &self.frame_group)
+        else {
+            return Err(RenderError::NoVolume);
+        };
+        let leap_group = self
+            .leap
+            .as_ref()
+            .map(|(_, g)| g)
+            .filter(|_| key.strategy.leaps());
         let proxy_vertices = if geometry.needs_near_cap {
             0..39
         } else {
@@ -381,6 +426,9 @@ impl VolumeRenderer {
                 if request.stats {
                     pass.set_bind_group(2, &self.stats_group, &[]);
                 }
+                if let Some(g) = leap_group {
+                    pass.set_bind_group(3, g, &[]);
+                }
                 pass.draw(proxy_vertices, 0..1);
             }
             RaycastPipeline::Compute(raycast) => {
@@ -407,6 +455,9 @@ impl VolumeRenderer {
                 pass.set_bind_group(1, compute_io, &[]);
                 if request.stats {
                     pass.set_bind_group(2, &self.stats_group, &[]);
+                }
+                if let Some(g) = leap_group {
+                    pass.set_bind_group(3, g, &[]);
                 }
                 pass.dispatch_workgroups(
                     request.size[0].div_ceil(WORKGROUP),
@@ -515,6 +566,51 @@ fn begin_pass<'e>(
 }
 
 impl VolumeRenderer {
+    /// Records whatever the leaping structures still need for this frame (pyramid once per
+    /// volume; flags after a transfer-function change; distance field after a flag or block-size
+    /// change, for the distance variant) and returns the levels the ray loop uses.
+    fn prepare_leaping(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        slot: Option<&ProbeSlot>,
+        block_vox: u32,
+        strategy: super::settings::Strategy,
+    ) -> LeapLevels {
+        let (Some((leap, _)), Some(volume)) = (&mut self.leap, &self.volume) else {
+            return LeapLevels::default();
+        };
+        // validate() admitted only sizes the pyramid has.
+        let leaf = leap.pyramid.level_of_block(block_vox).unwrap_or(0) as u32;
+        leap.build_minmax(
+            &self.ctx,
+            &self.leap_pipelines,
+            &volume.texture.view,
+            encoder,
+        );
+        let need_flags = !leap.flags_ready;
+        let need_distance = strategy == super::settings::Strategy::RcSDistance
+            && (need_flags || leap.distance_leaf != Some(leaf));
+        if need_flags {
+            let ts = slot.and_then(|s| self.probes.rebuild_timestamps(s, true, !need_distance));
+            leap.build_flags(
+                &self.ctx,
+                &self.leap_pipelines,
+                &self.lut.view,
+                self.lut.entries(),
+                encoder,
+                ts,
+            );
+        }
+        if need_distance {
+            let ts = slot.and_then(|s| self.probes.rebuild_timestamps(s, !need_flags, true));
+            leap.build_distance(&self.ctx, &self.leap_pipelines, leaf, encoder, ts);
+        }
+        LeapLevels {
+            leaf_level: leaf,
+            level_count: leap.level_count(),
+        }
+    }
+
     /// The loaded volume's camera-independent description: dims, spacing.
     pub fn volume_geometry(&self) -> Option<([u32; 3], [f64; 3])> {
         self.volume.as_ref().map(|v| (v.dims, v.spacing_mm))
@@ -534,5 +630,12 @@ impl VolumeRenderer {
             stats: false,
         })?;
         self.read_image()
+    }
+}
+
+impl VolumeRenderer {
+    /// The leaping structures of the current volume (for tests and diagnostics).
+    pub fn leap_structures(&self) -> Option<&LeapStructures> {
+        self.leap.as_ref().map(|(l, _)| l)
     }
 }

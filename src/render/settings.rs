@@ -19,6 +19,14 @@ pub enum Strategy {
     /// RC-t: stop once the accumulated opacity passes the termination threshold.
     #[value(name = "rc-t")]
     RcT,
+    /// RC-s: RC-t plus empty-space leaping over the min/max octree, climbing to the coarsest
+    /// empty node (the paper's hierarchical leaping).
+    #[value(name = "rc-s")]
+    RcS,
+    /// RC-s with a distance field over blocks: one step clears the whole cube of blocks the
+    /// field proves empty (beyond the paper).
+    #[value(name = "rc-s-df")]
+    RcSDistance,
 }
 
 impl Strategy {
@@ -27,13 +35,23 @@ impl Strategy {
         match self {
             Self::Rc => "RC",
             Self::RcT => "RC-t",
+            Self::RcS => "RC-s",
+            Self::RcSDistance => "RC-s-df",
         }
     }
 
     /// Whether rays stop once (nearly) opaque.
     pub fn terminates_early(self) -> bool {
-        matches!(self, Self::RcT)
+        !matches!(self, Self::Rc)
     }
+
+    /// Whether rays leap over empty space.
+    pub fn leaps(self) -> bool {
+        matches!(self, Self::RcS | Self::RcSDistance)
+    }
+
+    /// All strategies, plainest first.
+    pub const ALL: [Self; 4] = [Self::Rc, Self::RcT, Self::RcS, Self::RcSDistance];
 }
 
 /// Which entry point runs the ray loop. Both share the same WGSL marching function.
@@ -69,6 +87,8 @@ pub struct RenderSettings {
     pub sample_offset: f64,
     /// Linear RGB composited behind the volume.
     pub background: [f64; 3],
+    /// Edge of the leaping blocks in voxels (a power of two from 4 to 128).
+    pub block_vox: u32,
 }
 
 impl Default for RenderSettings {
@@ -81,9 +101,13 @@ impl Default for RenderSettings {
             termination_alpha: DEFAULT_TERMINATION_ALPHA,
             sample_offset: 0.5,
             background: [0.0; 3],
+            block_vox: DEFAULT_BLOCK_VOX,
         }
     }
 }
+
+/// Default leaping block edge in voxels.
+pub const DEFAULT_BLOCK_VOX: u32 = 8;
 
 /// Smallest and largest step the renderer accepts, in voxels: below 1/1024 a ray through a 4096³
 /// volume would need tens of millions of samples; above 1024 it would skip whole volumes.
@@ -98,6 +122,9 @@ impl RenderSettings {
         }
         if !(self.termination_alpha > 0.0 && self.termination_alpha <= 1.0) {
             return Err(SettingsError::Termination(self.termination_alpha));
+        }
+        if !crate::accel::pyramid::BLOCK_SIZES.contains(&self.block_vox) {
+            return Err(SettingsError::Block(self.block_vox));
         }
         if !(0.0..1.0).contains(&self.sample_offset) {
             return Err(SettingsError::Offset(self.sample_offset));
@@ -122,6 +149,9 @@ pub enum SettingsError {
     /// Termination threshold outside (0, 1].
     #[error("the termination threshold must be in (0, 1], got {0}")]
     Termination(f64),
+    /// Block size not a power of two from 4 to 128.
+    #[error("the block size must be 4, 8, 16, 32, 64 or 128 voxels, got {0}")]
+    Block(u32),
     /// Sample offset outside [0, 1).
     #[error("the sample offset must be in [0, 1), got {0}")]
     Offset(f64),

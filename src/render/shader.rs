@@ -2,25 +2,28 @@
 //! included once; `#ifdef NAME` / `#ifndef NAME` / `#else` / `#endif`), so each pipeline variant
 //! is compiled from exactly the code its key selects.
 
+/// `(name, source)` for files of `shaders/`, compiled into the binary.
+macro_rules! modules {
+    ($($name:literal),* $(,)?) => {
+        &[$(($name, include_str!(concat!("../../shaders/", $name)))),*]
+    };
+}
+
 /// The shader modules, compiled into the binary.
-const MODULES: &[(&str, &str)] = &[
-    ("common.wgsl", include_str!("../../shaders/common.wgsl")),
-    ("proxy.wgsl", include_str!("../../shaders/proxy.wgsl")),
-    (
-        "proxy_passes.wgsl",
-        include_str!("../../shaders/proxy_passes.wgsl"),
-    ),
-    ("classify.wgsl", include_str!("../../shaders/classify.wgsl")),
-    ("stats.wgsl", include_str!("../../shaders/stats.wgsl")),
-    ("march.wgsl", include_str!("../../shaders/march.wgsl")),
-    (
-        "raycast_fragment.wgsl",
-        include_str!("../../shaders/raycast_fragment.wgsl"),
-    ),
-    (
-        "raycast_compute.wgsl",
-        include_str!("../../shaders/raycast_compute.wgsl"),
-    ),
+const MODULES: &[(&str, &str)] = modules![
+    "common.wgsl",
+    "proxy.wgsl",
+    "proxy_passes.wgsl",
+    "classify.wgsl",
+    "stats.wgsl",
+    "march.wgsl",
+    "raycast_fragment.wgsl",
+    "raycast_compute.wgsl",
+    "leap_common.wgsl",
+    "leap.wgsl",
+    "build_minmax.wgsl",
+    "build_emptiness.wgsl",
+    "build_distance.wgsl",
 ];
 
 /// Names of all shader modules.

@@ -38,9 +38,17 @@ pub struct FrameUniforms {
     pub texel_bias: f32,
     /// Number of entries in the transfer-function lookup table.
     pub lut_size: f32,
+    /// Volume dimensions in voxels (w unused): box coordinates × dims = voxel coordinate + ½.
+    pub volume_dims: [f32; 4],
+    /// Pyramid level of the leaping blocks.
+    pub leaf_level: u32,
+    /// Number of pyramid levels.
+    pub level_count: u32,
+    /// Padding to a multiple of 16 bytes.
+    pub pad: [u32; 2],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 192);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 224);
 
 /// The camera-dependent geometry of a frame, in f64.
 #[derive(Clone, Copy, Debug)]
@@ -71,6 +79,15 @@ impl FrameGeometry {
     }
 }
 
+/// The leaping pyramid's levels as the ray loop needs them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LeapLevels {
+    /// Level of the leaping blocks.
+    pub leaf_level: u32,
+    /// Number of levels.
+    pub level_count: u32,
+}
+
 /// Texel decoding and lookup-table size, fixed per volume and table.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SampleDecoding {
@@ -90,6 +107,7 @@ pub fn frame_uniforms(
     spacing_mm: [f64; 3],
     settings: &RenderSettings,
     decoding: SampleDecoding,
+    leap: LeapLevels,
 ) -> FrameUniforms {
     let bounds = Aabb::of_volume(dims, spacing_mm);
     let extent = bounds.size();
@@ -109,6 +127,10 @@ pub fn frame_uniforms(
         texel_scale: decoding.texel_scale,
         texel_bias: decoding.texel_bias,
         lut_size: decoding.lut_size as f32,
+        volume_dims: [dims[0] as f32, dims[1] as f32, dims[2] as f32, 0.0],
+        leaf_level: leap.leaf_level,
+        level_count: leap.level_count,
+        pad: [0; 2],
     }
 }
 

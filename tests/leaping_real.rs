@@ -1,0 +1,114 @@
+//! RC-s against RC-t on all eight shared scans: three transfer functions, two views, both
+//! paths, both leaping schemes. Leaping must not change a pixel by more than 1/255 and must take
+//! every sample RC-t takes that has non-zero opacity.
+
+mod common;
+
+use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
+use leapview::render::{
+    FrameCounters, FrameRequest, RenderPath, RenderSettings, Strategy, VolumeRenderer,
+};
+use leapview::transfer::TransferFunction;
+use leapview::transfer::presets::preset;
+use leapview::volume::load_volume;
+
+const SCANS: [&str; 8] = [
+    "ct_bonsai_256x256x256_uint8.nrrd",
+    "ct_engine_256x256x128_uint8.nrrd",
+    "ct_head_cthead_256x256x113_uint16.nrrd",
+    "cta_avm_337x319x154_uint8.nrrd",
+    "cta_stent_128x128x256_int16.nrrd",
+    "mr_brain_t1_stripped_124x160x140_uint8.nrrd",
+    "mr_head_t1_seg3d_160x232x160_uint8.nrrd",
+    "mra_head_200x256x120_uint8.nrrd",
+];
+
+/// Transfer functions in fractions of each scan's range, from a low threshold (most blocks
+/// visible) to a high one (most blocks empty).
+fn transfer_functions() -> Vec<(&'static str, TransferFunction)> {
+    let mut high = TransferFunction::grey_ramp();
+    high.opacity = vec![[0.0, 0.0], [0.45, 0.0], [0.6, 0.5], [1.0, 0.9]];
+    vec![
+        ("mr-default", preset("mr-default").expect("preset")),
+        ("mr-angio", preset("mr-angio").expect("preset")),
+        ("high", high),
+    ]
+}
+
+fn render(
+    r: &mut VolumeRenderer,
+    camera: &Camera,
+    settings: RenderSettings,
+) -> (leapview::imaging::ImageF32, FrameCounters) {
+    let request = FrameRequest {
+        camera,
+        size: [48, 48],
+        settings: &settings,
+        stats: true,
+    };
+    let (_, results) = r.render_and_wait(&request).expect("render");
+    r.render(&FrameRequest {
+        stats: false,
+        ..request
+    })
+    .expect("render");
+    (
+        r.read_image().expect("read"),
+        results.counters.expect("counters"),
+    )
+}
+
+#[test]
+fn rc_s_equals_rc_t_on_every_shared_scan() {
+    let dir = common::data_dir();
+    let mut r = common::renderer();
+    let mut saved = (0u64, 0u64);
+    for scan in SCANS {
+        let volume =
+            load_volume(&dir.join(scan), &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+        r.set_volume(&volume).expect("upload");
+        let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+        for (tf_name, tf) in transfer_functions() {
+            r.set_transfer_function(&tf);
+            for view in [ViewPreset::Oblique, ViewPreset::MinusY] {
+                let (dir, up) = view.direction_and_up();
+                let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+                for path in [RenderPath::Fragment, RenderPath::Compute] {
+                    let base = RenderSettings {
+                        path,
+                        ..RenderSettings::default()
+                    };
+                    let (rct, rct_counts) = render(
+                        &mut r,
+                        &camera,
+                        RenderSettings {
+                            strategy: Strategy::RcT,
+                            ..base
+                        },
+                    );
+                    for strategy in [Strategy::RcS, Strategy::RcSDistance] {
+                        let (rcs, counts) =
+                            render(&mut r, &camera, RenderSettings { strategy, ..base });
+                        let label = format!("{scan}-{tf_name}-{view:?}-{path:?}-{strategy:?}");
+                        common::assert_close(&label, &rcs, &rct, 1.0 / 255.0, 0.0);
+                        assert_eq!(
+                            counts.visible_samples, rct_counts.visible_samples,
+                            "{label}"
+                        );
+                        assert!(counts.samples <= rct_counts.samples, "{label}");
+                        saved.0 += counts.samples;
+                        saved.1 += rct_counts.samples;
+                    }
+                }
+            }
+        }
+    }
+    // Over all cases leaping must save a good share of the samples (not a no-op): at least a
+    // quarter. (`saved.1` counts RC-t once per leaping scheme, like `saved.0`.)
+    let (rcs, rct) = saved;
+    eprintln!(
+        "RC-s took {rcs} samples where RC-t took {rct} ({:.1} %)",
+        100.0 * rcs as f64 / rct as f64
+    );
+    assert!(rcs * 4 < rct * 3, "RC-s took {rcs} samples, RC-t {rct}");
+}
