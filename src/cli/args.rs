@@ -79,11 +79,15 @@ pub struct RenderArgs {
     /// RC-t stops once accumulated opacity exceeds this.
     #[arg(long, default_value_t = leapview::render::settings::DEFAULT_TERMINATION_ALPHA)]
     pub termination: f64,
+    /// Edge of the leaping blocks in voxels (RC-s): 4, 8, 16, 32, 64 or 128.
+    #[arg(long, default_value_t = leapview::render::settings::DEFAULT_BLOCK_VOX)]
+    pub block: u32,
     /// Background colour `R,G,B` in 0..1.
     #[arg(long, value_parser = parse_vec3, default_value = "0,0,0")]
     pub background: [f64; 3],
-    /// Print samples taken, samples with non-zero opacity, rays and GPU milliseconds (median of
-    /// several frames after a warm-up).
+    /// Print samples taken, samples with non-zero opacity (what any leaping scheme must still
+    /// take), empty regions leapt, rays, and GPU milliseconds (median of several frames after a
+    /// warm-up) including the leaping structures' rebuild.
     #[arg(long)]
     pub stats: bool,
 }

@@ -34,6 +34,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         step_vox: args.step,
         termination_alpha: args.termination,
         background: args.background,
+        block_vox: args.block,
         ..RenderSettings::default()
     };
     settings
@@ -107,6 +108,16 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
             c.visible_samples,
             100.0 * c.visible_samples as f64 / c.samples.max(1) as f64
         );
+        println!(
+            "samples_over_oracle: {:.2} (samples taken / samples with non-zero opacity)",
+            c.samples as f64 / c.visible_samples.max(1) as f64
+        );
+        if settings.strategy.leaps() {
+            println!("leaps: {} (block {} voxels)", c.leaps, settings.block_vox);
+            if let Some(ms) = first.rebuild_ms {
+                println!("rebuild_ms: {ms:.3} (leaping structures for this transfer function)");
+            }
+        }
     } else if let Some(ms) = first.gpu_ms {
         eprintln!(
             "rendered {}x{} in {ms:.2} ms GPU ({:?} path, first frame) on {adapter}",

@@ -55,7 +55,32 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
                     .on_hover_text("Every sample from entry to exit");
                 ui.selectable_value(&mut state.strategy, Strategy::RcT, "RC-t")
                     .on_hover_text("Stop once the ray is (nearly) opaque");
+                ui.selectable_value(&mut state.strategy, Strategy::RcS, "RC-s")
+                    .on_hover_text("RC-t plus leaping over empty octree nodes (the paper)");
+                ui.selectable_value(&mut state.strategy, Strategy::RcSDistance, "RC-s-df")
+                    .on_hover_text("RC-t plus leaping by a distance field over blocks");
             });
+            ui.end_row();
+
+            ui.label("Block (voxels)");
+            ui.add_enabled_ui(state.strategy.leaps(), |ui| {
+                ComboBox::from_id_salt("block")
+                    .selected_text(state.block_vox.to_string())
+                    .show_ui(ui, |ui| {
+                        for b in crate::accel::pyramid::BLOCK_SIZES {
+                            ui.selectable_value(&mut state.block_vox, b, b.to_string());
+                        }
+                    })
+                    .response
+                    .on_hover_text("Edge of the blocks whose emptiness the rays test");
+            });
+            ui.end_row();
+
+            ui.label("Statistics");
+            ui.checkbox(&mut state.statistics, "count samples")
+                .on_hover_text(
+                    "Samples taken, samples with non-zero opacity, regions leapt (slower)",
+                );
             ui.end_row();
 
             ui.label("Ray loop");

@@ -39,8 +39,14 @@ pub const CT_MINIMUM_BELOW: f64 = -500.0;
 pub struct ViewerState {
     /// Transfer-function preset name (one of [`crate::transfer::presets::NAMES`]).
     pub preset: String,
-    /// RC or RC-t.
+    /// RC, RC-t, RC-s or RC-s with the distance field.
     pub strategy: Strategy,
+    /// Edge of the leaping blocks in voxels (RC-s).
+    #[serde(default = "default_block")]
+    pub block_vox: u32,
+    /// Whether frames count samples (slower statistics variant) for the readout.
+    #[serde(default)]
+    pub statistics: bool,
     /// Fragment, compute, or let the renderer pick.
     pub path: RenderPath,
     /// Sample step in units of the smallest voxel spacing.
@@ -65,6 +71,8 @@ impl Default for ViewerState {
             strategy: render.strategy,
             path: render.path,
             step_vox: render.step_vox,
+            block_vox: render.block_vox,
+            statistics: false,
             termination_alpha: DEFAULT_TERMINATION_ALPHA,
             background: [0, 0, 0],
             projection: ProjectionKind::Perspective,
@@ -72,6 +80,10 @@ impl Default for ViewerState {
             show_readout: true,
         }
     }
+}
+
+fn default_block() -> u32 {
+    crate::render::settings::DEFAULT_BLOCK_VOX
 }
 
 impl ViewerState {
@@ -83,6 +95,7 @@ impl ViewerState {
             step_vox: self.step_vox,
             termination_alpha: self.termination_alpha,
             background: self.background.map(|c| f64::from(c) / 255.0),
+            block_vox: self.block_vox,
             ..RenderSettings::default()
         }
     }

@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use egui::{Align2, Color32, Frame, Rect, RichText, UiBuilder};
 
-use crate::render::ConcretePath;
+use crate::render::{ConcretePath, FrameCounters};
 
 use super::VolumeSummary;
 
@@ -68,6 +68,19 @@ pub struct Readout<'a> {
     pub strategy: &'a str,
     /// The volume on screen.
     pub volume: Option<&'a VolumeSummary>,
+    /// Sample counters of the last statistics frame and its pixel count.
+    pub counters: Option<(FrameCounters, u64)>,
+    /// GPU time of the last rebuild of the leaping structures, ms.
+    pub rebuild_ms: Option<f64>,
+}
+
+/// `1234567` as `1.23 M`.
+fn compact(n: u64) -> String {
+    match n {
+        0..1_000 => n.to_string(),
+        1_000..1_000_000 => format!("{:.1} k", n as f64 / 1e3),
+        _ => format!("{:.2} M", n as f64 / 1e6),
+    }
 }
 
 impl Readout<'_> {
@@ -92,6 +105,19 @@ impl Readout<'_> {
             format!("{fps} · {gpu} · {}{path}", self.strategy)
         };
         let mut lines = vec![first, self.adapter.to_string()];
+        if let Some((c, pixels)) = self.counters {
+            lines.push(format!(
+                "{} samples ({:.1}/px) · {} visible · ×{:.2} oracle · {} leaps",
+                compact(c.samples),
+                c.samples as f64 / pixels.max(1) as f64,
+                compact(c.visible_samples),
+                c.samples as f64 / c.visible_samples.max(1) as f64,
+                compact(c.leaps),
+            ));
+        }
+        if let Some(ms) = self.rebuild_ms {
+            lines.push(format!("leaping structures rebuilt in {ms:.3} ms GPU"));
+        }
         if let Some(v) = self.volume {
             lines.push(format!("{} · {}", v.name, v.line()));
         }
@@ -172,6 +198,33 @@ mod tests {
     }
 
     #[test]
+    fn readout_shows_counts_against_the_oracle() {
+        let counters = FrameCounters {
+            samples: 2_000_000,
+            visible_samples: 500_000,
+            rays: 1000,
+            leaps: 1500,
+        };
+        let readout = Readout {
+            fps: Some(30),
+            gpu_ms: Some(1.5),
+            has_timestamps: true,
+            adapter: "gpu",
+            path: Some(ConcretePath::Compute),
+            strategy: "RC-s",
+            volume: None,
+            counters: Some((counters, 1_000_000)),
+            rebuild_ms: Some(0.25),
+        };
+        let lines = readout.lines();
+        assert_eq!(
+            lines[2],
+            "2.00 M samples (2.0/px) · 500.0 k visible · ×4.00 oracle · 1.5 k leaps"
+        );
+        assert_eq!(lines[3], "leaping structures rebuilt in 0.250 ms GPU");
+    }
+
+    #[test]
     fn readout_says_idle_and_why_gpu_time_is_missing() {
         let readout = Readout {
             fps: None,
@@ -181,6 +234,8 @@ mod tests {
             path: Some(ConcretePath::Compute),
             strategy: "RC-t",
             volume: None,
+            counters: None,
+            rebuild_ms: None,
         };
         let nothing_yet = Readout {
             path: None,

@@ -19,6 +19,8 @@ pub struct FrameInputs {
     pub transfer_generation: u64,
     /// Bumped whenever a new volume is uploaded.
     pub volume_generation: u64,
+    /// Whether the frame counts samples (the statistics variant).
+    pub stats: bool,
 }
 
 /// Remembers the inputs of the last frame.
@@ -60,6 +62,7 @@ mod tests {
             settings: RenderSettings::default(),
             transfer_generation: 1,
             volume_generation: 1,
+            stats: false,
         }
     }
 

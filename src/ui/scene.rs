@@ -9,7 +9,9 @@ use egui::mutex::RwLock;
 
 use crate::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use crate::imaging::ImageF32;
-use crate::render::{ConcretePath, FrameRequest, GpuContext, RenderError, VolumeRenderer};
+use crate::render::{
+    ConcretePath, FrameCounters, FrameRequest, GpuContext, RenderError, VolumeRenderer,
+};
 use crate::transfer::presets;
 use crate::volume::Volume;
 
@@ -35,9 +37,13 @@ pub struct Scene {
     redraw: RedrawTracker,
     fps: FpsCounter,
     gpu_ms: Option<f64>,
+    counters: Option<(FrameCounters, u64)>,
+    rebuild_ms: Option<f64>,
     path_used: Option<ConcretePath>,
     frames_rendered: u64,
     quiet_passes: u32,
+    /// Pixels of the last frame (for samples per pixel).
+    last_pixels: u64,
 }
 
 impl Scene {
@@ -61,9 +67,12 @@ impl Scene {
             redraw: RedrawTracker::default(),
             fps: FpsCounter::default(),
             gpu_ms: None,
+            counters: None,
+            rebuild_ms: None,
             path_used: None,
             frames_rendered: 0,
             quiet_passes: 0,
+            last_pixels: 0,
         })
     }
 
@@ -110,6 +119,12 @@ impl Scene {
         for result in self.renderer.collect_results(false) {
             if result.gpu_ms.is_some() {
                 self.gpu_ms = result.gpu_ms;
+            }
+            if let Some(c) = result.counters {
+                self.counters = Some((c, self.last_pixels));
+            }
+            if result.rebuild_ms.is_some() {
+                self.rebuild_ms = result.rebuild_ms;
             }
         }
         self.renderer.results_pending()
@@ -160,6 +175,7 @@ impl Scene {
             settings: state.render_settings(),
             transfer_generation: self.transfer.as_ref().map_or(0, |(_, g)| *g),
             volume_generation: self.volume_generation,
+            stats: state.statistics,
         };
         if !self.redraw.needs_render(&inputs) {
             return Ok(false);
@@ -168,8 +184,12 @@ impl Scene {
             camera: &inputs.camera,
             size: size_px,
             settings: &inputs.settings,
-            stats: false,
+            stats: inputs.stats,
         };
+        if !inputs.stats {
+            self.counters = None;
+        }
+        self.last_pixels = u64::from(size_px[0]) * u64::from(size_px[1]);
         let result = self.renderer.render(&request);
         // Marked even on failure, so a failing frame is not retried on every pass.
         self.redraw.mark_rendered(inputs);
@@ -204,6 +224,8 @@ impl Scene {
             path: self.path_used,
             strategy: state.strategy.label(),
             volume: self.volume.as_ref(),
+            counters: self.counters,
+            rebuild_ms: self.rebuild_ms.filter(|_| state.strategy.leaps()),
         }
     }
 
