@@ -11,8 +11,10 @@ const SCAN_THREADS: u32 = 256u;
 struct EmptinessParams {
     lut_size: u32,
     node_count: u32,
-    _pad0: u32,
-    _pad1: u32,
+    // 0: empty where the transfer function is zero (the table); 1: empty where max <= threshold
+    // (X-ray: nothing above the window's low end).
+    rule: u32,
+    threshold: f32,
 }
 
 @group(0) @binding(0) var<uniform> params: EmptinessParams;
@@ -89,7 +91,11 @@ fn flag_nodes(@builtin(global_invocation_id) id: vec3<u32>) {
     let m = minmax[i];
     var empty = 1u;
     if m.x <= m.y {
-        empty = table[bin(m.y) * TABLE_SIZE + bin(m.x)];
+        if params.rule == 1u {
+            empty = u32(m.y <= params.threshold);
+        } else {
+            empty = table[bin(m.y) * TABLE_SIZE + bin(m.x)];
+        }
     }
     node_empty[i] = empty;
 }

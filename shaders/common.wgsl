@@ -16,9 +16,33 @@ struct Frame {
     volume_dims: vec4<f32>,
     leaf_level: u32,
     level_count: u32,
+    iso_refine: u32,
     _pad0: u32,
-    _pad1: u32,
+    // Voxel spacing in mm (w unused).
+    spacing_mm: vec4<f32>,
+    // Ka, Kd, Ks, shininess.
+    phong: vec4<f32>,
+    // Direction the light travels (world, unit); w = 1 for a headlight (along each ray).
+    light: vec4<f32>,
+    // Window lo, hi (normalised values), MIP saturation value, X-ray density per mm.
+    window: vec4<f32>,
+    // Iso value (normalised), then unused.
+    iso: vec4<f32>,
 }
+
+// One ray inside the volume: entry (box coordinates), direction in box units per mm and in
+// world space, length in mm, number of grid samples.
+struct Ray {
+    entry: vec3<f32>,
+    box_per_mm: vec3<f32>,
+    dir_world: vec3<f32>,
+    length_mm: f32,
+    count: u32,
+}
+
+// Bits returned by acc_sample.
+const SAMPLE_STOP: u32 = 1u;
+const SAMPLE_CONTRIBUTED: u32 = 2u;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var volume_tex: texture_3d<f32>;

@@ -1,9 +1,12 @@
-// Empty-space leaping (RC-s). When a sample enters a new leaf block, the block's emptiness under
-// the current transfer function is looked up; an empty block sends the ray to the first sample of
-// its grid past the largest empty region known around it: the coarsest empty ancestor in the
-// min/max octree (the paper's hierarchical leaping), or, with LEAP_DISTANCE, the cube of blocks
-// the distance field proves empty. The exit is the exact ray/box exit, so the samples taken are
-// exactly RC-t's samples that can contribute.
+// Empty-space leaping (RC-s). When a sample enters a new leaf block, the ray asks whether the
+// block can matter: for DVR whether the transfer function is zero over its values (node flags),
+// for MIP whether its maximum can raise the ray's maximum (MinIP: lower its minimum), for X-ray
+// whether any value lies above the window, for isosurfaces whether it lies wholly on the side of
+// the iso value the ray is already on. A block that cannot matter sends the ray to the first sample
+// of its grid past the largest such region known around it: the coarsest such ancestor in the
+// min/max octree (the paper's hierarchical leaping) or, with LEAP_DISTANCE, the cube of blocks the
+// distance field proves empty. The exit is the exact ray/box exit, so the samples taken are
+// exactly the plain strategy's samples that can change the image.
 
 #include "leap_common.wgsl"
 
@@ -12,6 +15,36 @@
 #ifdef LEAP_DISTANCE
 @group(3) @binding(2) var<storage, read> block_distance: array<u32>;
 #endif
+@group(3) @binding(3) var<storage, read> minmax: array<vec2<f32>>;
+
+// Whether node i can be skipped given the mode's query value (see acc_leap_query).
+fn skippable(i: u32, query: f32) -> bool {
+#ifdef MODE_DVR
+    return node_empty[i] != 0u;
+#else
+    let m = minmax[i];
+    if m.x > m.y {
+        // No finite voxel: every sample there is missing.
+        return true;
+    }
+#ifdef MODE_MIP
+    return m.y <= query;
+#endif
+#ifdef MODE_MINIP
+    return m.x >= query;
+#endif
+#ifdef MODE_XRAY
+    return m.y <= frame.window.x;
+#endif
+#ifdef MODE_XRAY_ATTENUATION
+    return m.y <= frame.window.x;
+#endif
+#ifdef MODE_ISO
+    let iso = frame.iso.x;
+    return (m.y < iso && query <= 0.0) || (m.x >= iso && query >= 0.0);
+#endif
+#endif
+}
 
 struct LeapRay {
     entry: vec3<f32>,
@@ -43,7 +76,7 @@ fn first_sample_after(t: f32, k: u32) -> u32 {
 
 // Where the ray should go from sample k at box position p: k itself (sample it), or the first
 // sample past an empty region.
-fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32) -> u32 {
+fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32, query: f32) -> u32 {
     let leaf = levels[frame.leaf_level];
     let dims = frame.volume_dims.xyz;
     let v = max(p * dims, vec3<f32>(0.0));
@@ -61,7 +94,7 @@ fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32) -> u32 {
     let lo = vec3<f32>(max(vec3<i32>(block) - i32(d - 1u), vec3<i32>(0))) * brick;
     let hi = min(vec3<f32>(block + d) * brick, dims);
 #else
-    if node_empty[node_index(leaf, block)] == 0u {
+    if !skippable(node_index(leaf, block), query) {
         return k;
     }
     var level = frame.leaf_level;
@@ -71,7 +104,7 @@ fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32) -> u32 {
             break;
         }
         let up = node / 2u;
-        if node_empty[node_index(levels[level + 1u], up)] == 0u {
+        if !skippable(node_index(levels[level + 1u], up), query) {
             break;
         }
         level += 1u;
@@ -81,5 +114,12 @@ fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32) -> u32 {
     let lo = vec3<f32>(node) * brick;
     let hi = min(vec3<f32>(node + 1u) * brick, dims);
 #endif
-    return first_sample_after(exit_distance(*ray, lo, hi), k);
+    let after = first_sample_after(exit_distance(*ray, lo, hi), k);
+#ifdef MODE_ISO
+    // Land on the region's last sample, so the crossing after it is bracketed by the same two
+    // samples as without leaping; where that is sample k itself, do not leap.
+    return select(k, after - 1u, after - 1u > k);
+#else
+    return after;
+#endif
 }

@@ -1,10 +1,29 @@
-// The ray loop, shared by the fragment and compute entry points. Samples lie on one grid per ray,
-// t_k = min((k + offset) * step, L), with the last, partial segment's opacity weighted by its
-// length (src/sampling.rs documents the rule; the CPU reference implements the same). Leaping
-// variants skip grid samples but never move them.
+// The ray loop, shared by the fragment and compute entry points and by every mode. Samples lie on
+// one grid per ray, t_k = min((k + offset) * step, L) (src/sampling.rs documents the rule; the CPU
+// reference implements the same). The mode module included below decides what a sample does
+// (acc_sample), when a ray may stop, and the final colour; leaping variants skip grid samples but
+// never move them.
 
 #include "common.wgsl"
 #include "classify.wgsl"
+#ifdef MODE_DVR
+#include "mode_dvr.wgsl"
+#endif
+#ifdef MODE_ISO
+#include "mode_iso.wgsl"
+#endif
+#ifdef MODE_MIP
+#include "mode_mip.wgsl"
+#endif
+#ifdef MODE_MINIP
+#include "mode_mip.wgsl"
+#endif
+#ifdef MODE_XRAY
+#include "mode_xray.wgsl"
+#endif
+#ifdef MODE_XRAY_ATTENUATION
+#include "mode_xray.wgsl"
+#endif
 #ifdef STATS
 #include "stats.wgsl"
 #endif
@@ -12,32 +31,36 @@
 #include "leap.wgsl"
 #endif
 
-// Composites the ray from `entry` to `exit` (box coordinates) front to back over the background.
+// Casts the ray from `entry` to `exit` (box coordinates); returns the pixel colour.
 fn march(entry: vec3<f32>, exit: vec3<f32>) -> vec4<f32> {
     let segment = exit - entry;
-    let length_mm = length(segment * frame.extent_mm.xyz);
-    var acc = vec4<f32>(0.0);
+    let segment_mm = segment * frame.extent_mm.xyz;
+    var ray: Ray;
+    ray.entry = entry;
+    ray.length_mm = length(segment_mm);
+    var acc = acc_init();
 #ifdef STATS
     var samples = 0u;
-    var visible = 0u;
+    var contributing = 0u;
     var leaps = 0u;
 #endif
-    if length_mm > 0.0 {
+    if ray.length_mm > 0.0 {
         let step = frame.step_mm;
-        let count = u32(ceil(length_mm / step));
-        let box_per_mm = segment / length_mm;
+        ray.box_per_mm = segment / ray.length_mm;
+        ray.dir_world = segment_mm / ray.length_mm;
+        ray.count = u32(ceil(ray.length_mm / step));
 #ifdef LEAP
-        var ray = leap_ray(entry, box_per_mm);
+        var leap = leap_ray(entry, ray.box_per_mm);
 #endif
         var k = 0u;
         loop {
-            if k >= count {
+            if k >= ray.count {
                 break;
             }
-            let t = min((f32(k) + frame.sample_offset) * step, length_mm);
-            let p = entry + box_per_mm * t;
+            let t = min((f32(k) + frame.sample_offset) * step, ray.length_mm);
+            let p = entry + ray.box_per_mm * t;
 #ifdef LEAP
-            let next = leap_from(&ray, p, k);
+            let next = leap_from(&leap, p, k, acc_leap_query(acc));
             if next != k {
                 k = next;
 #ifdef STATS
@@ -46,30 +69,22 @@ fn march(entry: vec3<f32>, exit: vec3<f32>) -> vec4<f32> {
                 continue;
             }
 #endif
-            var c = classify(sample_value(p));
+            let result = acc_sample(&acc, ray, k, t, p, sample_value(p));
 #ifdef STATS
             samples += 1u;
-            visible += u32(c.a > 0.0);
+            contributing += u32((result & SAMPLE_CONTRIBUTED) != 0u);
 #endif
-            if k + 1u == count {
-                // The last segment may be shorter than a step: scale its optical depth.
-                let w = clamp((length_mm - f32(k) * step) / step, 0.0, 1.0);
-                c.a = select(1.0 - pow(1.0 - c.a, w), 1.0, c.a >= 1.0);
-            }
-            acc += (1.0 - acc.a) * vec4<f32>(c.rgb * c.a, c.a);
-#ifdef EARLY_TERMINATION
-            if acc.a > frame.termination_alpha {
+            if (result & SAMPLE_STOP) != 0u {
                 break;
             }
-#endif
             k += 1u;
         }
     }
 #ifdef STATS
     count(COUNTER_SAMPLES, samples);
-    count(COUNTER_VISIBLE_SAMPLES, visible);
+    count(COUNTER_VISIBLE_SAMPLES, contributing);
     count(COUNTER_RAYS, 1u);
     count(COUNTER_LEAPS, leaps);
 #endif
-    return vec4<f32>(acc.rgb + (1.0 - acc.a) * frame.background.rgb, 1.0);
+    return acc_finish(acc, ray);
 }

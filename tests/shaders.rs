@@ -67,6 +67,73 @@ fn statistics_code_only_in_statistics_variants() {
     }
 }
 
+/// Names of the functions in a module.
+fn function_names(module: &naga::Module) -> Vec<String> {
+    module
+        .functions
+        .iter()
+        .filter_map(|(_, f)| f.name.clone())
+        .collect()
+}
+
+/// Number of texture reads (sample or load) over all functions.
+fn texture_reads(module: &naga::Module) -> usize {
+    module
+        .functions
+        .iter()
+        .map(|(_, f)| &f.expressions)
+        .chain(module.entry_points.iter().map(|e| &e.function.expressions))
+        .flat_map(|exprs| exprs.iter())
+        .filter(|(_, e)| {
+            matches!(
+                e,
+                naga::Expression::ImageSample { .. } | naga::Expression::ImageLoad { .. }
+            )
+        })
+        .count()
+}
+
+#[test]
+fn variants_carry_only_the_effects_their_scene_needs() {
+    use leapview::render::Mode;
+    use leapview::render::effects::Shading;
+    for key in PipelineKey::all() {
+        let module = validate(&format!("{key:?}"), &key.source().expect("composes"));
+        let names = function_names(&module);
+        let has = |f: &str| names.iter().any(|n| n == f);
+        let lit = key.shading == Shading::Phong;
+        assert_eq!(
+            has("gradient"),
+            lit,
+            "{key:?}: gradients exactly in lit variants"
+        );
+        assert_eq!(
+            has("phong"),
+            lit,
+            "{key:?}: lighting code exactly in lit variants"
+        );
+        if matches!(
+            key.mode,
+            Mode::Mip | Mode::MinIp | Mode::Xray | Mode::XrayAttenuation
+        ) {
+            assert!(!lit, "{key:?}: MIP, MinIP and X-ray are never lit");
+            // The loop's one volume read, the table read of MIP colours, the exit (and entry)
+            // point loads: no gradient reads hide elsewhere.
+            assert!(
+                texture_reads(&module) <= 4,
+                "{key:?}: {} texture reads",
+                texture_reads(&module)
+            );
+        }
+        let leaps = names.iter().any(|n| n == "leap_from");
+        assert_eq!(
+            leaps,
+            key.strategy.leaps(),
+            "{key:?}: leaping code exactly in RC-s variants"
+        );
+    }
+}
+
 #[test]
 fn frame_uniforms_match_the_wgsl_struct() {
     let module = validate("common", &compose("common.wgsl", &[]).expect("composes"));

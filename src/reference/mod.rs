@@ -6,17 +6,20 @@
 //! instead of the texture unit; the transfer function is evaluated exactly instead of through the
 //! baked table. Slow by design; meant for small volumes and images.
 
+mod modes;
+mod shade;
 mod trilinear;
 
 use glam::{DMat4, DVec2, DVec3};
 
 use crate::camera::{Aabb, Camera, pixel_to_ndc, unproject};
 use crate::imaging::ImageF32;
-use crate::render::settings::{RenderSettings, Strategy};
-use crate::sampling::{SampleGrid, corrected_opacity};
+use crate::render::settings::RenderSettings;
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
+pub use modes::RayInput;
+pub use shade::{gradient, phong};
 pub use trilinear::sample_trilinear;
 
 /// Sample counts of a reference image (comparable with the GPU's statistics variants).
@@ -122,53 +125,18 @@ impl Caster<'_> {
             Some((t0, t1)) if t1 > t0.max(0.0) => {
                 counts.rays += 1;
                 let entry = t0.max(0.0);
-                let c = self.march(origin + dir * entry, dir, t1 - entry, counts);
-                c.0 + (1.0 - c.1) * bg
+                let ray = RayInput {
+                    volume: self.volume,
+                    tf: self.tf,
+                    settings: self.settings,
+                    entry: origin + dir * entry,
+                    dir,
+                    length_mm: t1 - entry,
+                };
+                modes::cast(&ray, counts).unwrap_or(bg)
             }
             _ => bg,
         };
         [rgb.x as f32, rgb.y as f32, rgb.z as f32, 1.0]
-    }
-
-    /// Front-to-back compositing along `length_mm` from `entry`; returns (colour, opacity).
-    fn march(
-        &self,
-        entry: DVec3,
-        dir: DVec3,
-        length_mm: f64,
-        counts: &mut ReferenceCounts,
-    ) -> (DVec3, f64) {
-        let d0 = self.volume.min_spacing_mm();
-        let step_mm = self.settings.step_vox * d0;
-        let grid = SampleGrid {
-            length_mm,
-            step_mm,
-            offset: self.settings.sample_offset,
-        };
-        let range = self.volume.normalization_range();
-        let (mut color, mut alpha) = (DVec3::ZERO, 0.0);
-        for s in grid.samples() {
-            let p = entry + dir * s.t_mm;
-            counts.samples += 1;
-            let Some(value) = sample_trilinear(self.volume, p) else {
-                continue;
-            };
-            let a = corrected_opacity(
-                self.tf.opacity_at(value, range),
-                self.settings.step_vox,
-                s.weight,
-            );
-            if a <= 0.0 {
-                continue;
-            }
-            counts.visible_samples += 1;
-            let c = DVec3::from_array(self.tf.color_at(value, range));
-            color += (1.0 - alpha) * a * c;
-            alpha += (1.0 - alpha) * a;
-            if self.settings.strategy == Strategy::RcT && alpha > self.settings.termination_alpha {
-                break;
-            }
-        }
-        (color, alpha)
     }
 }

@@ -8,6 +8,7 @@ use crate::accel::emptiness::TABLE_SIZE;
 use crate::accel::pyramid::Pyramid;
 
 use super::context::GpuContext;
+use super::lut_texture::LutTexture;
 use super::shader::{ShaderError, compose};
 
 /// One pyramid level as the shaders read it. Keep in sync with `LevelInfo` in
@@ -117,6 +118,15 @@ fn groups_for(count: u32, per_group: u32) -> (u32, u32) {
     }
 }
 
+/// What makes a node empty, and the inputs that rule depends on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FlagRule {
+    /// DVR: the transfer function is zero over the node's values (generation of the function).
+    Transfer(u64),
+    /// X-ray: no value above the window's low end (normalised, as f32 bits).
+    AtMost(u32),
+}
+
 /// The leaping structures of one volume.
 pub struct LeapStructures {
     /// Layout of the pyramid.
@@ -136,10 +146,10 @@ pub struct LeapStructures {
     distance_params: [wgpu::Buffer; 3],
     /// Whether the pyramid has been built.
     minmax_ready: bool,
-    /// Whether node flags match the current transfer function.
-    pub flags_ready: bool,
-    /// Leaf level the distance field was built for, if current.
-    pub distance_leaf: Option<u32>,
+    /// What the node flags were built for, if anything.
+    pub flags_for: Option<FlagRule>,
+    /// The flags and leaf level the distance field was built for, if anything.
+    pub distance_for: Option<(FlagRule, u32)>,
 }
 
 impl LeapStructures {
@@ -204,8 +214,8 @@ impl LeapStructures {
             pyramid,
             level_buffer,
             minmax_ready: false,
-            flags_ready: false,
-            distance_leaf: None,
+            flags_for: None,
+            distance_for: None,
         }
     }
 
@@ -260,17 +270,22 @@ impl LeapStructures {
         &mut self,
         ctx: &GpuContext,
         pipelines: &LeapPipelines,
-        lut_view: &wgpu::TextureView,
-        lut_size: u32,
+        rule: FlagRule,
+        lut: &LutTexture,
         encoder: &mut wgpu::CommandEncoder,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let device = &ctx.device;
+        let (lut_view, lut_size) = (&lut.view, lut.entries());
         let nodes = self.pyramid.node_count();
+        let (rule_code, threshold) = match rule {
+            FlagRule::Transfer(_) => (0, 0),
+            FlagRule::AtMost(bits) => (1, bits),
+        };
         ctx.queue.write_buffer(
             &self.emptiness_params,
             0,
-            bytemuck::cast_slice(&[lut_size, nodes, 0, 0]),
+            bytemuck::cast_slice(&[lut_size, nodes, rule_code, threshold]),
         );
         let entries_for = |pipeline: &wgpu::ComputePipeline, bindings: &[u32]| {
             let all = [
@@ -310,8 +325,7 @@ impl LeapStructures {
         let (gx, gy) = groups_for(nodes, 256);
         pass.dispatch_workgroups(gx, gy, 1);
         drop(pass);
-        self.flags_ready = true;
-        self.distance_leaf = None;
+        self.flags_for = Some(rule);
     }
 
     /// Records the distance-field build over leaf level `leaf` (three 1D passes ending in
@@ -364,7 +378,7 @@ impl LeapStructures {
             0,
             level.count() as u64 * 4,
         );
-        self.distance_leaf = Some(leaf);
+        self.distance_for = self.flags_for.map(|rule| (rule, leaf));
     }
 
     /// The ray loop's bind group (levels, node flags, distances) for `layout` (group 3).
@@ -380,6 +394,7 @@ impl LeapStructures {
                 entry(0, self.level_buffer.as_entire_binding()),
                 entry(1, self.node_empty.as_entire_binding()),
                 entry(2, self.distance[0].as_entire_binding()),
+                entry(3, self.minmax.as_entire_binding()),
             ],
         })
     }

@@ -4,6 +4,7 @@
 
 pub mod auto_path;
 pub mod context;
+pub mod effects;
 pub mod leap;
 pub mod lut_texture;
 pub mod pipelines;

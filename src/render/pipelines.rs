@@ -4,7 +4,8 @@
 
 use std::collections::HashMap;
 
-use super::settings::{Mode, Strategy};
+use super::effects::{GradientScheme, MipColor, Shading};
+use super::settings::{Mode, RenderSettings, Strategy};
 use super::shader::{ShaderError, compose};
 
 /// Format of the exit- and entry-point textures: box coordinates need f32 (f16 would put them
@@ -26,7 +27,9 @@ pub enum ConcretePath {
     Compute,
 }
 
-/// Identifies one ray-casting pipeline variant.
+/// Identifies one ray-casting pipeline variant. Build it with [`PipelineKey::new`], which drops
+/// what a mode does not use (lighting outside DVR and isosurfaces, MIP colouring outside MIP), so
+/// equal scenes share one pipeline and no variant carries code it cannot run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PipelineKey {
     /// Visual effect.
@@ -37,22 +40,69 @@ pub struct PipelineKey {
     pub path: ConcretePath,
     /// Whether the variant counts samples (atomics); normal variants carry no counting code.
     pub stats: bool,
+    /// Lighting (always `Off` for modes that cannot light).
+    pub shading: Shading,
+    /// Gradient estimator (always `Central` when unlit).
+    pub gradient: GradientScheme,
+    /// MIP/MinIP colouring (always `Window` in other modes).
+    pub mip_color: MipColor,
 }
 
 impl PipelineKey {
-    /// Every variant, for validation tests.
+    /// The variant for `settings` on `path`.
+    pub fn new(settings: &RenderSettings, path: ConcretePath, stats: bool) -> Self {
+        let shading = if settings.mode.can_shade() {
+            settings.shading
+        } else {
+            Shading::Off
+        };
+        Self {
+            mode: settings.mode,
+            strategy: settings.strategy,
+            path,
+            stats,
+            shading,
+            gradient: if shading == Shading::Phong {
+                settings.gradient
+            } else {
+                GradientScheme::Central
+            },
+            mip_color: if matches!(settings.mode, Mode::Mip | Mode::MinIp) {
+                settings.mip_color
+            } else {
+                MipColor::Window
+            },
+        }
+    }
+
+    /// Every distinct variant, for validation tests.
     pub fn all() -> Vec<Self> {
         let mut keys = Vec::new();
-        for mode in [Mode::Dvr] {
+        for mode in Mode::ALL {
             for strategy in Strategy::ALL {
                 for path in [ConcretePath::Fragment, ConcretePath::Compute] {
                     for stats in [false, true] {
-                        keys.push(Self {
-                            mode,
-                            strategy,
-                            path,
-                            stats,
-                        });
+                        for shading in [Shading::Off, Shading::Phong] {
+                            for gradient in [GradientScheme::Central, GradientScheme::FourthOrder] {
+                                for mip_color in [MipColor::Window, MipColor::Tf] {
+                                    let settings = RenderSettings {
+                                        mode,
+                                        strategy,
+                                        shading,
+                                        gradient,
+                                        mip_color,
+                                        ..RenderSettings::default()
+                                    };
+                                    if settings.validate().is_err() {
+                                        continue;
+                                    }
+                                    let key = Self::new(&settings, path, stats);
+                                    if !keys.contains(&key) {
+                                        keys.push(key);
+                                    }
+                                }
+                            }
+                        }
                     }
                 }
             }
@@ -63,8 +113,22 @@ impl PipelineKey {
     /// The preprocessor symbols this variant is compiled with.
     pub fn defines(&self) -> Vec<&'static str> {
         let mut defines = Vec::new();
-        match self.mode {
-            Mode::Dvr => defines.push("MODE_DVR"),
+        defines.push(match self.mode {
+            Mode::Dvr => "MODE_DVR",
+            Mode::Iso => "MODE_ISO",
+            Mode::Mip => "MODE_MIP",
+            Mode::MinIp => "MODE_MINIP",
+            Mode::Xray => "MODE_XRAY",
+            Mode::XrayAttenuation => "MODE_XRAY_ATTENUATION",
+        });
+        if self.shading == Shading::Phong {
+            defines.push("SHADING");
+        }
+        if self.gradient == GradientScheme::FourthOrder {
+            defines.push("GRADIENT_FOURTH_ORDER");
+        }
+        if self.mip_color == MipColor::Tf {
+            defines.push("MIP_TF_COLOR");
         }
         if self.strategy.terminates_early() {
             defines.push("EARLY_TERMINATION");
@@ -202,7 +266,7 @@ impl Layouts {
         };
         let leap = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("leap"),
-            entries: &[storage(0), storage(1), storage(2)],
+            entries: &[storage(0), storage(1), storage(2), storage(3)],
         });
         Self {
             frame,

@@ -8,14 +8,14 @@ use crate::transfer::{TransferFunction, lut};
 use crate::volume::{ValueRange, Volume};
 
 use super::context::GpuContext;
-use super::leap::{LeapPipelines, LeapStructures};
+use super::leap::{FlagRule, LeapPipelines, LeapStructures};
 use super::lut_texture::LutTexture;
 use super::pipelines::{
     ConcretePath, Layouts, PipelineCache, PipelineKey, ProxyPipelines, RaycastPipeline, WORKGROUP,
 };
 use super::probe::{FrameResults, ProbePool, ProbeSlot};
 use super::readback::read_texture;
-use super::settings::{RenderPath, RenderSettings, SettingsError};
+use super::settings::{Mode, RenderPath, RenderSettings, SettingsError, Strategy};
 use super::shader::ShaderError;
 use super::targets::Targets;
 use super::uniforms::{FrameGeometry, FrameUniforms, LeapLevels, SampleDecoding, frame_uniforms};
@@ -225,9 +225,6 @@ impl VolumeRenderer {
         if *transfer != self.transfer {
             self.transfer = transfer.clone();
             self.transfer_generation += 1;
-            if let Some((leap, _)) = &mut self.leap {
-                leap.flags_ready = false;
-            }
         }
     }
 
@@ -309,12 +306,7 @@ impl VolumeRenderer {
     pub fn render(&mut self, request: &FrameRequest) -> Result<SubmittedFrame, RenderError> {
         request.settings.validate()?;
         let path = self.resolve_path(request.settings.path)?;
-        let key = PipelineKey {
-            mode: request.settings.mode,
-            strategy: request.settings.strategy,
-            path,
-            stats: request.stats,
-        };
+        let key = PipelineKey::new(request.settings, path, request.stats);
         self.ensure_targets(request.size)?;
         self.refresh_lut(request.settings.step_vox);
         let Some(volume) = &self.volume else {
@@ -326,6 +318,7 @@ impl VolumeRenderer {
             texel_scale: volume.texture.encoding.scale,
             texel_bias: volume.texture.encoding.bias,
             lut_size: self.lut.entries(),
+            range: volume.range,
         };
         let uniforms = frame_uniforms(
             &geometry,
@@ -355,8 +348,8 @@ impl VolumeRenderer {
             self.prepare_leaping(
                 &mut encoder,
                 slot.as_ref(),
-                request.settings.block_vox,
-                key.strategy,
+                request.settings,
+                uniforms.window[0],
             )
         } else {
             LeapLevels::default()
@@ -566,37 +559,48 @@ fn begin_pass<'e>(
 }
 
 impl VolumeRenderer {
-    /// Records whatever the leaping structures still need for this frame (pyramid once per
-    /// volume; flags after a transfer-function change; distance field after a flag or block-size
-    /// change, for the distance variant) and returns the levels the ray loop uses.
+    /// Records whatever the leaping structures still need for this frame and returns the levels
+    /// the ray loop uses: the pyramid once per volume; node flags when the rule they follow
+    /// changed (DVR: the transfer function; X-ray with the distance field: the window); the
+    /// distance field when its flags or the block size changed. MIP, MinIP, isosurfaces and
+    /// octree X-ray read the min/max pyramid directly.
     fn prepare_leaping(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         slot: Option<&ProbeSlot>,
-        block_vox: u32,
-        strategy: super::settings::Strategy,
+        settings: &RenderSettings,
+        window_lo: f32,
     ) -> LeapLevels {
         let (Some((leap, _)), Some(volume)) = (&mut self.leap, &self.volume) else {
             return LeapLevels::default();
         };
         // validate() admitted only sizes the pyramid has.
-        let leaf = leap.pyramid.level_of_block(block_vox).unwrap_or(0) as u32;
+        let leaf = leap.pyramid.level_of_block(settings.block_vox).unwrap_or(0) as u32;
         leap.build_minmax(
             &self.ctx,
             &self.leap_pipelines,
             &volume.texture.view,
             encoder,
         );
-        let need_flags = !leap.flags_ready;
-        let need_distance = strategy == super::settings::Strategy::RcSDistance
-            && (need_flags || leap.distance_leaf != Some(leaf));
+        let levels = LeapLevels {
+            leaf_level: leaf,
+            level_count: leap.level_count(),
+        };
+        let distance = settings.strategy == Strategy::RcSDistance;
+        let rule = match settings.mode {
+            Mode::Dvr => FlagRule::Transfer(self.transfer_generation),
+            Mode::Xray | Mode::XrayAttenuation if distance => FlagRule::AtMost(window_lo.to_bits()),
+            _ => return levels,
+        };
+        let need_flags = leap.flags_for != Some(rule);
+        let need_distance = distance && (need_flags || leap.distance_for != Some((rule, leaf)));
         if need_flags {
             let ts = slot.and_then(|s| self.probes.rebuild_timestamps(s, true, !need_distance));
             leap.build_flags(
                 &self.ctx,
                 &self.leap_pipelines,
-                &self.lut.view,
-                self.lut.entries(),
+                rule,
+                &self.lut,
                 encoder,
                 ts,
             );
@@ -605,10 +609,7 @@ impl VolumeRenderer {
             let ts = slot.and_then(|s| self.probes.rebuild_timestamps(s, !need_flags, true));
             leap.build_distance(&self.ctx, &self.leap_pipelines, leaf, encoder, ts);
         }
-        LeapLevels {
-            leaf_level: leaf,
-            level_count: leap.level_count(),
-        }
+        levels
     }
 
     /// The loaded volume's camera-independent description: dims, spacing.

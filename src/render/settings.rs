@@ -3,11 +3,56 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::effects::{
+    GradientScheme, IsoSettings, Light, MAX_ISO_REFINEMENT, MipColor, Phong, Shading,
+};
+
 /// The visual effect computed along each ray.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
 pub enum Mode {
     /// Direct volume rendering: front-to-back alpha compositing of the transfer function.
     Dvr,
+    /// The first crossing of the iso value, refined, lit, coloured by the transfer function.
+    Iso,
+    /// Maximum intensity projection.
+    Mip,
+    /// Minimum intensity projection.
+    #[value(name = "minip")]
+    MinIp,
+    /// Mean of the windowed values along the ray's path inside the volume.
+    Xray,
+    /// A radiograph: `1 − exp(−∫μ ds)` with μ proportional to the windowed value.
+    #[value(name = "xray-attenuation")]
+    XrayAttenuation,
+}
+
+impl Mode {
+    /// All modes.
+    pub const ALL: [Self; 6] = [
+        Self::Dvr,
+        Self::Iso,
+        Self::Mip,
+        Self::MinIp,
+        Self::Xray,
+        Self::XrayAttenuation,
+    ];
+
+    /// Whether the mode can light its samples (and so needs gradients).
+    pub fn can_shade(self) -> bool {
+        matches!(self, Self::Dvr | Self::Iso)
+    }
+
+    /// The name used on the command line.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Dvr => "dvr",
+            Self::Iso => "iso",
+            Self::Mip => "mip",
+            Self::MinIp => "minip",
+            Self::Xray => "xray",
+            Self::XrayAttenuation => "xray-attenuation",
+        }
+    }
 }
 
 /// How the ray loop saves work.
@@ -71,6 +116,7 @@ pub const DEFAULT_TERMINATION_ALPHA: f64 = 1.0 - 1.0 / 255.0;
 
 /// Everything about a frame except the camera, the volume and the transfer function.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct RenderSettings {
     /// Visual effect.
     pub mode: Mode,
@@ -89,6 +135,23 @@ pub struct RenderSettings {
     pub background: [f64; 3],
     /// Edge of the leaping blocks in voxels (a power of two from 4 to 128).
     pub block_vox: u32,
+    /// Lighting (DVR and isosurface only).
+    pub shading: Shading,
+    /// Phong coefficients.
+    pub phong: Phong,
+    /// Light direction.
+    pub light: Light,
+    /// Gradient estimator for lighting.
+    pub gradient: GradientScheme,
+    /// Isosurface value and refinement.
+    pub iso: IsoSettings,
+    /// Data window `[lo, hi]` mapped to black..white by MIP, MinIP and X-ray; `None` = the whole
+    /// value range.
+    pub window: Option<[f64; 2]>,
+    /// How MIP and MinIP colour their value.
+    pub mip_color: MipColor,
+    /// X-ray attenuation per millimetre at the window's top (attenuation mode).
+    pub xray_density_per_mm: f64,
 }
 
 impl Default for RenderSettings {
@@ -102,6 +165,14 @@ impl Default for RenderSettings {
             sample_offset: 0.5,
             background: [0.0; 3],
             block_vox: DEFAULT_BLOCK_VOX,
+            shading: Shading::Phong,
+            phong: Phong::default(),
+            light: Light::Headlight,
+            gradient: GradientScheme::Central,
+            iso: IsoSettings::default(),
+            window: None,
+            mip_color: MipColor::Window,
+            xray_density_per_mm: super::effects::DEFAULT_XRAY_DENSITY_PER_MM,
         }
     }
 }
@@ -125,6 +196,37 @@ impl RenderSettings {
         }
         if !crate::accel::pyramid::BLOCK_SIZES.contains(&self.block_vox) {
             return Err(SettingsError::Block(self.block_vox));
+        }
+        if self.strategy == Strategy::RcSDistance
+            && !matches!(self.mode, Mode::Dvr | Mode::Xray | Mode::XrayAttenuation)
+        {
+            return Err(SettingsError::StrategyMode(self.mode.label()));
+        }
+        let p = self.phong;
+        if [p.ambient, p.diffuse, p.specular]
+            .iter()
+            .any(|c| !(c.is_finite() && *c >= 0.0 && *c <= 4.0))
+            || !(p.shininess.is_finite() && (0.0..=1024.0).contains(&p.shininess))
+        {
+            return Err(SettingsError::Phong);
+        }
+        if let Light::Direction(d) = self.light
+            && (d.iter().any(|c| !c.is_finite()) || d.iter().all(|c| *c == 0.0))
+        {
+            return Err(SettingsError::Light(d));
+        }
+        if self.iso.refine_iterations > MAX_ISO_REFINEMENT
+            || self.iso.value.is_some_and(|v| !v.is_finite())
+        {
+            return Err(SettingsError::Iso);
+        }
+        if let Some([lo, hi]) = self.window
+            && !(lo.is_finite() && hi.is_finite() && hi > lo)
+        {
+            return Err(SettingsError::Window(lo, hi));
+        }
+        if !(self.xray_density_per_mm.is_finite() && self.xray_density_per_mm >= 0.0) {
+            return Err(SettingsError::Density(self.xray_density_per_mm));
         }
         if !(0.0..1.0).contains(&self.sample_offset) {
             return Err(SettingsError::Offset(self.sample_offset));
@@ -152,6 +254,25 @@ pub enum SettingsError {
     /// Block size not a power of two from 4 to 128.
     #[error("the block size must be 4, 8, 16, 32, 64 or 128 voxels, got {0}")]
     Block(u32),
+    /// The distance-field variant leaps by the transfer function or the window, which MIP,
+    /// MinIP and isosurfaces do not use.
+    #[error("the rc-s-df strategy works with dvr and x-ray modes; use rc-s for {0}")]
+    StrategyMode(&'static str),
+    /// A Phong coefficient out of range.
+    #[error("Phong coefficients must be between 0 and 4 and the exponent between 0 and 1024")]
+    Phong,
+    /// A zero or non-finite light direction.
+    #[error("the light direction must be a non-zero vector, got {0:?}")]
+    Light([f64; 3]),
+    /// Iso value not finite or too many refinement steps.
+    #[error("the iso value must be finite and refinement at most 16 steps")]
+    Iso,
+    /// A window with hi ≤ lo.
+    #[error("the window must have lo < hi, got {0}, {1}")]
+    Window(f64, f64),
+    /// A negative X-ray density.
+    #[error("the X-ray density must be a non-negative number per mm, got {0}")]
+    Density(f64),
     /// Sample offset outside [0, 1).
     #[error("the sample offset must be in [0, 1), got {0}")]
     Offset(f64),

@@ -24,6 +24,11 @@ const MODULES: &[(&str, &str)] = modules![
     "build_minmax.wgsl",
     "build_emptiness.wgsl",
     "build_distance.wgsl",
+    "shade.wgsl",
+    "mode_dvr.wgsl",
+    "mode_iso.wgsl",
+    "mode_mip.wgsl",
+    "mode_xray.wgsl",
 ];
 
 /// Names of all shader modules.
@@ -148,7 +153,8 @@ mod tests {
         );
         assert!(!plain.contains("atomicAdd"));
         assert!(!plain.contains("frame.termination_alpha"));
-        let full = compose("march.wgsl", &["STATS", "EARLY_TERMINATION"]).expect("composes");
+        let full =
+            compose("march.wgsl", &["MODE_DVR", "STATS", "EARLY_TERMINATION"]).expect("composes");
         assert!(full.contains("atomicAdd"));
         assert!(full.contains("frame.termination_alpha"));
     }

@@ -9,7 +9,9 @@ use glam::{DMat4, Mat4};
 
 use crate::camera::{Aabb, Camera};
 
-use super::settings::RenderSettings;
+use super::effects::{Light, MipColor};
+use super::settings::{Mode, RenderSettings};
+use glam::DVec3;
 
 /// The uniform block every ray-casting shader reads. Keep in sync with `Frame` in
 /// `shaders/common.wgsl` (a test checks the size against the WGSL declaration).
@@ -44,11 +46,23 @@ pub struct FrameUniforms {
     pub leaf_level: u32,
     /// Number of pyramid levels.
     pub level_count: u32,
-    /// Padding to a multiple of 16 bytes.
-    pub pad: [u32; 2],
+    /// Isosurface refinement steps.
+    pub iso_refine: u32,
+    /// Padding.
+    pub pad: u32,
+    /// Voxel spacing in millimetres (w unused).
+    pub spacing_mm: [f32; 4],
+    /// Phong Ka, Kd, Ks, shininess.
+    pub phong: [f32; 4],
+    /// Direction the light travels (world, unit); w = 1 for a headlight.
+    pub light: [f32; 4],
+    /// Window lo and hi (normalised values), MIP/MinIP saturation value, X-ray density per mm.
+    pub window: [f32; 4],
+    /// Iso value (normalised); the rest unused.
+    pub iso: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 224);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 304);
 
 /// The camera-dependent geometry of a frame, in f64.
 #[derive(Clone, Copy, Debug)]
@@ -97,6 +111,8 @@ pub struct SampleDecoding {
     pub texel_bias: f32,
     /// Entries in the lookup table.
     pub lut_size: u32,
+    /// The volume's normalisation range (data units ↔ normalised values).
+    pub range: crate::volume::ValueRange,
 }
 
 /// Builds the uniforms of one frame.
@@ -130,8 +146,63 @@ pub fn frame_uniforms(
         volume_dims: [dims[0] as f32, dims[1] as f32, dims[2] as f32, 0.0],
         leaf_level: leap.leaf_level,
         level_count: leap.level_count,
-        pad: [0; 2],
+        iso_refine: settings.iso.refine_iterations,
+        pad: 0,
+        spacing_mm: [
+            spacing_mm[0] as f32,
+            spacing_mm[1] as f32,
+            spacing_mm[2] as f32,
+            0.0,
+        ],
+        phong: [
+            settings.phong.ambient,
+            settings.phong.diffuse,
+            settings.phong.specular,
+            settings.phong.shininess,
+        ]
+        .map(|c| c as f32),
+        light: match settings.light {
+            Light::Headlight => [0.0, 0.0, 0.0, 1.0],
+            Light::Direction(d) => {
+                let d = DVec3::from_array(d).normalize_or(DVec3::NEG_Z);
+                [d.x as f32, d.y as f32, d.z as f32, 0.0]
+            }
+        },
+        window: window_uniform(settings, decoding.range),
+        iso: [
+            decoding.range.normalize(
+                settings
+                    .iso
+                    .value
+                    .unwrap_or(decoding.range.denormalize(0.5)),
+            ) as f32,
+            0.0,
+            0.0,
+            0.0,
+        ],
     }
+}
+
+/// Window lo/hi as normalised values, the MIP/MinIP saturation value (where the image can no
+/// longer change: the window's end for grey, the volume's extreme for colours) and the X-ray
+/// density.
+fn window_uniform(settings: &RenderSettings, range: crate::volume::ValueRange) -> [f32; 4] {
+    let [lo, hi] = settings
+        .window
+        .unwrap_or([range.min, range.max])
+        .map(|v| range.normalize(v));
+    let saturation = match (settings.mode, settings.mip_color) {
+        (Mode::MinIp, MipColor::Window) => lo,
+        (Mode::MinIp, MipColor::Tf) => 0.0,
+        (_, MipColor::Window) => hi,
+        (_, MipColor::Tf) => 1.0,
+    };
+    [
+        lo as f32,
+        hi as f32,
+        saturation as f32,
+        settings.xray_density_per_mm as f32,
+    ]
 }
 
 #[cfg(test)]

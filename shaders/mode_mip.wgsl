@@ -1,0 +1,60 @@
+// Maximum (or, with MINIP, minimum) intensity projection: the extreme normalised value along the
+// ray, as grey through the window or as the transfer function's colour.
+
+#include "classify.wgsl"
+
+struct Acc {
+    extreme: f32,
+    seen: bool,
+}
+
+fn acc_init() -> Acc {
+#ifdef MODE_MINIP
+    return Acc(3.0e38, false);
+#else
+    return Acc(-3.0e38, false);
+#endif
+}
+
+// Leaping skips nodes that cannot improve on this value.
+fn acc_leap_query(acc: Acc) -> f32 {
+    return acc.extreme;
+}
+
+fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32 {
+    if s < MISSING_BELOW {
+        return 0u;
+    }
+    (*acc).seen = true;
+#ifdef MODE_MINIP
+    let better = s < (*acc).extreme;
+    (*acc).extreme = min((*acc).extreme, s);
+#ifdef EARLY_TERMINATION
+    if (*acc).extreme <= frame.window.z {
+        return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
+    }
+#endif
+#else
+    let better = s > (*acc).extreme;
+    (*acc).extreme = max((*acc).extreme, s);
+#ifdef EARLY_TERMINATION
+    // Nothing can change the image once the value reaches the saturation point.
+    if (*acc).extreme >= frame.window.z {
+        return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
+    }
+#endif
+#endif
+    return select(0u, SAMPLE_CONTRIBUTED, better);
+}
+
+fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
+    if !acc.seen {
+        return frame.background;
+    }
+#ifdef MIP_TF_COLOR
+    return vec4<f32>(classify(acc.extreme).rgb, 1.0);
+#else
+    let grey = clamp((acc.extreme - frame.window.x) / (frame.window.y - frame.window.x), 0.0, 1.0);
+    return vec4<f32>(vec3<f32>(grey), 1.0);
+#endif
+}

@@ -1,0 +1,48 @@
+// X-ray projection. The integrand is the windowed value f = clamp((s − lo)/(hi − lo), 0, 1),
+// integrated over the path with each sample's segment length. The mean mode divides by the path
+// length inside the volume (known analytically, so leaping over f = 0 changes nothing); the
+// attenuation mode shows 1 − exp(−density · ∫f ds), like a radiograph.
+
+#include "classify.wgsl"
+
+struct Acc {
+    integral_mm: f32,
+}
+
+fn acc_init() -> Acc {
+    return Acc(0.0);
+}
+
+fn acc_leap_query(acc: Acc) -> f32 {
+    return 0.0;
+}
+
+fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32 {
+    if s < MISSING_BELOW {
+        return 0u;
+    }
+    let f = clamp((s - frame.window.x) / (frame.window.y - frame.window.x), 0.0, 1.0);
+    if f <= 0.0 {
+        return 0u;
+    }
+    let segment = min(frame.step_mm, ray.length_mm - f32(k) * frame.step_mm);
+    (*acc).integral_mm += f * segment;
+#ifdef MODE_XRAY_ATTENUATION
+#ifdef EARLY_TERMINATION
+    // Past an optical depth of ln(255) the radiograph is within 1/255 of white.
+    if frame.window.w * (*acc).integral_mm > 5.5413 {
+        return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
+    }
+#endif
+#endif
+    return SAMPLE_CONTRIBUTED;
+}
+
+fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
+#ifdef MODE_XRAY_ATTENUATION
+    let grey = 1.0 - exp(-frame.window.w * acc.integral_mm);
+#else
+    let grey = clamp(acc.integral_mm / ray.length_mm, 0.0, 1.0);
+#endif
+    return vec4<f32>(vec3<f32>(grey), 1.0);
+}

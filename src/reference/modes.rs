@@ -1,0 +1,220 @@
+//! What each mode does along one ray, in f64: DVR compositing, the isosurface's first crossing,
+//! MIP/MinIP, and the X-ray integrals. Same conventions as the shaders' mode modules.
+
+use glam::DVec3;
+
+use crate::render::effects::{MipColor, Shading};
+use crate::render::settings::{Mode, RenderSettings, Strategy};
+use crate::sampling::{SampleGrid, corrected_opacity};
+use crate::transfer::TransferFunction;
+use crate::volume::{ValueRange, Volume};
+
+use super::ReferenceCounts;
+use super::shade::{gradient, phong};
+use super::trilinear::sample_trilinear;
+
+/// One ray through the volume.
+pub struct RayInput<'a> {
+    /// The volume.
+    pub volume: &'a Volume,
+    /// The transfer function.
+    pub tf: &'a TransferFunction,
+    /// The settings.
+    pub settings: &'a RenderSettings,
+    /// Entry point, world millimetres.
+    pub entry: DVec3,
+    /// Unit direction, world.
+    pub dir: DVec3,
+    /// Path length inside the volume, mm.
+    pub length_mm: f64,
+}
+
+impl RayInput<'_> {
+    fn range(&self) -> ValueRange {
+        self.volume.normalization_range()
+    }
+
+    fn grid(&self) -> SampleGrid {
+        let step_mm = self.settings.step_vox * self.volume.min_spacing_mm();
+        SampleGrid {
+            length_mm: self.length_mm,
+            step_mm,
+            offset: self.settings.sample_offset,
+        }
+    }
+
+    /// Normalised value at distance `t` from the entry, `None` where a non-finite voxel weighs in.
+    fn value(&self, t: f64) -> Option<f64> {
+        sample_trilinear(self.volume, self.entry + self.dir * t).map(|v| self.range().normalize(v))
+    }
+
+    fn lit(&self, color: DVec3, t: f64) -> DVec3 {
+        let shading = self.settings.mode.can_shade() && self.settings.shading == Shading::Phong;
+        if !shading {
+            return color;
+        }
+        let g = gradient(
+            self.volume,
+            self.entry + self.dir * t,
+            self.settings.gradient,
+        );
+        phong(
+            color,
+            g,
+            self.dir,
+            &self.settings.phong,
+            &self.settings.light,
+        )
+    }
+
+    fn tf_color(&self, normalized: f64) -> DVec3 {
+        DVec3::from_array(
+            self.tf
+                .color_at(self.range().denormalize(normalized), self.range()),
+        )
+    }
+
+    /// Window lo and hi as normalised values.
+    fn window(&self) -> (f64, f64) {
+        let r = self.range();
+        let [lo, hi] = self.settings.window.unwrap_or([r.min, r.max]);
+        (r.normalize(lo), r.normalize(hi))
+    }
+}
+
+/// The pixel colour for a ray (composited over the background where the mode composites), or
+/// `None` to show the background.
+pub fn cast(ray: &RayInput, counts: &mut ReferenceCounts) -> Option<DVec3> {
+    match ray.settings.mode {
+        Mode::Dvr => Some(dvr(ray, counts)),
+        Mode::Iso => iso(ray, counts),
+        Mode::Mip | Mode::MinIp => extreme(ray, counts),
+        Mode::Xray | Mode::XrayAttenuation => Some(xray(ray, counts)),
+    }
+}
+
+fn stops_early(ray: &RayInput) -> bool {
+    ray.settings.strategy != Strategy::Rc
+}
+
+fn dvr(ray: &RayInput, counts: &mut ReferenceCounts) -> DVec3 {
+    let range = ray.range();
+    let (mut color, mut alpha) = (DVec3::ZERO, 0.0);
+    for s in ray.grid().samples() {
+        counts.samples += 1;
+        let Some(value) = sample_trilinear(ray.volume, ray.entry + ray.dir * s.t_mm) else {
+            continue;
+        };
+        let a = corrected_opacity(
+            ray.tf.opacity_at(value, range),
+            ray.settings.step_vox,
+            s.weight,
+        );
+        if a <= 0.0 {
+            continue;
+        }
+        counts.visible_samples += 1;
+        let c = ray.lit(DVec3::from_array(ray.tf.color_at(value, range)), s.t_mm);
+        color += (1.0 - alpha) * a * c;
+        alpha += (1.0 - alpha) * a;
+        if stops_early(ray) && alpha > ray.settings.termination_alpha {
+            break;
+        }
+    }
+    color + (1.0 - alpha) * DVec3::from_array(ray.settings.background)
+}
+
+fn iso(ray: &RayInput, counts: &mut ReferenceCounts) -> Option<DVec3> {
+    let range = ray.range();
+    let iso = range.normalize(ray.settings.iso.value.unwrap_or(range.denormalize(0.5)));
+    let mut prev: Option<(f64, f64)> = None;
+    for s in ray.grid().samples() {
+        counts.samples += 1;
+        let Some(v) = ray.value(s.t_mm) else { continue };
+        let d = v - iso;
+        if let Some((t0, d0)) = prev
+            && (d >= 0.0) != (d0 >= 0.0)
+        {
+            let (mut t0, mut d0, mut t1, mut d1) = (t0, d0, s.t_mm, d);
+            let root = |t0: f64, d0: f64, t1: f64, d1: f64| {
+                t0 + (t1 - t0) * (d0 / (d0 - d1)).clamp(0.0, 1.0)
+            };
+            for _ in 0..ray.settings.iso.refine_iterations {
+                let tm = root(t0, d0, t1, d1);
+                let dm = ray.value(tm).unwrap_or(d0 + iso) - iso;
+                if (dm >= 0.0) == (d0 >= 0.0) {
+                    (t0, d0) = (tm, dm);
+                } else {
+                    (t1, d1) = (tm, dm);
+                }
+            }
+            counts.visible_samples += 1;
+            let hit = root(t0, d0, t1, d1);
+            return Some(ray.lit(ray.tf_color(iso), hit));
+        }
+        prev = Some((s.t_mm, d));
+    }
+    None
+}
+
+fn extreme(ray: &RayInput, counts: &mut ReferenceCounts) -> Option<DVec3> {
+    let minimum = ray.settings.mode == Mode::MinIp;
+    let (lo, hi) = ray.window();
+    let saturation = match (minimum, ray.settings.mip_color) {
+        (true, MipColor::Window) => lo,
+        (true, MipColor::Tf) => 0.0,
+        (false, MipColor::Window) => hi,
+        (false, MipColor::Tf) => 1.0,
+    };
+    let mut best: Option<f64> = None;
+    for s in ray.grid().samples() {
+        counts.samples += 1;
+        let Some(v) = ray.value(s.t_mm) else { continue };
+        let better = best.is_none_or(|b| if minimum { v < b } else { v > b });
+        if better {
+            counts.visible_samples += 1;
+            best = Some(v);
+        }
+        if stops_early(ray)
+            && (if minimum {
+                v <= saturation
+            } else {
+                v >= saturation
+            })
+        {
+            break;
+        }
+    }
+    let v = best?;
+    Some(match ray.settings.mip_color {
+        MipColor::Window => DVec3::splat(((v - lo) / (hi - lo)).clamp(0.0, 1.0)),
+        MipColor::Tf => ray.tf_color(v),
+    })
+}
+
+fn xray(ray: &RayInput, counts: &mut ReferenceCounts) -> DVec3 {
+    let (lo, hi) = ray.window();
+    let attenuation = ray.settings.mode == Mode::XrayAttenuation;
+    let density = ray.settings.xray_density_per_mm;
+    let grid = ray.grid();
+    let mut integral = 0.0;
+    for (k, s) in grid.samples().enumerate() {
+        counts.samples += 1;
+        let Some(v) = ray.value(s.t_mm) else { continue };
+        let f = ((v - lo) / (hi - lo)).clamp(0.0, 1.0);
+        if f <= 0.0 {
+            continue;
+        }
+        counts.visible_samples += 1;
+        integral += f * grid.step_mm.min(grid.length_mm - k as f64 * grid.step_mm);
+        if attenuation && stops_early(ray) && density * integral > 255f64.ln() {
+            break;
+        }
+    }
+    let grey = if attenuation {
+        1.0 - (-density * integral).exp()
+    } else {
+        (integral / ray.length_mm).clamp(0.0, 1.0)
+    };
+    DVec3::splat(grey)
+}

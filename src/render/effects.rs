@@ -1,0 +1,103 @@
+//! The parameters of the visual effects beyond plain compositing: Phong lighting from on-the-fly
+//! gradients, the isosurface, the grey window of MIP and X-ray, the X-ray attenuation.
+
+use serde::{Deserialize, Serialize};
+
+/// Whether samples are lit.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
+)]
+pub enum Shading {
+    /// Colours as the transfer function gives them.
+    Off,
+    /// Per-sample Phong lighting from the gradient (DVR and isosurface).
+    #[default]
+    #[value(name = "on")]
+    Phong,
+}
+
+/// How gradients are estimated from the trilinearly filtered volume.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
+)]
+pub enum GradientScheme {
+    /// Central differences one voxel apart: 6 extra reads, second-order accurate.
+    #[default]
+    Central,
+    /// Fourth-order central differences (points at ±1 and ±2 voxels): 12 extra reads.
+    FourthOrder,
+}
+
+/// `I = Ka·Ia + Kd·Il·cosθ + Ks·Il·cosⁿα` (Ia = Il = 1; the specular term is white).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Phong {
+    /// Ambient coefficient Ka.
+    pub ambient: f64,
+    /// Diffuse coefficient Kd.
+    pub diffuse: f64,
+    /// Specular coefficient Ks.
+    pub specular: f64,
+    /// Specular exponent n.
+    pub shininess: f64,
+}
+
+impl Default for Phong {
+    fn default() -> Self {
+        Self {
+            ambient: 0.3,
+            diffuse: 0.7,
+            specular: 0.25,
+            shininess: 24.0,
+        }
+    }
+}
+
+/// Where the light comes from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum Light {
+    /// A light at the eye, shining along each ray.
+    #[default]
+    Headlight,
+    /// A directional light shining along this world direction.
+    Direction([f64; 3]),
+}
+
+/// How MIP and MinIP turn the extreme value into a colour.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
+)]
+pub enum MipColor {
+    /// Grey through the window.
+    #[default]
+    Window,
+    /// The transfer function's colour at the value.
+    Tf,
+}
+
+/// Isosurface parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct IsoSettings {
+    /// Iso value in data units; `None` = the middle of the volume's value range.
+    pub value: Option<f64>,
+    /// Secant (false-position) refinement steps between the two samples around a hit.
+    pub refine_iterations: u32,
+}
+
+/// Default isosurface refinement steps (each one fetch).
+pub const DEFAULT_ISO_REFINEMENT: u32 = 4;
+/// Most refinement steps accepted.
+pub const MAX_ISO_REFINEMENT: u32 = 16;
+
+impl Default for IsoSettings {
+    fn default() -> Self {
+        Self {
+            value: None,
+            refine_iterations: DEFAULT_ISO_REFINEMENT,
+        }
+    }
+}
+
+/// Default X-ray attenuation per millimetre at the top of the window (1/mm): about water's
+/// linear attenuation coefficient at 70 keV (0.019/mm), so a 20 cm head of window-top material
+/// transmits e^(−3.8) ≈ 2 %.
+pub const DEFAULT_XRAY_DENSITY_PER_MM: f64 = 0.019;
