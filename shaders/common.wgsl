@@ -26,7 +26,7 @@ struct Frame {
     light: vec4<f32>,
     // Window lo, hi (normalised values), MIP saturation value, X-ray density per mm.
     window: vec4<f32>,
-    // Iso value (normalised), then unused.
+    // Iso value (normalised), 1 / step in voxels (undoes the LUT's opacity correction), unused.
     iso: vec4<f32>,
 }
 

@@ -182,3 +182,105 @@ fn bad_input_prints_one_line_naming_the_file_and_exits_with_status_2() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr_lines(&o)[0].contains("no-such-preset"));
 }
+
+#[test]
+fn every_mode_and_its_parameters_reach_the_renderer() {
+    let data = common::data_dir().join("mra_head_200x256x120_uint8.nrrd");
+    let data = data.to_str().expect("utf-8");
+    let dir = common::TempDir::new("cli-modes");
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(format!("{name}.png"));
+        let mut args = vec![
+            "render",
+            data,
+            "--out",
+            out.to_str().expect("utf-8"),
+            "--size",
+            "48x48",
+            "--view",
+            "-z",
+            "--tf",
+            "mr-angio",
+        ];
+        args.extend_from_slice(extra);
+        let o = leapview(&args);
+        assert!(
+            o.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        ImageF32::read_png(&out).expect("png")
+    };
+    let mean = |img: &ImageF32| {
+        img.pixels.iter().map(|p| p[0] as f64).sum::<f64>() / img.pixels.len() as f64
+    };
+    // A narrower MIP window brightens the image: the flag reaches the shader.
+    let wide = render("mip-wide", &["--mode", "mip", "--window", "0,255"]);
+    let narrow = render("mip-narrow", &["--mode", "mip", "--window", "0,60"]);
+    assert!(
+        mean(&narrow) > 1.5 * mean(&wide),
+        "{} vs {}",
+        mean(&narrow),
+        mean(&wide)
+    );
+    // A radiograph whitens as the attenuation per mm rises.
+    let thin = render(
+        "xray-thin",
+        &["--mode", "xray-attenuation", "--xray-density", "0.005"],
+    );
+    let dense = render(
+        "xray-dense",
+        &["--mode", "xray-attenuation", "--xray-density", "0.05"],
+    );
+    assert!(
+        mean(&dense) > mean(&thin),
+        "radiograph: more attenuation is brighter"
+    );
+    // An isosurface above the data's maximum shows only the background.
+    let none = render(
+        "iso-none",
+        &["--mode", "iso", "--iso", "300", "--strategy", "rc-s"],
+    );
+    assert!(none.pixels.iter().all(|p| p[..3] == [0.0; 3]));
+    let lit = render(
+        "iso-lit",
+        &["--mode", "iso", "--iso", "120", "--iso-refine", "8"],
+    );
+    let unlit = render(
+        "iso-unlit",
+        &["--mode", "iso", "--iso", "120", "--shading", "off"],
+    );
+    assert!(
+        mean(&lit) > 0.0 && lit.pixels != unlit.pixels,
+        "lighting changes the image"
+    );
+    let side = render(
+        "dvr-side",
+        &[
+            "--light",
+            "1,0,0",
+            "--phong",
+            "0.1,0.9,0.5,40",
+            "--gradient",
+            "fourth-order",
+        ],
+    );
+    let head = render("dvr-head", &[]);
+    assert_ne!(
+        side.pixels, head.pixels,
+        "the light direction reaches the shader"
+    );
+    for bad in [
+        &["--mode", "mip", "--window", "60,0"][..],
+        &["--light", "0,0,0"],
+        &["--phong", "1,1,1"],
+        &["--iso-refine", "99", "--mode", "iso"],
+        &["--mode", "mip", "--strategy", "rc-s-df"],
+    ] {
+        let out = dir.path().join("bad.png");
+        let mut args = vec!["render", data, "--out", out.to_str().expect("utf-8")];
+        args.extend_from_slice(bad);
+        let o = leapview(&args);
+        assert_eq!(o.status.code(), Some(2), "{bad:?}");
+    }
+}

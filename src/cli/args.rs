@@ -70,6 +70,9 @@ pub struct RenderArgs {
     /// Camera placement.
     #[command(flatten)]
     pub camera: CameraArgs,
+    /// Effect parameters.
+    #[command(flatten)]
+    pub effects: super::effect_args::EffectArgs,
     /// Transfer function: a preset name or a JSON file.
     #[arg(long, default_value = "grey-ramp")]
     pub tf: String,
@@ -154,7 +157,7 @@ fn parse_list<const N: usize, T: std::str::FromStr>(s: &str, what: &str) -> Resu
         .map_err(|_| format!("expected {N} {what}"))
 }
 
-fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
+pub(super) fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
     let v: [f64; 3] = parse_list(s, "numbers")?;
     if v.iter().any(|x| !x.is_finite()) {
         return Err(format!("{s:?} holds a value that is not finite"));

@@ -2,6 +2,7 @@
 //! (a bad volume or transfer-function file) are [`Failure::BadInput`] and exit with status 2.
 
 pub mod args;
+pub mod effect_args;
 mod info;
 mod render;
 

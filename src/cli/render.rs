@@ -27,7 +27,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     let volume = load(&args.file, raw)?;
     let tf =
         TransferFunction::from_preset_or_file(&args.tf).map_err(|e| Failure::BadInput(e.into()))?;
-    let settings = RenderSettings {
+    let mut settings = RenderSettings {
         mode: args.mode,
         strategy: args.strategy,
         path: args.path,
@@ -37,6 +37,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         block_vox: args.block,
         ..RenderSettings::default()
     };
+    args.effects.apply(&mut settings);
     settings
         .validate()
         .map_err(|e| Failure::BadInput(e.into()))?;
@@ -82,10 +83,10 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
             volume.scalar_type()
         );
         println!(
-            "image: {}x{}  mode: {:?}  strategy: {}  path: {:?}  step: {} voxel",
+            "image: {}x{}  mode: {}  strategy: {}  path: {:?}  step: {} voxel",
             args.size[0],
             args.size[1],
-            settings.mode,
+            settings.mode.label(),
             settings.strategy.label(),
             submitted.key.path,
             settings.step_vox

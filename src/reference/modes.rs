@@ -188,7 +188,11 @@ fn extreme(ray: &RayInput, counts: &mut ReferenceCounts) -> Option<DVec3> {
     let v = best?;
     Some(match ray.settings.mip_color {
         MipColor::Window => DVec3::splat(((v - lo) / (hi - lo)).clamp(0.0, 1.0)),
-        MipColor::Tf => ray.tf_color(v),
+        MipColor::Tf => {
+            let r = ray.range();
+            let a = ray.tf.opacity_at(r.denormalize(v), r);
+            a * ray.tf_color(v) + (1.0 - a) * DVec3::from_array(ray.settings.background)
+        }
     })
 }
 

@@ -58,7 +58,7 @@ pub struct FrameUniforms {
     pub light: [f32; 4],
     /// Window lo and hi (normalised values), MIP/MinIP saturation value, X-ray density per mm.
     pub window: [f32; 4],
-    /// Iso value (normalised); the rest unused.
+    /// Iso value (normalised), the reciprocal of the step in voxels; the rest unused.
     pub iso: [f32; 4],
 }
 
@@ -176,7 +176,8 @@ pub fn frame_uniforms(
                     .value
                     .unwrap_or(decoding.range.denormalize(0.5)),
             ) as f32,
-            0.0,
+            // Undoes the LUT's opacity correction where MIP and MinIP colour by the TF.
+            (1.0 / settings.step_vox) as f32,
             0.0,
             0.0,
         ],

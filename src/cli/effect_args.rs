@@ -1,0 +1,153 @@
+//! Command-line flags for the visual effects: isosurface, window, lighting, gradients, MIP
+//! colouring and X-ray attenuation (shared by `render` and `bench`).
+
+use clap::Args;
+use leapview::render::RenderSettings;
+use leapview::render::effects::{GradientScheme, IsoSettings, Light, MipColor, Phong, Shading};
+
+use super::args::parse_vec3;
+
+/// Effect parameters; each flag left out keeps the renderer's default.
+#[derive(Args, Debug, Clone, Default)]
+pub struct EffectArgs {
+    /// Isosurface value in data units (HU for CT); default: the middle of the value range.
+    #[arg(long, allow_hyphen_values = true)]
+    pub iso: Option<f64>,
+    /// Isosurface refinement steps (false position) between the samples around a hit, 0 to 16.
+    #[arg(long)]
+    pub iso_refine: Option<u32>,
+    /// Data window `LO,HI` mapped to black..white by MIP, MinIP and X-ray (default: the value
+    /// range).
+    #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
+    pub window: Option<[f64; 2]>,
+    /// Per-sample Phong lighting in DVR and isosurface modes.
+    #[arg(long, value_enum)]
+    pub shading: Option<Shading>,
+    /// Light: `headlight` (at the eye) or a direction `X,Y,Z` the light shines along.
+    #[arg(long, value_parser = parse_light, allow_hyphen_values = true)]
+    pub light: Option<Light>,
+    /// Phong coefficients `KA,KD,KS,N` (ambient, diffuse, specular, exponent).
+    #[arg(long, value_parser = parse_phong)]
+    pub phong: Option<Phong>,
+    /// Gradient estimator for lighting.
+    #[arg(long, value_enum)]
+    pub gradient: Option<GradientScheme>,
+    /// MIP and MinIP colour: grey through the window, or the transfer function's colour.
+    #[arg(long, value_enum)]
+    pub mip_color: Option<MipColor>,
+    /// X-ray attenuation per millimetre at the window's top (`xray-attenuation` mode).
+    #[arg(long)]
+    pub xray_density: Option<f64>,
+}
+
+impl EffectArgs {
+    /// Writes the given flags into `settings` (validation is the caller's).
+    pub fn apply(&self, settings: &mut RenderSettings) {
+        let iso = IsoSettings {
+            value: self.iso.or(settings.iso.value),
+            refine_iterations: self.iso_refine.unwrap_or(settings.iso.refine_iterations),
+        };
+        settings.iso = iso;
+        settings.window = self.window.or(settings.window);
+        settings.shading = self.shading.unwrap_or(settings.shading);
+        settings.light = self.light.unwrap_or(settings.light);
+        settings.phong = self.phong.unwrap_or(settings.phong);
+        settings.gradient = self.gradient.unwrap_or(settings.gradient);
+        settings.mip_color = self.mip_color.unwrap_or(settings.mip_color);
+        settings.xray_density_per_mm = self.xray_density.unwrap_or(settings.xray_density_per_mm);
+    }
+}
+
+fn parse_window(s: &str) -> Result<[f64; 2], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [lo, hi] = parts.as_slice() else {
+        return Err(format!("expected LO,HI, got {s:?}"));
+    };
+    let parse = |p: &str| {
+        p.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("{p:?} is not a finite number in {s:?}"))
+    };
+    let (lo, hi) = (parse(lo)?, parse(hi)?);
+    if hi <= lo {
+        return Err(format!(
+            "the window's top must exceed its bottom, got {s:?}"
+        ));
+    }
+    Ok([lo, hi])
+}
+
+fn parse_light(s: &str) -> Result<Light, String> {
+    if s.eq_ignore_ascii_case("headlight") {
+        return Ok(Light::Headlight);
+    }
+    let d = parse_vec3(s)?;
+    if d.iter().all(|c| *c == 0.0) {
+        return Err("the light direction must not be zero".into());
+    }
+    Ok(Light::Direction(d))
+}
+
+fn parse_phong(s: &str) -> Result<Phong, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let values: Vec<f64> = parts
+        .iter()
+        .map(|p| p.parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect::<Option<_>>()
+        .ok_or_else(|| format!("{s:?} holds something that is not a finite number"))?;
+    let [ambient, diffuse, specular, shininess] = values.as_slice() else {
+        return Err(format!("expected KA,KD,KS,N (four numbers), got {s:?}"));
+    };
+    Ok(Phong {
+        ambient: *ambient,
+        diffuse: *diffuse,
+        specular: *specular,
+        shininess: *shininess,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn windows_lights_and_phong_parse_and_reject() {
+        assert_eq!(parse_window("-100,300"), Ok([-100.0, 300.0]));
+        assert!(parse_window("300,-100").is_err());
+        assert!(parse_window("1").is_err());
+        assert!(parse_window("0,inf").is_err());
+        assert_eq!(parse_light("HeadLight"), Ok(Light::Headlight));
+        assert_eq!(
+            parse_light("0,-1,0"),
+            Ok(Light::Direction([0.0, -1.0, 0.0]))
+        );
+        assert!(parse_light("0,0,0").is_err());
+        let p = parse_phong("0.1,0.8,0.5,32").expect("four numbers parse");
+        assert_eq!(
+            (p.ambient, p.diffuse, p.specular, p.shininess),
+            (0.1, 0.8, 0.5, 32.0)
+        );
+        assert!(parse_phong("0.1,0.8,0.5").is_err());
+        assert!(parse_phong("0.1,0.8,nan,3").is_err());
+    }
+
+    #[test]
+    fn flags_left_out_keep_the_defaults() {
+        let mut settings = RenderSettings::default();
+        EffectArgs::default().apply(&mut settings);
+        assert_eq!(settings, RenderSettings::default());
+        let args = EffectArgs {
+            iso: Some(300.0),
+            shading: Some(Shading::Off),
+            ..EffectArgs::default()
+        };
+        args.apply(&mut settings);
+        assert_eq!(settings.iso.value, Some(300.0));
+        assert_eq!(settings.shading, Shading::Off);
+        assert_eq!(
+            settings.iso.refine_iterations,
+            RenderSettings::default().iso.refine_iterations
+        );
+    }
+}
