@@ -13,6 +13,7 @@ use crate::camera::ViewPreset;
 use crate::render::RenderError;
 use crate::ui::controls::{PanelInfo, controls_ui};
 use crate::ui::dialogs::Dialogs;
+use crate::ui::effects::effects_ui;
 use crate::ui::loading::{Loader, VolumeSource};
 use crate::ui::menu::menu_bar;
 use crate::ui::overlay::{draw_loading, draw_readout};
@@ -157,6 +158,7 @@ impl LeapViewApp {
     fn show_volume(&mut self, volume: &Volume, source: &VolumeSource, ctx: &egui::Context) {
         match self.scene.show_volume(volume, self.state.projection) {
             Ok(summary) => {
+                self.state.effects.forget_data_values();
                 self.state.preset = match source.preferred_preset() {
                     Some(name) => name.to_string(),
                     None => preset_for_volume(&self.state.preset, is_ct_like(summary.range)),
@@ -354,6 +356,15 @@ impl eframe::App for LeapViewApp {
             .show_collapsible(ui, &mut show_controls, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     actions.extend(controls_ui(ui, &mut self.state, &info));
+                    ui.separator();
+                    let volume = self.scene.volume();
+                    effects_ui(
+                        ui,
+                        &mut self.state.mode,
+                        &mut self.state.effects,
+                        volume.and_then(|v| v.range),
+                        volume.map_or(&[], |v| v.histogram.as_slice()),
+                    );
                 });
             });
         self.state.show_controls = show_controls;

@@ -59,6 +59,12 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
                     .on_hover_text("RC-t plus leaping over empty octree nodes (the paper)");
                 ui.selectable_value(&mut state.strategy, Strategy::RcSDistance, "RC-s-df")
                     .on_hover_text("RC-t plus leaping by a distance field over blocks");
+                if state.strategy_in_use() != state.strategy {
+                    ui.label("(RC-s in this mode)").on_hover_text(
+                        "The distance field leaps by the transfer function or the window, \
+                         which isosurfaces, MIP and MinIP do not use",
+                    );
+                }
             });
             ui.end_row();
 

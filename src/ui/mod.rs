@@ -8,6 +8,7 @@
 
 pub mod controls;
 pub mod dialogs;
+pub mod effects;
 pub mod interaction;
 pub mod loading;
 pub mod menu;
@@ -22,7 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::camera::{ProjectionKind, ViewPreset};
 use crate::render::settings::DEFAULT_TERMINATION_ALPHA;
-use crate::render::{RenderPath, RenderSettings, Strategy};
+use crate::render::{Mode, RenderPath, RenderSettings, Strategy};
 use crate::volume::{ScalarType, ValueRange, Volume};
 
 /// Preset chosen for volumes that look like CT (values in Hounsfield units).
@@ -39,6 +40,12 @@ pub const CT_MINIMUM_BELOW: f64 = -500.0;
 pub struct ViewerState {
     /// Transfer-function preset name (one of [`crate::transfer::presets::NAMES`]).
     pub preset: String,
+    /// DVR, isosurface, MIP, MinIP or X-ray.
+    #[serde(default = "default_mode")]
+    pub mode: Mode,
+    /// The mode's parameters.
+    #[serde(default)]
+    pub effects: effects::EffectState,
     /// RC, RC-t, RC-s or RC-s with the distance field.
     pub strategy: Strategy,
     /// Edge of the leaping blocks in voxels (RC-s).
@@ -68,6 +75,8 @@ impl Default for ViewerState {
         let render = RenderSettings::default();
         Self {
             preset: DEFAULT_CT_PRESET.to_string(),
+            mode: render.mode,
+            effects: effects::EffectState::default(),
             strategy: render.strategy,
             path: render.path,
             step_vox: render.step_vox,
@@ -82,21 +91,41 @@ impl Default for ViewerState {
     }
 }
 
+fn default_mode() -> Mode {
+    RenderSettings::default().mode
+}
+
 fn default_block() -> u32 {
     crate::render::settings::DEFAULT_BLOCK_VOX
 }
 
 impl ViewerState {
-    /// The renderer's settings for this state.
+    /// The renderer's settings for this state. The distance-field strategy leaps by the
+    /// transfer function or the window, so isosurface, MIP and MinIP fall back to RC-s with it
+    /// ([`ViewerState::strategy_in_use`]).
     pub fn render_settings(&self) -> RenderSettings {
-        RenderSettings {
-            strategy: self.strategy,
+        let mut settings = RenderSettings {
+            mode: self.mode,
+            strategy: self.strategy_in_use(),
             path: self.path,
             step_vox: self.step_vox,
             termination_alpha: self.termination_alpha,
             background: self.background.map(|c| f64::from(c) / 255.0),
             block_vox: self.block_vox,
             ..RenderSettings::default()
+        };
+        self.effects.apply(&mut settings);
+        settings
+    }
+
+    /// The strategy frames use: the chosen one, or RC-s where the mode cannot use the
+    /// distance field.
+    pub fn strategy_in_use(&self) -> Strategy {
+        let df_modes = matches!(self.mode, Mode::Dvr | Mode::Xray | Mode::XrayAttenuation);
+        if self.strategy == Strategy::RcSDistance && !df_modes {
+            Strategy::RcS
+        } else {
+            self.strategy
         }
     }
 }
@@ -135,6 +164,8 @@ pub struct VolumeSummary {
     pub scalar_type: ScalarType,
     /// Finite value range in data units.
     pub range: Option<ValueRange>,
+    /// Sample counts in equal bins over `range`.
+    pub histogram: Vec<u64>,
 }
 
 impl VolumeSummary {
@@ -146,6 +177,7 @@ impl VolumeSummary {
             spacing_mm: volume.spacing_mm(),
             scalar_type: volume.scalar_type(),
             range: volume.value_range(),
+            histogram: volume.histogram().counts.clone(),
         }
     }
 
@@ -223,6 +255,14 @@ mod tests {
         };
         let settings = state.render_settings();
         assert_eq!(settings.validate(), Ok(()));
+        for mode in Mode::ALL {
+            let df = ViewerState {
+                mode,
+                strategy: Strategy::RcSDistance,
+                ..ViewerState::default()
+            };
+            assert_eq!(df.render_settings().validate(), Ok(()), "{mode:?}");
+        }
         assert_eq!(settings.background[0], 1.0);
         assert_eq!(settings.background[2], 0.0);
         assert!(NAMES.contains(&state.preset.as_str()));
