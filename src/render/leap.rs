@@ -219,16 +219,16 @@ impl LeapStructures {
         }
     }
 
-    /// Records the pyramid build (once per volume).
+    /// Records the pyramid build (once per volume); returns whether it recorded one.
     pub fn build_minmax(
         &mut self,
         ctx: &GpuContext,
         pipelines: &LeapPipelines,
         volume_view: &wgpu::TextureView,
         encoder: &mut wgpu::CommandEncoder,
-    ) {
+    ) -> bool {
         if self.minmax_ready {
-            return;
+            return false;
         }
         let device = &ctx.device;
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -262,6 +262,7 @@ impl LeapStructures {
         }
         drop(pass);
         self.minmax_ready = true;
+        true
     }
 
     /// Records the rebuild of the emptiness table and node flags from the lookup table (after

@@ -20,5 +20,5 @@ pub mod volume_texture;
 pub use context::{GpuContext, GpuError};
 pub use pipelines::{ConcretePath, PipelineKey};
 pub use probe::{FrameCounters, FrameResults};
-pub use renderer::{FrameRequest, RenderError, SubmittedFrame, VolumeRenderer};
+pub use renderer::{FrameRequest, RenderError, SubmittedFrame, VolumeRenderer, WorkCounts};
 pub use settings::{Mode, RenderPath, RenderSettings, Strategy};

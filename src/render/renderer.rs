@@ -107,6 +107,24 @@ pub struct VolumeRenderer {
     /// Leaping structures of the current volume (built lazily) and their ray-loop bind group.
     leap: Option<(LeapStructures, wgpu::BindGroup)>,
     pub(super) auto_path: Option<ConcretePath>,
+    work: WorkCounts,
+}
+
+/// How often the renderer did each piece of work since it was made: what tests read to prove
+/// that nothing is recomputed that did not change.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WorkCounts {
+    /// Frames submitted.
+    pub frames: u64,
+    /// Lookup tables baked and uploaded (transfer function, value range or step changed).
+    pub lut_bakes: u64,
+    /// Min/max pyramids built (once per volume, on the first leaping frame).
+    pub minmax_builds: u64,
+    /// Emptiness tables and node flags built (transfer function, or the X-ray window for the
+    /// distance field, changed).
+    pub flag_builds: u64,
+    /// Distance fields built (flags or block size changed).
+    pub distance_builds: u64,
 }
 
 impl VolumeRenderer {
@@ -157,6 +175,7 @@ impl VolumeRenderer {
             stats_group,
             probes,
             frame_counter: 0,
+            work: WorkCounts::default(),
             leap_pipelines,
             leap: None,
             auto_path: None,
@@ -241,6 +260,7 @@ impl VolumeRenderer {
             let table = lut::bake(&self.transfer, volume.range, step_vox);
             self.lut.write(&self.ctx.queue, &table);
             self.lut_baked_for = Some(wanted);
+            self.work.lut_bakes += 1;
         }
     }
 
@@ -334,6 +354,7 @@ impl VolumeRenderer {
             .device
             .push_error_scope(wgpu::ErrorFilter::Validation);
         self.frame_counter += 1;
+        self.work.frames += 1;
         let slot = self.probes.acquire(self.frame_counter, request.stats);
         let mut encoder = self
             .ctx
@@ -576,12 +597,14 @@ impl VolumeRenderer {
         };
         // validate() admitted only sizes the pyramid has.
         let leaf = leap.pyramid.level_of_block(settings.block_vox).unwrap_or(0) as u32;
-        leap.build_minmax(
+        if leap.build_minmax(
             &self.ctx,
             &self.leap_pipelines,
             &volume.texture.view,
             encoder,
-        );
+        ) {
+            self.work.minmax_builds += 1;
+        }
         let levels = LeapLevels {
             leaf_level: leaf,
             level_count: leap.level_count(),
@@ -604,12 +627,19 @@ impl VolumeRenderer {
                 encoder,
                 ts,
             );
+            self.work.flag_builds += 1;
         }
         if need_distance {
             let ts = slot.and_then(|s| self.probes.rebuild_timestamps(s, !need_flags, true));
             leap.build_distance(&self.ctx, &self.leap_pipelines, leaf, encoder, ts);
+            self.work.distance_builds += 1;
         }
         levels
+    }
+
+    /// What work the renderer has done so far.
+    pub fn work_counts(&self) -> WorkCounts {
+        self.work
     }
 
     /// The loaded volume's camera-independent description: dims, spacing.
