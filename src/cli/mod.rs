@@ -2,6 +2,7 @@
 //! (a bad volume or transfer-function file) are [`Failure::BadInput`] and exit with status 2.
 
 pub mod args;
+mod bench;
 mod info;
 mod render;
 
@@ -34,6 +35,7 @@ pub fn run(command: Command, raw: &args::RawArgs) -> Result<(), Failure> {
     match command {
         Command::Render(args) => render::run(*args, raw),
         Command::Info(args) => info::run(args, raw),
+        Command::Bench(args) => bench::run(*args),
     }
 }
 
