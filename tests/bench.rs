@@ -66,14 +66,21 @@ fn quick_bench_writes_consistent_outputs() {
     assert!(tables.contains("Table 1") && tables.contains("Table 2"));
     for png in ["frame_time.png", "block_size.png", "time_vs_samples.png"] {
         let img = image::open(out.join(png)).unwrap_or_else(|e| panic!("{png}: {e}"));
-        assert!(img.width() > 100 && img.height() > 100, "{png} is too small");
+        assert!(
+            img.width() > 100 && img.height() > 100,
+            "{png} is too small"
+        );
     }
 
     // Runs: 4 strategies × 2 paths, plus the sweep: 2 leaping strategies × 2 paths × 2 blocks.
     let runs = 4 * 2 + 2 * 2 * SWEEP.len();
     assert_eq!(results.runs.len(), runs);
     let csv = read(&out.join("frames.csv"));
-    assert_eq!(csv.lines().count(), 1 + runs * VIEWS, "header + one row per view");
+    assert_eq!(
+        csv.lines().count(),
+        1 + runs * VIEWS,
+        "header + one row per view"
+    );
 
     // Table 1 follows from the frames: fps = 1000 / median ms, speed-up = (s − t) / t.
     assert_eq!(summary.table1.len(), 2, "one row per path");
@@ -111,7 +118,15 @@ fn quick_bench_writes_consistent_outputs() {
             .expect("run")
     };
     assert!(spp("RC-s") < spp("RC-t"), "RC-s must skip empty space");
-    assert_eq!(summary.image_checks.len(), 2 * 2, "2 paths × 2 leaping variants");
-    assert_eq!(summary.image_check_failures, 0, "{:?}", summary.image_checks);
+    assert_eq!(
+        summary.image_checks.len(),
+        2 * 2,
+        "2 paths × 2 leaping variants"
+    );
+    assert_eq!(
+        summary.image_check_failures, 0,
+        "{:?}",
+        summary.image_checks
+    );
     assert_eq!(summary.rebuilds.len(), 2);
 }

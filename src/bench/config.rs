@@ -197,11 +197,11 @@ impl BenchConfig {
         {
             return invalid("block sizes must be 4, 8, 16, 32, 64 or 128");
         }
-        let sizes = self
+        let mut sizes = self
             .resolutions
             .iter()
             .chain([&self.image_check_size, &self.block_sweep.resolution]);
-        if sizes.clone().any(|s| s.contains(&0)) {
+        if sizes.any(|s| s.contains(&0)) {
             return invalid("image sizes must not have a zero side");
         }
         for (i, d) in self.datasets.iter().enumerate() {

@@ -91,6 +91,13 @@ pub fn markdown(summary: &Summary) -> String {
             "**Quick run** (few views, small images, a subset of datasets and modes): for checking that the benchmark works, not for comparing GPUs.\n"
         );
     }
+    if env.device_type == "Cpu" {
+        let _ = writeln!(
+            md,
+            "**Rendered by a CPU driver ({}): these are CPU times, not GPU times.**\n",
+            env.driver
+        );
+    }
     let failures = summary.image_check_failures;
     if failures > 0 {
         let _ = writeln!(
