@@ -6,6 +6,7 @@
 
 pub mod accel;
 pub mod app;
+pub mod bench;
 pub mod camera;
 pub mod imaging;
 pub mod reference;

@@ -28,6 +28,8 @@ pub enum Command {
     Render(Box<RenderArgs>),
     /// Print a volume's dimensions, spacing, type, value range and histogram summary.
     Info(InfoArgs),
+    /// Benchmark strategies, modes and paths on the configured datasets (Tables 1 and 2).
+    Bench(Box<super::bench::BenchArgs>),
 }
 
 /// How to read a headerless raw file.

@@ -1,7 +1,8 @@
-//! The command line: `render` and `info` (the window is opened from `main`). Input problems
+//! The command line: `render`, `bench` and `info` (the window is opened from `main`). Input problems
 //! (a bad volume or transfer-function file) are [`Failure::BadInput`] and exit with status 2.
 
 pub mod args;
+mod bench;
 pub mod effect_args;
 mod info;
 mod render;
@@ -35,6 +36,7 @@ pub fn run(command: Command, raw: &args::RawArgs) -> Result<(), Failure> {
     match command {
         Command::Render(args) => render::run(*args, raw),
         Command::Info(args) => info::run(args, raw),
+        Command::Bench(args) => bench::run(*args),
     }
 }
 

@@ -33,6 +33,29 @@ pub struct FrameCounters {
     pub leaps: u64,
 }
 
+impl FrameCounters {
+    /// Samples per pixel of a `size` image (frames' counters summed: per pixel and frame
+    /// when `frames` > 1).
+    pub fn samples_per_pixel(&self, size: [u32; 2], frames: usize) -> f64 {
+        let pixels = size[0] as f64 * size[1] as f64 * frames.max(1) as f64;
+        self.samples as f64 / pixels.max(1.0)
+    }
+
+    /// Samples taken over the samples with non-zero opacity (the oracle a perfect leaping
+    /// scheme would take); 1 means no sample was wasted. `None` when nothing was visible.
+    pub fn oracle_ratio(&self) -> Option<f64> {
+        (self.visible_samples > 0).then(|| self.samples as f64 / self.visible_samples as f64)
+    }
+
+    /// Adds `other`'s counts (to total several frames).
+    pub fn add(&mut self, other: &Self) {
+        self.samples += other.samples;
+        self.visible_samples += other.visible_samples;
+        self.rays += other.rays;
+        self.leaps += other.leaps;
+    }
+}
+
 /// What came back for one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameResults {

@@ -1,0 +1,39 @@
+//! `leapview bench` flags.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use leapview::render::{Mode, RenderPath, Strategy};
+
+/// `leapview bench`: Tables 1 and 2 of the paper, rebuild times and an image check.
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Benchmark configuration (JSON).
+    #[arg(long, default_value = "bench/config.json")]
+    pub config: PathBuf,
+    /// Folder holding the configuration's volume files.
+    #[arg(long, default_value = "../shared/data")]
+    pub data_dir: PathBuf,
+    /// Output folder (default `docs/benchmarks/<adapter>[-quick]`).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Few views, small images, a subset of datasets and modes (for CPU drivers and CI).
+    #[arg(long)]
+    pub quick: bool,
+    /// Only these datasets (names from the configuration, comma-separated).
+    #[arg(long, value_delimiter = ',')]
+    pub datasets: Option<Vec<String>>,
+    /// Only these modes.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub modes: Option<Vec<Mode>>,
+    /// Only these strategies.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub strategies: Option<Vec<Strategy>>,
+    /// Only these paths.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub paths: Option<Vec<RenderPath>>,
+    /// Render nothing: merge the `frames.json` of these earlier output folders (comma-separated)
+    /// and write the report into --out.
+    #[arg(long, value_delimiter = ',', conflicts_with_all = ["quick", "datasets", "modes", "strategies", "paths"])]
+    pub merge: Option<Vec<PathBuf>>,
+}

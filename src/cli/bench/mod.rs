@@ -1,0 +1,219 @@
+//! `leapview bench`: the paper's Tables 1 and 2 on the configured datasets, the rebuild time
+//! after a transfer-function change and an image check of every leaping variant against RC-t.
+//! Results are written after each dataset, so an interrupted run keeps what it measured.
+
+pub mod args;
+mod checks;
+mod datasets;
+mod output;
+mod plots;
+mod progress;
+mod run;
+
+use std::path::{Path, PathBuf};
+
+use leapview::bench::record::{Environment, Skipped};
+use leapview::bench::{BenchConfig, BenchResults, Filters};
+use leapview::camera::Aabb;
+use leapview::render::{GpuContext, VolumeRenderer};
+
+pub use args::BenchArgs;
+
+use super::Failure;
+use progress::Progress;
+
+/// Runs the command.
+pub fn run(args: BenchArgs) -> Result<(), Failure> {
+    if let Some(dirs) = &args.merge {
+        let out = args
+            .out
+            .clone()
+            .ok_or_else(|| Failure::BadInput(anyhow::anyhow!("--merge needs --out")))?;
+        let results = output::merge(dirs).map_err(Failure::BadInput)?;
+        let summary = output::write_all(&out, &results, true)?;
+        return finish(&out, &summary);
+    }
+    let mut config = BenchConfig::load(&args.config).map_err(|e| Failure::BadInput(e.into()))?;
+    if args.quick {
+        config.quick();
+    }
+    let filters = Filters {
+        datasets: args.datasets.clone(),
+        modes: args.modes.clone(),
+        strategies: args.strategies.clone(),
+        paths: args.paths.clone(),
+    };
+    config
+        .narrow(&filters)
+        .map_err(|e| Failure::BadInput(e.into()))?;
+    let config_dir = args.config.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
+    let environment = environment(&ctx, args.quick);
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| default_out(&environment));
+    let max_3d = ctx.limits.max_texture_dimension_3d;
+    let mut renderer = VolumeRenderer::new(ctx).map_err(|e| Failure::Other(e.into()))?;
+    let mut results = BenchResults {
+        environment,
+        ..BenchResults::default()
+    };
+    eprintln!(
+        "leapview bench on {} → {}",
+        results.environment.adapter,
+        out.display()
+    );
+    let units: usize = config
+        .datasets
+        .iter()
+        .map(|d| run::plan(&config, d).len() + 1)
+        .sum();
+    let mut progress = Progress::new(units as u64);
+    for spec in &config.datasets {
+        let runs = run::plan(&config, spec);
+        progress.show(&format!("{}: loading", spec.name));
+        let skip = |reason: String| Skipped {
+            dataset: spec.name.clone(),
+            reason,
+            optional: spec.optional,
+        };
+        let loaded = match datasets::load(spec, &args.data_dir, &config_dir, max_3d) {
+            Ok(l) => l,
+            Err(e) => {
+                progress.note(&format!("skipping {}: {e:#}", spec.name));
+                results.skipped.push(skip(format!("{e:#}")));
+                progress.advance(runs.len() as u64 + 1);
+                continue;
+            }
+        };
+        if let Err(e) = renderer.set_volume(&loaded.volume) {
+            progress.note(&format!("skipping {}: {e}", spec.name));
+            results.skipped.push(skip(e.to_string()));
+            progress.advance(runs.len() as u64 + 1);
+            continue;
+        }
+        renderer.set_transfer_function(&loaded.tf);
+        let bounds = Aabb::of_volume(loaded.volume.dims(), loaded.volume.spacing_mm());
+        let cameras = run::orbit(&bounds, config.views, config.elevation_deg);
+        results.datasets.push(loaded.info);
+        for planned in &runs {
+            let s = &planned.settings;
+            progress.show(&format!(
+                "{} {} {} {:?} {}×{}{}",
+                spec.name,
+                s.mode.label(),
+                s.strategy.label(),
+                s.path,
+                planned.size[0],
+                planned.size[1],
+                if planned.sweep {
+                    format!(" block {}", s.block_vox)
+                } else {
+                    String::new()
+                }
+            ));
+            match run::measure(
+                &mut renderer,
+                &spec.name,
+                &spec.tf,
+                planned,
+                &cameras,
+                config.warmup_frames,
+            ) {
+                Ok(record) => results.runs.push(record),
+                Err(e) => {
+                    let what = format!(
+                        "{} {} {:?} {}×{}: {e}",
+                        s.mode.label(),
+                        s.strategy.label(),
+                        s.path,
+                        planned.size[0],
+                        planned.size[1]
+                    );
+                    progress.note(&format!("{}: {what}", spec.name));
+                    results.skipped.push(skip(what));
+                }
+            }
+            progress.advance(1);
+        }
+        progress.show(&format!("{}: rebuild times and image check", spec.name));
+        let camera = &cameras[0].0;
+        let checked =
+            checks::rebuilds(&mut renderer, &config, spec, &loaded.tf, camera).and_then(|r| {
+                results.rebuilds.extend(r);
+                checks::image_checks(&mut renderer, &config, spec, camera)
+            });
+        match checked {
+            Ok(c) => results.image_checks.extend(c),
+            Err(e) => results
+                .skipped
+                .push(skip(format!("rebuild/image check: {e}"))),
+        }
+        progress.advance(1);
+        output::write_all(&out, &results, false)?;
+    }
+    progress.finish();
+    let summary = output::write_all(&out, &results, true)?;
+    finish(&out, &summary)
+}
+
+/// Prints where the results are and fails loudly when an image check failed.
+fn finish(out: &Path, summary: &leapview::bench::Summary) -> Result<(), Failure> {
+    eprintln!("results in {}", out.display());
+    for s in summary.skipped.iter().filter(|s| !s.optional) {
+        eprintln!("FAILED: {}: {}", s.dataset, s.reason);
+    }
+    if summary.image_check_failures > 0 {
+        return Err(Failure::Other(anyhow::anyhow!(
+            "IMAGE CHECK FAILED: {} of {} leaping images differ from RC-t by more than 1/255 (see {})",
+            summary.image_check_failures,
+            summary.image_checks.len(),
+            out.join("tables.md").display()
+        )));
+    }
+    eprintln!(
+        "image check: all {} leaping images within 1/255 of RC-t",
+        summary.image_checks.len()
+    );
+    Ok(())
+}
+
+fn environment(ctx: &GpuContext, quick: bool) -> Environment {
+    let i = &ctx.adapter_info;
+    Environment {
+        adapter: i.name.clone(),
+        device_type: format!("{:?}", i.device_type),
+        backend: format!("{:?}", i.backend),
+        driver: i.driver.clone(),
+        driver_info: i.driver_info.clone(),
+        gpu_timestamps: ctx.has_timestamps(),
+        command_line: std::env::args().collect::<Vec<_>>().join(" "),
+        quick,
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        started_unix_s: std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs()),
+    }
+}
+
+/// `docs/benchmarks/<adapter name as a slug>[-quick]`.
+fn default_out(env: &Environment) -> PathBuf {
+    let mut slug: String = env
+        .adapter
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
+        .collect();
+    while slug.contains("--") {
+        slug = slug.replace("--", "-");
+    }
+    let slug = slug.trim_matches('-');
+    let suffix = if env.quick { "-quick" } else { "" };
+    PathBuf::from("docs/benchmarks").join(format!("{slug}{suffix}"))
+}

@@ -1,0 +1,189 @@
+//! The run loop: for one dataset, every mode × strategy × path × resolution (and the block-size
+//! sweep) over an orbit of views, after a warm-up; a timing pass and a separate statistics pass
+//! (the counting variants are slower, so they are never timed as the frame time).
+
+use std::time::Instant;
+
+use glam::DVec3;
+use leapview::bench::BenchConfig;
+use leapview::bench::config::DatasetSpec;
+use leapview::bench::record::{FrameRecord, RunKey, RunRecord};
+use leapview::camera::{Aabb, Camera, ProjectionKind, orbit_direction};
+use leapview::render::effects::{IsoSettings, Shading};
+use leapview::render::{
+    FrameRequest, FrameResults, Mode, RenderError, RenderPath, RenderSettings, Strategy,
+    VolumeRenderer,
+};
+
+/// One run to do.
+#[derive(Clone, Copy, Debug)]
+pub struct Planned {
+    /// Settings of every frame.
+    pub settings: RenderSettings,
+    /// Image size.
+    pub size: [u32; 2],
+    /// Whether it belongs to the block-size sweep.
+    pub sweep: bool,
+}
+
+/// The settings of `spec` under `mode`, `strategy`, `path` and `block_vox`.
+pub fn settings_for(
+    config: &BenchConfig,
+    spec: &DatasetSpec,
+    (mode, strategy, path): (Mode, Strategy, RenderPath),
+    block_vox: u32,
+) -> RenderSettings {
+    RenderSettings {
+        mode,
+        strategy,
+        path,
+        step_vox: config.step_vox,
+        block_vox,
+        shading: if config.phong {
+            Shading::Phong
+        } else {
+            Shading::Off
+        },
+        iso: IsoSettings {
+            value: spec.iso_value,
+            ..IsoSettings::default()
+        },
+        window: spec.window,
+        ..RenderSettings::default()
+    }
+}
+
+/// Every run of `spec`: the main matrix, then its part of the block-size sweep.
+pub fn plan(config: &BenchConfig, spec: &DatasetSpec) -> Vec<Planned> {
+    let mut runs = Vec::new();
+    for &size in &config.resolutions {
+        for &mode in &config.modes {
+            for &path in &config.paths {
+                for &strategy in &config.strategies {
+                    if BenchConfig::runs_in(strategy, mode) {
+                        let settings =
+                            settings_for(config, spec, (mode, strategy, path), config.block_vox);
+                        runs.push(Planned {
+                            settings,
+                            size,
+                            sweep: false,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    let sweep = &config.block_sweep;
+    if sweep.datasets.contains(&spec.name) {
+        for &mode in &sweep.modes {
+            for &path in &config.paths {
+                for &strategy in config.strategies.iter().filter(|s| s.leaps()) {
+                    if !BenchConfig::runs_in(strategy, mode) {
+                        continue;
+                    }
+                    for &block in &sweep.sizes {
+                        runs.push(Planned {
+                            settings: settings_for(config, spec, (mode, strategy, path), block),
+                            size: sweep.resolution,
+                            sweep: true,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    runs
+}
+
+/// The orbit: `views` cameras around the volume at `elevation_deg`, each framing it, and their
+/// azimuths in degrees.
+pub fn orbit(bounds: &Aabb, views: u32, elevation_deg: f64) -> Vec<(Camera, f64)> {
+    (0..views)
+        .map(|v| {
+            let azimuth = 360.0 * v as f64 / views as f64;
+            let dir = orbit_direction(azimuth, elevation_deg);
+            let camera = Camera::framing(bounds, dir, DVec3::Z, ProjectionKind::Perspective);
+            (camera, azimuth)
+        })
+        .collect()
+}
+
+/// Renders one frame and waits; the time is the GPU's where the adapter has timestamp queries,
+/// else the CPU's wall clock around submission and wait. Also returns the path that ran.
+pub fn timed_frame(
+    renderer: &mut VolumeRenderer,
+    request: &FrameRequest,
+) -> Result<(f64, FrameResults, String), RenderError> {
+    let start = Instant::now();
+    let (submitted, results) = renderer.render_and_wait(request)?;
+    let ms = results
+        .gpu_ms
+        .unwrap_or_else(|| start.elapsed().as_secs_f64() * 1e3);
+    let path = format!("{:?}", submitted.key.path).to_lowercase();
+    Ok((ms, results, path))
+}
+
+/// Runs `planned` over `cameras` after `warmup` frames: the timing pass, then the statistics
+/// pass (itself warmed up once so that building its pipeline is not in the first frame).
+pub fn measure(
+    renderer: &mut VolumeRenderer,
+    dataset: &str,
+    tf: &str,
+    planned: &Planned,
+    cameras: &[(Camera, f64)],
+    warmup: u32,
+) -> Result<RunRecord, RenderError> {
+    let request = |camera, stats| FrameRequest {
+        camera,
+        size: planned.size,
+        settings: &planned.settings,
+        stats,
+    };
+    let Some((first, _)) = cameras.first() else {
+        return Err(RenderError::NoVolume);
+    };
+    let mut path = String::new();
+    for _ in 0..warmup.max(1) {
+        path = timed_frame(renderer, &request(first, false))?.2;
+    }
+    let mut frames = Vec::with_capacity(cameras.len());
+    for (view, (camera, azimuth)) in cameras.iter().enumerate() {
+        let (ms, _, _) = timed_frame(renderer, &request(camera, false))?;
+        frames.push(FrameRecord {
+            view: view as u32,
+            azimuth_deg: *azimuth,
+            ms,
+            stats_ms: None,
+            samples: 0,
+            visible_samples: 0,
+            rays: 0,
+            leaps: 0,
+        });
+    }
+    timed_frame(renderer, &request(first, true))?;
+    for (frame, (camera, _)) in frames.iter_mut().zip(cameras) {
+        let (ms, results, _) = timed_frame(renderer, &request(camera, true))?;
+        let c = results.counters.unwrap_or_default();
+        frame.stats_ms = Some(ms);
+        frame.samples = c.samples;
+        frame.visible_samples = c.visible_samples;
+        frame.rays = c.rays;
+        frame.leaps = c.leaps;
+    }
+    let s = &planned.settings;
+    Ok(RunRecord {
+        key: RunKey {
+            dataset: dataset.to_string(),
+            mode: s.mode.label().to_string(),
+            strategy: s.strategy.label().to_string(),
+            path,
+            width: planned.size[0],
+            height: planned.size[1],
+            block_vox: s.block_vox,
+            sweep: planned.sweep,
+        },
+        step_vox: s.step_vox,
+        tf: tf.to_string(),
+        frames,
+    })
+}

@@ -1,0 +1,132 @@
+//! `leapview bench` end to end on a tiny generated vessel tree: the outputs exist and parse,
+//! Table 1's speed-ups follow from the measured frame times, `frames.csv` has a row per view of
+//! every run, and leaping passes the image check.
+
+mod common;
+
+use std::process::Command;
+
+use leapview::bench::stats::median;
+use leapview::bench::{BenchResults, Summary, speed_up};
+
+/// Views per run and block sizes swept by the test configuration.
+const VIEWS: usize = 3;
+const SWEEP: [u32; 2] = [4, 8];
+
+fn config_json() -> String {
+    serde_json::json!({
+        "datasets": [{
+            "name": "tiny_vessels",
+            "source": {"kind": "vessel-tree", "n": 32, "seed": 7},
+            "tf": "mr-angio",
+            "why": "vessels preset for an angiogram-like volume"
+        }],
+        "modes": ["dvr"],
+        "strategies": ["rc", "rc-t", "rc-s", "rc-s-df"],
+        "paths": ["compute", "fragment"],
+        "resolutions": [[40, 32]],
+        "views": VIEWS,
+        "elevation_deg": 20,
+        "warmup_frames": 1,
+        "step_vox": 0.5,
+        "block_vox": 8,
+        "phong": true,
+        "rebuild_repeats": 2,
+        "image_check_size": [40, 32],
+        "block_sweep": {"datasets": ["tiny_vessels"], "sizes": SWEEP, "modes": ["dvr"], "resolution": [40, 32]}
+    })
+    .to_string()
+}
+
+fn read(path: &std::path::Path) -> String {
+    std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+#[test]
+fn quick_bench_writes_consistent_outputs() {
+    let dir = common::TempDir::new("bench");
+    let config = dir.write("config.json", config_json().as_bytes());
+    let out = dir.path().join("out");
+    let status = Command::new(env!("CARGO_BIN_EXE_leapview"))
+        .args(["bench", "--config"])
+        .arg(&config)
+        .arg("--data-dir")
+        .arg(dir.path())
+        .arg("--out")
+        .arg(&out)
+        .status()
+        .expect("run leapview bench");
+    assert!(status.success(), "leapview bench failed: {status}");
+
+    let results: BenchResults =
+        serde_json::from_str(&read(&out.join("frames.json"))).expect("frames.json parses");
+    let summary: Summary =
+        serde_json::from_str(&read(&out.join("summary.json"))).expect("summary.json parses");
+    let tables = read(&out.join("tables.md"));
+    assert!(tables.contains("Table 1") && tables.contains("Table 2"));
+    for png in ["frame_time.png", "block_size.png", "time_vs_samples.png"] {
+        let img = image::open(out.join(png)).unwrap_or_else(|e| panic!("{png}: {e}"));
+        assert!(
+            img.width() > 100 && img.height() > 100,
+            "{png} is too small"
+        );
+    }
+
+    // Runs: 4 strategies × 2 paths, plus the sweep: 2 leaping strategies × 2 paths × 2 blocks.
+    let runs = 4 * 2 + 2 * 2 * SWEEP.len();
+    assert_eq!(results.runs.len(), runs);
+    let csv = read(&out.join("frames.csv"));
+    assert_eq!(
+        csv.lines().count(),
+        1 + runs * VIEWS,
+        "header + one row per view"
+    );
+
+    // Table 1 follows from the frames: fps = 1000 / median ms, speed-up = (s − t) / t.
+    assert_eq!(summary.table1.len(), 2, "one row per path");
+    for row in &summary.table1 {
+        let fps_of = |strategy: &str| {
+            let run = results
+                .runs
+                .iter()
+                .find(|r| !r.key.sweep && r.key.path == row.path && r.key.strategy == strategy)
+                .unwrap_or_else(|| panic!("no {strategy} run on {}", row.path));
+            let ms: Vec<f64> = run.frames.iter().map(|f| f.ms).collect();
+            1000.0 / median(&ms).expect("frames")
+        };
+        let (rct, rcs) = (fps_of("RC-t"), fps_of("RC-s"));
+        // summary.json went through serde_json, which parses floats to within an ulp or two
+        // (not correctly rounded), so compare with a relative tolerance far above that.
+        let close = |a: Option<f64>, b: f64| {
+            let a = a.expect("value present");
+            assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{a} vs {b}");
+        };
+        close(row.fps[1], rct);
+        close(row.fps[2], rcs);
+        close(row.speed_up_rc_s, (rcs - rct) / rct);
+        close(row.speed_up_rc_s, speed_up(rcs, rct));
+        close(row.ratio_rc_s, rcs / rct);
+    }
+
+    // Leaping takes fewer samples than RC-t on a sparse tree, and never changes the image.
+    let spp = |strategy: &str| {
+        summary
+            .runs
+            .iter()
+            .find(|r| !r.key.sweep && r.key.strategy == strategy)
+            .map(|r| r.samples_per_pixel)
+            .expect("run")
+    };
+    assert!(spp("RC-s") < spp("RC-t"), "RC-s must skip empty space");
+    assert_eq!(
+        summary.image_checks.len(),
+        2 * 2,
+        "2 paths × 2 leaping variants"
+    );
+    assert_eq!(
+        summary.image_check_failures, 0,
+        "{:?}",
+        summary.image_checks
+    );
+    assert_eq!(summary.rebuilds.len(), 2);
+}
