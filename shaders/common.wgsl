@@ -28,6 +28,10 @@ struct Frame {
     window: vec4<f32>,
     // Iso value (normalised), 1 / step in voxels (undoes the LUT's opacity correction), unused.
     iso: vec4<f32>,
+    // Compute-path rays (box coordinates): near-plane point and near-to-far vector of the ray
+    // through NDC (0,0), then their changes per unit of NDC x and y.
+    ray_near: array<vec4<f32>, 3>,
+    ray_dir: array<vec4<f32>, 3>,
 }
 
 // One ray inside the volume: entry (box coordinates), direction in box units per mm and in

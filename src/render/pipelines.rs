@@ -23,7 +23,7 @@ pub const COUNTERS: usize = 4;
 pub enum ConcretePath {
     /// In the fragment shader of the front faces.
     Fragment,
-    /// In a compute shader over rasterised entry/exit points.
+    /// In a compute shader, one invocation per pixel, each intersecting its ray with the box.
     Compute,
 }
 
@@ -161,7 +161,7 @@ pub struct Layouts {
     pub frame: wgpu::BindGroupLayout,
     /// Group 1 of the fragment path: the exit-point texture.
     pub fragment_io: wgpu::BindGroupLayout,
-    /// Group 1 of the compute path: exit and entry points, output image.
+    /// Group 1 of the compute path: the output image.
     pub compute_io: wgpu::BindGroupLayout,
     /// Group 2 of statistics variants: the counters.
     pub stats: wgpu::BindGroupLayout,
@@ -226,20 +226,16 @@ impl Layouts {
         });
         let compute_io = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("compute io"),
-            entries: &[
-                texture_entry(0, wgpu::TextureViewDimension::D2, false, S::COMPUTE),
-                texture_entry(1, wgpu::TextureViewDimension::D2, false, S::COMPUTE),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: S::COMPUTE,
-                    ty: wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: OUTPUT_FORMAT,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                    },
-                    count: None,
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: S::COMPUTE,
+                ty: wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: OUTPUT_FORMAT,
+                    view_dimension: wgpu::TextureViewDimension::D2,
                 },
-            ],
+                count: None,
+            }],
         });
         let stats = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("stats"),
@@ -278,13 +274,11 @@ impl Layouts {
     }
 }
 
-/// The two pipelines that rasterise positions: back faces → exit points, front faces and cap →
-/// entry points.
+/// The pipeline that rasterises the back faces into exit points (pass 1 of the fragment path;
+/// the compute path intersects each ray with the box itself).
 pub struct ProxyPipelines {
-    /// Pass 1, both paths.
+    /// Pass 1 of the fragment path.
     pub exit: wgpu::RenderPipeline,
-    /// Entry points, compute path only.
-    pub entry: wgpu::RenderPipeline,
 }
 
 fn proxy_pipeline(
@@ -329,7 +323,7 @@ fn proxy_pipeline(
 }
 
 impl ProxyPipelines {
-    /// Creates both proxy pipelines.
+    /// Creates the proxy pipeline.
     pub fn new(device: &wgpu::Device, layouts: &Layouts) -> Result<Self, ShaderError> {
         let source = compose("proxy_passes.wgsl", &[])?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -350,15 +344,6 @@ impl ProxyPipelines {
                 POSITION_FORMAT,
                 wgpu::Face::Front,
                 "exit points",
-            ),
-            entry: proxy_pipeline(
-                device,
-                &layout,
-                &module,
-                "fs_entry",
-                POSITION_FORMAT,
-                wgpu::Face::Back,
-                "entry points",
             ),
         })
     }

@@ -170,15 +170,17 @@ impl ProbePool {
         })
     }
 
-    /// Timestamp writes for a compute pass (always the last pass of a frame).
+    /// Timestamp writes for a compute pass (always the last pass of a frame); `first` also
+    /// writes the start (when it is the only pass).
     pub fn compute_timestamps(
         &self,
         slot: &ProbeSlot,
+        first: bool,
     ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
         let q = self.probes[slot.0].queries.as_ref()?;
         Some(wgpu::ComputePassTimestampWrites {
             query_set: q,
-            beginning_of_pass_write_index: None,
+            beginning_of_pass_write_index: first.then_some(0),
             end_of_pass_write_index: Some(1),
         })
     }

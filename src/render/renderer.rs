@@ -297,20 +297,10 @@ impl VolumeRenderer {
         let compute_io = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("compute io"),
             layout: &self.layouts.compute_io,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: view(&targets.exit),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: view(&targets.entry),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: view(&targets.output_view),
-                },
-            ],
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: view(&targets.output_view),
+            }],
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RenderError::Gpu(format!(
@@ -411,21 +401,21 @@ impl VolumeRenderer {
             slot.as_ref()
                 .and_then(|s| self.probes.render_timestamps(s, first, last))
         };
-        // Pass 1: back faces → exit points.
-        {
-            let mut pass = begin_pass(
-                &mut encoder,
-                &targets.exit,
-                wgpu::Color::TRANSPARENT,
-                timestamps(true, false),
-                "exit points",
-            );
-            pass.set_pipeline(&self.proxy.exit);
-            pass.set_bind_group(0, frame_group, &[]);
-            pass.draw(0..36, 0..1);
-        }
         match pipeline {
             RaycastPipeline::Fragment(raycast) => {
+                // Pass 1: back faces → exit points.
+                {
+                    let mut pass = begin_pass(
+                        &mut encoder,
+                        &targets.exit,
+                        wgpu::Color::TRANSPARENT,
+                        timestamps(true, false),
+                        "exit points",
+                    );
+                    pass.set_pipeline(&self.proxy.exit);
+                    pass.set_bind_group(0, frame_group, &[]);
+                    pass.draw(0..36, 0..1);
+                }
                 // Pass 2: front faces (and the near cap) run the ray loop.
                 let mut pass = begin_pass(
                     &mut encoder,
@@ -446,23 +436,12 @@ impl VolumeRenderer {
                 pass.draw(proxy_vertices, 0..1);
             }
             RaycastPipeline::Compute(raycast) => {
-                {
-                    let mut pass = begin_pass(
-                        &mut encoder,
-                        &targets.entry,
-                        wgpu::Color::TRANSPARENT,
-                        None,
-                        "entry points",
-                    );
-                    pass.set_pipeline(&self.proxy.entry);
-                    pass.set_bind_group(0, frame_group, &[]);
-                    pass.draw(proxy_vertices, 0..1);
-                }
+                // One pass: each invocation intersects its ray with the box.
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("ray cast"),
                     timestamp_writes: slot
                         .as_ref()
-                        .and_then(|s| self.probes.compute_timestamps(s)),
+                        .and_then(|s| self.probes.compute_timestamps(s, true)),
                 });
                 pass.set_pipeline(raycast);
                 pass.set_bind_group(0, frame_group, &[]);

@@ -1,5 +1,5 @@
-//! Textures whose size follows the viewport: the exit- and entry-point textures and the output
-//! image, recreated only when the size changes.
+//! Textures whose size follows the viewport: the exit-point texture (fragment path) and the
+//! output image, recreated only when the size changes.
 
 use super::pipelines::{OUTPUT_FORMAT, POSITION_FORMAT};
 
@@ -9,8 +9,6 @@ pub struct Targets {
     pub size: [u32; 2],
     /// Exit points from the back faces (box coordinates, w = 1 where covered).
     pub exit: wgpu::TextureView,
-    /// Entry points from the front faces and cap (compute path).
-    pub entry: wgpu::TextureView,
     /// The rendered image.
     pub output: wgpu::Texture,
     /// A view of `output`.
@@ -61,13 +59,6 @@ impl Targets {
                 POSITION_FORMAT,
                 positions,
                 "exit points",
-            )),
-            entry: view(texture(
-                device,
-                size,
-                POSITION_FORMAT,
-                positions,
-                "entry points",
             )),
             output_view: output.create_view(&wgpu::TextureViewDescriptor::default()),
             output,

@@ -60,9 +60,16 @@ pub struct FrameUniforms {
     pub window: [f32; 4],
     /// Iso value (normalised), the reciprocal of the step in voxels; the rest unused.
     pub iso: [f32; 4],
+    /// The pixel rays of the compute path (box coordinates, w unused): the near-plane point of
+    /// the ray through NDC `(x, y)` is `near[0] + x·near[1] + y·near[2]`, and the ray runs to
+    /// the far plane along `dir[0] + x·dir[1] + y·dir[2]` (both affine in x and y for either
+    /// projection; computed in f64 so no f32 unprojection loses digits).
+    pub ray_near: [[f32; 4]; 3],
+    /// See `ray_near`.
+    pub ray_dir: [[f32; 4]; 3],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 304);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 400);
 
 /// The camera-dependent geometry of a frame, in f64.
 #[derive(Clone, Copy, Debug)]
@@ -71,6 +78,10 @@ pub struct FrameGeometry {
     pub clip_from_box: DMat4,
     /// Whether the near plane cuts the box, so some rays start on it rather than on a front face.
     pub needs_near_cap: bool,
+    /// Near-plane point of the ray through NDC (0,0), and its change per unit of x and y.
+    pub ray_near: [DVec3; 3],
+    /// Near-to-far-plane vector of the ray through NDC (0,0), and its change per unit of x, y.
+    pub ray_dir: [DVec3; 3],
 }
 
 impl FrameGeometry {
@@ -86,9 +97,16 @@ impl FrameGeometry {
             .iter()
             .map(|&c| -view.transform_point3(c).z)
             .fold(f64::INFINITY, f64::min);
+        let box_from_clip = clip_from_box.inverse();
+        let at = |x: f64, y: f64, z: f64| box_from_clip.project_point3(DVec3::new(x, y, z));
+        let near_at = |x, y| at(x, y, 0.0);
+        let dir_at = |x, y| at(x, y, 1.0) - at(x, y, 0.0);
+        let (n0, d0) = (near_at(0.0, 0.0), dir_at(0.0, 0.0));
         Self {
             clip_from_box,
             needs_near_cap: nearest <= near,
+            ray_near: [n0, near_at(1.0, 0.0) - n0, near_at(0.0, 1.0) - n0],
+            ray_dir: [d0, dir_at(1.0, 0.0) - d0, dir_at(0.0, 1.0) - d0],
         }
     }
 }
@@ -146,6 +164,12 @@ pub fn frame_uniforms(
         volume_dims: [dims[0] as f32, dims[1] as f32, dims[2] as f32, 0.0],
         leaf_level: leap.leaf_level,
         level_count: leap.level_count,
+        ray_near: geometry
+            .ray_near
+            .map(|v| [v.x as f32, v.y as f32, v.z as f32, 0.0]),
+        ray_dir: geometry
+            .ray_dir
+            .map(|v| [v.x as f32, v.y as f32, v.z as f32, 0.0]),
         iso_refine: settings.iso.refine_iterations,
         pad: 0,
         spacing_mm: [
