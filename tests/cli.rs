@@ -275,7 +275,7 @@ fn every_mode_and_its_parameters_reach_the_renderer() {
         &["--light", "0,0,0"],
         &["--phong", "1,1,1"],
         &["--iso-refine", "99", "--mode", "iso"],
-        &["--mode", "mip", "--strategy", "rc-s-df"],
+        &["--block", "12"],
     ] {
         let out = dir.path().join("bad.png");
         let mut args = vec!["render", data, "--out", out.to_str().expect("utf-8")];

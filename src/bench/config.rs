@@ -284,8 +284,7 @@ impl BenchConfig {
     /// Whether `strategy` can run in `mode` (the distance field leaps by the transfer function
     /// or the window, so it exists for DVR and the X-ray modes only).
     pub fn runs_in(strategy: Strategy, mode: Mode) -> bool {
-        strategy != Strategy::RcSDistance
-            || matches!(mode, Mode::Dvr | Mode::Xray | Mode::XrayAttenuation)
+        strategy.for_mode(mode) == strategy
     }
 }
 

@@ -61,7 +61,7 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value = "dvr")]
     pub mode: Mode,
     /// Ray-casting strategy.
-    #[arg(long, value_enum, default_value = "rc-t")]
+    #[arg(long, value_enum, default_value = "rc-s-df")]
     pub strategy: Strategy,
     /// Where the ray loop runs; `auto` times both once and picks the faster.
     #[arg(long, value_enum, default_value = "auto")]

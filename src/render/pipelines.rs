@@ -58,7 +58,7 @@ impl PipelineKey {
         };
         Self {
             mode: settings.mode,
-            strategy: settings.strategy,
+            strategy: settings.strategy.for_mode(settings.mode),
             path,
             stats,
             shading,

@@ -588,7 +588,7 @@ impl VolumeRenderer {
             leaf_level: leaf,
             level_count: leap.level_count(),
         };
-        let distance = settings.strategy == Strategy::RcSDistance;
+        let distance = settings.strategy.for_mode(settings.mode) == Strategy::RcSDistance;
         let rule = match settings.mode {
             Mode::Dvr => FlagRule::Transfer(self.transfer_generation),
             Mode::Xray | Mode::XrayAttenuation if distance => FlagRule::AtMost(window_lo.to_bits()),

@@ -106,7 +106,7 @@ impl ViewerState {
     pub fn render_settings(&self) -> RenderSettings {
         let mut settings = RenderSettings {
             mode: self.mode,
-            strategy: self.strategy_in_use(),
+            strategy: self.strategy,
             path: self.path,
             step_vox: self.step_vox,
             termination_alpha: self.termination_alpha,
@@ -121,12 +121,7 @@ impl ViewerState {
     /// The strategy frames use: the chosen one, or RC-s where the mode cannot use the
     /// distance field.
     pub fn strategy_in_use(&self) -> Strategy {
-        let df_modes = matches!(self.mode, Mode::Dvr | Mode::Xray | Mode::XrayAttenuation);
-        if self.strategy == Strategy::RcSDistance && !df_modes {
-            Strategy::RcS
-        } else {
-            self.strategy
-        }
+        self.strategy.for_mode(self.mode)
     }
 }
 
