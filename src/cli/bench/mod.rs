@@ -22,6 +22,9 @@ pub use args::BenchArgs;
 use super::Failure;
 use progress::Progress;
 
+/// Warm-up frames of a dataset's first run, right after its upload.
+const SETTLE_FRAMES: u32 = 30;
+
 /// Runs the command.
 pub fn run(args: BenchArgs) -> Result<(), Failure> {
     if let Some(dirs) = &args.merge {
@@ -97,7 +100,7 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
         let bounds = Aabb::of_volume(loaded.volume.dims(), loaded.volume.spacing_mm());
         let cameras = run::orbit(&bounds, config.views, config.elevation_deg);
         results.datasets.push(loaded.info);
-        for planned in &runs {
+        for (index, planned) in runs.iter().enumerate() {
             let s = &planned.settings;
             progress.show(&format!(
                 "{} {} {} {:?} {}×{}{}",
@@ -119,7 +122,13 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
                 &spec.tf,
                 planned,
                 &cameras,
-                config.warmup_frames,
+                // The first run after an upload warms up longer: on the H100 three frames
+                // were not enough right after a 512³ upload (its first run came out 2–3× slow).
+                if index == 0 {
+                    config.warmup_frames.max(SETTLE_FRAMES)
+                } else {
+                    config.warmup_frames
+                },
             ) {
                 Ok(record) => results.runs.push(record),
                 Err(e) => {
