@@ -26,7 +26,8 @@ struct Frame {
     light: vec4<f32>,
     // Window lo, hi (normalised values), MIP saturation value, X-ray density per mm.
     window: vec4<f32>,
-    // Iso value (normalised), 1 / step in voxels (undoes the LUT's opacity correction), unused.
+    // Iso value (normalised), 1 / step in voxels (undoes the LUT's opacity correction), 1 for
+    // jittered ray starts, unused.
     iso: vec4<f32>,
     // Compute-path rays (box coordinates): near-plane point and near-to-far vector of the ray
     // through NDC (0,0), then their changes per unit of NDC x and y.
@@ -38,6 +39,8 @@ struct Frame {
 // world space, length in mm, number of grid samples.
 struct Ray {
     entry: vec3<f32>,
+    // First sample at (k + offset) * step.
+    offset: f32,
     box_per_mm: vec3<f32>,
     dir_world: vec3<f32>,
     length_mm: f32,
@@ -52,3 +55,22 @@ const SAMPLE_CONTRIBUTED: u32 = 2u;
 @group(0) @binding(1) var volume_tex: texture_3d<f32>;
 @group(0) @binding(2) var linear_clamp: sampler;
 @group(0) @binding(3) var lut_tex: texture_2d<f32>;
+
+// The jittered first-sample offset of a pixel in [0, 1): the same hash as `pixel_jitter` in
+// src/sampling.rs, bit for bit (u32 arithmetic wraps in both).
+fn pixel_jitter(px: vec2<u32>) -> f32 {
+    var h = px.x * 1973u + px.y * 9277u + 26699u;
+    h = (h ^ (h >> 16u)) * 0x7feb352du;
+    h = (h ^ (h >> 15u)) * 0x846ca68bu;
+    h = h ^ (h >> 16u);
+    return f32(h >> 8u) / 16777216.0;
+}
+
+// Where the first sample of pixel `px`'s ray lies within its first step.
+fn sample_offset_of(px: vec2<u32>) -> f32 {
+    if frame.iso.z > 0.5 {
+        return pixel_jitter(px);
+    }
+    return frame.sample_offset;
+}
+

@@ -51,10 +51,12 @@ struct LeapRay {
     box_per_mm: vec3<f32>,
     // The leaf block of the last sample that was looked up.
     block: vec3<u32>,
+    // The ray's first-sample offset (Ray.offset).
+    offset: f32,
 }
 
-fn leap_ray(entry: vec3<f32>, box_per_mm: vec3<f32>) -> LeapRay {
-    return LeapRay(entry, box_per_mm, vec3<u32>(0xffffffffu));
+fn leap_ray(entry: vec3<f32>, box_per_mm: vec3<f32>, offset: f32) -> LeapRay {
+    return LeapRay(entry, box_per_mm, vec3<u32>(0xffffffffu), offset);
 }
 
 // Distance (mm from the entry) at which the ray leaves the box [lo, hi), given in voxel units
@@ -68,9 +70,10 @@ fn exit_distance(ray: LeapRay, lo: vec3<f32>, hi: vec3<f32>) -> f32 {
     return min(t.x, min(t.y, t.z));
 }
 
-// Index of the first grid sample beyond distance t (and at least one past k).
-fn first_sample_after(t: f32, k: u32) -> u32 {
-    let after = floor(t / frame.step_mm - frame.sample_offset) + 1.0;
+// Index of the first grid sample beyond distance t (and at least one past k), for a ray whose
+// first sample lies at `offset` steps.
+fn first_sample_after(t: f32, k: u32, offset: f32) -> u32 {
+    let after = floor(t / frame.step_mm - offset) + 1.0;
     return max(u32(clamp(after, 0.0, 4.0e9)), k + 1u);
 }
 
@@ -114,7 +117,7 @@ fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32, query: f32) -> u
     let lo = vec3<f32>(node) * brick;
     let hi = min(vec3<f32>(node + 1u) * brick, dims);
 #endif
-    let after = first_sample_after(exit_distance(*ray, lo, hi), k);
+    let after = first_sample_after(exit_distance(*ray, lo, hi), k, (*ray).offset);
 #ifdef MODE_ISO
     // Land on the region's last sample, so the crossing after it is bracketed by the same two
     // samples as without leaping; where that is sample k itself, do not leap.

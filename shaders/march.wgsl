@@ -32,11 +32,12 @@
 #endif
 
 // Casts the ray from `entry` to `exit` (box coordinates); returns the pixel colour.
-fn march(entry: vec3<f32>, exit: vec3<f32>) -> vec4<f32> {
+fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
     let segment = exit - entry;
     let segment_mm = segment * frame.extent_mm.xyz;
     var ray: Ray;
     ray.entry = entry;
+    ray.offset = sample_offset_of(px);
     ray.length_mm = length(segment_mm);
     var acc = acc_init();
 #ifdef STATS
@@ -50,14 +51,14 @@ fn march(entry: vec3<f32>, exit: vec3<f32>) -> vec4<f32> {
         ray.dir_world = segment_mm / ray.length_mm;
         ray.count = u32(ceil(ray.length_mm / step));
 #ifdef LEAP
-        var leap = leap_ray(entry, ray.box_per_mm);
+        var leap = leap_ray(entry, ray.box_per_mm, ray.offset);
 #endif
         var k = 0u;
         loop {
             if k >= ray.count {
                 break;
             }
-            let t = min((f32(k) + frame.sample_offset) * step, ray.length_mm);
+            let t = min((f32(k) + ray.offset) * step, ray.length_mm);
             let p = entry + ray.box_per_mm * t;
 #ifdef LEAP
             let next = leap_from(&leap, p, k, acc_leap_query(acc));

@@ -49,7 +49,7 @@ fn cs_raycast(@builtin(global_invocation_id) id: vec3<u32>) {
     let segment = box_segment(id.xy);
     var color = frame.background;
     if segment[0].w > 0.0 {
-        color = march(segment[0].xyz, segment[1].xyz);
+        color = march(segment[0].xyz, segment[1].xyz, id.xy);
     }
     textureStore(out_tex, id.xy, color);
 }

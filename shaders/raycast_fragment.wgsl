@@ -16,5 +16,5 @@ fn fs_raycast(in: ProxyOut) -> @location(0) vec4<f32> {
     if exit.w == 0.0 {
         return frame.background;
     }
-    return march(entry.xyz, exit.xyz);
+    return march(entry.xyz, exit.xyz, vec2<u32>(in.clip.xy));
 }

@@ -283,3 +283,55 @@ fn real_volumes_match_reference() {
         }
     }
 }
+
+#[test]
+fn jittered_starts_follow_the_reference_and_leaping_stays_exact() {
+    let volume = blobs();
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let (dir, up) = ViewPreset::Oblique.direction_and_up();
+    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    // A coarse step, where the jitter moves samples far enough to change the image.
+    let jittered = RenderSettings {
+        strategy: Strategy::RcT,
+        step_vox: 2.0,
+        jitter: true,
+        ..RenderSettings::default()
+    };
+    let (gpu, cpu) = compare("jitter", &volume, &tf(), &camera, [40, 40], jittered);
+    let rel = (gpu.samples as f64 - cpu.samples as f64).abs() / cpu.samples as f64;
+    assert!(rel < 0.01, "gpu {gpu:?} cpu {cpu:?}");
+
+    let mut r = common::renderer();
+    r.set_volume(&volume).expect("upload");
+    r.set_transfer_function(&tf());
+    let mut image = |settings: RenderSettings| {
+        r.render_and_wait(&FrameRequest {
+            camera: &camera,
+            size: [40, 40],
+            settings: &settings,
+            stats: false,
+        })
+        .expect("render");
+        r.read_image().expect("read")
+    };
+    let plain = image(RenderSettings {
+        jitter: false,
+        ..jittered
+    });
+    let rc_t = image(jittered);
+    assert_ne!(plain, rc_t, "jitter moves the samples");
+    for strategy in [Strategy::RcS, Strategy::RcSDistance] {
+        for path in [RenderPath::Fragment, RenderPath::Compute] {
+            let leapt = image(RenderSettings {
+                strategy,
+                path,
+                ..jittered
+            });
+            let reference = image(RenderSettings { path, ..jittered });
+            assert_eq!(
+                leapt, reference,
+                "{strategy:?} {path:?}: leaping lands on the jittered grid"
+            );
+        }
+    }
+}

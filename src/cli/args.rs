@@ -81,6 +81,10 @@ pub struct RenderArgs {
     /// Sample step in units of the smallest voxel spacing.
     #[arg(long, default_value_t = 0.5)]
     pub step: f64,
+    /// Jittered ray starts: each pixel's first sample at a stable per-pixel offset (against
+    /// wood-grain rings at coarse steps).
+    #[arg(long)]
+    pub jitter: bool,
     /// RC-t stops once accumulated opacity exceeds this.
     #[arg(long, default_value_t = leapview::render::settings::DEFAULT_TERMINATION_ALPHA)]
     pub termination: f64,

@@ -33,6 +33,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         path: args.path,
         step_vox: args.step,
         termination_alpha: args.termination,
+        jitter: args.jitter,
         background: args.background,
         block_vox: args.block,
         ..RenderSettings::default()

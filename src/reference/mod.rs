@@ -132,6 +132,11 @@ impl Caster<'_> {
                     entry: origin + dir * entry,
                     dir,
                     length_mm: t1 - entry,
+                    offset: if self.settings.jitter {
+                        crate::sampling::pixel_jitter(x, y)
+                    } else {
+                        self.settings.sample_offset
+                    },
                 };
                 modes::cast(&ray, counts).unwrap_or(bg)
             }

@@ -27,6 +27,8 @@ pub struct RayInput<'a> {
     pub dir: DVec3,
     /// Path length inside the volume, mm.
     pub length_mm: f64,
+    /// First sample at `(k + offset) · step` (the settings' offset, or the pixel's jitter).
+    pub offset: f64,
 }
 
 impl RayInput<'_> {
@@ -39,7 +41,7 @@ impl RayInput<'_> {
         SampleGrid {
             length_mm: self.length_mm,
             step_mm,
-            offset: self.settings.sample_offset,
+            offset: self.offset,
         }
     }
 

@@ -144,6 +144,10 @@ pub struct RenderSettings {
     /// Position of the first sample within the first step, in steps (0..1): sample `k` lies at
     /// `t_entry + (k + offset) * step`.
     pub sample_offset: f64,
+    /// Jittered ray start: each pixel's offset comes from a stable hash of the pixel
+    /// ([`crate::sampling::pixel_jitter`]) instead of `sample_offset`, trading wood-grain rings
+    /// for fine noise.
+    pub jitter: bool,
     /// Linear RGB composited behind the volume.
     pub background: [f64; 3],
     /// Edge of the leaping blocks in voxels (a power of two from 4 to 128).
@@ -176,6 +180,7 @@ impl Default for RenderSettings {
             step_vox: 0.5,
             termination_alpha: DEFAULT_TERMINATION_ALPHA,
             sample_offset: 0.5,
+            jitter: false,
             background: [0.0; 3],
             block_vox: DEFAULT_BLOCK_VOX,
             shading: Shading::Phong,

@@ -123,6 +123,11 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
             );
             ui.end_row();
 
+            ui.label("Jitter");
+            ui.checkbox(&mut state.jitter, "jittered ray starts")
+                .on_hover_text("A per-pixel offset of the first sample: fine noise instead of wood-grain rings");
+            ui.end_row();
+
             ui.label("Termination");
             ui.add_enabled_ui(state.strategy.terminates_early(), |ui| {
                 ui.horizontal(|ui| {

@@ -60,6 +60,9 @@ pub struct ViewerState {
     pub step_vox: f64,
     /// RC-t stops once accumulated opacity exceeds this.
     pub termination_alpha: f64,
+    /// Jittered ray starts.
+    #[serde(default)]
+    pub jitter: bool,
     /// Background colour as 8-bit RGB; stored into the image as it is, like the PNG output.
     pub background: [u8; 3],
     /// Perspective or orthographic projection.
@@ -83,6 +86,7 @@ impl Default for ViewerState {
             block_vox: render.block_vox,
             statistics: false,
             termination_alpha: DEFAULT_TERMINATION_ALPHA,
+            jitter: false,
             background: [0, 0, 0],
             projection: ProjectionKind::Perspective,
             show_controls: true,
@@ -110,6 +114,7 @@ impl ViewerState {
             path: self.path,
             step_vox: self.step_vox,
             termination_alpha: self.termination_alpha,
+            jitter: self.jitter,
             background: self.background.map(|c| f64::from(c) / 255.0),
             block_vox: self.block_vox,
             ..RenderSettings::default()
