@@ -8,9 +8,7 @@ use leapview::accel::emptiness::{OpacityIndex, TABLE_SIZE, table_says_empty};
 use leapview::accel::pyramid::{MinMax, build_cpu, normalized_values};
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::render::readback::read_buffer;
-use leapview::render::{
-    FrameCounters, FrameRequest, RenderPath, RenderSettings, Strategy, VolumeRenderer,
-};
+use leapview::render::{FrameCounters, RenderPath, RenderSettings, Strategy, VolumeRenderer};
 use leapview::transfer::{TransferFunction, ValueSpace, lut};
 use leapview::volume::{Samples, ValueMapping, Volume, synthetic};
 
@@ -24,20 +22,7 @@ fn render(
     camera: &Camera,
     settings: RenderSettings,
 ) -> (leapview::imaging::ImageF32, FrameCounters) {
-    let request = FrameRequest {
-        camera,
-        size: [64, 64],
-        settings: &settings,
-        stats: true,
-    };
-    let (_, results) = r.render_and_wait(&request).expect("render");
-    let counters = results.counters.expect("counters");
-    r.render(&FrameRequest {
-        stats: false,
-        ..request
-    })
-    .expect("render");
-    (r.read_image().expect("read"), counters)
+    common::render_counted(r, camera, settings, [64, 64])
 }
 
 /// A 37×50×13 float volume (odd sizes on every axis) with smooth structure and a NaN voxel.

@@ -5,9 +5,7 @@
 mod common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
-use leapview::render::{
-    FrameCounters, FrameRequest, RenderPath, RenderSettings, Strategy, VolumeRenderer,
-};
+use leapview::render::{FrameCounters, RenderPath, RenderSettings, Strategy, VolumeRenderer};
 use leapview::transfer::TransferFunction;
 use leapview::transfer::presets::preset;
 use leapview::volume::load_volume;
@@ -40,22 +38,7 @@ fn render(
     camera: &Camera,
     settings: RenderSettings,
 ) -> (leapview::imaging::ImageF32, FrameCounters) {
-    let request = FrameRequest {
-        camera,
-        size: [48, 48],
-        settings: &settings,
-        stats: true,
-    };
-    let (_, results) = r.render_and_wait(&request).expect("render");
-    r.render(&FrameRequest {
-        stats: false,
-        ..request
-    })
-    .expect("render");
-    (
-        r.read_image().expect("read"),
-        results.counters.expect("counters"),
-    )
+    common::render_counted(r, camera, settings, [48, 48])
 }
 
 #[test]

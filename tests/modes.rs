@@ -9,7 +9,7 @@ use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
 use leapview::reference;
 use leapview::render::effects::{GradientScheme, IsoSettings, Light, MipColor, Shading};
-use leapview::render::{FrameRequest, Mode, RenderPath, RenderSettings, Strategy, VolumeRenderer};
+use leapview::render::{Mode, RenderPath, RenderSettings, Strategy, VolumeRenderer};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume, synthetic};
 
@@ -67,14 +67,8 @@ fn render(
     settings: RenderSettings,
     size: [u32; 2],
 ) -> ImageF32 {
-    r.render(&FrameRequest {
-        camera,
-        size,
-        settings: &settings,
-        stats: false,
-    })
-    .unwrap_or_else(|e| panic!("{settings:?}: {e}"));
-    r.read_image().expect("read")
+    r.render_image(camera, size, &settings)
+        .unwrap_or_else(|e| panic!("{settings:?}: {e}"))
 }
 
 fn cases() -> Vec<(&'static str, RenderSettings)> {

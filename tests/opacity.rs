@@ -6,7 +6,7 @@ mod common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::render::effects::Shading;
-use leapview::render::{FrameRequest, RenderPath, RenderSettings, Strategy};
+use leapview::render::{RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume};
 
@@ -57,14 +57,9 @@ fn a_uniform_slab_composites_to_the_analytic_opacity_at_every_step() {
                         shading: Shading::Off,
                         ..RenderSettings::default()
                     };
-                    r.render_and_wait(&FrameRequest {
-                        camera: &camera,
-                        size: [48, 48],
-                        settings: &settings,
-                        stats: false,
-                    })
-                    .expect("render");
-                    let image = r.read_image().expect("read");
+                    let image = r
+                        .render_image(&camera, [48, 48], &settings)
+                        .expect("render");
                     // The middle 16×16 pixels: their rays stay 4+ voxels from the slab's sides
                     // (the volume fills about 90 % of the view) and from the zero corner voxel.
                     for y in 16..32 {

@@ -305,14 +305,8 @@ fn jittered_starts_follow_the_reference_and_leaping_stays_exact() {
     r.set_volume(&volume).expect("upload");
     r.set_transfer_function(&tf());
     let mut image = |settings: RenderSettings| {
-        r.render_and_wait(&FrameRequest {
-            camera: &camera,
-            size: [40, 40],
-            settings: &settings,
-            stats: false,
-        })
-        .expect("render");
-        r.read_image().expect("read")
+        r.render_image(&camera, [40, 40], &settings)
+            .expect("render")
     };
     let plain = image(RenderSettings {
         jitter: false,

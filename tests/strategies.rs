@@ -4,9 +4,7 @@ mod common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
-use leapview::render::{
-    FrameCounters, FrameRequest, RenderPath, RenderSettings, Strategy, VolumeRenderer,
-};
+use leapview::render::{FrameCounters, RenderPath, RenderSettings, Strategy, VolumeRenderer};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume};
 
@@ -45,23 +43,7 @@ fn render(
     camera: &Camera,
     settings: RenderSettings,
 ) -> (ImageF32, FrameCounters) {
-    let request = FrameRequest {
-        camera,
-        size: [64, 64],
-        settings: &settings,
-        stats: true,
-    };
-    let (_, results) = r.render_and_wait(&request).expect("render");
-    let counted = r.read_image().expect("read");
-    // The statistics variant must draw the same image as the normal one.
-    r.render(&FrameRequest {
-        stats: false,
-        ..request
-    })
-    .expect("render");
-    let plain = r.read_image().expect("read");
-    assert_eq!(counted, plain, "stats variant changed the image");
-    (plain, results.counters.expect("counters"))
+    common::render_counted(r, camera, settings, [64, 64])
 }
 
 #[test]

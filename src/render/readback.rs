@@ -4,6 +4,27 @@ use crate::imaging::ImageF32;
 
 use super::context::GpuContext;
 
+/// Submits `encoder` (which copies into `buffer`) and maps `buffer` for reading, waiting for
+/// the GPU.
+fn submit_and_map(
+    ctx: &GpuContext,
+    encoder: wgpu::CommandEncoder,
+    buffer: &wgpu::Buffer,
+) -> Result<(), String> {
+    ctx.queue.submit([encoder.finish()]);
+    let (tx, rx) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+        // The receiver waits below; a send can only fail if it is gone, and then nobody cares.
+        let _ = tx.send(r);
+    });
+    ctx.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| e.to_string())?;
+    rx.recv()
+        .map_err(|e| e.to_string())?
+        .map_err(|e| e.to_string())
+}
+
 /// Reads an RGBA16F texture of `size` pixels into linear f32 pixels, waiting for the GPU.
 pub fn read_texture(
     ctx: &GpuContext,
@@ -46,18 +67,7 @@ pub fn read_texture(
             depth_or_array_layers: 1,
         },
     );
-    ctx.queue.submit([encoder.finish()]);
-    let (tx, rx) = std::sync::mpsc::channel();
-    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
-        // The receiver waits below; a send can only fail if it is gone, and then nobody cares.
-        let _ = tx.send(r);
-    });
-    ctx.device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| e.to_string())?;
-    rx.recv()
-        .map_err(|e| e.to_string())?
-        .map_err(|e| e.to_string())?;
+    submit_and_map(ctx, encoder, &buffer)?;
     let data = buffer.get_mapped_range(..).map_err(|e| e.to_string())?;
     let mut pixels = Vec::with_capacity(size[0] as usize * size[1] as usize);
     for row in data.chunks_exact(padded as usize) {
@@ -91,18 +101,7 @@ pub fn read_buffer(ctx: &GpuContext, buffer: &wgpu::Buffer, size: u64) -> Result
             label: Some("buffer readback"),
         });
     encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
-    ctx.queue.submit([encoder.finish()]);
-    let (tx, rx) = std::sync::mpsc::channel();
-    staging.map_async(wgpu::MapMode::Read, .., move |r| {
-        // The receiver waits below.
-        let _ = tx.send(r);
-    });
-    ctx.device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| e.to_string())?;
-    rx.recv()
-        .map_err(|e| e.to_string())?
-        .map_err(|e| e.to_string())?;
+    submit_and_map(ctx, encoder, &staging)?;
     let data = staging
         .get_mapped_range(..)
         .map_err(|e| e.to_string())?

@@ -6,8 +6,9 @@ pub use files::*;
 
 use std::path::PathBuf;
 
+use leapview::camera::Camera;
 use leapview::imaging::{ImageDiff, ImageF32};
-use leapview::render::{GpuContext, VolumeRenderer};
+use leapview::render::{FrameCounters, FrameRequest, GpuContext, RenderSettings, VolumeRenderer};
 
 /// A headless GPU context; fails the test with the install hint when no adapter exists (never a
 /// silent skip).
@@ -23,6 +24,27 @@ pub fn gpu() -> GpuContext {
 /// A renderer on a fresh headless context.
 pub fn renderer() -> VolumeRenderer {
     VolumeRenderer::new(gpu()).unwrap_or_else(|e| panic!("renderer: {e}"))
+}
+
+/// Renders with the statistics variant, then with the plain one; checks that counting changed
+/// nothing in the image and returns the image and the counts.
+pub fn render_counted(
+    r: &mut VolumeRenderer,
+    camera: &Camera,
+    settings: RenderSettings,
+    size: [u32; 2],
+) -> (ImageF32, FrameCounters) {
+    let request = FrameRequest {
+        camera,
+        size,
+        settings: &settings,
+        stats: true,
+    };
+    let (_, results) = r.render_and_wait(&request).expect("render");
+    let counted = r.read_image().expect("read");
+    let plain = r.render_image(camera, size, &settings).expect("render");
+    assert_eq!(counted, plain, "stats variant changed the image");
+    (plain, results.counters.expect("counters"))
 }
 
 /// Folder for images written by tests (actual, expected, difference).
