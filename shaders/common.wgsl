@@ -27,7 +27,7 @@ struct Frame {
     // Window lo, hi (normalised values), MIP saturation value, X-ray density per mm.
     window: vec4<f32>,
     // Iso value (normalised), 1 / step in voxels (undoes the LUT's opacity correction), 1 for
-    // jittered ray starts, unused.
+    // jittered ray starts, pre-integration's optical-depth units per mm.
     iso: vec4<f32>,
     // Compute-path rays (box coordinates): near-plane point and near-to-far vector of the ray
     // through NDC (0,0), then their changes per unit of NDC x and y.

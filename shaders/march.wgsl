@@ -50,6 +50,9 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
         ray.box_per_mm = segment / ray.length_mm;
         ray.dir_world = segment_mm / ray.length_mm;
         ray.count = u32(ceil(ray.length_mm / step));
+#ifdef PREINTEGRATED
+        acc_start(&acc, ray);
+#endif
 #ifdef LEAP
         var leap = leap_ray(entry, ray.box_per_mm, ray.offset);
 #endif
@@ -63,6 +66,23 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
 #ifdef LEAP
             let next = leap_from(&leap, p, k, acc_leap_query(acc));
             if next != k {
+#ifdef PREINTEGRATED
+                // The segment into the empty region still counts; the ones inside it do not,
+                // and the region's last sample starts the segment out of it.
+                let into = acc_sample(&acc, ray, k, t, p, sample_value(p));
+#ifdef STATS
+                samples += 1u;
+                contributing += u32((into & SAMPLE_CONTRIBUTED) != 0u);
+#endif
+                if (into & SAMPLE_STOP) != 0u {
+                    break;
+                }
+                let last = min(next, ray.count) - 1u;
+                if last > k {
+                    let t_last = min((f32(last) + ray.offset) * step, ray.length_mm);
+                    acc_resume(&acc, t_last, sample_value(entry + ray.box_per_mm * t_last));
+                }
+#endif
                 k = next;
 #ifdef STATS
                 leaps += 1u;
@@ -80,6 +100,11 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
             }
             k += 1u;
         }
+#ifdef PREINTEGRATED
+        if k >= ray.count {
+            acc_tail(&acc, ray);
+        }
+#endif
     }
 #ifdef STATS
     count(COUNTER_SAMPLES, samples);

@@ -1,23 +1,60 @@
-// DVR: front-to-back compositing with post-classification and opacity correction.
+// DVR: front-to-back compositing with post-classification and opacity correction, or with
+// PREINTEGRATED, of the segments between consecutive samples (sample k closes the segment from
+// the previous sample, or from the entry point for k = 0).
 
 #include "classify.wgsl"
+#ifdef PREINTEGRATED
+#include "preintegrate.wgsl"
+#endif
 #ifdef SHADING
 #include "shade.wgsl"
 #endif
 
 struct Acc {
     color: vec4<f32>,
+#ifdef PREINTEGRATED
+    // Value and distance of the segment's front end (the previous sample).
+    front_s: f32,
+    front_t: f32,
+#endif
 }
 
+#ifdef PREINTEGRATED
+fn acc_init() -> Acc {
+    return Acc(vec4<f32>(0.0), 0.0, 0.0);
+}
+
+// The ray's entry value starts the first segment.
+fn acc_start(acc: ptr<function, Acc>, ray: Ray) {
+    (*acc).front_s = sample_value(ray.entry);
+    (*acc).front_t = 0.0;
+}
+
+// After a leap: the sample at t (value s) starts the next segment; the segment ending at it lies
+// inside the empty region and adds nothing.
+fn acc_resume(acc: ptr<function, Acc>, t: f32, s: f32) {
+    (*acc).front_s = s;
+    (*acc).front_t = t;
+}
+#else
 fn acc_init() -> Acc {
     return Acc(vec4<f32>(0.0));
 }
+#endif
 
 fn acc_leap_query(acc: Acc) -> f32 {
     return 0.0;
 }
 
 fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32 {
+#ifdef PREINTEGRATED
+    var c = preintegrated((*acc).front_s, s, t - (*acc).front_t);
+    (*acc).front_s = s;
+    (*acc).front_t = t;
+    if c.a <= 0.0 {
+        return 0u;
+    }
+#else
     var c = classify(s);
     if c.a <= 0.0 {
         return 0u;
@@ -27,6 +64,13 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
         let w = clamp((ray.length_mm - f32(k) * frame.step_mm) / frame.step_mm, 0.0, 1.0);
         c.a = select(1.0 - pow(1.0 - c.a, w), 1.0, c.a >= 1.0);
     }
+#endif
+    return composite(acc, ray, p, c);
+}
+
+// Adds colour c (straight) lit at p behind what the ray has gathered.
+fn composite(acc: ptr<function, Acc>, ray: Ray, p: vec3<f32>, c_in: vec4<f32>) -> u32 {
+    var c = c_in;
 #ifdef SHADING
     c = vec4<f32>(phong(c.rgb, gradient(p), ray.dir_world), c.a);
 #endif
@@ -38,6 +82,18 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
 #endif
     return SAMPLE_CONTRIBUTED;
 }
+
+#ifdef PREINTEGRATED
+// After the last sample: the segment from it to the exit point (the last sample lies up to a
+// step before the exit).
+fn acc_tail(acc: ptr<function, Acc>, ray: Ray) {
+    let exit = ray.entry + ray.box_per_mm * ray.length_mm;
+    let c = preintegrated((*acc).front_s, sample_value(exit), ray.length_mm - (*acc).front_t);
+    if c.a > 0.0 {
+        composite(acc, ray, exit, c);
+    }
+}
+#endif
 
 fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
     return vec4<f32>(acc.color.rgb + (1.0 - acc.color.a) * frame.background.rgb, 1.0);

@@ -1,6 +1,7 @@
 //! Opacity correction holds: a uniform slab `L` voxels thick whose transfer function gives
 //! opacity α per voxel length composites to `1 − (1 − α)^L` for every step from 1/8 to 4 voxels,
-//! on both paths, with and without early termination.
+//! on both paths, with and without early termination, with post-classification and with
+//! pre-integration.
 
 mod common;
 
@@ -48,12 +49,17 @@ fn a_uniform_slab_composites_to_the_analytic_opacity_at_every_step() {
         let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Orthographic);
         let expected = 1.0 - (1.0 - alpha).powi(thickness as i32);
         for step_vox in [0.125, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0] {
-            for strategy in [Strategy::Rc, Strategy::RcT] {
+            for (strategy, preintegrated) in [
+                (Strategy::Rc, false),
+                (Strategy::RcT, false),
+                (Strategy::RcT, true),
+            ] {
                 for path in [RenderPath::Fragment, RenderPath::Compute] {
                     let settings = RenderSettings {
                         step_vox,
                         strategy,
                         path,
+                        preintegrated,
                         shading: Shading::Off,
                         ..RenderSettings::default()
                     };
@@ -71,6 +77,7 @@ fn a_uniform_slab_composites_to_the_analytic_opacity_at_every_step() {
                             assert!(
                                 err <= 1.0 / 255.0,
                                 "L {thickness} α {alpha} step {step_vox} {strategy:?} {path:?} \
+                                 pre-integrated {preintegrated} \
                                  pixel ({x},{y}): {g} vs {expected}"
                             );
                         }

@@ -30,6 +30,7 @@ fn delta(before: WorkCounts, after: WorkCounts) -> WorkCounts {
         minmax_builds: after.minmax_builds - before.minmax_builds,
         flag_builds: after.flag_builds - before.flag_builds,
         distance_builds: after.distance_builds - before.distance_builds,
+        integral_builds: after.integral_builds - before.integral_builds,
     }
 }
 
@@ -40,6 +41,7 @@ const FRAME: WorkCounts = WorkCounts {
     minmax_builds: 0,
     flag_builds: 0,
     distance_builds: 0,
+    integral_builds: 0,
 };
 
 #[test]
@@ -143,4 +145,24 @@ fn each_change_recomputes_only_what_depends_on_it() {
         ..FRAME
     };
     assert_eq!(step(&mut r, &side, &settings), lut_only);
+
+    // Pre-integration: its table is built when first needed and after a TF edit, not for a new
+    // step (the step enters the shader, not the table) nor a camera move.
+    settings.preintegrated = true;
+    let integrals = WorkCounts {
+        integral_builds: 1,
+        ..FRAME
+    };
+    assert_eq!(step(&mut r, &side, &settings), integrals);
+    assert_eq!(step(&mut r, &oblique, &settings), FRAME);
+    settings.step_vox = 2.0;
+    assert_eq!(step(&mut r, &oblique, &settings), lut_only);
+    r.set_transfer_function(&preset("ct-angio").expect("preset"));
+    assert_eq!(
+        step(&mut r, &oblique, &settings),
+        WorkCounts {
+            integral_builds: 1,
+            ..lut_only
+        }
+    );
 }

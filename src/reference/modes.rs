@@ -6,7 +6,7 @@ use glam::DVec3;
 use crate::render::effects::{MipColor, Shading};
 use crate::render::settings::{Mode, RenderSettings, Strategy};
 use crate::sampling::{SampleGrid, corrected_opacity};
-use crate::transfer::TransferFunction;
+use crate::transfer::{TransferFunction, preintegration};
 use crate::volume::{ValueRange, Volume};
 
 use super::ReferenceCounts;
@@ -100,6 +100,9 @@ fn stops_early(ray: &RayInput) -> bool {
 }
 
 fn dvr(ray: &RayInput, counts: &mut ReferenceCounts) -> DVec3 {
+    if ray.settings.preintegrated {
+        return dvr_preintegrated(ray, counts);
+    }
     let range = ray.range();
     let (mut color, mut alpha) = (DVec3::ZERO, 0.0);
     for s in ray.grid().samples() {
@@ -109,7 +112,7 @@ fn dvr(ray: &RayInput, counts: &mut ReferenceCounts) -> DVec3 {
         };
         let a = corrected_opacity(
             ray.tf.opacity_at(value, range),
-            ray.settings.step_vox,
+            ray.settings.opacity_step_vox(),
             s.weight,
         );
         if a <= 0.0 {
@@ -121,6 +124,45 @@ fn dvr(ray: &RayInput, counts: &mut ReferenceCounts) -> DVec3 {
         alpha += (1.0 - alpha) * a;
         if stops_early(ray) && alpha > ray.settings.termination_alpha {
             break;
+        }
+    }
+    color + (1.0 - alpha) * DVec3::from_array(ray.settings.background)
+}
+
+/// DVR over the segments between consecutive samples (the first from the entry point), each
+/// classified by [`preintegration::segment`].
+fn dvr_preintegrated(ray: &RayInput, counts: &mut ReferenceCounts) -> DVec3 {
+    let range = ray.range();
+    let per_mm =
+        ray.settings.opacity_step_vox() / (ray.settings.step_vox * ray.volume.min_spacing_mm());
+    let (mut color, mut alpha) = (DVec3::ZERO, 0.0);
+    let mut front = (0.0, ray.value(0.0));
+    for s in ray.grid().samples() {
+        counts.samples += 1;
+        let back = (s.t_mm, ray.value(s.t_mm));
+        let (t0, v0) = std::mem::replace(&mut front, back);
+        let (Some(v0), Some(v1)) = (v0, back.1) else {
+            continue;
+        };
+        let (c, a) = preintegration::segment(ray.tf, range, v0, v1, (s.t_mm - t0) * per_mm);
+        if a <= 0.0 {
+            continue;
+        }
+        counts.visible_samples += 1;
+        let c = ray.lit(c, s.t_mm);
+        color += (1.0 - alpha) * a * c;
+        alpha += (1.0 - alpha) * a;
+        if stops_early(ray) && alpha > ray.settings.termination_alpha {
+            return color + (1.0 - alpha) * DVec3::from_array(ray.settings.background);
+        }
+    }
+    // The last sample lies up to a step before the exit: the segment from it to the exit.
+    let (t0, v0) = front;
+    if let (Some(v0), Some(v1)) = (v0, ray.value(ray.length_mm)) {
+        let (c, a) = preintegration::segment(ray.tf, range, v0, v1, (ray.length_mm - t0) * per_mm);
+        if a > 0.0 {
+            color += (1.0 - alpha) * a * ray.lit(c, ray.length_mm);
+            alpha += (1.0 - alpha) * a;
         }
     }
     color + (1.0 - alpha) * DVec3::from_array(ray.settings.background)

@@ -46,6 +46,8 @@ pub struct PipelineKey {
     pub gradient: GradientScheme,
     /// MIP/MinIP colouring (always `Window` in other modes).
     pub mip_color: MipColor,
+    /// Pre-integrated classification (DVR only).
+    pub preintegrated: bool,
 }
 
 impl PipelineKey {
@@ -72,6 +74,7 @@ impl PipelineKey {
             } else {
                 MipColor::Window
             },
+            preintegrated: settings.preintegrated && settings.mode == Mode::Dvr,
         }
     }
 
@@ -84,13 +87,18 @@ impl PipelineKey {
                     for stats in [false, true] {
                         for shading in [Shading::Off, Shading::Phong] {
                             for gradient in [GradientScheme::Central, GradientScheme::FourthOrder] {
-                                for mip_color in [MipColor::Window, MipColor::Tf] {
+                                for (mip_color, preintegrated) in [
+                                    (MipColor::Window, false),
+                                    (MipColor::Tf, false),
+                                    (MipColor::Window, true),
+                                ] {
                                     let settings = RenderSettings {
                                         mode,
                                         strategy,
                                         shading,
                                         gradient,
                                         mip_color,
+                                        preintegrated,
                                         ..RenderSettings::default()
                                     };
                                     if settings.validate().is_err() {
@@ -142,6 +150,9 @@ impl PipelineKey {
         if self.stats {
             defines.push("STATS");
         }
+        if self.preintegrated {
+            defines.push("PREINTEGRATED");
+        }
         defines
     }
 
@@ -157,7 +168,7 @@ impl PipelineKey {
 
 /// The bind group layouts shared by all pipelines.
 pub struct Layouts {
-    /// Group 0: frame uniforms, volume, sampler, transfer-function table.
+    /// Group 0: frame uniforms, volume, sampler, transfer-function table, pre-integration table.
     pub frame: wgpu::BindGroupLayout,
     /// Group 1 of the fragment path: the exit-point texture.
     pub fragment_io: wgpu::BindGroupLayout,
@@ -213,6 +224,7 @@ impl Layouts {
                     count: None,
                 },
                 texture_entry(3, wgpu::TextureViewDimension::D2, true, shading),
+                texture_entry(4, wgpu::TextureViewDimension::D2, false, shading),
             ],
         });
         let fragment_io = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

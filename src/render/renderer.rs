@@ -4,12 +4,12 @@
 
 use crate::camera::Camera;
 use crate::imaging::ImageF32;
-use crate::transfer::{TransferFunction, lut};
+use crate::transfer::{TransferFunction, lut, preintegration};
 use crate::volume::{ValueRange, Volume};
 
 use super::context::GpuContext;
 use super::leap::{FlagRule, LeapPipelines, LeapStructures};
-use super::lut_texture::LutTexture;
+use super::lut_texture::{IntegralTexture, LutTexture};
 use super::pipelines::{
     ConcretePath, Layouts, PipelineCache, PipelineKey, ProxyPipelines, RaycastPipeline, WORKGROUP,
 };
@@ -93,6 +93,9 @@ pub struct VolumeRenderer {
     sampler: wgpu::Sampler,
     uniforms: wgpu::Buffer,
     lut: LutTexture,
+    integrals: IntegralTexture,
+    /// Transfer-function generation the integral table was built for; `None` = stale.
+    integrals_built_for: Option<u64>,
     volume: Option<LoadedVolume>,
     frame_group: Option<wgpu::BindGroup>,
     transfer: TransferFunction,
@@ -125,6 +128,9 @@ pub struct WorkCounts {
     pub flag_builds: u64,
     /// Distance fields built (flags or block size changed).
     pub distance_builds: u64,
+    /// Pre-integration tables built (transfer function or value range changed while
+    /// pre-integration is on).
+    pub integral_builds: u64,
 }
 
 impl VolumeRenderer {
@@ -160,6 +166,8 @@ impl VolumeRenderer {
         });
         Ok(Self {
             lut: LutTexture::new(&ctx, lut::LUT_SIZE as u32),
+            integrals: IntegralTexture::new(&ctx, lut::LUT_SIZE as u32),
+            integrals_built_for: None,
             ctx,
             layouts,
             proxy,
@@ -213,6 +221,10 @@ impl VolumeRenderer {
                             binding: 3,
                             resource: wgpu::BindingResource::TextureView(&self.lut.view),
                         },
+                        wgpu::BindGroupEntry {
+                            binding: 4,
+                            resource: wgpu::BindingResource::TextureView(&self.integrals.view),
+                        },
                     ],
                 }),
         );
@@ -231,6 +243,7 @@ impl VolumeRenderer {
             range: volume.normalization_range(),
         });
         self.lut_baked_for = None;
+        self.integrals_built_for = None;
         Ok(())
     }
 
@@ -261,6 +274,18 @@ impl VolumeRenderer {
             self.lut.write(&self.ctx.queue, &table);
             self.lut_baked_for = Some(wanted);
             self.work.lut_bakes += 1;
+        }
+    }
+
+    /// Rebuilds the pre-integration table when the transfer function or volume range changed
+    /// (it does not depend on the step).
+    fn refresh_integrals(&mut self) {
+        let Some(volume) = &self.volume else { return };
+        if self.integrals_built_for != Some(self.transfer_generation) {
+            let rows = preintegration::integral_table(&self.transfer, volume.range);
+            self.integrals.write(&self.ctx.queue, &rows);
+            self.integrals_built_for = Some(self.transfer_generation);
+            self.work.integral_builds += 1;
         }
     }
 
@@ -318,7 +343,10 @@ impl VolumeRenderer {
         let path = self.resolve_path(request.settings.path)?;
         let key = PipelineKey::new(request.settings, path, request.stats);
         self.ensure_targets(request.size)?;
-        self.refresh_lut(request.settings.step_vox);
+        self.refresh_lut(request.settings.opacity_step_vox());
+        if request.settings.preintegrated && request.settings.mode == Mode::Dvr {
+            self.refresh_integrals();
+        }
         let Some(volume) = &self.volume else {
             return Err(RenderError::NoVolume);
         };

@@ -26,6 +26,7 @@ const MODULES: &[(&str, &str)] = modules![
     "build_distance.wgsl",
     "shade.wgsl",
     "mode_dvr.wgsl",
+    "preintegrate.wgsl",
     "mode_iso.wgsl",
     "mode_mip.wgsl",
     "mode_xray.wgsl",

@@ -202,9 +202,11 @@ pub fn frame_uniforms(
                     .unwrap_or(decoding.range.denormalize(0.5)),
             ) as f32,
             // Undoes the LUT's opacity correction where MIP and MinIP colour by the TF.
-            (1.0 / settings.step_vox) as f32,
+            (1.0 / settings.opacity_step_vox()) as f32,
             f32::from(u8::from(settings.jitter)),
-            0.0,
+            // Pre-integration: optical-depth units (d₀, or steps without opacity correction)
+            // per millimetre of segment.
+            (settings.opacity_step_vox() / (settings.step_vox * d0)) as f32,
         ],
     }
 }

@@ -6,6 +6,7 @@
 
 pub mod io;
 pub mod lut;
+pub mod preintegration;
 pub mod presets;
 
 use serde::{Deserialize, Serialize};

@@ -2,6 +2,7 @@
 #![allow(dead_code, unused_imports)]
 
 mod files;
+pub mod scene;
 pub use files::*;
 
 use std::path::PathBuf;
