@@ -5,6 +5,7 @@
 //! window, the command line and the tests share.
 
 pub mod accel;
+pub mod accuracy;
 pub mod app;
 pub mod bench;
 pub mod camera;

@@ -30,6 +30,10 @@ pub enum Command {
     Info(InfoArgs),
     /// Benchmark strategies, modes and paths on the configured datasets (Tables 1 and 2).
     Bench(Box<super::bench::BenchArgs>),
+    /// What each quality knob (step, opacity correction, termination, gradients, iso refinement,
+    /// jitter, pre-integration, texel precision) costs in GPU time and buys in error against a
+    /// reference; tables and Pareto plots.
+    Accuracy(Box<super::accuracy::AccuracyArgs>),
 }
 
 /// How to read a headerless raw file.
@@ -175,7 +179,7 @@ fn parse_dims(s: &str) -> Result<[u32; 3], String> {
     parse_list(s, "dimensions")
 }
 
-fn parse_size(s: &str) -> Result<[u32; 2], String> {
+pub(crate) fn parse_size(s: &str) -> Result<[u32; 2], String> {
     let v: [u32; 2] = parse_list(s, "sizes (WxH)")?;
     if v.contains(&0) {
         return Err(format!("image size {s:?} has a zero side"));

@@ -1,6 +1,7 @@
 //! The command line: `render`, `bench` and `info` (the window is opened from `main`). Input problems
 //! (a bad volume or transfer-function file) are [`Failure::BadInput`] and exit with status 2.
 
+mod accuracy;
 pub mod args;
 mod bench;
 pub mod effect_args;
@@ -37,6 +38,7 @@ pub fn run(command: Command, raw: &args::RawArgs) -> Result<(), Failure> {
         Command::Render(args) => render::run(*args, raw),
         Command::Info(args) => info::run(args, raw),
         Command::Bench(args) => bench::run(*args),
+        Command::Accuracy(args) => accuracy::run(*args),
     }
 }
 

@@ -22,3 +22,4 @@ pub use pipelines::{ConcretePath, PipelineKey};
 pub use probe::{FrameCounters, FrameResults};
 pub use renderer::{FrameRequest, RenderError, SubmittedFrame, VolumeRenderer, WorkCounts};
 pub use settings::{Mode, RenderPath, RenderSettings, Strategy};
+pub use volume_texture::TexturePrecision;

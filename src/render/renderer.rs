@@ -19,7 +19,7 @@ use super::settings::{Mode, RenderPath, RenderSettings, SettingsError, Strategy}
 use super::shader::ShaderError;
 use super::targets::Targets;
 use super::uniforms::{FrameGeometry, FrameUniforms, LeapLevels, SampleDecoding, frame_uniforms};
-use super::volume_texture::{VolumeTexture, VolumeTextureError};
+use super::volume_texture::{TexturePrecision, VolumeTexture, VolumeTextureError};
 
 /// Why a frame could not be rendered.
 #[derive(Debug, thiserror::Error)]
@@ -197,7 +197,16 @@ impl VolumeRenderer {
 
     /// Uploads `volume`, replacing the current one. On error the current volume stays.
     pub fn set_volume(&mut self, volume: &Volume) -> Result<(), RenderError> {
-        let texture = VolumeTexture::upload(&self.ctx, volume)?;
+        self.set_volume_with(volume, TexturePrecision::Auto)
+    }
+
+    /// [`Self::set_volume`] with the texel precision forced (the accuracy benchmark's knob).
+    pub fn set_volume_with(
+        &mut self,
+        volume: &Volume,
+        precision: TexturePrecision,
+    ) -> Result<(), RenderError> {
+        let texture = VolumeTexture::upload_with(&self.ctx, volume, precision)?;
         self.frame_group = Some(
             self.ctx
                 .device

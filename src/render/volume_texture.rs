@@ -31,6 +31,50 @@ pub struct TexelEncoding {
     pub warning: Option<&'static str>,
 }
 
+/// The texel precision asked for: the best the adapter filters (the default), or one format
+/// forced, to measure what precision costs and buys (the accuracy benchmark).
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum TexturePrecision {
+    /// Exact integers in unorm texels, floats in R32Float, falling back to what the adapter
+    /// filters.
+    #[default]
+    Auto,
+    /// 8-bit unorm: 256 levels over the value range (exact for 8-bit data).
+    Unorm8,
+    /// 16-bit unorm: 65536 levels over the value range (exact for 16-bit data).
+    Unorm16,
+    /// 32-bit float holding the normalised value.
+    Float32,
+}
+
+impl TexturePrecision {
+    /// All precisions.
+    pub const ALL: [Self; 4] = [Self::Auto, Self::Unorm8, Self::Unorm16, Self::Float32];
+
+    /// The name used on the command line and in tables.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Unorm8 => "8-bit",
+            Self::Unorm16 => "16-bit",
+            Self::Float32 => "f32",
+        }
+    }
+
+    /// The forced format, `None` for `Auto`.
+    pub fn format(self) -> Option<wgpu::TextureFormat> {
+        match self {
+            Self::Auto => None,
+            Self::Unorm8 => Some(wgpu::TextureFormat::R8Unorm),
+            Self::Unorm16 => Some(wgpu::TextureFormat::R16Unorm),
+            Self::Float32 => Some(wgpu::TextureFormat::R32Float),
+        }
+    }
+}
+
 /// Formats to try for a scalar type, best first.
 fn candidates(scalar: ScalarType, has_non_finite: bool) -> &'static [wgpu::TextureFormat] {
     use wgpu::TextureFormat::{R8Unorm, R16Float, R16Unorm, R32Float};
@@ -57,12 +101,19 @@ pub fn choose_encoding(
         .copied()
         .find(|&f| filterable(f))
         .unwrap_or(wgpu::TextureFormat::R16Float);
+    encoding_for(volume, format)
+}
+
+/// The encoding of `volume` in `format`: exact integers where the format is the scalar type's
+/// natural unorm, else the normalised value (quantised in a unorm format).
+pub fn encoding_for(volume: &Volume, format: wgpu::TextureFormat) -> TexelEncoding {
+    let scalar = volume.scalar_type();
     let range = volume.normalization_range();
     let mapping = volume.mapping();
     let w = range.width();
     let (scale, bias) = match (format, integer_offset(scalar)) {
         (wgpu::TextureFormat::R8Unorm | wgpu::TextureFormat::R16Unorm, Some((offset, max)))
-            if max as f64 >= unorm_max(format) =>
+            if max as f64 == unorm_max(format) =>
         {
             // texel = (stored + offset) / max  ⇒  stored = texel * max − offset.
             let m = unorm_max(format);
@@ -80,6 +131,9 @@ pub fn choose_encoding(
         ),
         wgpu::TextureFormat::R16Unorm if scalar.size_bytes() > 2 => {
             Some("32-bit values are quantised to 65536 levels over the value range")
+        }
+        wgpu::TextureFormat::R8Unorm if scalar.size_bytes() > 1 => {
+            Some("values are quantised to 256 levels over the value range")
         }
         _ => None,
     };
@@ -155,6 +209,9 @@ pub fn encode_texels(
             let q = (normalized(samples.get_f64(i)).clamp(0.0, 1.0) * 65535.0).round() as u16;
             out.extend_from_slice(&q.to_le_bytes())
         }),
+        (F::R8Unorm, samples) => range.for_each(|i| {
+            out.push((normalized(samples.get_f64(i)).clamp(0.0, 1.0) * 255.0).round() as u8)
+        }),
         (F::R16Float, samples) => range.for_each(|i| {
             out.extend_from_slice(
                 &half::f16::from_f32(normalized(samples.get_f64(i))).to_le_bytes(),
@@ -193,6 +250,14 @@ pub enum VolumeTextureError {
     /// Any other error creating or filling the texture.
     #[error("the GPU refused the volume texture: {0}")]
     Gpu(String),
+    /// The precision asked for cannot hold this volume on this adapter.
+    #[error("{precision} texels are not possible here: {why}")]
+    Precision {
+        /// The precision's label.
+        precision: &'static str,
+        /// Why not.
+        why: String,
+    },
 }
 
 /// The volume on the GPU.
@@ -206,8 +271,18 @@ pub struct VolumeTexture {
 }
 
 impl VolumeTexture {
-    /// Checks the size against the adapter, creates the texture and uploads the samples in slabs.
+    /// Checks the size against the adapter, creates the texture in the best format the adapter
+    /// filters and uploads the samples in slabs.
     pub fn upload(ctx: &GpuContext, volume: &Volume) -> Result<Self, VolumeTextureError> {
+        Self::upload_with(ctx, volume, TexturePrecision::Auto)
+    }
+
+    /// [`Self::upload`] with the texel precision forced (`Auto`: as `upload`).
+    pub fn upload_with(
+        ctx: &GpuContext,
+        volume: &Volume,
+        precision: TexturePrecision,
+    ) -> Result<Self, VolumeTextureError> {
         let dims = volume.dims();
         let max = ctx.limits.max_texture_dimension_3d;
         if dims.iter().any(|&d| d > max) {
@@ -217,7 +292,28 @@ impl VolumeTexture {
                 adapter: ctx.adapter_info.name.clone(),
             });
         }
-        let encoding = choose_encoding(volume, |f| ctx.is_filterable(f));
+        let encoding = match precision.format() {
+            None => choose_encoding(volume, |f| ctx.is_filterable(f)),
+            Some(format) => {
+                let refuse = |why: String| VolumeTextureError::Precision {
+                    precision: precision.label(),
+                    why,
+                };
+                if !ctx.is_filterable(format) {
+                    return Err(refuse(format!(
+                        "{} cannot filter {format:?} textures",
+                        ctx.adapter_info.name
+                    )));
+                }
+                if format != wgpu::TextureFormat::R32Float && volume.non_finite_count() > 0 {
+                    return Err(refuse(format!(
+                        "{} NaN or infinite samples need a float format",
+                        volume.non_finite_count()
+                    )));
+                }
+                encoding_for(volume, format)
+            }
+        };
         if let Some(w) = encoding.warning {
             log::warn!("{w} ({})", volume.name());
         }
@@ -364,6 +460,48 @@ mod tests {
                         "{:?} {:?} #{i}: {got} vs {expected}",
                         v.scalar_type(),
                         e.format
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_type_decodes_in_every_forced_precision_within_its_quantisation() {
+        let m = ValueMapping {
+            slope: 0.5,
+            intercept: 3.0,
+        };
+        let cases = [
+            Samples::U8(vec![0, 17, 200, 255]),
+            Samples::I16(vec![-1024, 40, 41, 3071]),
+            Samples::U16(vec![0, 1, 65534, 65535]),
+            Samples::F32(vec![-1.5, 0.25, 0.2500001, 8.0]),
+            Samples::F64(vec![-1e3, 0.0, 1e-9, 1e3]),
+        ];
+        for samples in cases {
+            let v = volume(samples, m);
+            let norm = v.normalization_range();
+            for precision in TexturePrecision::ALL {
+                let Some(format) = precision.format() else {
+                    continue;
+                };
+                let e = encoding_for(&v, format);
+                assert_eq!(e.format, format);
+                for i in 0..4 {
+                    let expected = norm.normalize(v.value(i as u32, 0, 0));
+                    // Half a level of the format (exact integers decode within f32 rounding,
+                    // which is far below that); f32 holds the value to ~1e-7.
+                    let tol = match format {
+                        wgpu::TextureFormat::R8Unorm => 0.5 / 255.0 + 1e-6,
+                        wgpu::TextureFormat::R16Unorm => 0.5 / 65535.0 + 1e-6,
+                        _ => 1e-6,
+                    };
+                    let got = decoded(&v, &e, i);
+                    assert!(
+                        (got - expected).abs() <= tol,
+                        "{:?} {precision:?} #{i}: {got} vs {expected}",
+                        v.scalar_type()
                     );
                 }
             }

@@ -4,11 +4,11 @@
 
 pub mod args;
 mod checks;
-mod datasets;
+pub(crate) mod datasets;
 mod output;
-mod plots;
+pub(crate) mod plots;
 mod progress;
-mod run;
+pub(crate) mod run;
 
 use std::path::{Path, PathBuf};
 
@@ -188,7 +188,7 @@ fn finish(out: &Path, summary: &leapview::bench::Summary) -> Result<(), Failure>
     Ok(())
 }
 
-fn environment(ctx: &GpuContext, quick: bool) -> Environment {
+pub(crate) fn environment(ctx: &GpuContext, quick: bool) -> Environment {
     let i = &ctx.adapter_info;
     Environment {
         adapter: i.name.clone(),

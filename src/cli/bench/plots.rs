@@ -12,13 +12,13 @@ use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 
 /// The family name the embedded font is registered under.
-const FONT: &str = "sans-serif";
+pub(crate) const FONT: &str = "sans-serif";
 /// Plot width in pixels.
 const WIDTH: u32 = 1600;
 /// Height of one panel in pixels.
 const PANEL: u32 = 520;
 
-fn register() {
+pub(crate) fn register() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         if register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT).is_err() {
@@ -36,7 +36,7 @@ fn colour(strategy: &str) -> RGBColor {
     }
 }
 
-fn err<E: std::fmt::Display>(e: E) -> anyhow::Error {
+pub(crate) fn err<E: std::fmt::Display>(e: E) -> anyhow::Error {
     anyhow!("drawing a plot: {e}")
 }
 

@@ -1,0 +1,241 @@
+//! What the accuracy benchmark renders: each quality knob swept on its own from a baseline (the
+//! app's defaults), the step size additionally with pre-integration, jitter and without opacity
+//! correction, and the reference each is compared with.
+
+use serde::{Deserialize, Serialize};
+
+use crate::render::effects::{GradientScheme, MAX_ISO_REFINEMENT, Shading};
+use crate::render::settings::DEFAULT_TERMINATION_ALPHA;
+use crate::render::{Mode, RenderSettings, Strategy, TexturePrecision};
+
+/// One swept quality knob (a series on the plot).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Knob {
+    /// Step size, post-classification (the baseline's series).
+    Step,
+    /// Step size with pre-integrated classification.
+    StepPreintegrated,
+    /// Step size with jittered ray starts.
+    StepJittered,
+    /// Step size without opacity correction.
+    StepUncorrected,
+    /// Early-termination threshold.
+    Termination,
+    /// Gradient estimator of the lighting.
+    Gradient,
+    /// Secant refinement steps of the isosurface (isosurface mode).
+    IsoRefinement,
+    /// Texel precision of the volume texture.
+    Precision,
+}
+
+impl Knob {
+    /// All knobs, in table order.
+    pub const ALL: [Self; 8] = [
+        Self::Step,
+        Self::StepPreintegrated,
+        Self::StepJittered,
+        Self::StepUncorrected,
+        Self::Termination,
+        Self::Gradient,
+        Self::IsoRefinement,
+        Self::Precision,
+    ];
+
+    /// Name in tables and legends.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Step => "step",
+            Self::StepPreintegrated => "step, pre-integrated",
+            Self::StepJittered => "step, jittered",
+            Self::StepUncorrected => "step, no opacity correction",
+            Self::Termination => "termination threshold",
+            Self::Gradient => "gradient",
+            Self::IsoRefinement => "iso refinement",
+            Self::Precision => "texture precision",
+        }
+    }
+
+    /// The mode its images are rendered in.
+    pub fn mode(self) -> Mode {
+        if self == Self::IsoRefinement {
+            Mode::Iso
+        } else {
+            Mode::Dvr
+        }
+    }
+}
+
+/// One setting to measure.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variant {
+    /// The knob it belongs to.
+    pub knob: Knob,
+    /// The knob's value, for tables (e.g. `0.25`, `fourth-order`).
+    pub value: String,
+    /// Everything the frame uses.
+    pub settings: RenderSettings,
+    /// Texel precision of the upload.
+    pub precision: TexturePrecision,
+}
+
+/// Steps swept, in voxels: the range, 1/8 to 4.
+pub const STEPS: [f64; 6] = [0.125, 0.25, 0.5, 1.0, 2.0, 4.0];
+
+/// Termination thresholds swept (1 = never stop early).
+pub const TERMINATIONS: [f64; 5] = [0.9, 0.95, 0.99, DEFAULT_TERMINATION_ALPHA, 1.0];
+
+/// Iso refinement steps swept.
+pub const ISO_REFINEMENTS: [u32; 6] = [0, 1, 2, 4, 6, 8];
+
+/// Step of the reference images, in voxels.
+pub const REFERENCE_STEP_VOX: f64 = 1.0 / 16.0;
+
+/// Every variant, one knob at a time from `base` (whose mode is replaced by each knob's).
+pub fn plan(base: &RenderSettings) -> Vec<Variant> {
+    let dvr = RenderSettings {
+        mode: Mode::Dvr,
+        ..*base
+    };
+    let variant = |knob: Knob, value: String, settings: RenderSettings| Variant {
+        knob,
+        value,
+        settings,
+        precision: TexturePrecision::Auto,
+    };
+    let mut out = Vec::new();
+    for step_vox in STEPS {
+        let at = RenderSettings { step_vox, ..dvr };
+        let value = format!("{step_vox}");
+        out.push(variant(Knob::Step, value.clone(), at));
+        out.push(variant(
+            Knob::StepPreintegrated,
+            value.clone(),
+            RenderSettings {
+                preintegrated: true,
+                ..at
+            },
+        ));
+        out.push(variant(
+            Knob::StepJittered,
+            value.clone(),
+            RenderSettings { jitter: true, ..at },
+        ));
+        out.push(variant(
+            Knob::StepUncorrected,
+            value,
+            RenderSettings {
+                opacity_correction: false,
+                ..at
+            },
+        ));
+    }
+    for termination_alpha in TERMINATIONS {
+        out.push(variant(
+            Knob::Termination,
+            format!("{termination_alpha:.4}"),
+            RenderSettings {
+                termination_alpha,
+                ..dvr
+            },
+        ));
+    }
+    for gradient in [GradientScheme::Central, GradientScheme::FourthOrder] {
+        out.push(variant(
+            Knob::Gradient,
+            match gradient {
+                GradientScheme::Central => "central",
+                GradientScheme::FourthOrder => "fourth-order",
+            }
+            .to_string(),
+            RenderSettings { gradient, ..dvr },
+        ));
+    }
+    for refine_iterations in ISO_REFINEMENTS {
+        let mut settings = RenderSettings {
+            mode: Mode::Iso,
+            ..*base
+        };
+        settings.iso.refine_iterations = refine_iterations;
+        out.push(variant(
+            Knob::IsoRefinement,
+            refine_iterations.to_string(),
+            settings,
+        ));
+    }
+    for precision in TexturePrecision::ALL {
+        out.push(Variant {
+            knob: Knob::Precision,
+            value: precision.label().to_string(),
+            settings: dvr,
+            precision,
+        });
+    }
+    out
+}
+
+/// The reference for `mode` under `base`: 1/16-voxel steps, no early termination or leaping,
+/// pre-integrated classification (each 1/16-voxel segment integrated for the TF, so a feature
+/// thinner than the step is not missed; at that step the value is linear along a segment to
+/// within ~10⁻³ of a voxel's change), fourth-order gradients, the most iso refinement, f32
+/// texels.
+pub fn reference(base: &RenderSettings, mode: Mode) -> (RenderSettings, TexturePrecision) {
+    let mut settings = RenderSettings {
+        mode,
+        strategy: Strategy::Rc,
+        step_vox: REFERENCE_STEP_VOX,
+        termination_alpha: 1.0,
+        jitter: false,
+        opacity_correction: true,
+        preintegrated: true,
+        gradient: if base.shading == Shading::Phong {
+            GradientScheme::FourthOrder
+        } else {
+            base.gradient
+        },
+        ..*base
+    };
+    settings.iso.refine_iterations = MAX_ISO_REFINEMENT;
+    (settings, TexturePrecision::Float32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_variant_differs_from_the_baseline_only_in_its_knob() {
+        let base = RenderSettings::default();
+        let variants = plan(&base);
+        assert_eq!(
+            variants.len(),
+            4 * STEPS.len() + 5 + 2 + ISO_REFINEMENTS.len() + 4
+        );
+        for v in &variants {
+            let mut undo = v.settings;
+            undo.mode = base.mode;
+            undo.step_vox = base.step_vox;
+            undo.preintegrated = false;
+            undo.jitter = false;
+            undo.opacity_correction = true;
+            undo.termination_alpha = base.termination_alpha;
+            undo.gradient = base.gradient;
+            undo.iso = base.iso;
+            assert_eq!(undo, base, "{:?} {}", v.knob, v.value);
+            assert_eq!(v.settings.mode, v.knob.mode());
+            assert!(v.settings.validate().is_ok());
+        }
+    }
+
+    #[test]
+    fn the_reference_is_finer_than_every_variant() {
+        let base = RenderSettings::default();
+        for v in plan(&base) {
+            let (r, _) = reference(&base, v.knob.mode());
+            assert!(r.step_vox < v.settings.step_vox);
+            assert_eq!(r.strategy, Strategy::Rc);
+            assert!(r.iso.refine_iterations >= v.settings.iso.refine_iterations);
+        }
+    }
+}

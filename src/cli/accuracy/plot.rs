@@ -1,0 +1,142 @@
+//! The error-against-time plot of one dataset: RMSE (log) against GPU milliseconds for every
+//! knob, the step series as lines, the Pareto front dashed; the isosurface refinement in its
+//! own panel (its reference is an isosurface image).
+
+use std::path::Path;
+
+use leapview::accuracy::results::pareto_front;
+use leapview::accuracy::{Knob, Measurement};
+use plotters::prelude::*;
+
+use crate::cli::bench::plots::{FONT, err, register};
+
+fn colour(knob: Knob) -> RGBColor {
+    match knob {
+        Knob::Step => RGBColor(0x1f, 0x77, 0xb4),
+        Knob::StepPreintegrated => RGBColor(0xd6, 0x27, 0x28),
+        Knob::StepJittered => RGBColor(0x2c, 0xa0, 0x2c),
+        Knob::StepUncorrected => RGBColor(0x8c, 0x8c, 0x8c),
+        Knob::Termination => RGBColor(0x94, 0x67, 0xbd),
+        Knob::Gradient => RGBColor(0xff, 0x7f, 0x0e),
+        Knob::IsoRefinement => RGBColor(0x17, 0xbe, 0xcf),
+        Knob::Precision => RGBColor(0x8c, 0x56, 0x4b),
+    }
+}
+
+/// Smallest RMSE shown (the log axis cannot show 0).
+const FLOOR: f64 = 1e-5;
+
+/// Draws `rows` (one dataset) into `path`.
+pub fn draw(path: &Path, dataset: &str, rows: &[&Measurement]) -> anyhow::Result<()> {
+    register();
+    let root = BitMapBackend::new(path, (1600, 640)).into_drawing_area();
+    root.fill(&WHITE).map_err(err)?;
+    let (left, right) = root.split_horizontally(1100);
+    let dvr: Vec<&Measurement> = rows
+        .iter()
+        .copied()
+        .filter(|m| m.knob != Knob::IsoRefinement)
+        .collect();
+    let iso: Vec<&Measurement> = rows
+        .iter()
+        .copied()
+        .filter(|m| m.knob == Knob::IsoRefinement)
+        .collect();
+    panel(&left, &format!("{dataset}: DVR, error against time"), &dvr)?;
+    panel(&right, &format!("{dataset}: isosurface refinement"), &iso)?;
+    root.present().map_err(err)
+}
+
+fn panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    caption: &str,
+    rows: &[&Measurement],
+) -> anyhow::Result<()> {
+    let y = |m: &Measurement| m.error.rmse.max(FLOOR);
+    let (x_lo, x_hi) = rows.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), m| {
+        (lo.min(m.ms), hi.max(m.ms))
+    });
+    let (y_lo, y_hi) = rows.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), m| {
+        (lo.min(y(m)), hi.max(y(m)))
+    });
+    if rows.is_empty() {
+        return Ok(());
+    }
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FONT, 22))
+        .margin(12)
+        .x_label_area_size(50)
+        .y_label_area_size(80)
+        .build_cartesian_2d(
+            (x_lo * 0.8..x_hi * 1.25).log_scale(),
+            (y_lo * 0.6..y_hi * 1.6).log_scale(),
+        )
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("GPU ms per frame (median)")
+        .y_desc("RMSE against the reference")
+        .label_style((FONT, 15))
+        .draw()
+        .map_err(err)?;
+    // The Pareto front first, under the points.
+    let points: Vec<(f64, f64)> = rows.iter().map(|m| (m.ms, y(m))).collect();
+    let front: Vec<(f64, f64)> = pareto_front(&points)
+        .into_iter()
+        .map(|i| points[i])
+        .collect();
+    chart
+        .draw_series(DashedLineSeries::new(front, 6, 4, BLACK.stroke_width(1)))
+        .map_err(err)?
+        .label("Pareto front")
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 16, y)], BLACK));
+    for knob in Knob::ALL {
+        let mine: Vec<&Measurement> = rows.iter().copied().filter(|m| m.knob == knob).collect();
+        if mine.is_empty() {
+            continue;
+        }
+        let c = colour(knob);
+        let line = matches!(
+            knob,
+            Knob::Step
+                | Knob::StepPreintegrated
+                | Knob::StepJittered
+                | Knob::StepUncorrected
+                | Knob::IsoRefinement
+        );
+        if line {
+            chart
+                .draw_series(LineSeries::new(
+                    mine.iter().map(|m| (m.ms, y(m))),
+                    c.stroke_width(2),
+                ))
+                .map_err(err)?;
+        }
+        chart
+            .draw_series(
+                mine.iter()
+                    .map(|m| Circle::new((m.ms, y(m)), 5, c.filled())),
+            )
+            .map_err(err)?
+            .label(knob.label())
+            .legend(move |(x, y)| Circle::new((x + 8, y), 5, c.filled()));
+        // Values next to the points of the plain step series, the iso series and the others.
+        if knob != Knob::StepJittered && knob != Knob::StepUncorrected {
+            chart
+                .draw_series(
+                    mine.iter()
+                        .map(|m| Text::new(m.value.clone(), (m.ms, y(m)), (FONT, 13).into_font())),
+                )
+                .map_err(err)?;
+        }
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font((FONT, 15))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(err)?;
+    Ok(())
+}
