@@ -270,8 +270,25 @@ fn every_mode_and_its_parameters_reach_the_renderer() {
         side.pixels, head.pixels,
         "the light direction reaches the shader"
     );
+    // Quality presets, pre-integration and texel precision reach the renderer: each changes
+    // the picture (Fast's one-voxel jittered steps, Reference's ⅛-voxel pre-integrated ones,
+    // 8-bit texels are exact for this 8-bit scan so the same picture as auto).
+    let balanced = render("quality-balanced", &["--quality", "balanced"]);
+    let fast = render("quality-fast", &["--quality", "fast"]);
+    let reference = render("quality-reference", &["--quality", "reference"]);
+    assert_ne!(fast.pixels, balanced.pixels, "fast = balanced");
+    assert_ne!(reference.pixels, balanced.pixels, "reference = balanced");
+    let pre = render("preintegrated", &["--preintegrate", "--step", "2"]);
+    let post = render("post-classified", &["--step", "2"]);
+    assert_ne!(pre.pixels, post.pixels, "--preintegrate changes nothing");
+    let eight = render("texels-8", &["--precision", "unorm8"]);
+    assert_eq!(
+        eight.pixels, head.pixels,
+        "8-bit data in 8-bit texels is exact"
+    );
     for bad in [
-        &["--mode", "mip", "--window", "60,0"][..],
+        &["--quality", "fast", "--step", "2"][..],
+        &["--mode", "mip", "--window", "60,0"],
         &["--light", "0,0,0"],
         &["--phong", "1,1,1"],
         &["--iso-refine", "99", "--mode", "iso"],

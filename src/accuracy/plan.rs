@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::render::effects::{GradientScheme, MAX_ISO_REFINEMENT, Shading};
 use crate::render::settings::DEFAULT_TERMINATION_ALPHA;
-use crate::render::{Mode, RenderSettings, Strategy, TexturePrecision};
+use crate::render::{Mode, QualityPreset, RenderSettings, Strategy, TexturePrecision};
 
 /// One swept quality knob (a series on the plot).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -28,11 +28,13 @@ pub enum Knob {
     IsoRefinement,
     /// Texel precision of the volume texture.
     Precision,
+    /// The window's quality presets (all their knobs at once).
+    Preset,
 }
 
 impl Knob {
     /// All knobs, in table order.
-    pub const ALL: [Self; 8] = [
+    pub const ALL: [Self; 9] = [
         Self::Step,
         Self::StepPreintegrated,
         Self::StepJittered,
@@ -41,6 +43,7 @@ impl Knob {
         Self::Gradient,
         Self::IsoRefinement,
         Self::Precision,
+        Self::Preset,
     ];
 
     /// Name in tables and legends.
@@ -54,6 +57,7 @@ impl Knob {
             Self::Gradient => "gradient",
             Self::IsoRefinement => "iso refinement",
             Self::Precision => "texture precision",
+            Self::Preset => "quality preset",
         }
     }
 
@@ -164,6 +168,11 @@ pub fn plan(base: &RenderSettings) -> Vec<Variant> {
             settings,
         ));
     }
+    for preset in QualityPreset::ALL {
+        let mut settings = dvr;
+        preset.apply(&mut settings);
+        out.push(variant(Knob::Preset, preset.label().to_string(), settings));
+    }
     for precision in TexturePrecision::ALL {
         out.push(Variant {
             knob: Knob::Precision,
@@ -210,9 +219,9 @@ mod tests {
         let variants = plan(&base);
         assert_eq!(
             variants.len(),
-            4 * STEPS.len() + 5 + 2 + ISO_REFINEMENTS.len() + 4
+            4 * STEPS.len() + 5 + 2 + ISO_REFINEMENTS.len() + 4 + 3
         );
-        for v in &variants {
+        for v in variants.iter().filter(|v| v.knob != Knob::Preset) {
             let mut undo = v.settings;
             undo.mode = base.mode;
             undo.step_vox = base.step_vox;

@@ -92,6 +92,16 @@ pub struct RenderArgs {
     /// RC-t stops once accumulated opacity exceeds this.
     #[arg(long, default_value_t = leapview::render::settings::DEFAULT_TERMINATION_ALPHA)]
     pub termination: f64,
+    /// Pre-integrated classification (DVR): thin transfer-function features survive large steps.
+    #[arg(long)]
+    pub preintegrate: bool,
+    /// A quality preset (docs/accuracy): sets the step, termination, jitter, pre-integration,
+    /// gradients and iso refinement (--gradient and --iso-refine still override it).
+    #[arg(long, value_enum, conflicts_with_all = ["step", "termination", "jitter", "preintegrate"])]
+    pub quality: Option<leapview::render::QualityPreset>,
+    /// Texel precision of the volume texture (auto: exact integers, f32 for floats).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub precision: leapview::render::TexturePrecision,
     /// Edge of the leaping blocks in voxels (RC-s): 4, 8, 16, 32, 64 or 128.
     #[arg(long, default_value_t = leapview::render::settings::DEFAULT_BLOCK_VOX)]
     pub block: u32,

@@ -36,8 +36,12 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         jitter: args.jitter,
         background: args.background,
         block_vox: args.block,
+        preintegrated: args.preintegrate,
         ..RenderSettings::default()
     };
+    if let Some(quality) = args.quality {
+        quality.apply(&mut settings);
+    }
     args.effects.apply(&mut settings);
     settings
         .validate()
@@ -47,7 +51,9 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
     let adapter = ctx.adapter_summary();
     let mut renderer = VolumeRenderer::new(ctx).map_err(render_failure)?;
-    renderer.set_volume(&volume).map_err(render_failure)?;
+    renderer
+        .set_volume_with(&volume, args.precision)
+        .map_err(render_failure)?;
     renderer.set_transfer_function(&tf);
     let request = FrameRequest {
         camera: &camera,

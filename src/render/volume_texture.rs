@@ -34,7 +34,16 @@ pub struct TexelEncoding {
 /// The texel precision asked for: the best the adapter filters (the default), or one format
 /// forced, to measure what precision costs and buys (the accuracy benchmark).
 #[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    Hash,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum TexturePrecision {

@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::camera::{ProjectionKind, ViewPreset};
 use crate::render::settings::DEFAULT_TERMINATION_ALPHA;
-use crate::render::{Mode, RenderPath, RenderSettings, Strategy};
+use crate::render::{Mode, QualityPreset, RenderPath, RenderSettings, Strategy};
 use crate::volume::{ScalarType, ValueRange, Volume};
 
 /// Preset chosen for volumes that look like CT (values in Hounsfield units).
@@ -63,6 +63,9 @@ pub struct ViewerState {
     /// Jittered ray starts.
     #[serde(default)]
     pub jitter: bool,
+    /// Pre-integrated classification (DVR).
+    #[serde(default)]
+    pub preintegrated: bool,
     /// Background colour as 8-bit RGB; stored into the image as it is, like the PNG output.
     pub background: [u8; 3],
     /// Perspective or orthographic projection.
@@ -76,7 +79,7 @@ pub struct ViewerState {
 impl Default for ViewerState {
     fn default() -> Self {
         let render = RenderSettings::default();
-        Self {
+        let mut state = Self {
             preset: DEFAULT_CT_PRESET.to_string(),
             mode: render.mode,
             effects: effects::EffectState::default(),
@@ -91,7 +94,10 @@ impl Default for ViewerState {
             projection: ProjectionKind::Perspective,
             show_controls: true,
             show_readout: true,
-        }
+            preintegrated: false,
+        };
+        state.apply_quality(QualityPreset::Balanced);
+        state
     }
 }
 
@@ -115,12 +121,31 @@ impl ViewerState {
             step_vox: self.step_vox,
             termination_alpha: self.termination_alpha,
             jitter: self.jitter,
+            preintegrated: self.preintegrated,
             background: self.background.map(|c| f64::from(c) / 255.0),
             block_vox: self.block_vox,
             ..RenderSettings::default()
         };
         self.effects.apply(&mut settings);
         settings
+    }
+
+    /// Sets the knobs `preset` decides (step, termination, jitter, pre-integration, gradients,
+    /// iso refinement).
+    pub fn apply_quality(&mut self, preset: QualityPreset) {
+        let mut s = self.render_settings();
+        preset.apply(&mut s);
+        self.step_vox = s.step_vox;
+        self.termination_alpha = s.termination_alpha;
+        self.jitter = s.jitter;
+        self.preintegrated = s.preintegrated;
+        self.effects.gradient = s.gradient;
+        self.effects.iso.refine_iterations = s.iso.refine_iterations;
+    }
+
+    /// The preset the current knobs match, `None` for custom settings.
+    pub fn quality(&self) -> Option<QualityPreset> {
+        QualityPreset::of(&self.render_settings())
     }
 
     /// The strategy frames use: the chosen one, or RC-s where the mode cannot use the

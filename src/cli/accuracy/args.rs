@@ -37,4 +37,7 @@ pub struct AccuracyArgs {
     /// One view, one frame, 96×96 images, the phantom only (for CPU drivers and CI).
     #[arg(long)]
     pub quick: bool,
+    /// Render nothing: redraw the tables and plots of an earlier run's `results.json` into --out.
+    #[arg(long, conflicts_with_all = ["quick", "datasets"])]
+    pub redraw: Option<PathBuf>,
 }

@@ -18,7 +18,7 @@ use leapview::render::{GpuContext, RenderSettings, VolumeRenderer};
 use leapview::transfer::TransferFunction;
 use leapview::transfer::presets::preset;
 use leapview::volume::{ValueRange, synthetic::shepp_logan};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 pub use args::AccuracyArgs;
 
@@ -46,8 +46,43 @@ struct Report<'a> {
     not_measured: &'a [NotMeasured],
 }
 
+/// `results.json` read back (for --redraw).
+#[derive(Deserialize)]
+struct SavedReport {
+    environment: Environment,
+    size: [u32; 2],
+    views: u32,
+    frames: u32,
+    measurements: Vec<Measurement>,
+    not_measured: Vec<NotMeasured>,
+}
+
+/// Rewrites the tables and plots of `results` into `out`.
+fn redraw(results: &Path, out: &Path) -> Result<(), Failure> {
+    let text = std::fs::read_to_string(results)
+        .map_err(|e| Failure::BadInput(anyhow::anyhow!("reading {}: {e}", results.display())))?;
+    let r: SavedReport = serde_json::from_str(&text).map_err(|e| {
+        Failure::BadInput(anyhow::anyhow!(
+            "{} is not an accuracy report: {e}",
+            results.display()
+        ))
+    })?;
+    std::fs::create_dir_all(out)
+        .map_err(|e| Failure::Other(anyhow::anyhow!("creating {}: {e}", out.display())))?;
+    write(
+        out,
+        &r.environment,
+        (r.size, r.views, r.frames),
+        &r.measurements,
+        &r.not_measured,
+    )
+}
+
 /// Runs the command.
 pub fn run(args: AccuracyArgs) -> Result<(), Failure> {
+    if let Some(results) = &args.redraw {
+        return redraw(results, &args.out);
+    }
     let bad = |e: anyhow::Error| Failure::BadInput(e);
     let config = BenchConfig::load(&args.config).map_err(|e| bad(e.into()))?;
     let config_dir = args.config.parent().unwrap_or(Path::new(".")).to_path_buf();

@@ -20,6 +20,7 @@ fn colour(knob: Knob) -> RGBColor {
         Knob::Gradient => RGBColor(0xff, 0x7f, 0x0e),
         Knob::IsoRefinement => RGBColor(0x17, 0xbe, 0xcf),
         Knob::Precision => RGBColor(0x8c, 0x56, 0x4b),
+        Knob::Preset => RGBColor(0x00, 0x00, 0x00),
     }
 }
 
@@ -76,6 +77,8 @@ fn panel<DB: DrawingBackend>(
         .configure_mesh()
         .x_desc("GPU ms per frame (median)")
         .y_desc("RMSE against the reference")
+        .x_label_formatter(&|v| short(*v))
+        .y_label_formatter(&|v| short(*v))
         .label_style((FONT, 15))
         .draw()
         .map_err(err)?;
@@ -139,4 +142,13 @@ fn panel<DB: DrawingBackend>(
         .draw()
         .map_err(err)?;
     Ok(())
+}
+
+/// A tick label with two significant digits.
+fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let digits = (1 - v.abs().log10().floor() as i32).max(0) as usize;
+    format!("{v:.digits$}")
 }
