@@ -1,7 +1,9 @@
 //! Helpers shared by the integration tests: the GPU, output folders, image comparison.
 #![allow(dead_code, unused_imports)]
 
+mod analytic;
 mod files;
+pub use analytic::*;
 pub use files::*;
 
 use std::path::PathBuf;
