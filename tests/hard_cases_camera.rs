@@ -10,13 +10,11 @@ use common::Uniform;
 use glam::DVec3;
 use leapview::camera::{Aabb, Camera, Projection, ProjectionKind, ViewPreset};
 use leapview::reference;
-use leapview::render::effects::{IsoSettings, Shading};
+use leapview::render::effects::IsoSettings;
 use leapview::render::{Mode, RenderSettings, Strategy, VolumeRenderer};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume, synthetic};
 
-/// Voxel value of the uniform volume.
-const VALUE: f32 = 100.0;
 const DIMS: [u32; 3] = [12, 10, 8];
 /// Anisotropic, so a swapped axis changes path lengths; d0 = 0.75 mm.
 const SPACING: [f64; 3] = [1.0, 1.5, 0.75];
@@ -24,12 +22,12 @@ const UNIFORM: Uniform = Uniform {
     alpha: 0.05,
     rgb: [1.0, 0.6, 0.2],
     d0_mm: 0.75,
-    // The window [VALUE − 1, VALUE + 1] puts the value in its middle.
+    // The window of `common::uniform_settings` puts the value in its middle.
     windowed: 0.5,
 };
 
 fn volume() -> Volume {
-    synthetic::constant(DIMS, SPACING, VALUE).expect("valid")
+    synthetic::constant(DIMS, SPACING, common::UNIFORM_VALUE).expect("valid")
 }
 
 fn bounds() -> Aabb {
@@ -70,16 +68,7 @@ fn check(r: &mut VolumeRenderer, name: &str, camera: &Camera, size: [u32; 2], re
     for mode in Mode::ALL {
         for strategy in Strategy::ALL {
             for path in common::PATHS {
-                let settings = RenderSettings {
-                    mode,
-                    strategy,
-                    path,
-                    shading: Shading::Phong,
-                    background: [0.2, 0.3, 0.4],
-                    window: Some([f64::from(VALUE) - 1.0, f64::from(VALUE) + 1.0]),
-                    xray_density_per_mm: 0.05,
-                    ..RenderSettings::default()
-                };
+                let settings = common::uniform_settings(mode, strategy, path);
                 let image = r
                     .render_image(camera, size, &settings)
                     .unwrap_or_else(|e| panic!("{name} {settings:?}: {e}"));

@@ -5,46 +5,16 @@
 
 mod common;
 
+use common::{BACKGROUND, framing, renderer_for, settings, variants};
+
 use common::Uniform;
 use leapview::camera::{Aabb, Camera, Projection, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
 use leapview::reference::{self, sample_trilinear};
 use leapview::render::effects::{IsoSettings, MipColor, Shading};
-use leapview::render::{Mode, RenderPath, RenderSettings, Strategy, VolumeRenderer};
+use leapview::render::{Mode, RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume, synthetic};
-
-const BACKGROUND: [f64; 3] = [0.2, 0.3, 0.4];
-
-fn settings(mode: Mode, strategy: Strategy, path: RenderPath) -> RenderSettings {
-    RenderSettings {
-        mode,
-        strategy,
-        path,
-        background: BACKGROUND,
-        ..RenderSettings::default()
-    }
-}
-
-fn framing(volume: &Volume, view: ViewPreset, kind: ProjectionKind) -> Camera {
-    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
-    let (dir, up) = view.direction_and_up();
-    Camera::framing(&bounds, dir, up, kind)
-}
-
-fn renderer_for(volume: &Volume, tf: &TransferFunction) -> VolumeRenderer {
-    let mut r = common::renderer();
-    r.set_volume(volume).expect("upload");
-    r.set_transfer_function(tf);
-    r
-}
-
-/// Every strategy on both paths.
-fn variants() -> impl Iterator<Item = (Strategy, RenderPath)> {
-    Strategy::ALL
-        .into_iter()
-        .flat_map(|s| common::PATHS.map(|p| (s, p)))
-}
 
 /// A 7×6×5 volume of one stored value `v` in each stored type.
 fn constants() -> Vec<Volume> {

@@ -3,8 +3,10 @@
 
 mod analytic;
 mod files;
+mod hard;
 pub use analytic::*;
 pub use files::*;
+pub use hard::*;
 
 use std::path::PathBuf;
 
