@@ -8,7 +8,7 @@ use common::{check_reference, colour_ramp, framing, renderer_for, settings, vari
 use glam::DVec3;
 use leapview::camera::{Aabb, Camera, Projection, ProjectionKind, ViewPreset};
 use leapview::render::effects::{IsoSettings, MipColor, Shading};
-use leapview::render::{Mode, RenderPath, RenderSettings, Strategy};
+use leapview::render::{Mode, RenderPath, RenderSettings, Strategy, VolumeRenderer};
 use leapview::volume::{Samples, ValueMapping, Volume, synthetic};
 
 #[test]
@@ -167,21 +167,68 @@ fn nan_and_infinite_samples_are_missing_in_every_mode() {
     }
 }
 
+/// Renders `camera` in `modes` with every strategy on both paths and checks the analytic answer
+/// of the uniform volume at a sixteenth of a pixel around each centre (as in
+/// tests/hard_cases_camera.rs): a ray of zero length may round to a miss (the background) or to
+/// a short hit (the constant's grey), nothing else.
+fn check_touching(
+    r: &mut VolumeRenderer,
+    name: &str,
+    volume: &Volume,
+    camera: &Camera,
+    size: [u32; 2],
+    modes: &[Mode],
+) {
+    let uniform = common::Uniform {
+        alpha: 0.1,
+        rgb: [1.0; 3],
+        d0_mm: 1.0,
+        windowed: 0.5,
+    };
+    r.set_volume(volume).expect("upload");
+    r.set_transfer_function(&common::uniform_tf(uniform.alpha, uniform.rgb));
+    let b = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let lengths = common::footprint_lengths(camera, &b, size, 1.0 / 16.0);
+    for &mode in modes {
+        for (strategy, path) in variants() {
+            let s = common::uniform_settings(mode, strategy, path);
+            let image = r.render_image(camera, size, &s).expect("render");
+            common::assert_within_footprint(
+                &format!("{name}-{}-{}-{path:?}", mode.label(), strategy.label()),
+                &image,
+                common::ANALYTIC_TOLERANCE,
+                |px, py| lengths[(py * size[0] + px) as usize].map(|l| uniform.pixel(&s, l)),
+            );
+        }
+    }
+}
+
 #[test]
 fn xray_paths_of_zero_length() {
     // An orthographic view along (−1, 1, 0) centred on the edge x = max, y = max: rays through
     // the middle column (odd width) touch the box only on that edge, a path of length zero; the
     // columns to its left cross ever longer chords, those to its right miss.
-    let volume = synthetic::constant([8, 8, 6], [1.0; 3], 100.0).expect("valid");
+    let volume = synthetic::constant([8, 8, 6], [1.0; 3], common::UNIFORM_VALUE).expect("valid");
     let b = Aabb::of_volume(volume.dims(), volume.spacing_mm());
-    let target = DVec3::new(b.max.x, b.max.y, b.center().z);
-    let dir = DVec3::new(-1.0, 1.0, 0.0).normalize();
-    let edge = Camera {
-        eye: target - dir * 30.0,
-        target,
-        up: DVec3::Z,
-        projection: Projection::Orthographic { height_mm: 4.0 },
+    let on_edge = |shift: f64, dir: DVec3| {
+        let target = DVec3::new(b.max.x + shift, b.max.y - 0.37 * shift, b.center().z);
+        Camera {
+            eye: target - dir.normalize() * 30.0,
+            target,
+            up: DVec3::Z,
+            projection: Projection::Orthographic { height_mm: 4.0 },
+        }
     };
+    let edge = on_edge(0.0, DVec3::new(-1.0, 1.0, 0.0));
+    let mut r = common::renderer();
+    check_touching(
+        &mut r,
+        "zero-length-edge",
+        &volume,
+        &edge,
+        [33, 33],
+        &Mode::ALL,
+    );
     // A single pixel whose ray touches only the corner at the maximum.
     let corner_dir = DVec3::new(-1.0, 1.0, 1.0).normalize();
     let corner = Camera {
@@ -189,36 +236,33 @@ fn xray_paths_of_zero_length() {
         target: b.max,
         ..edge
     };
-    let uniform = common::Uniform {
-        alpha: 0.1,
-        rgb: [1.0; 3],
-        d0_mm: 1.0,
-        windowed: 0.5,
-    };
-    let r = &mut renderer_for(&volume, &common::uniform_tf(uniform.alpha, uniform.rgb));
-    for (name, camera, size) in [("edge", edge, [33, 33]), ("corner", corner, [1, 1])] {
-        // A sixteenth of a pixel, as in tests/hard_cases_camera.rs: the zero-length rays may
-        // round to a miss (the background) or to a short hit (the constant's grey).
-        let lengths = common::footprint_lengths(&camera, &b, size, 1.0 / 16.0);
-        for mode in Mode::ALL {
-            for (strategy, path) in variants() {
-                let s = RenderSettings {
-                    window: Some([99.0, 101.0]),
-                    xray_density_per_mm: 0.05,
-                    ..settings(mode, strategy, path)
-                };
-                let image = r.render_image(&camera, size, &s).expect("render");
-                common::assert_within_footprint(
-                    &format!(
-                        "zero-length-{name}-{}-{}-{path:?}",
-                        mode.label(),
-                        strategy.label()
-                    ),
-                    &image,
-                    common::ANALYTIC_TOLERANCE,
-                    |px, py| lengths[(py * size[0] + px) as usize].map(|l| uniform.pixel(&s, l)),
-                );
-            }
-        }
+    check_touching(
+        &mut r,
+        "zero-length-corner",
+        &volume,
+        &corner,
+        [1, 1],
+        &Mode::ALL,
+    );
+    // The edge again, moved by 10⁻⁷ mm steps and tilted: on the compute path some middle-column
+    // rays then meet the box with t₁ > t₀ while their f32 entry and exit points coincide. The
+    // mean of such a path was 0/0 (NaN, clamped to black by lavapipe); it is the background.
+    for k in 0..40 {
+        let shift = (f64::from(k) - 20.0) * 1e-7;
+        let dir = DVec3::new(
+            -1.0,
+            1.0 + 0.018 + f64::from(k) * 1e-4,
+            0.1 * f64::from(k % 7),
+        );
+        let modes = [Mode::Xray, Mode::XrayAttenuation];
+        let name = format!("zero-length-edge-{k}");
+        check_touching(
+            &mut r,
+            &name,
+            &volume,
+            &on_edge(shift, dir),
+            [33, 33],
+            &modes,
+        );
     }
 }
