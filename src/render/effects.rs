@@ -146,7 +146,9 @@ mod tests {
         assert_eq!(at(Some(4000.0)).threshold(range), 1.0 - ISO_TIE_TOLERANCE);
         assert_eq!(at(None).threshold(range), 0.5 - ISO_TIE_TOLERANCE);
         // Below a sixteenth of one 16-bit level, and above f32's rounding of values near 1.
-        assert!(ISO_TIE_TOLERANCE < 1.0 / 65535.0 / 16.0);
-        assert!(ISO_TIE_TOLERANCE > 4.0 * f64::from(f32::EPSILON));
+        const {
+            assert!(ISO_TIE_TOLERANCE < 1.0 / 65535.0 / 16.0);
+            assert!(ISO_TIE_TOLERANCE > 4.0 * f32::EPSILON as f64);
+        }
     }
 }
