@@ -55,15 +55,17 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
         return 0u;
     }
 #else
+    // The table holds the optical depth of a full step (src/transfer/lut.rs).
     var c = classify(s);
     if c.a <= 0.0 {
         return 0u;
     }
+    var w = 1.0;
     if k + 1u == ray.count {
         // The last segment may be shorter than a step: scale its optical depth.
-        let w = clamp((ray.length_mm - f32(k) * frame.step_mm) / frame.step_mm, 0.0, 1.0);
-        c.a = select(1.0 - pow(1.0 - c.a, w), 1.0, c.a >= 1.0);
+        w = clamp((ray.length_mm - f32(k) * frame.step_mm) / frame.step_mm, 0.0, 1.0);
     }
+    c.a = opacity_of_depth(c.a * w);
 #endif
     return composite(acc, ray, p, c);
 }

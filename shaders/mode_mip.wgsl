@@ -55,7 +55,8 @@ fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
     // The TF's colour weighted by its own (uncorrected) opacity over the background, so values
     // the TF hides show the background.
     let c = classify(acc.extreme);
-    let a = 1.0 - pow(max(1.0 - c.a, 0.0), frame.iso.y);
+    // The table holds the optical depth of a step; iso.y turns it into that of one d0.
+    let a = opacity_of_depth(c.a * frame.iso.y);
     return vec4<f32>(c.rgb * a + (1.0 - a) * frame.background.rgb, 1.0);
 #else
     let grey = clamp((acc.extreme - frame.window.x) / (frame.window.y - frame.window.x), 0.0, 1.0);

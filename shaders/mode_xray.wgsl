@@ -42,6 +42,11 @@ fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
 #ifdef MODE_XRAY_ATTENUATION
     let grey = 1.0 - exp(-frame.window.w * acc.integral_mm);
 #else
+    // A path of zero length (a ray that touches an edge or a corner, where the f32 entry and exit
+    // coincide) has no mean, and 0/0 would be NaN: it shows the background, as a ray that misses.
+    if !(ray.length_mm > 0.0) {
+        return frame.background;
+    }
     let grey = clamp(acc.integral_mm / ray.length_mm, 0.0, 1.0);
 #endif
     return vec4<f32>(vec3<f32>(grey), 1.0);

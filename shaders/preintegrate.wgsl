@@ -52,5 +52,5 @@ fn preintegrated(s_front: f32, s_back: f32, length_mm: f32) -> vec4<f32> {
         return vec4<f32>(0.0);
     }
     let depth = length_mm * frame.iso.w * d.x / (hi - lo);
-    return vec4<f32>(clamp(d.yzw / d.x, vec3<f32>(0.0), vec3<f32>(1.0)), 1.0 - exp(-depth));
+    return vec4<f32>(clamp(d.yzw / d.x, vec3<f32>(0.0), vec3<f32>(1.0)), opacity_of_depth(depth));
 }

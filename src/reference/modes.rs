@@ -170,7 +170,7 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut ReferenceCounts) -> DVec3 {
 
 fn iso(ray: &RayInput, counts: &mut ReferenceCounts) -> Option<DVec3> {
     let range = ray.range();
-    let iso = range.normalize(ray.settings.iso.value.unwrap_or(range.denormalize(0.5)));
+    let iso = ray.settings.iso.threshold(range);
     let mut prev: Option<(f64, f64)> = None;
     for s in ray.grid().samples() {
         counts.samples += 1;

@@ -3,6 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::volume::ValueRange;
+
 /// Whether samples are lit.
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
@@ -94,6 +96,23 @@ pub const DEFAULT_ISO_REFINEMENT: u32 = 4;
 /// Most refinement steps accepted.
 pub const MAX_ISO_REFINEMENT: u32 = 16;
 
+/// How far below the iso value, in normalised units (the volume's value range is 0..1), a sample
+/// still counts as having reached it: 2⁻²⁰. The GPU decodes stored values in f32, a few 10⁻⁷
+/// off, so without it a plateau at exactly the iso value (or at the data maximum) would fall on
+/// either side by rounding alone, the surface landing on any sample inside the plateau, and
+/// voxels at the data minimum could fall below an iso value set to the minimum. 2⁻²⁰ of the range
+/// is a sixteenth of one level of 16-bit data: the surface moves by less than data resolve.
+pub const ISO_TIE_TOLERANCE: f64 = 1.0 / 1_048_576.0;
+
+impl IsoSettings {
+    /// The normalised value samples are compared with: the iso value (the middle of `range` when
+    /// unset) normalised over `range`, less [`ISO_TIE_TOLERANCE`]. The GPU and the reference
+    /// both use it, for the crossings and for the colour.
+    pub fn threshold(&self, range: ValueRange) -> f64 {
+        range.normalize(self.value.unwrap_or(range.denormalize(0.5))) - ISO_TIE_TOLERANCE
+    }
+}
+
 impl Default for IsoSettings {
     fn default() -> Self {
         Self {
@@ -107,3 +126,29 @@ impl Default for IsoSettings {
 /// linear attenuation coefficient at 70 keV (0.019/mm), so a 20 cm head of window-top material
 /// transmits e^(−3.8) ≈ 2 %.
 pub const DEFAULT_XRAY_DENSITY_PER_MM: f64 = 0.019;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn iso_threshold_sits_just_below_the_value_at_both_ends_of_the_range() {
+        let range = ValueRange {
+            min: 100.0,
+            max: 4000.0,
+        };
+        let at = |value| IsoSettings {
+            value,
+            ..IsoSettings::default()
+        };
+        // Exact: the normalised ends are 0 and 1, and 2⁻²⁰ is a power of two.
+        assert_eq!(at(Some(100.0)).threshold(range), -ISO_TIE_TOLERANCE);
+        assert_eq!(at(Some(4000.0)).threshold(range), 1.0 - ISO_TIE_TOLERANCE);
+        assert_eq!(at(None).threshold(range), 0.5 - ISO_TIE_TOLERANCE);
+        // Below a sixteenth of one 16-bit level, and above f32's rounding of values near 1.
+        const {
+            assert!(ISO_TIE_TOLERANCE < 1.0 / 65535.0 / 16.0);
+            assert!(ISO_TIE_TOLERANCE > 4.0 * f32::EPSILON as f64);
+        }
+    }
+}

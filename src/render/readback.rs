@@ -26,6 +26,10 @@ fn submit_and_map(
 }
 
 /// Reads an RGBA16F texture of `size` pixels into linear f32 pixels, waiting for the GPU.
+///
+/// The copy goes through staging buffers of at most the device's `max_buffer_size`, one band of
+/// rows each: the largest image a device takes can need more (lavapipe: 16384² pixels, 2³¹
+/// bytes, one byte more than its largest buffer).
 pub fn read_texture(
     ctx: &GpuContext,
     texture: &wgpu::Texture,
@@ -35,51 +39,59 @@ pub fn read_texture(
     let unpadded = size[0] * BYTES_PER_PIXEL;
     let padded =
         unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let band_rows = (ctx.limits.max_buffer_size / u64::from(padded)).clamp(1, u64::from(size[1]));
+    // At most size[1], a u32.
+    let band_rows = band_rows as u32;
     let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("image readback"),
-        size: padded as u64 * size[1] as u64,
+        size: u64::from(padded) * u64::from(band_rows),
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    let mut encoder = ctx
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("readback"),
-        });
-    encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded),
-                rows_per_image: Some(size[1]),
-            },
-        },
-        wgpu::Extent3d {
-            width: size[0],
-            height: size[1],
-            depth_or_array_layers: 1,
-        },
-    );
-    submit_and_map(ctx, encoder, &buffer)?;
-    let data = buffer.get_mapped_range(..).map_err(|e| e.to_string())?;
     let mut pixels = Vec::with_capacity(size[0] as usize * size[1] as usize);
-    for row in data.chunks_exact(padded as usize) {
-        let halves: &[half::f16] = bytemuck::cast_slice(&row[..unpadded as usize]);
-        pixels.extend(
-            halves
-                .chunks_exact(4)
-                .map(|p| [p[0].to_f32(), p[1].to_f32(), p[2].to_f32(), p[3].to_f32()]),
+    let mut y = 0;
+    while y < size[1] {
+        let rows = band_rows.min(size[1] - y);
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("readback"),
+            });
+        encoder.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d { x: 0, y, z: 0 },
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buffer,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(padded),
+                    rows_per_image: Some(rows),
+                },
+            },
+            wgpu::Extent3d {
+                width: size[0],
+                height: rows,
+                depth_or_array_layers: 1,
+            },
         );
+        submit_and_map(ctx, encoder, &buffer)?;
+        let data = buffer.get_mapped_range(..).map_err(|e| e.to_string())?;
+        for row in data.chunks_exact(padded as usize).take(rows as usize) {
+            let halves: &[half::f16] = bytemuck::cast_slice(&row[..unpadded as usize]);
+            pixels.extend(
+                halves
+                    .chunks_exact(4)
+                    .map(|p| [p[0].to_f32(), p[1].to_f32(), p[2].to_f32(), p[3].to_f32()]),
+            );
+        }
+        drop(data);
+        buffer.unmap();
+        y += rows;
     }
-    drop(data);
-    buffer.unmap();
     Ok(ImageF32 {
         width: size[0],
         height: size[1],

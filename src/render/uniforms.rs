@@ -58,8 +58,8 @@ pub struct FrameUniforms {
     pub light: [f32; 4],
     /// Window lo and hi (normalised values), MIP/MinIP saturation value, X-ray density per mm.
     pub window: [f32; 4],
-    /// Iso value (normalised), the reciprocal of the step in voxels, 1 for jittered ray starts;
-    /// w unused.
+    /// Iso threshold (normalised, [`super::effects::IsoSettings::threshold`]), the reciprocal of
+    /// the step in voxels, 1 for jittered ray starts; w unused.
     pub iso: [f32; 4],
     /// The pixel rays of the compute path (box coordinates, w unused): the near-plane point of
     /// the ray through NDC `(x, y)` is `near[0] + x·near[1] + y·near[2]`, and the ray runs to
@@ -195,12 +195,7 @@ pub fn frame_uniforms(
         },
         window: window_uniform(settings, decoding.range),
         iso: [
-            decoding.range.normalize(
-                settings
-                    .iso
-                    .value
-                    .unwrap_or(decoding.range.denormalize(0.5)),
-            ) as f32,
+            settings.iso.threshold(decoding.range) as f32,
             // Undoes the LUT's opacity correction where MIP and MinIP colour by the TF.
             (1.0 / settings.opacity_step_vox()) as f32,
             f32::from(u8::from(settings.jitter)),

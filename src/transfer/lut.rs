@@ -3,26 +3,42 @@
 //! The table spans the volume's normalisation range (the value range in data units): entry `i`
 //! holds the transfer function at `range.min + i / (N - 1) * range.width()`, so a normalised
 //! sample value `s` in `[0, 1]` reads it at texel coordinate `s * (N - 1) + 0.5`. Colours are
-//! straight (not premultiplied); alpha is already corrected for the ray step, so the ray loop
-//! needs no `pow` except on a path's last, partial segment.
+//! straight (not premultiplied); the fourth channel is the **optical depth of one step**,
+//! `−ln(1 − α)·Δt/d₀`, so a sample's opacity is `1 − exp(−depth·w)` with `w` the share of a step
+//! it stands for (1 except on a path's last segment). Storing the corrected opacity instead
+//! rounds `1 − (1 − α)^(Δt/d₀)` to exactly 1 in f32 at large steps, after which a short last
+//! segment can no longer be scaled back (a 100-voxel step made every short path opaque).
 
 use super::TransferFunction;
-use crate::sampling::corrected_opacity;
 use crate::volume::ValueRange;
 
 /// Number of entries in the lookup table: about one Hounsfield unit per entry over a CT range,
 /// sixteen per level of an 8-bit volume.
 pub const LUT_SIZE: usize = 4096;
 
-/// The table for `tf` over `range` with the opacity corrected for a step of `step_over_d0`
-/// (the ray step divided by the smallest voxel spacing).
+/// Optical depth stored for an opacity of exactly 1: `exp(−depth·w)` is 0 in f32 for any last
+/// segment longer than 1 % of a step, and it fits a 16-bit float table.
+pub const MAX_OPTICAL_DEPTH: f64 = 1.0e4;
+
+/// Optical depth of a step of `step_over_d0` units of `d₀` through a value whose opacity per
+/// `d₀` is `alpha`.
+pub fn optical_depth(alpha: f64, step_over_d0: f64) -> f64 {
+    let a = alpha.clamp(0.0, 1.0);
+    if a >= 1.0 {
+        return MAX_OPTICAL_DEPTH;
+    }
+    (-(1.0 - a).ln() * step_over_d0).min(MAX_OPTICAL_DEPTH)
+}
+
+/// The table for `tf` over `range` with the optical depth of a step of `step_over_d0` (the ray
+/// step divided by the smallest voxel spacing).
 pub fn bake(tf: &TransferFunction, range: ValueRange, step_over_d0: f64) -> Vec<[f32; 4]> {
     (0..LUT_SIZE)
         .map(|i| {
             let value = range.denormalize(i as f64 / (LUT_SIZE - 1) as f64);
             let [r, g, b] = tf.color_at(value, range);
-            let alpha = corrected_opacity(tf.opacity_at(value, range), step_over_d0, 1.0);
-            [r as f32, g as f32, b as f32, alpha as f32]
+            let depth = optical_depth(tf.opacity_at(value, range), step_over_d0);
+            [r as f32, g as f32, b as f32, depth as f32]
         })
         .collect()
 }
@@ -32,7 +48,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn end_entries_hit_the_range_ends_and_opacity_is_step_corrected() {
+    fn end_entries_hit_the_range_ends_and_depth_is_per_step() {
         let tf = TransferFunction::grey_ramp();
         let range = ValueRange {
             min: 0.0,
@@ -41,11 +57,12 @@ mod tests {
         let lut = bake(&tf, range, 2.0);
         assert_eq!(lut.len(), LUT_SIZE);
         assert_eq!(lut[0], [0.0, 0.0, 0.0, 0.0]);
-        assert_eq!(lut[LUT_SIZE - 1], [1.0, 1.0, 1.0, 1.0]);
+        assert_eq!(lut[LUT_SIZE - 1], [1.0, 1.0, 1.0, MAX_OPTICAL_DEPTH as f32]);
         let mid = (LUT_SIZE - 1) as f64 / 2.0;
         let i = mid.floor() as usize;
         let a = i as f64 / (LUT_SIZE - 1) as f64;
+        // Two steps of opacity a: 1 − exp(−depth) = 1 − (1 − a)².
         let expected = 1.0 - (1.0 - a).powi(2);
-        assert!((lut[i][3] as f64 - expected).abs() < 1e-6);
+        assert!((1.0 - (-(lut[i][3] as f64)).exp() - expected).abs() < 1e-6);
     }
 }

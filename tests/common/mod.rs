@@ -1,9 +1,13 @@
 //! Helpers shared by the integration tests: the GPU, output folders, image comparison.
 #![allow(dead_code, unused_imports)]
 
+mod analytic;
 mod files;
+mod hard;
 pub mod scene;
+pub use analytic::*;
 pub use files::*;
+pub use hard::*;
 
 use std::path::PathBuf;
 
