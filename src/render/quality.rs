@@ -16,7 +16,7 @@ pub enum QualityPreset {
     /// than Balanced for 2.5–4.2× its RMSE on the scans (H100, docs/accuracy).
     Fast,
     /// Half-voxel steps, fourth-order gradients: on the front of every dataset, 1.4–3.1× less
-    /// RMSE on the scans than the same step with central differences for 2–27 % more time.
+    /// RMSE on the scans than the same step with central differences for 4–32 % more time.
     #[default]
     Balanced,
     /// Eighth-voxel pre-integrated steps, fourth-order gradients, eight iso refinements: 4–7×
@@ -27,7 +27,7 @@ pub enum QualityPreset {
 
 /// Early termination of the Fast preset: what is left behind a ray stopped at 99 % adds at most
 /// 1 % (2.6 levels of 255); against 1 − 1/255 the RMSE changed by −3…+2 % and the time by
-/// −1…+9 % on the H100 (docs/accuracy).
+/// 0…−10 % on the H100 (docs/accuracy).
 pub const FAST_TERMINATION_ALPHA: f64 = 0.99;
 
 impl QualityPreset {

@@ -263,7 +263,7 @@ fn quality_hint(preset: QualityPreset) -> &'static str {
         }
         QualityPreset::Reference => {
             "⅛-voxel pre-integrated steps, fourth-order gradients: 4–7× the time of Balanced, \
-             2–4× less error (8–26× on thin TF features)"
+             1.7–4× less error (8–26× on thin TF features)"
         }
     }
 }
