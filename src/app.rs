@@ -20,6 +20,7 @@ use crate::ui::overlay::{draw_loading, draw_readout};
 use crate::ui::redraw::FrameInputs;
 use crate::ui::scene::Scene;
 use crate::ui::screenshot::{self, Automation, AutomationError, ShotEvent, TURN_DEG_PER_FRAME};
+use crate::ui::tf_editor::tf_editor_ui;
 use crate::ui::viewport::view_ui;
 use crate::ui::window::native_options;
 use crate::ui::{Action, ViewerState, is_ct_like, preset_for_volume};
@@ -159,10 +160,13 @@ impl LeapViewApp {
         match self.scene.show_volume(volume, self.state.projection) {
             Ok(summary) => {
                 self.state.effects.forget_data_values();
-                self.state.preset = match source.preferred_preset() {
+                let name = match source.preferred_preset() {
                     Some(name) => name.to_string(),
                     None => preset_for_volume(&self.state.preset, is_ct_like(summary.range)),
                 };
+                if let Err(e) = self.state.choose_preset(&name) {
+                    self.dialogs.show_error(e);
+                }
                 let title = format!("LeapView — {}", summary.name);
                 ctx.send_viewport_cmd(ViewportCommand::Title(title));
             }
@@ -358,6 +362,14 @@ impl eframe::App for LeapViewApp {
                     actions.extend(controls_ui(ui, &mut self.state, &info));
                     ui.separator();
                     let volume = self.scene.volume();
+                    tf_editor_ui(
+                        ui,
+                        &mut self.state.editor,
+                        volume.and_then(|v| v.range),
+                        volume.map_or(&[], |v| v.histogram.as_slice()),
+                        &mut self.state.log_histogram,
+                    );
+                    ui.separator();
                     effects_ui(
                         ui,
                         &mut self.state.mode,

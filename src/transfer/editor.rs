@@ -10,7 +10,7 @@ use super::presets::preset;
 use super::{TransferError, TransferFunction};
 
 /// Which curve a point belongs to.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Curve {
     /// `(value, alpha)` points.
     Opacity,
@@ -41,13 +41,20 @@ pub enum EditError {
 pub const UNDO_LIMIT: usize = 200;
 
 /// A transfer function being edited, with its history.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct TfEditor {
     tf: TransferFunction,
     undo: Vec<TransferFunction>,
     redo: Vec<TransferFunction>,
     /// The point the current drag moves, so its moves make one undo step.
     dragging: Option<(Curve, usize)>,
+}
+
+impl Default for TfEditor {
+    /// The grey ramp, no history.
+    fn default() -> Self {
+        Self::new(TransferFunction::grey_ramp())
+    }
 }
 
 impl TfEditor {

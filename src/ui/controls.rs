@@ -44,7 +44,10 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
                 .selected_text(state.preset.as_str())
                 .show_ui(ui, |ui| {
                     for name in NAMES {
-                        ui.selectable_value(&mut state.preset, name.to_string(), name);
+                        if ui.selectable_label(state.preset == name, name).clicked() {
+                            // Presets are built in: loading one cannot fail.
+                            let _ = state.choose_preset(name);
+                        }
                     }
                 });
             ui.end_row();

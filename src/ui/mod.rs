@@ -16,6 +16,7 @@ pub mod overlay;
 pub mod redraw;
 pub mod scene;
 pub mod screenshot;
+pub mod tf_editor;
 pub mod viewport;
 pub mod window;
 
@@ -24,6 +25,8 @@ use serde::{Deserialize, Serialize};
 use crate::camera::{ProjectionKind, ViewPreset};
 use crate::render::settings::DEFAULT_TERMINATION_ALPHA;
 use crate::render::{Mode, QualityPreset, RenderPath, RenderSettings, Strategy};
+use crate::transfer::editor::TfEditor;
+use crate::transfer::{TransferFunction, presets};
 use crate::volume::{ScalarType, ValueRange, Volume};
 
 /// Preset chosen for volumes that look like CT (values in Hounsfield units).
@@ -38,8 +41,15 @@ pub const CT_MINIMUM_BELOW: f64 = -500.0;
 /// Everything the controls edit, as plain serialisable values (persisted in a later issue).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ViewerState {
-    /// Transfer-function preset name (one of [`crate::transfer::presets::NAMES`]).
+    /// Transfer-function preset name (one of [`crate::transfer::presets::NAMES`]) last loaded
+    /// into the editor.
     pub preset: String,
+    /// The transfer function being edited, with its undo history (not persisted yet).
+    #[serde(skip)]
+    pub editor: TfEditor,
+    /// Whether the editor's histogram has a log scale.
+    #[serde(default = "yes")]
+    pub log_histogram: bool,
     /// DVR, isosurface, MIP, MinIP or X-ray.
     #[serde(default = "default_mode")]
     pub mode: Mode,
@@ -81,6 +91,11 @@ impl Default for ViewerState {
         let render = RenderSettings::default();
         let mut state = Self {
             preset: DEFAULT_CT_PRESET.to_string(),
+            editor: TfEditor::new(
+                presets::preset(DEFAULT_CT_PRESET)
+                    .unwrap_or_else(|_| TransferFunction::grey_ramp()),
+            ),
+            log_histogram: true,
             mode: render.mode,
             effects: effects::EffectState::default(),
             strategy: render.strategy,
@@ -99,6 +114,10 @@ impl Default for ViewerState {
         state.apply_quality(QualityPreset::Balanced);
         state
     }
+}
+
+fn yes() -> bool {
+    true
 }
 
 fn default_mode() -> Mode {
@@ -128,6 +147,13 @@ impl ViewerState {
         };
         self.effects.apply(&mut settings);
         settings
+    }
+
+    /// Loads preset `name` into the editor (one undo step); an unknown name changes nothing.
+    pub fn choose_preset(&mut self, name: &str) -> Result<(), String> {
+        self.editor.load_preset(name).map_err(|e| e.to_string())?;
+        self.preset = name.to_string();
+        Ok(())
     }
 
     /// Sets the knobs `preset` decides (step, termination, jitter, pre-integration, gradients,

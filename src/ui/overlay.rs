@@ -72,6 +72,8 @@ pub struct Readout<'a> {
     pub counters: Option<(FrameCounters, u64)>,
     /// GPU time of the last rebuild of the leaping structures, ms.
     pub rebuild_ms: Option<f64>,
+    /// Wall time from the last transfer-function change to its frame's completion, ms.
+    pub tf_latency_ms: Option<f64>,
 }
 
 /// `1234567` as `1.23 M`.
@@ -117,6 +119,9 @@ impl Readout<'_> {
         }
         if let Some(ms) = self.rebuild_ms {
             lines.push(format!("leaping structures rebuilt in {ms:.3} ms GPU"));
+        }
+        if let Some(ms) = self.tf_latency_ms {
+            lines.push(format!("TF edit → frame done: {ms:.1} ms"));
         }
         if let Some(v) = self.volume {
             lines.push(format!("{} · {}", v.name, v.line()));
@@ -215,6 +220,7 @@ mod tests {
             volume: None,
             counters: Some((counters, 1_000_000)),
             rebuild_ms: Some(0.25),
+            tf_latency_ms: Some(3.5),
         };
         let lines = readout.lines();
         assert_eq!(
@@ -236,6 +242,7 @@ mod tests {
             volume: None,
             counters: None,
             rebuild_ms: None,
+            tf_latency_ms: None,
         };
         let nothing_yet = Readout {
             path: None,

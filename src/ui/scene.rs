@@ -12,7 +12,7 @@ use crate::imaging::ImageF32;
 use crate::render::{
     ConcretePath, FrameCounters, FrameRequest, GpuContext, RenderError, VolumeRenderer,
 };
-use crate::transfer::presets;
+use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
 use super::interaction::{framed, with_projection};
@@ -32,8 +32,12 @@ pub struct Scene {
     bounds: Option<Aabb>,
     volume: Option<VolumeSummary>,
     volume_generation: u64,
-    /// The preset given to the renderer and its generation.
-    transfer: Option<(String, u64)>,
+    /// The transfer function given to the renderer and its generation.
+    transfer: Option<(TransferFunction, u64)>,
+    /// When the renderer got a new transfer function whose frame has not come back yet.
+    tf_edit_at: Option<Instant>,
+    /// Milliseconds from the last transfer-function change to its frame's completion.
+    tf_latency_ms: Option<f64>,
     redraw: RedrawTracker,
     fps: FpsCounter,
     gpu_ms: Option<f64>,
@@ -64,6 +68,8 @@ impl Scene {
             volume: None,
             volume_generation: 0,
             transfer: None,
+            tf_edit_at: None,
+            tf_latency_ms: None,
             redraw: RedrawTracker::default(),
             fps: FpsCounter::default(),
             gpu_ms: None,
@@ -126,33 +132,33 @@ impl Scene {
             if result.rebuild_ms.is_some() {
                 self.rebuild_ms = result.rebuild_ms;
             }
+            // The first frame back after a transfer-function change carries it (frames complete
+            // in order): from the change to that frame's completion on the GPU.
+            if let Some(at) = self.tf_edit_at.take() {
+                self.tf_latency_ms = Some(at.elapsed().as_secs_f64() * 1e3);
+            }
         }
         self.renderer.results_pending()
     }
 
-    /// Gives the renderer the chosen preset when it changed (an unknown name reverts `state`).
-    fn apply_transfer(&mut self, state: &mut ViewerState) -> Result<(), String> {
+    /// Gives the renderer the editor's transfer function when it changed; the table and the
+    /// leaping structures are rebuilt in the next frame.
+    fn apply_transfer(&mut self, state: &ViewerState) {
+        let tf = state.editor.tf();
         if self
             .transfer
             .as_ref()
-            .is_some_and(|(name, _)| *name == state.preset)
+            .is_some_and(|(applied, _)| applied == tf)
         {
-            return Ok(());
+            return;
         }
-        match presets::preset(&state.preset) {
-            Ok(tf) => {
-                self.renderer.set_transfer_function(&tf);
-                let generation = self.transfer.as_ref().map_or(1, |(_, g)| g + 1);
-                self.transfer = Some((state.preset.clone(), generation));
-                Ok(())
-            }
-            Err(e) => {
-                if let Some((name, _)) = &self.transfer {
-                    state.preset = name.clone();
-                }
-                Err(e.to_string())
-            }
+        self.renderer.set_transfer_function(tf);
+        // Latency is measured for edits, not for the first function (pipelines still compile).
+        if self.transfer.is_some() {
+            self.tf_edit_at = Some(Instant::now());
         }
+        let generation = self.transfer.as_ref().map_or(1, |(_, g)| g + 1);
+        self.transfer = Some((tf.clone(), generation));
     }
 
     /// Renders a frame at `size_px` when anything it depends on changed since the last one.
@@ -168,7 +174,7 @@ impl Scene {
         if !self.renderer.has_volume() || size_px.contains(&0) {
             return Ok(false);
         }
-        self.apply_transfer(state)?;
+        self.apply_transfer(state);
         let inputs = FrameInputs {
             camera,
             size_px,
@@ -226,6 +232,7 @@ impl Scene {
             volume: self.volume.as_ref(),
             counters: self.counters,
             rebuild_ms: self.rebuild_ms.filter(|_| state.strategy.leaps()),
+            tf_latency_ms: self.tf_latency_ms,
         }
     }
 
