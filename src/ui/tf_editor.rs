@@ -5,7 +5,8 @@
 //!
 //! Mouse: drag a handle to move it; click or drag on empty canvas to add a point; right-click a
 //! handle to delete it. On the colour bar: click to add a stop (in the colour there), drag a stop
-//! to move it, right-click to delete, click a stop to pick its colour below.
+//! to move it, right-click to delete, click a stop to pick its colour below. Save and Load read
+//! and write the DESIGN.md JSON format at the path in the field.
 
 use egui::{Color32, Id, Pos2, Rect, Sense, Stroke, pos2, vec2};
 
@@ -114,6 +115,7 @@ pub fn tf_editor_ui(
     }
     opacity_canvas(ui, editor, range, histogram, *log_scale);
     color_bar(ui, editor, range);
+    file_row(ui, editor);
     ui.label(format!(
         "{} opacity points, {} colour stops · values in {}",
         editor.tf().opacity.len(),
@@ -335,6 +337,42 @@ fn color_bar(ui: &mut egui::Ui, editor: &mut TfEditor, range: ValueRange) {
                 let _ = editor.set_color(i, rgb_f32.map(f64::from));
             }
         });
+    }
+}
+
+/// A path field with Save and Load (the DESIGN.md JSON format); the outcome is shown under it.
+fn file_row(ui: &mut egui::Ui, editor: &mut TfEditor) {
+    let path_id = ui.scope_id().with("tf file path");
+    let status_id = ui.scope_id().with("tf file status");
+    let mut path: String = ui
+        .data(|d| d.get_temp(path_id))
+        .unwrap_or_else(|| "transfer-function.json".to_string());
+    ui.horizontal(|ui| {
+        ui.add(egui::TextEdit::singleline(&mut path).desired_width(170.0))
+            .on_hover_text("JSON file (DESIGN.md format)");
+        let status = if ui.button("Save").clicked() {
+            Some(match editor.tf().save(std::path::Path::new(&path)) {
+                Ok(()) => format!("saved {path}"),
+                Err(e) => e.to_string(),
+            })
+        } else if ui.button("Load").clicked() {
+            Some(match TransferFunction::load(std::path::Path::new(&path)) {
+                Ok(tf) => {
+                    editor.set(tf);
+                    format!("loaded {path}")
+                }
+                Err(e) => e.to_string(),
+            })
+        } else {
+            None
+        };
+        if let Some(status) = status {
+            ui.data_mut(|d| d.insert_temp(status_id, status));
+        }
+    });
+    ui.data_mut(|d| d.insert_temp(path_id, path));
+    if let Some(status) = ui.data(|d| d.get_temp::<String>(status_id)) {
+        ui.small(status);
     }
 }
 
