@@ -10,10 +10,12 @@ use std::time::{Duration, Instant};
 use egui::{CentralPanel, Color32, Key, KeyboardShortcut, Modifiers, Panel, ViewportCommand};
 
 use crate::camera::ViewPreset;
-use crate::render::RenderError;
+use crate::render::{Mode, RenderError};
+use crate::transfer::ValueSpace;
 use crate::ui::controls::{PanelInfo, controls_ui};
 use crate::ui::dialogs::Dialogs;
 use crate::ui::effects::effects_ui;
+use crate::ui::interaction::{window_level_drag, window_level_map};
 use crate::ui::loading::{Loader, VolumeSource};
 use crate::ui::menu::menu_bar;
 use crate::ui::overlay::{draw_loading, draw_readout};
@@ -236,6 +238,12 @@ impl LeapViewApp {
         if area.reset_requested {
             self.apply(Action::ResetView, &ctx);
         }
+        if let Some(delta) = area.window_drag {
+            self.window_level(delta);
+        }
+        if area.window_drag_ended {
+            self.state.editor.end_gesture();
+        }
         if self
             .automation
             .wants_another_frame(self.scene.frames_rendered())
@@ -280,6 +288,40 @@ impl LeapViewApp {
                 egui::FontId::proportional(22.0),
                 Color32::WHITE,
             );
+        }
+    }
+
+    /// A right-drag in the view: the window of MIP, MinIP and X-ray, or the transfer function
+    /// shifted and scaled (DVR, isosurface), as 3D Slicer's window/level.
+    fn window_level(&mut self, delta: [f32; 2]) {
+        let Some(range) = self
+            .scene
+            .volume()
+            .and_then(|v| v.range)
+            .filter(|r| r.width() > 0.0)
+        else {
+            return;
+        };
+        match self.state.mode {
+            Mode::Mip | Mode::MinIp | Mode::Xray | Mode::XrayAttenuation => {
+                let window = self.state.effects.window.unwrap_or([range.min, range.max]);
+                self.state.effects.window = Some(window_level_drag(window, range, delta));
+            }
+            Mode::Dvr | Mode::Iso => {
+                let tf = self.state.editor.tf();
+                let (Some(first), Some(last)) = (tf.opacity.first(), tf.opacity.last()) else {
+                    return;
+                };
+                // One data unit in the function's own coordinates.
+                let unit = match tf.space {
+                    ValueSpace::Data => 1.0,
+                    ValueSpace::Normalized => 1.0 / range.width(),
+                };
+                let centre = 0.5 * (first[0] + last[0]);
+                let width = (last[0] - first[0]).max(unit * range.width() / 1000.0);
+                let f = window_level_map(centre, width, range, unit, delta);
+                self.state.editor.remap(f);
+            }
         }
     }
 

@@ -48,6 +48,8 @@ pub struct TfEditor {
     redo: Vec<TransferFunction>,
     /// The point the current drag moves, so its moves make one undo step.
     dragging: Option<(Curve, usize)>,
+    /// Whether a whole-curve gesture (window/level drag) is under way: one undo step.
+    remapping: bool,
 }
 
 impl Default for TfEditor {
@@ -65,6 +67,7 @@ impl TfEditor {
             undo: Vec::new(),
             redo: Vec::new(),
             dragging: None,
+            remapping: false,
         }
     }
 
@@ -94,6 +97,30 @@ impl TfEditor {
     /// Ends a drag: the next move starts a new undo step.
     pub fn end_gesture(&mut self) {
         self.dragging = None;
+        self.remapping = false;
+    }
+
+    /// Moves every point of both curves to `f(value)` (a window/level drag: shift and scale);
+    /// `f` must be increasing, so the order is kept. Calls until [`Self::end_gesture`] are one
+    /// undo step. A non-finite result leaves the function unchanged.
+    pub fn remap(&mut self, f: impl Fn(f64) -> f64) {
+        let mut tf = self.tf.clone();
+        tf.opacity.iter_mut().for_each(|p| p[0] = f(p[0]));
+        tf.color.iter_mut().for_each(|p| p[0] = f(p[0]));
+        let finite = tf.opacity.iter().all(|p| p[0].is_finite())
+            && tf.color.iter().all(|p| p[0].is_finite());
+        if !finite || tf == self.tf {
+            return;
+        }
+        if !self.remapping {
+            self.dragging = None;
+            self.record();
+            self.remapping = true;
+        }
+        // A rounding tie could swap equal neighbours; keep the curves sorted whatever `f` did.
+        tf.opacity.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        tf.color.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        self.tf = tf;
     }
 
     /// Replaces the whole function (a preset, a loaded file) as one undo step.
@@ -360,6 +387,30 @@ mod tests {
             assert!(e.undo());
         }
         assert_eq!(*e.tf(), ramp());
+    }
+
+    #[test]
+    fn a_window_drag_shifts_and_scales_both_curves_as_one_step() {
+        let mut e = TfEditor::new(ramp());
+        for k in 1..=5 {
+            let shift = 10.0 * f64::from(k);
+            e.remap(|x| 100.0 + shift + (x - 100.0) * 0.5);
+            // Each call remaps the current function: the last one wins within a gesture.
+        }
+        e.end_gesture();
+        assert!(sorted(e.tf()));
+        assert!(e.undo());
+        assert_eq!(*e.tf(), ramp(), "the whole drag is one undo step");
+        assert!(!e.can_undo());
+        e.remap(|x| x + 50.0);
+        assert_eq!(e.tf().opacity[0][0], 50.0);
+        assert_eq!(e.tf().color[1][0], 250.0);
+        e.remap(|_| f64::NAN);
+        assert_eq!(
+            e.tf().opacity[0][0],
+            50.0,
+            "a non-finite result changes nothing"
+        );
     }
 
     #[test]

@@ -17,6 +17,10 @@ pub struct ViewArea {
     pub size_px: [u32; 2],
     /// Whether R was pressed (reset view) while the view had the keyboard.
     pub reset_requested: bool,
+    /// Pointer motion of a right-drag this pass (window/level), in points.
+    pub window_drag: Option<[f32; 2]>,
+    /// Whether a right-drag ended this pass.
+    pub window_drag_ended: bool,
 }
 
 /// Allocates all remaining space for the view and applies the pointer gestures to `camera`.
@@ -54,10 +58,20 @@ pub fn view_ui(ui: &mut egui::Ui, camera: Option<&mut Camera>) -> ViewArea {
             zoom_scroll(camera, scrolled, pinch);
         }
     }
+    let window_drag = response
+        .dragged_by(PointerButton::Secondary)
+        .then(|| response.drag_delta())
+        .filter(|d| *d != egui::Vec2::ZERO)
+        .map(|d| [d.x, d.y]);
+    if window_drag.is_some() {
+        ui.ctx().set_cursor_icon(CursorIcon::ResizeColumn);
+    }
     ViewArea {
         rect,
         size_px,
         reset_requested,
+        window_drag,
+        window_drag_ended: response.drag_stopped_by(PointerButton::Secondary),
     }
 }
 
