@@ -19,13 +19,22 @@ pub const VIEWS: [(ViewPreset, &str); 7] = [
 ];
 
 /// The controls, one `(gesture, effect)` pair a line, for the Help menu and the view's tooltip.
-pub const CONTROLS: [(&str, &str); 8] = [
+pub const CONTROLS: [(&str, &str); 10] = [
     (
         "Left drag",
         "orbit about the centre (horizontal: azimuth, vertical: elevation)",
     ),
     ("Middle drag, Shift + left drag", "pan"),
     ("Mouse wheel, pinch, Ctrl + wheel", "zoom"),
+    (
+        "Right drag",
+        "window/level (horizontal: width, vertical: level); in DVR it shifts and scales the \
+         transfer function",
+    ),
+    (
+        "Ctrl + Z, Ctrl + Shift + Z",
+        "undo, redo a transfer-function edit",
+    ),
     ("R, or View menu: Reset view", "reset the view"),
     ("View menu: Along ±x/±y/±z, Oblique", "standard views"),
     ("View menu: Perspective / Orthographic", "projection"),
