@@ -11,7 +11,8 @@ use egui::{CentralPanel, Color32, Key, KeyboardShortcut, Modifiers, Panel, Viewp
 
 use crate::camera::ViewPreset;
 use crate::render::{Mode, RenderError};
-use crate::transfer::ValueSpace;
+use crate::transfer::editor::TfEditor;
+use crate::transfer::{TransferFunction, ValueSpace};
 use crate::ui::controls::{PanelInfo, controls_ui};
 use crate::ui::dialogs::Dialogs;
 use crate::ui::effects::effects_ui;
@@ -117,8 +118,12 @@ impl LeapViewApp {
             .as_ref()
             .ok_or_else(|| AppError::Renderer("eframe did not start its wgpu renderer".into()))?;
         let scene = Scene::new(rs).map_err(|e| AppError::Renderer(e.to_string()))?;
+        let state = match cc.storage {
+            Some(storage) if !automation.is_active() => restored_state(storage),
+            _ => ViewerState::default(),
+        };
         let mut app = Self {
-            state: ViewerState::default(),
+            state,
             scene,
             loader: Loader::default(),
             dialogs: Dialogs::default(),
@@ -166,7 +171,10 @@ impl LeapViewApp {
                     Some(name) => name.to_string(),
                     None => preset_for_volume(&self.state.preset, is_ct_like(summary.range)),
                 };
-                if let Err(e) = self.state.choose_preset(&name) {
+                // The same preset kind keeps the function as edited (and as restored).
+                if name != self.state.preset
+                    && let Err(e) = self.state.choose_preset(&name)
+                {
                     self.dialogs.show_error(e);
                 }
                 let title = format!("LeapView — {}", summary.name);
@@ -441,4 +449,33 @@ impl eframe::App for LeapViewApp {
     fn persist_egui_memory(&self) -> bool {
         false
     }
+
+    /// Keeps the settings and the transfer function being edited for the next run.
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        if self.automation.is_active() {
+            return;
+        }
+        eframe::set_value(storage, STATE_KEY, &self.state);
+        eframe::set_value(storage, TF_KEY, self.state.editor.tf());
+    }
+}
+
+/// Storage key of the viewer settings.
+const STATE_KEY: &str = "viewer-state";
+/// Storage key of the transfer function being edited.
+const TF_KEY: &str = "transfer-function";
+
+/// The settings and transfer function of the last run; defaults for what is missing or invalid
+/// (a stored function that fails validation is dropped with a log line).
+fn restored_state(storage: &dyn eframe::Storage) -> ViewerState {
+    let mut state: ViewerState = eframe::get_value(storage, STATE_KEY).unwrap_or_default();
+    if let Some(tf) = eframe::get_value::<TransferFunction>(storage, TF_KEY) {
+        match tf.validate() {
+            Ok(()) => state.editor = TfEditor::new(tf),
+            Err(e) => log::warn!("the saved transfer function is not used: {e}"),
+        }
+    } else if let Err(e) = state.editor.load_preset(&state.preset) {
+        log::warn!("saved preset: {e}");
+    }
+    state
 }

@@ -44,7 +44,8 @@ pub struct ViewerState {
     /// Transfer-function preset name (one of [`crate::transfer::presets::NAMES`]) last loaded
     /// into the editor.
     pub preset: String,
-    /// The transfer function being edited, with its undo history (not persisted yet).
+    /// The transfer function being edited, with its undo history (the function itself is saved
+    /// between runs under its own key, see `src/app.rs`; the history is not).
     #[serde(skip)]
     pub editor: TfEditor,
     /// Whether the editor's histogram has a log scale.

@@ -60,6 +60,12 @@ impl Automation {
         })
     }
 
+    /// Whether a script drives the window (then nothing is restored or saved between runs, so
+    /// the same command gives the same pictures).
+    pub fn is_active(&self) -> bool {
+        self.exit_after_frames.is_some() || self.screenshot.is_some()
+    }
+
     fn screenshot_settled(&self) -> bool {
         self.screenshot
             .as_ref()
