@@ -21,6 +21,7 @@ use crate::ui::loading::{Loader, VolumeSource};
 use crate::ui::menu::menu_bar;
 use crate::ui::overlay::{draw_loading, draw_readout};
 use crate::ui::redraw::FrameInputs;
+use crate::ui::save_image::{SaveImageEvent, SaveImageForm, save_image_window};
 use crate::ui::scene::Scene;
 use crate::ui::screenshot::{self, Automation, AutomationError, ShotEvent, TURN_DEG_PER_FRAME};
 use crate::ui::tf_editor::tf_editor_ui;
@@ -104,6 +105,10 @@ struct LeapViewApp {
     /// Where the view and the readout were drawn last pass, for the screenshot check.
     view_rect: egui::Rect,
     readout_rect: Option<egui::Rect>,
+    /// The "Save image" window, while open.
+    save_image: Option<SaveImageForm>,
+    /// The view's size in pixels last pass.
+    view_px: [u32; 2],
 }
 
 impl LeapViewApp {
@@ -132,6 +137,8 @@ impl LeapViewApp {
             shot_inputs: None,
             view_rect: egui::Rect::NOTHING,
             readout_rect: None,
+            save_image: None,
+            view_px: [1, 1],
         };
         app.start_loading(first, &cc.egui_ctx);
         Ok(app)
@@ -207,6 +214,10 @@ impl LeapViewApp {
                 self.state.projection = kind;
                 self.scene.set_projection(kind);
             }
+            Action::SaveImagePrompt => {
+                self.save_image
+                    .get_or_insert_with(|| SaveImageForm::new(self.view_px));
+            }
         }
         // The change is rendered in the next pass.
         ctx.request_repaint();
@@ -265,6 +276,7 @@ impl LeapViewApp {
             self.dialogs.show_error(message);
         }
         self.view_rect = area.rect;
+        self.view_px = area.size_px;
         let [r, g, b] = self.state.background;
         ui.painter()
             .rect_filled(area.rect, 0.0, Color32::from_rgb(r, g, b));
@@ -296,6 +308,32 @@ impl LeapViewApp {
                 egui::FontId::proportional(22.0),
                 Color32::WHITE,
             );
+        }
+    }
+
+    /// The "Save image" window: renders the view again at the chosen size and writes it.
+    fn save_image_ui(&mut self, ctx: &egui::Context) {
+        let Some(form) = &mut self.save_image else {
+            return;
+        };
+        match save_image_window(ctx, form, self.view_px) {
+            Some(SaveImageEvent::Close) => self.save_image = None,
+            Some(SaveImageEvent::Save) => {
+                let size = form.size;
+                let path = PathBuf::from(&form.path);
+                form.status = Some(
+                    match self
+                        .scene
+                        .render_still(&self.state, size)
+                        .and_then(|image| image.save(&path).map_err(|e| e.to_string()))
+                    {
+                        Ok(()) => format!("saved {}×{} to {}", size[0], size[1], path.display()),
+                        Err(e) => e,
+                    },
+                );
+                ctx.request_repaint();
+            }
+            None => {}
         }
     }
 
@@ -438,6 +476,7 @@ impl eframe::App for LeapViewApp {
         if let Some(path) = self.dialogs.ui(&ctx) {
             self.open_file(path, &ctx);
         }
+        self.save_image_ui(&ctx);
         self.automate(&ctx);
     }
 

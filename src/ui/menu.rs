@@ -53,6 +53,9 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
             if ui.button("Open path…").clicked() {
                 action = Some(Action::OpenPathPrompt);
             }
+            if ui.button("Save image…").clicked() {
+                action = Some(Action::SaveImagePrompt);
+            }
             ui.separator();
             if ui.button("Shepp–Logan phantom").clicked() {
                 action = Some(Action::LoadPhantom);

@@ -14,6 +14,7 @@ pub mod loading;
 pub mod menu;
 pub mod overlay;
 pub mod redraw;
+pub mod save_image;
 pub mod scene;
 pub mod screenshot;
 pub mod tf_editor;
@@ -263,6 +264,8 @@ pub enum Action {
     ResetView,
     /// Switch projection, keeping the size of what is at the orbit centre.
     SetProjection(ProjectionKind),
+    /// Show the "Save image" window (path and size).
+    SaveImagePrompt,
 }
 
 #[cfg(test)]

@@ -41,6 +41,12 @@ impl RedrawTracker {
         self.last = Some(inputs);
     }
 
+    /// Forgets the last frame, so the next pass renders even if nothing changed (after the
+    /// renderer's output was used for something else, such as an image of another size).
+    pub fn invalidate(&mut self) {
+        self.last = None;
+    }
+
     /// The inputs of the last frame, if any.
     pub fn last(&self) -> Option<&FrameInputs> {
         self.last.as_ref()

@@ -161,6 +161,23 @@ impl Scene {
         self.transfer = Some((tf.clone(), generation));
     }
 
+    /// Renders the current view at `size` pixels at full quality, for saving; the window
+    /// renders its own frame again on the next pass (the output texture was replaced).
+    pub fn render_still(
+        &mut self,
+        state: &ViewerState,
+        size: [u32; 2],
+    ) -> Result<crate::imaging::ImageF32, String> {
+        let camera = self.camera.ok_or("no volume on screen")?;
+        self.apply_transfer(state);
+        let image = self
+            .renderer
+            .render_image(&camera, size, &state.render_settings())
+            .map_err(|e| format!("Cannot render a {}×{} image: {e}", size[0], size[1]));
+        self.redraw.invalidate();
+        image
+    }
+
     /// Renders a frame at `size_px` when anything it depends on changed since the last one.
     /// Returns whether a frame was rendered; an error is a one-line message for the user.
     pub fn render_if_changed(
