@@ -174,6 +174,9 @@ impl LeapViewApp {
         match self.scene.show_volume(volume, self.state.projection) {
             Ok(summary) => {
                 self.state.effects.forget_data_values();
+                if let VolumeSource::File { path, .. } = source {
+                    self.state.remember_file(path);
+                }
                 let name = match source.preferred_preset() {
                     Some(name) => name.to_string(),
                     None => preset_for_volume(&self.state.preset, is_ct_like(summary.range)),
@@ -214,6 +217,7 @@ impl LeapViewApp {
                 self.state.projection = kind;
                 self.scene.set_projection(kind);
             }
+            Action::OpenRecent(path) => self.open_file(path, ctx),
             Action::SaveImagePrompt => {
                 self.save_image
                     .get_or_insert_with(|| SaveImageForm::new(self.view_px));

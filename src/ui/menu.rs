@@ -53,6 +53,15 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
             if ui.button("Open path…").clicked() {
                 action = Some(Action::OpenPathPrompt);
             }
+            ui.add_enabled_ui(!state.recent.is_empty(), |ui| {
+                ui.menu_button("Recent", |ui| {
+                    for path in &state.recent {
+                        if ui.button(path.display().to_string()).clicked() {
+                            action = Some(Action::OpenRecent(path.clone()));
+                        }
+                    }
+                });
+            });
             if ui.button("Save image…").clicked() {
                 action = Some(Action::SaveImagePrompt);
             }

@@ -86,7 +86,13 @@ pub struct ViewerState {
     pub show_controls: bool,
     /// Whether the readout (FPS, GPU time, adapter, volume) is drawn over the view.
     pub show_readout: bool,
+    /// Files opened successfully, newest first (at most [`RECENT_FILES`]).
+    #[serde(default)]
+    pub recent: Vec<std::path::PathBuf>,
 }
+
+/// Length of the File › Recent list.
+pub const RECENT_FILES: usize = 8;
 
 impl Default for ViewerState {
     fn default() -> Self {
@@ -111,6 +117,7 @@ impl Default for ViewerState {
             projection: ProjectionKind::Perspective,
             show_controls: true,
             show_readout: true,
+            recent: Vec::new(),
             preintegrated: false,
         };
         state.apply_quality(QualityPreset::Balanced);
@@ -156,6 +163,14 @@ impl ViewerState {
         self.editor.load_preset(name).map_err(|e| e.to_string())?;
         self.preset = name.to_string();
         Ok(())
+    }
+
+    /// Puts `path` first in the recent files (once), dropping the oldest beyond
+    /// [`RECENT_FILES`].
+    pub fn remember_file(&mut self, path: &std::path::Path) {
+        self.recent.retain(|p| p != path);
+        self.recent.insert(0, path.to_path_buf());
+        self.recent.truncate(RECENT_FILES);
     }
 
     /// Sets the knobs `preset` decides (step, termination, jitter, pre-integration, gradients,
@@ -266,11 +281,33 @@ pub enum Action {
     SetProjection(ProjectionKind),
     /// Show the "Save image" window (path and size).
     SaveImagePrompt,
+    /// Open a file from the recent list.
+    OpenRecent(std::path::PathBuf),
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn recent_files_are_newest_first_unique_and_bounded() {
+        let mut state = ViewerState::default();
+        for i in 0..12 {
+            state.remember_file(std::path::Path::new(&format!("/data/{i}.nrrd")));
+        }
+        state.remember_file(std::path::Path::new("/data/9.nrrd"));
+        assert_eq!(state.recent.len(), RECENT_FILES);
+        assert_eq!(state.recent[0], std::path::PathBuf::from("/data/9.nrrd"));
+        assert_eq!(state.recent[1], std::path::PathBuf::from("/data/11.nrrd"));
+        assert_eq!(
+            state
+                .recent
+                .iter()
+                .filter(|p| p.ends_with("9.nrrd"))
+                .count(),
+            1
+        );
+    }
     use crate::transfer::presets::NAMES;
 
     #[test]
