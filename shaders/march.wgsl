@@ -65,30 +65,15 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
             let p = entry + ray.box_per_mm * t;
 #ifdef LEAP
             let next = leap_from(&leap, p, k, acc_leap_query(acc));
+#ifndef PREINTEGRATED
             if next != k {
-#ifdef PREINTEGRATED
-                // The segment into the empty region still counts; the ones inside it do not,
-                // and the region's last sample starts the segment out of it.
-                let into = acc_sample(&acc, ray, k, t, p, sample_value(p));
-#ifdef STATS
-                samples += 1u;
-                contributing += u32((into & SAMPLE_CONTRIBUTED) != 0u);
-#endif
-                if (into & SAMPLE_STOP) != 0u {
-                    break;
-                }
-                let last = min(next, ray.count) - 1u;
-                if last > k {
-                    let t_last = min((f32(last) + ray.offset) * step, ray.length_mm);
-                    acc_resume(&acc, t_last, sample_value(entry + ray.box_per_mm * t_last));
-                }
-#endif
                 k = next;
 #ifdef STATS
                 leaps += 1u;
 #endif
                 continue;
             }
+#endif
 #endif
             let result = acc_sample(&acc, ray, k, t, p, sample_value(p));
 #ifdef STATS
@@ -98,6 +83,24 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
             if (result & SAMPLE_STOP) != 0u {
                 break;
             }
+#ifdef LEAP
+#ifdef PREINTEGRATED
+            if next != k {
+                // Sample k closed the segment into the empty region; the segments inside it add
+                // nothing, and the region's last sample starts the segment out of it.
+                let last = min(next, ray.count) - 1u;
+                if last > k {
+                    let t_last = min((f32(last) + ray.offset) * step, ray.length_mm);
+                    acc_resume(&acc, t_last, sample_value(entry + ray.box_per_mm * t_last));
+                }
+                k = next;
+#ifdef STATS
+                leaps += 1u;
+#endif
+                continue;
+            }
+#endif
+#endif
             k += 1u;
         }
 #ifdef PREINTEGRATED

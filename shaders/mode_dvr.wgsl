@@ -13,27 +13,29 @@
 struct Acc {
     color: vec4<f32>,
 #ifdef PREINTEGRATED
-    // Value and distance of the segment's front end (the previous sample).
-    front_s: f32,
+    // The segment's front end (the previous sample) and its distance.
+    front: SegmentEnd,
     front_t: f32,
 #endif
 }
 
 #ifdef PREINTEGRATED
 fn acc_init() -> Acc {
-    return Acc(vec4<f32>(0.0), 0.0, 0.0);
+    var acc: Acc;
+    acc.color = vec4<f32>(0.0);
+    return acc;
 }
 
 // The ray's entry value starts the first segment.
 fn acc_start(acc: ptr<function, Acc>, ray: Ray) {
-    (*acc).front_s = sample_value(ray.entry);
+    (*acc).front = segment_end(sample_value(ray.entry));
     (*acc).front_t = 0.0;
 }
 
 // After a leap: the sample at t (value s) starts the next segment; the segment ending at it lies
 // inside the empty region and adds nothing.
 fn acc_resume(acc: ptr<function, Acc>, t: f32, s: f32) {
-    (*acc).front_s = s;
+    (*acc).front = segment_end(s);
     (*acc).front_t = t;
 }
 #else
@@ -48,8 +50,9 @@ fn acc_leap_query(acc: Acc) -> f32 {
 
 fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32 {
 #ifdef PREINTEGRATED
-    var c = preintegrated((*acc).front_s, s, t - (*acc).front_t);
-    (*acc).front_s = s;
+    let back = segment_end(s);
+    var c = preintegrated((*acc).front, back, t - (*acc).front_t);
+    (*acc).front = back;
     (*acc).front_t = t;
     if c.a <= 0.0 {
         return 0u;
@@ -90,7 +93,8 @@ fn composite(acc: ptr<function, Acc>, ray: Ray, p: vec3<f32>, c_in: vec4<f32>) -
 // step before the exit).
 fn acc_tail(acc: ptr<function, Acc>, ray: Ray) {
     let exit = ray.entry + ray.box_per_mm * ray.length_mm;
-    let c = preintegrated((*acc).front_s, sample_value(exit), ray.length_mm - (*acc).front_t);
+    let back = segment_end(sample_value(exit));
+    let c = preintegrated((*acc).front, back, ray.length_mm - (*acc).front_t);
     if c.a > 0.0 {
         composite(acc, ray, exit, c);
     }

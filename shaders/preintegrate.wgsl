@@ -31,26 +31,48 @@ fn running_integral(s: f32) -> RunningIntegral {
     );
 }
 
-// Straight colour and opacity of a segment `length_mm` long from s_front to s_back.
-fn preintegrated(s_front: f32, s_back: f32, length_mm: f32) -> vec4<f32> {
-    if min(s_front, s_back) < MISSING_BELOW || length_mm <= 0.0 {
+// One end of a segment: its value (clamped to the table) and the running integrals there, so
+// that a sample's integrals, read once, serve both segments it bounds.
+struct SegmentEnd {
+    s: f32,
+    missing: bool,
+    integral: RunningIntegral,
+}
+
+fn segment_end(s: f32) -> SegmentEnd {
+    let c = clamp(s, 0.0, 1.0);
+    return SegmentEnd(c, s < MISSING_BELOW, running_integral(c));
+}
+
+// (T, K.rgb) from a to b; exactly the negation of b to a, so the ratios below do not depend on
+// which end is larger.
+fn integral_between(a: RunningIntegral, b: RunningIntegral) -> vec4<f32> {
+    return ((b.hi - a.hi) + (b.lo - a.lo)) + (b.part - a.part);
+}
+
+// Straight colour and opacity of a segment `length_mm` long from `front` to `back`.
+fn preintegrated(front: SegmentEnd, back: SegmentEnd, length_mm: f32) -> vec4<f32> {
+    if front.missing || back.missing || length_mm <= 0.0 {
         return vec4<f32>(0.0);
     }
     let cell = 1.0 / (frame.lut_size - 1.0);
-    var lo = clamp(min(s_front, s_back), 0.0, 1.0);
-    var hi = clamp(max(s_front, s_back), 0.0, 1.0);
-    if hi - lo < cell {
+    var width = back.s - front.s;
+    var d: vec4<f32>;
+    if abs(width) < cell {
         // Closer than one table cell: the mean over the cell around the midpoint.
-        let mid = clamp(0.5 * (lo + hi), 0.5 * cell, 1.0 - 0.5 * cell);
-        lo = mid - 0.5 * cell;
-        hi = mid + 0.5 * cell;
+        let mid = clamp(0.5 * (front.s + back.s), 0.5 * cell, 1.0 - 0.5 * cell);
+        let lo = mid - 0.5 * cell;
+        let hi = mid + 0.5 * cell;
+        d = integral_between(running_integral(lo), running_integral(hi));
+        width = hi - lo;
+    } else {
+        d = integral_between(front.integral, back.integral);
     }
-    let a = running_integral(lo);
-    let b = running_integral(hi);
-    let d = ((b.hi - a.hi) + (b.lo - a.lo)) + (b.part - a.part);
-    if d.x <= 0.0 {
+    // Mean extinction over the segment's values (d and width share their sign).
+    let tau = d.x / width;
+    if !(tau > 0.0) {
         return vec4<f32>(0.0);
     }
-    let depth = length_mm * frame.iso.w * d.x / (hi - lo);
+    let depth = length_mm * frame.iso.w * tau;
     return vec4<f32>(clamp(d.yzw / d.x, vec3<f32>(0.0), vec3<f32>(1.0)), opacity_of_depth(depth));
 }
