@@ -8,7 +8,7 @@ use leapview::accuracy::results::pareto_front;
 use leapview::accuracy::{Knob, Measurement};
 use plotters::prelude::*;
 
-use crate::cli::bench::plots::{FONT, err, register};
+use crate::cli::bench::plots::{FONT, err, legend, register};
 
 fn colour(knob: Knob) -> RGBColor {
     match knob {
@@ -133,15 +133,7 @@ fn panel<DB: DrawingBackend>(
                 .map_err(err)?;
         }
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font((FONT, 15))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(err)?;
-    Ok(())
+    legend(&mut chart, SeriesLabelPosition::UpperRight)
 }
 
 /// A tick label with two significant digits.

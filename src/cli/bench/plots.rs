@@ -36,6 +36,25 @@ fn colour(strategy: &str) -> RGBColor {
     }
 }
 
+/// Draws the series legend of `chart` at `position` (one style for every plot).
+pub(crate) fn legend<'a, DB, CT>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+) -> anyhow::Result<()>
+where
+    DB: DrawingBackend + 'a,
+    CT: plotters::coord::CoordTranslate,
+{
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font((FONT, 16))
+        .position(position)
+        .draw()
+        .map_err(err)
+}
+
 pub(crate) fn err<E: std::fmt::Display>(e: E) -> anyhow::Error {
     anyhow!("drawing a plot: {e}")
 }
@@ -143,14 +162,7 @@ fn frame_time(path: &Path, summary: &Summary, mode: &str) -> anyhow::Result<()> 
                     Rectangle::new([(x, y - 6), (x + 14, y + 6)], colour(name).filled())
                 });
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font((FONT, 16))
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(err)?;
+        legend(&mut chart, SeriesLabelPosition::UpperRight)?;
     }
     root.present().map_err(err)
 }
@@ -202,14 +214,7 @@ fn block_size(path: &Path, summary: &Summary) -> anyhow::Result<()> {
             .draw_series(points.iter().map(|p| Circle::new(*p, 5, style.filled())))
             .map_err(err)?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .label_font((FONT, 16))
-        .position(SeriesLabelPosition::UpperLeft)
-        .draw()
-        .map_err(err)?;
+    legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
     root.present().map_err(err)
 }
 
@@ -266,14 +271,7 @@ fn time_vs_samples(path: &Path, results: &BenchResults, mode: &str) -> anyhow::R
                 .label(name)
                 .legend(move |(x, y)| Circle::new((x + 7, y), 5, colour(name).filled()));
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font((FONT, 16))
-            .position(SeriesLabelPosition::UpperLeft)
-            .draw()
-            .map_err(err)?;
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
     }
     root.present().map_err(err)
 }
