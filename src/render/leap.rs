@@ -8,7 +8,7 @@ use crate::accel::emptiness::TABLE_SIZE;
 use crate::accel::pyramid::Pyramid;
 
 use super::context::GpuContext;
-use super::lut_texture::LutTexture;
+use super::lut_texture::TableTexture;
 use super::shader::{ShaderError, compose};
 
 /// One pyramid level as the shaders read it. Keep in sync with `LevelInfo` in
@@ -272,7 +272,7 @@ impl LeapStructures {
         ctx: &GpuContext,
         pipelines: &LeapPipelines,
         rule: FlagRule,
-        lut: &LutTexture,
+        lut: &TableTexture,
         encoder: &mut wgpu::CommandEncoder,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {

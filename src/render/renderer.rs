@@ -9,7 +9,7 @@ use crate::volume::{ValueRange, Volume};
 
 use super::context::GpuContext;
 use super::leap::{FlagRule, LeapPipelines, LeapStructures};
-use super::lut_texture::{IntegralTexture, LutTexture};
+use super::lut_texture::TableTexture;
 use super::pipelines::{
     ConcretePath, Layouts, PipelineCache, PipelineKey, ProxyPipelines, RaycastPipeline, WORKGROUP,
 };
@@ -92,8 +92,8 @@ pub struct VolumeRenderer {
     pipelines: PipelineCache,
     sampler: wgpu::Sampler,
     uniforms: wgpu::Buffer,
-    lut: LutTexture,
-    integrals: IntegralTexture,
+    lut: TableTexture,
+    integrals: TableTexture,
     /// Transfer-function generation the integral table was built for; `None` = stale.
     integrals_built_for: Option<u64>,
     volume: Option<LoadedVolume>,
@@ -165,8 +165,8 @@ impl VolumeRenderer {
             }],
         });
         Ok(Self {
-            lut: LutTexture::new(&ctx, lut::LUT_SIZE as u32),
-            integrals: IntegralTexture::new(&ctx, lut::LUT_SIZE as u32),
+            lut: TableTexture::lut(&ctx, lut::LUT_SIZE as u32),
+            integrals: TableTexture::integrals(&ctx, lut::LUT_SIZE as u32),
             integrals_built_for: None,
             ctx,
             layouts,
