@@ -55,6 +55,12 @@ impl SampleGrid {
     }
 }
 
+/// Extinction per `d₀` of an opacity `alpha` per `d₀`: `−ln(1 − α)`, infinite for α ≥ 1 (callers
+/// cap it to what their tables hold).
+pub fn extinction(alpha: f64) -> f64 {
+    -(1.0 - alpha.clamp(0.0, 1.0)).ln()
+}
+
 /// Opacity of a sample of weight `weight` (fraction of a step), for a transfer-function opacity
 /// `alpha` defined per `d0` and a step of `step_over_d0` units of `d0`.
 pub fn corrected_opacity(alpha: f64, step_over_d0: f64, weight: f64) -> f64 {

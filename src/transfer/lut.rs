@@ -23,11 +23,7 @@ pub const MAX_OPTICAL_DEPTH: f64 = 1.0e4;
 /// Optical depth of a step of `step_over_d0` units of `d₀` through a value whose opacity per
 /// `d₀` is `alpha`.
 pub fn optical_depth(alpha: f64, step_over_d0: f64) -> f64 {
-    let a = alpha.clamp(0.0, 1.0);
-    if a >= 1.0 {
-        return MAX_OPTICAL_DEPTH;
-    }
-    (-(1.0 - a).ln() * step_over_d0).min(MAX_OPTICAL_DEPTH)
+    (crate::sampling::extinction(alpha) * step_over_d0).min(MAX_OPTICAL_DEPTH)
 }
 
 /// The table for `tf` over `range` with the optical depth of a step of `step_over_d0` (the ray

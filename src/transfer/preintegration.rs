@@ -33,14 +33,9 @@ pub const TAU_MAX: f64 = 64.0;
 /// `(K_hi, 0)`, `(K_lo, 0)`, `(ΔK, 0)`, where `ΔX` at entry `i` is `X(i + 1) − X(i)`.
 pub const INTEGRAL_ROWS: usize = 4;
 
-/// Extinction per `d₀` of an opacity per `d₀`.
+/// Extinction per `d₀` of an opacity per `d₀`, capped at [`TAU_MAX`].
 pub fn extinction(alpha: f64) -> f64 {
-    let a = alpha.clamp(0.0, 1.0);
-    if a >= 1.0 {
-        TAU_MAX
-    } else {
-        (-(1.0 - a).ln()).min(TAU_MAX)
-    }
+    crate::sampling::extinction(alpha).min(TAU_MAX)
 }
 
 /// The running-integral table for `tf` over `range`, row by row ([`INTEGRAL_ROWS`] ×
