@@ -172,7 +172,7 @@ fn opacity_canvas(
     }
     let held = ui.data(|d| d.get_temp::<Held>(id));
     for (i, (p, point)) in points.iter().zip(&tf.opacity).enumerate() {
-        let fill = rgb(tf.color_at(to_data(tf, point[0], range), range));
+        let fill = rgb(tf.color_at(tf.to_data(point[0], range), range));
         let stroke = if held == Some(Held(Curve::Opacity, i)) {
             Stroke::new(2.0, visuals.selection.stroke.color)
         } else {
@@ -278,7 +278,7 @@ fn color_bar(ui: &mut egui::Ui, editor: &mut TfEditor, range: ValueRange) {
                 let value = axis.coordinate(pos.x);
                 let c = editor
                     .tf()
-                    .color_at(to_data(editor.tf(), value, range), range);
+                    .color_at(editor.tf().to_data(value, range), range);
                 editor.add_color(value, c).ok()
             }
         };
@@ -313,7 +313,7 @@ fn color_bar(ui: &mut egui::Ui, editor: &mut TfEditor, range: ValueRange) {
     let tf = editor.tf();
     for c in 0..columns {
         let x = rect.left() + c as f32;
-        let value = to_data(tf, axis.coordinate(x + 0.5), range);
+        let value = tf.to_data(axis.coordinate(x + 0.5), range);
         painter.line_segment(
             [pos2(x + 0.5, rect.top()), pos2(x + 0.5, rect.bottom())],
             Stroke::new(1.0, rgb(tf.color_at(value, range))),
@@ -374,11 +374,6 @@ fn file_row(ui: &mut egui::Ui, editor: &mut TfEditor) {
     if let Some(status) = ui.data(|d| d.get_temp::<String>(status_id)) {
         ui.small(status);
     }
-}
-
-/// A point coordinate of `tf` in data units.
-fn to_data(tf: &TransferFunction, coordinate: f64, range: ValueRange) -> f64 {
-    tf.to_data(coordinate, range)
 }
 
 fn rgb(c: [f64; 3]) -> Color32 {
