@@ -99,8 +99,8 @@ pub fn measure(
     let mut settle = true;
     let mut out: Vec<Option<Measurement>> = vec![None; variants.len()];
     // Every variant twice, keeping the faster median: on the H100 the first variants timed
-    // after an upload came out up to 1.8× slow even after 30 warm-up frames and a discarded
-    // pass (cause unknown), while a second pass over the list agrees with itself.
+    // after an upload came out up to 1.8× slow even after 30 warm-up frames (cause unknown),
+    // while a second pass over the list agrees with itself.
     for (index, variant) in (0..PASSES).flat_map(|_| variants.iter().enumerate()) {
         progress(&format!(
             "{}: {} {}",
@@ -129,13 +129,9 @@ pub fn measure(
         else {
             continue;
         };
-        if settle {
-            // The first timing after an upload can still come out slow (seen on the H100 even
-            // after 30 warm-up frames): time it once more and keep the second.
-            time_and_render(renderer, variant, method, SETTLE_FRAMES)?;
-            settle = false;
-        }
-        let (ms, images) = time_and_render(renderer, variant, method, WARMUP_FRAMES)?;
+        let warmup = if settle { SETTLE_FRAMES } else { WARMUP_FRAMES };
+        settle = false;
+        let (ms, images) = time_and_render(renderer, variant, method, warmup)?;
         let diffs: Vec<_> = images
             .iter()
             .zip(expected)
