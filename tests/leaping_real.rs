@@ -33,45 +33,51 @@ fn transfer_functions() -> Vec<(&'static str, TransferFunction)> {
     ]
 }
 
-fn render(
-    r: &mut VolumeRenderer,
-    camera: &Camera,
-    settings: RenderSettings,
-) -> (leapview::imaging::ImageF32, FrameCounters) {
-    common::render_counted(r, camera, settings, [48, 48])
-}
+type Rendered = (leapview::imaging::ImageF32, FrameCounters);
 
-#[test]
-fn rc_s_equals_rc_t_on_every_shared_scan() {
+/// Loads and uploads each shared scan in turn and calls `f` with its name and bounds.
+fn each_scan(r: &mut VolumeRenderer, mut f: impl FnMut(&mut VolumeRenderer, &str, &Aabb)) {
     let dir = common::data_dir();
-    let mut r = common::renderer();
-    let mut saved = (0u64, 0u64);
     for scan in SCANS {
         let volume =
             load_volume(&dir.join(scan), &Default::default()).unwrap_or_else(|e| panic!("{e}"));
         r.set_volume(&volume).expect("upload");
         let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+        f(r, scan, &bounds);
+    }
+}
+
+/// `base` rendered with RC-t, then with RC-s and RC-s-df (each checked against its plain
+/// variant by `render_counted`).
+fn rct_and_leaping(
+    r: &mut VolumeRenderer,
+    camera: &Camera,
+    base: RenderSettings,
+) -> (Rendered, [(Strategy, Rendered); 2]) {
+    let mut render =
+        |strategy| common::render_counted(r, camera, RenderSettings { strategy, ..base }, [48, 48]);
+    let rct = render(Strategy::RcT);
+    let leaping = [Strategy::RcS, Strategy::RcSDistance].map(|s| (s, render(s)));
+    (rct, leaping)
+}
+
+#[test]
+fn rc_s_equals_rc_t_on_every_shared_scan() {
+    let mut r = common::renderer();
+    let mut saved = (0u64, 0u64);
+    each_scan(&mut r, |r, scan, bounds| {
         for (tf_name, tf) in transfer_functions() {
             r.set_transfer_function(&tf);
             for view in [ViewPreset::Oblique, ViewPreset::MinusY] {
                 let (dir, up) = view.direction_and_up();
-                let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+                let camera = Camera::framing(bounds, dir, up, ProjectionKind::Perspective);
                 for path in [RenderPath::Fragment, RenderPath::Compute] {
                     let base = RenderSettings {
                         path,
                         ..RenderSettings::default()
                     };
-                    let (rct, rct_counts) = render(
-                        &mut r,
-                        &camera,
-                        RenderSettings {
-                            strategy: Strategy::RcT,
-                            ..base
-                        },
-                    );
-                    for strategy in [Strategy::RcS, Strategy::RcSDistance] {
-                        let (rcs, counts) =
-                            render(&mut r, &camera, RenderSettings { strategy, ..base });
+                    let ((rct, rct_counts), leaping) = rct_and_leaping(r, &camera, base);
+                    for (strategy, (rcs, counts)) in leaping {
                         let label = format!("{scan}-{tf_name}-{view:?}-{path:?}-{strategy:?}");
                         common::assert_close(&label, &rcs, &rct, 1.0 / 255.0, 0.0);
                         assert_eq!(
@@ -85,7 +91,7 @@ fn rc_s_equals_rc_t_on_every_shared_scan() {
                 }
             }
         }
-    }
+    });
     // Over all cases leaping must save a good share of the samples (not a no-op): at least a
     // quarter. (`saved.1` counts RC-t once per leaping scheme, like `saved.0`.)
     let (rcs, rct) = saved;
@@ -98,15 +104,10 @@ fn rc_s_equals_rc_t_on_every_shared_scan() {
 
 #[test]
 fn preintegrated_leaping_equals_rc_t_on_every_shared_scan() {
-    let dir = common::data_dir();
     let mut r = common::renderer();
-    for scan in SCANS {
-        let volume =
-            load_volume(&dir.join(scan), &Default::default()).unwrap_or_else(|e| panic!("{e}"));
-        r.set_volume(&volume).expect("upload");
-        let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    each_scan(&mut r, |r, scan, bounds| {
         let (d, up) = ViewPreset::Oblique.direction_and_up();
-        let camera = Camera::framing(&bounds, d, up, ProjectionKind::Perspective);
+        let camera = Camera::framing(bounds, d, up, ProjectionKind::Perspective);
         for (tf_name, tf) in transfer_functions().into_iter().skip(1) {
             r.set_transfer_function(&tf);
             for path in [RenderPath::Fragment, RenderPath::Compute] {
@@ -118,17 +119,8 @@ fn preintegrated_leaping_equals_rc_t_on_every_shared_scan() {
                     preintegrated: true,
                     ..RenderSettings::default()
                 };
-                let (rct, rct_counts) = render(
-                    &mut r,
-                    &camera,
-                    RenderSettings {
-                        strategy: Strategy::RcT,
-                        ..base
-                    },
-                );
-                for strategy in [Strategy::RcS, Strategy::RcSDistance] {
-                    let (rcs, counts) =
-                        render(&mut r, &camera, RenderSettings { strategy, ..base });
+                let ((rct, rct_counts), leaping) = rct_and_leaping(r, &camera, base);
+                for (strategy, (rcs, counts)) in leaping {
                     let label = format!("preint-{scan}-{tf_name}-{path:?}-{strategy:?}");
                     // Every skipped segment lies inside one empty region, where the running
                     // integrals are equal texel for texel (tests/preintegration.rs): identical.
@@ -137,5 +129,5 @@ fn preintegrated_leaping_equals_rc_t_on_every_shared_scan() {
                 }
             }
         }
-    }
+    });
 }
