@@ -16,10 +16,10 @@ pub enum QualityPreset {
     /// than Balanced for 2.5–4.2× its RMSE on the scans (H100, docs/accuracy).
     Fast,
     /// Half-voxel steps, fourth-order gradients: on the front of every dataset, 1.4–3.1× less
-    /// RMSE on the scans than the same step with central differences for 4–32 % more time.
+    /// RMSE on the scans than the same step with central differences for 4–27 % more time.
     #[default]
     Balanced,
-    /// Eighth-voxel pre-integrated steps, fourth-order gradients, eight iso refinements: 4–7×
+    /// Eighth-voxel pre-integrated steps, fourth-order gradients, eight iso refinements: 4–6×
     /// the time of Balanced for 1.7–4.1× less RMSE on the scans and 8–26× less on thin
     /// transfer-function features.
     Reference,
@@ -27,7 +27,7 @@ pub enum QualityPreset {
 
 /// Early termination of the Fast preset: what is left behind a ray stopped at 99 % adds at most
 /// 1 % (2.6 levels of 255); against 1 − 1/255 the RMSE changed by −3…+2 % and the time by
-/// 0…−10 % on the H100 (docs/accuracy).
+/// 0…−11 % on the H100 (docs/accuracy).
 pub const FAST_TERMINATION_ALPHA: f64 = 0.99;
 
 impl QualityPreset {

@@ -265,7 +265,7 @@ fn quality_hint(preset: QualityPreset) -> &'static str {
             "½-voxel steps, fourth-order gradients: on the accuracy front of every dataset"
         }
         QualityPreset::Reference => {
-            "⅛-voxel pre-integrated steps, fourth-order gradients: 4–7× the time of Balanced, \
+            "⅛-voxel pre-integrated steps, fourth-order gradients: 4–6× the time of Balanced, \
              1.7–4× less error (8–26× on thin TF features)"
         }
     }
