@@ -33,6 +33,9 @@ struct Frame {
     // through NDC (0,0), then their changes per unit of NDC x and y.
     ray_near: array<vec4<f32>, 3>,
     ray_dir: array<vec4<f32>, 3>,
+    // The cropping box in box coordinates (w unused): rays start and end on it.
+    crop_min: vec4<f32>,
+    crop_max: vec4<f32>,
 }
 
 // One ray inside the volume: entry (box coordinates), direction in box units per mm and in

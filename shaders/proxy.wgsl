@@ -1,5 +1,5 @@
-// The proxy geometry that generates rays (Liang et al.): the bounding box's faces in box
-// coordinates [0,1]^3, plus a full-screen triangle on the near plane for rays that start inside
+// The proxy geometry that generates rays (Liang et al.): the cropping box's faces in box
+// coordinates (the bounding box [0,1]^3 when nothing is cropped), plus a full-screen triangle on the near plane for rays that start inside
 // the box (the eye inside the volume, or the near plane cutting a corner).
 
 #include "common.wgsl"
@@ -28,7 +28,9 @@ fn vs_proxy(@builtin(vertex_index) index: u32) -> ProxyOut {
     var out: ProxyOut;
     if index < 36u {
         let c = CUBE[index];
-        let p = vec3<f32>(f32(c & 1u), f32((c >> 1u) & 1u), f32((c >> 2u) & 1u));
+        let corner = vec3<f32>(f32(c & 1u), f32((c >> 1u) & 1u), f32((c >> 2u) & 1u));
+        // Exactly crop_min or crop_max on each axis (select, not mix: no rounding).
+        let p = select(frame.crop_min.xyz, frame.crop_max.xyz, corner > vec3<f32>(0.5));
         out.clip = frame.clip_from_box * vec4<f32>(p, 1.0);
         out.box_pos = p;
         out.is_cap = 0u;
@@ -44,7 +46,7 @@ fn vs_proxy(@builtin(vertex_index) index: u32) -> ProxyOut {
 
 // The ray's entry point in box coordinates (w = 1), or w = 0 where this fragment starts no ray.
 // A front-face fragment enters where it lies; a cap fragment enters on the near plane, if that
-// point is inside the box. The two never both start a ray at one pixel: where the near-plane
+// point is inside the (cropping) box. The two never both start a ray at one pixel: where the near-plane
 // point is inside the box, the front face lies before the near plane and was clipped.
 fn ray_entry(in: ProxyOut) -> vec4<f32> {
     if in.is_cap == 0u {
@@ -56,8 +58,10 @@ fn ray_entry(in: ProxyOut) -> vec4<f32> {
     );
     let h = frame.box_from_clip * vec4<f32>(ndc, 0.0, 1.0);
     let p = h.xyz / h.w;
-    if any(p < vec3<f32>(-CAP_EPSILON)) || any(p > vec3<f32>(1.0 + CAP_EPSILON)) {
+    let lo = frame.crop_min.xyz;
+    let hi = frame.crop_max.xyz;
+    if any(p < lo - vec3<f32>(CAP_EPSILON)) || any(p > hi + vec3<f32>(CAP_EPSILON)) {
         return vec4<f32>(0.0);
     }
-    return vec4<f32>(clamp(p, vec3<f32>(0.0), vec3<f32>(1.0)), 1.0);
+    return vec4<f32>(clamp(p, lo, hi), 1.0);
 }

@@ -9,7 +9,8 @@
 
 // Entry (xyz, w = 1 where the ray meets the box) and exit of the ray through pixel `px`, clipped
 // to the near and far planes as the rasterised proxy geometry is: the part of the segment from
-// the near-plane point to the far-plane point that lies inside [0,1]^3 (slab test).
+// the near-plane point to the far-plane point that lies inside the cropping box (slab test;
+// [0,1]^3 when nothing is cropped).
 fn box_segment(px: vec2<u32>) -> array<vec4<f32>, 2> {
     let ndc = vec2<f32>(
         2.0 * (f32(px.x) + 0.5) / frame.viewport.x - 1.0,
@@ -19,24 +20,26 @@ fn box_segment(px: vec2<u32>) -> array<vec4<f32>, 2> {
     // most digits when the near plane is 1e-5 of the far one (the eye inside the volume).
     let near = frame.ray_near[0].xyz + ndc.x * frame.ray_near[1].xyz + ndc.y * frame.ray_near[2].xyz;
     let d = frame.ray_dir[0].xyz + ndc.x * frame.ray_dir[1].xyz + ndc.y * frame.ray_dir[2].xyz;
+    let lo = frame.crop_min.xyz;
+    let hi = frame.crop_max.xyz;
     var t0 = 0.0;
     var t1 = 1.0;
     for (var a = 0; a < 3; a += 1) {
         if abs(d[a]) < 1e-30 {
             // Parallel to this slab: inside it or never.
-            if near[a] < 0.0 || near[a] > 1.0 {
+            if near[a] < lo[a] || near[a] > hi[a] {
                 t1 = -1.0;
             }
         } else {
-            let ta = -near[a] / d[a];
-            let tb = (1.0 - near[a]) / d[a];
+            let ta = (lo[a] - near[a]) / d[a];
+            let tb = (hi[a] - near[a]) / d[a];
             t0 = max(t0, min(ta, tb));
             t1 = min(t1, max(ta, tb));
         }
     }
     let hit = f32(t1 > t0);
-    let entry = clamp(near + d * t0, vec3<f32>(0.0), vec3<f32>(1.0));
-    let exit = clamp(near + d * t1, vec3<f32>(0.0), vec3<f32>(1.0));
+    let entry = clamp(near + d * t0, lo, hi);
+    let exit = clamp(near + d * t1, lo, hi);
     return array<vec4<f32>, 2>(vec4<f32>(entry, hit), vec4<f32>(exit, hit));
 }
 

@@ -14,6 +14,7 @@ use crate::render::{Mode, RenderError};
 use crate::transfer::editor::TfEditor;
 use crate::transfer::{TransferFunction, ValueSpace};
 use crate::ui::controls::{PanelInfo, controls_ui};
+use crate::ui::crop::{crop_handles, hint as crop_hint};
 use crate::ui::dialogs::Dialogs;
 use crate::ui::effects::effects_ui;
 use crate::ui::interaction::{window_level_drag, window_level_map};
@@ -174,6 +175,7 @@ impl LeapViewApp {
         match self.scene.show_volume(volume, self.state.projection) {
             Ok(summary) => {
                 self.state.effects.forget_data_values();
+                self.state.crop = crate::render::CropBox::FULL;
                 if let VolumeSource::File { path, .. } = source {
                     self.state.remember_file(path);
                 }
@@ -285,6 +287,22 @@ impl LeapViewApp {
         ui.painter()
             .rect_filled(area.rect, 0.0, Color32::from_rgb(r, g, b));
         self.scene.paint(ui, area.rect.min);
+        if self.state.show_crop_box
+            && let Some((camera, bounds)) = self.scene.camera_and_bounds()
+        {
+            // Moved faces render in the next pass.
+            if crop_handles(
+                ui,
+                area.rect,
+                area.size_px,
+                &camera,
+                &bounds,
+                &mut self.state.crop,
+            ) {
+                ctx.request_repaint();
+            }
+            crop_hint(ui, area.rect);
+        }
         self.readout_rect = None;
         if self.state.show_readout {
             let now = Instant::now();

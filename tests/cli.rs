@@ -281,6 +281,8 @@ fn every_mode_and_its_parameters_reach_the_renderer() {
     let pre = render("preintegrated", &["--preintegrate", "--step", "2"]);
     let post = render("post-classified", &["--step", "2"]);
     assert_ne!(pre.pixels, post.pixels, "--preintegrate changes nothing");
+    let cropped = render("cropped", &["--crop", "0:100,0:256,0:120"]);
+    assert_ne!(cropped.pixels, head.pixels, "--crop changes nothing");
     let eight = render("texels-8", &["--precision", "unorm8"]);
     assert_eq!(
         eight.pixels, head.pixels,
@@ -293,6 +295,8 @@ fn every_mode_and_its_parameters_reach_the_renderer() {
         &["--phong", "1,1,1"],
         &["--iso-refine", "99", "--mode", "iso"],
         &["--block", "12"],
+        &["--crop", "0:500,0:10,0:10"],
+        &["--crop", "5:5,0:10,0:10"],
     ] {
         let out = dir.path().join("bad.png");
         let mut args = vec!["render", data, "--out", out.to_str().expect("utf-8")];

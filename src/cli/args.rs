@@ -108,6 +108,10 @@ pub struct RenderArgs {
     /// Background colour `R,G,B` in 0..1.
     #[arg(long, value_parser = parse_vec3, default_value = "0,0,0")]
     pub background: [f64; 3],
+    /// Cropping box in voxel edges `x0:x1,y0:y1,z0:z1` (voxel i spans i..i+1, so
+    /// `0:NX,0:NY,0:NZ` is the whole volume): rays see only what lies inside it.
+    #[arg(long)]
+    pub crop: Option<String>,
     /// Print samples taken, samples with non-zero opacity (what any leaping scheme must still
     /// take), empty regions leapt, rays, and GPU milliseconds (median of several frames after a
     /// warm-up) including the leaping structures' rebuild.

@@ -43,6 +43,10 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         quality.apply(&mut settings);
     }
     args.effects.apply(&mut settings);
+    if let Some(crop) = &args.crop {
+        settings.crop = leapview::render::CropBox::parse_voxels(crop, volume.dims())
+            .map_err(|e| Failure::BadInput(e.into()))?;
+    }
     settings
         .validate()
         .map_err(|e| Failure::BadInput(e.into()))?;

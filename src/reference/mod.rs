@@ -55,7 +55,8 @@ pub fn render(
     let caster = Caster {
         volume,
         tf,
-        bounds,
+        // Rays run through the cropping box (the whole bounding box when nothing is cropped).
+        bounds: settings.crop.world(&bounds),
         world_from_clip,
         size,
         settings,

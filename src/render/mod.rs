@@ -4,6 +4,7 @@
 
 pub mod auto_path;
 pub mod context;
+pub mod crop;
 pub mod effects;
 pub mod leap;
 pub mod lut_texture;
@@ -19,6 +20,7 @@ pub mod uniforms;
 pub mod volume_texture;
 
 pub use context::{GpuContext, GpuError};
+pub use crop::CropBox;
 pub use pipelines::{ConcretePath, PipelineKey};
 pub use probe::{FrameCounters, FrameResults};
 pub use quality::QualityPreset;

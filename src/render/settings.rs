@@ -176,6 +176,8 @@ pub struct RenderSettings {
     pub mip_color: MipColor,
     /// X-ray attenuation per millimetre at the window's top (attenuation mode).
     pub xray_density_per_mm: f64,
+    /// The part of the volume rays are limited to (the whole volume by default).
+    pub crop: super::crop::CropBox,
 }
 
 impl Default for RenderSettings {
@@ -200,6 +202,7 @@ impl Default for RenderSettings {
             window: None,
             mip_color: MipColor::Window,
             xray_density_per_mm: super::effects::DEFAULT_XRAY_DENSITY_PER_MM,
+            crop: super::crop::CropBox::FULL,
         }
     }
 }
@@ -271,6 +274,7 @@ impl RenderSettings {
         {
             return Err(SettingsError::Background(self.background));
         }
+        self.crop.validate()?;
         Ok(())
     }
 }
@@ -308,4 +312,7 @@ pub enum SettingsError {
     /// Background components outside [0, 1].
     #[error("background colour components must be in 0..1, got {0:?}")]
     Background([f64; 3]),
+    /// A cropping box outside the volume or empty.
+    #[error(transparent)]
+    Crop(#[from] super::crop::CropError),
 }

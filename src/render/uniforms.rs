@@ -68,9 +68,14 @@ pub struct FrameUniforms {
     pub ray_near: [[f32; 4]; 3],
     /// See `ray_near`.
     pub ray_dir: [[f32; 4]; 3],
+    /// The cropping box's smallest corner in box coordinates (w unused): rays start and end on
+    /// the cropping box ([`super::crop::CropBox`]).
+    pub crop_min: [f32; 4],
+    /// The cropping box's largest corner (w unused).
+    pub crop_max: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 400);
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 432);
 
 /// The camera-dependent geometry of a frame, in f64.
 #[derive(Clone, Copy, Debug)]
@@ -203,7 +208,14 @@ pub fn frame_uniforms(
             // per millimetre of segment.
             (settings.opacity_step_vox() / (settings.step_vox * d0)) as f32,
         ],
+        crop_min: corner(settings.crop.min),
+        crop_max: corner(settings.crop.max),
     }
+}
+
+/// A box-coordinate corner as a uniform vector.
+fn corner(c: [f64; 3]) -> [f32; 4] {
+    [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]
 }
 
 /// Window lo/hi as normalised values, the MIP/MinIP saturation value (where the image can no

@@ -220,6 +220,12 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
         action = Some(Action::ResetView);
     }
 
+    if let Some(volume) = info.volume {
+        ui.separator();
+        ui.heading("Cropping");
+        super::crop::crop_ui(ui, &mut state.crop, &mut state.show_crop_box, volume.dims);
+    }
+
     ui.separator();
     ui.heading("Volume");
     match info.volume {

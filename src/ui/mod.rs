@@ -7,6 +7,7 @@
 //! and every GPU object live in the app struct, never in a widget.
 
 pub mod controls;
+pub mod crop;
 pub mod dialogs;
 pub mod effects;
 pub mod interaction;
@@ -86,6 +87,12 @@ pub struct ViewerState {
     pub show_controls: bool,
     /// Whether the readout (FPS, GPU time, adapter, volume) is drawn over the view.
     pub show_readout: bool,
+    /// The part of the volume shown (reset to the whole volume for each volume opened).
+    #[serde(skip)]
+    pub crop: crate::render::CropBox,
+    /// Whether the cropping box and its handles are drawn over the view.
+    #[serde(default)]
+    pub show_crop_box: bool,
     /// Files opened successfully, newest first (at most [`RECENT_FILES`]).
     #[serde(default)]
     pub recent: Vec<std::path::PathBuf>,
@@ -119,6 +126,8 @@ impl Default for ViewerState {
             show_readout: true,
             recent: Vec::new(),
             preintegrated: false,
+            crop: crate::render::CropBox::FULL,
+            show_crop_box: false,
         };
         state.apply_quality(QualityPreset::Balanced);
         state
@@ -152,6 +161,7 @@ impl ViewerState {
             preintegrated: self.preintegrated,
             background: self.background.map(|c| f64::from(c) / 255.0),
             block_vox: self.block_vox,
+            crop: self.crop,
             ..RenderSettings::default()
         };
         self.effects.apply(&mut settings);

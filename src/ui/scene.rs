@@ -103,6 +103,11 @@ impl Scene {
         self.volume.as_ref()
     }
 
+    /// The camera and the volume's bounding box, once a volume is shown.
+    pub fn camera_and_bounds(&self) -> Option<(Camera, Aabb)> {
+        self.camera.zip(self.bounds)
+    }
+
     /// The camera, once a volume is shown.
     pub fn camera_mut(&mut self) -> Option<&mut Camera> {
         self.camera.as_mut()
