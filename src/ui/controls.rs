@@ -39,7 +39,8 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
         .num_columns(2)
         .spacing([8.0, 6.0])
         .show(ui, |ui| {
-            ui.label("Transfer function");
+            // Combo boxes are named by their row's label (screen readers, the UI tests).
+            let label = ui.label("Transfer function");
             ComboBox::from_id_salt("preset")
                 .selected_text(state.preset.as_str())
                 .show_ui(ui, |ui| {
@@ -49,7 +50,9 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
                             let _ = state.choose_preset(name);
                         }
                     }
-                });
+                })
+                .response
+                .labelled_by(label.id);
             ui.end_row();
 
             ui.label("Strategy");
@@ -92,7 +95,7 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
                 );
             ui.end_row();
 
-            ui.label("Ray loop");
+            let label = ui.label("Ray loop");
             ui.horizontal(|ui| {
                 ComboBox::from_id_salt("path")
                     .selected_text(path_label(state.path))
@@ -100,7 +103,9 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
                         for path in [RenderPath::Auto, RenderPath::Fragment, RenderPath::Compute] {
                             ui.selectable_value(&mut state.path, path, path_label(path));
                         }
-                    });
+                    })
+                    .response
+                    .labelled_by(label.id);
                 if state.path == RenderPath::Auto {
                     let chosen = match info.path_used {
                         Some(ConcretePath::Fragment) => "uses fragment",

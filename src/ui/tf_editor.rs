@@ -138,6 +138,8 @@ fn opacity_canvas(
     let width = ui.available_width().max(64.0);
     let (rect, response) =
         ui.allocate_exact_size(vec2(width, CANVAS_HEIGHT), Sense::click_and_drag());
+    // Named for screen readers and for the UI tests, which find the canvas by this name.
+    let response = response.accessible_name("Opacity curve");
     let axis = Axis {
         rect,
         range,
@@ -246,6 +248,7 @@ fn handle_opacity_input(
 fn color_bar(ui: &mut egui::Ui, editor: &mut TfEditor, range: ValueRange) {
     let width = ui.available_width().max(64.0);
     let (rect, response) = ui.allocate_exact_size(vec2(width, BAR_HEIGHT), Sense::click_and_drag());
+    let response = response.accessible_name("Colour bar");
     let axis = Axis {
         rect,
         range,

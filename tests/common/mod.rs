@@ -1,10 +1,12 @@
-//! Helpers shared by the integration tests: the GPU, output folders, image comparison.
+//! Helpers shared by the integration tests: the GPU, output folders, image comparison, and (in
+//! `ui`) the harness of the UI tests.
 #![allow(dead_code, unused_imports)]
 
 mod analytic;
 mod files;
 mod hard;
 pub mod scene;
+pub mod ui;
 pub use analytic::*;
 pub use files::*;
 pub use hard::*;

@@ -1,0 +1,334 @@
+//! UI tests without a window: the crate's own panel functions (transfer-function editor, side
+//! panel, menu bar, error dialog) run inside an `egui_kittest` harness, are driven through the
+//! AccessKit tree the way a user would (clicks, drags, keys, found by label, never by pixel
+//! position, except inside the opacity canvas where a position *is* the input), and are rendered
+//! with egui's wgpu renderer for image snapshots in `tests/snapshots/`.
+//!
+//! Why: the panels are the only code the renderer tests never reach; a widget that stops
+//! editing the state, or a layout that breaks, shows up here first. The assertions check the
+//! state the UI edits; the snapshots catch what the state cannot (clipping, overlap, layout).
+//!
+//! Update the snapshots after an intended UI change with
+//! `UPDATE_SNAPSHOTS=1 cargo test --test ui_snapshots`, then look at the PNGs before committing.
+
+mod common;
+
+use common::ui::{canvas_pos, click_at, drag, harness};
+use egui::accesskit::Toggled;
+use egui::{Key, Modifiers};
+use egui_kittest::kittest::{NodeT, Queryable};
+use leapview::camera::{ProjectionKind, ViewPreset};
+use leapview::render::Strategy;
+use leapview::transfer::editor::TfEditor;
+use leapview::transfer::presets::preset;
+use leapview::ui::controls::{PanelInfo, controls_ui};
+use leapview::ui::dialogs::Dialogs;
+use leapview::ui::menu::menu_bar;
+use leapview::ui::tf_editor::tf_editor_ui;
+use leapview::ui::{Action, ViewerState, VolumeSummary};
+use leapview::volume::ValueRange;
+use leapview::volume::synthetic::shepp_logan;
+
+/// Edge of the generated phantom whose histogram and range the panels show: small enough to
+/// generate in milliseconds, large enough for a histogram with the phantom's peaks.
+const PHANTOM_N: u32 = 48;
+
+/// The phantom's summary (name, range, histogram), as the window builds it after loading.
+fn phantom() -> VolumeSummary {
+    VolumeSummary::of(&shepp_logan(PHANTOM_N).expect("phantom"))
+}
+
+/// The transfer-function editor with what the window gives it.
+struct TfPanel {
+    editor: TfEditor,
+    range: ValueRange,
+    histogram: Vec<u64>,
+    log_scale: bool,
+    /// Passes in which `tf_editor_ui` reported a changed transfer function.
+    reported_changes: usize,
+}
+
+fn tf_panel() -> egui_kittest::Harness<'static, TfPanel> {
+    let summary = phantom();
+    let panel = TfPanel {
+        editor: TfEditor::new(preset("ct-bone").expect("preset")),
+        range: summary.range.expect("the phantom has a value range"),
+        histogram: summary.histogram,
+        log_scale: true,
+        reported_changes: 0,
+    };
+    harness([440.0, 250.0]).build_ui_state(
+        |ui, p: &mut TfPanel| {
+            let range = Some(p.range);
+            if tf_editor_ui(ui, &mut p.editor, range, &p.histogram, &mut p.log_scale) {
+                p.reported_changes += 1;
+            }
+        },
+        panel,
+    )
+}
+
+/// How far a point set with the mouse may be from its target, as `(value, alpha)`: half a
+/// point of the canvas in each direction, since egui may place the pointer anywhere within the
+/// pixel it lands on.
+fn half_point(h: &egui_kittest::Harness<'_, TfPanel>) -> (f64, f64) {
+    let canvas = h.get_by_label("Opacity curve").rect();
+    (
+        0.5 * h.state().range.width() / f64::from(canvas.width()),
+        0.5 / f64::from(canvas.height()),
+    )
+}
+
+#[test]
+fn tf_editor_click_adds_a_point_and_undo_redo_restore_it() {
+    let mut h = tf_panel();
+    let original = h.state().editor.tf().clone();
+    h.snapshot("tf_editor");
+    assert!(h.get_by_label("Undo").accesskit_node().is_disabled());
+    assert!(h.get_by_label("Redo").accesskit_node().is_disabled());
+
+    // Mid-range at alpha 0.8: ct-bone is transparent there, so no handle is within reach and
+    // the click adds a point.
+    let canvas = h.get_by_label("Opacity curve").rect();
+    let value = h.state().range.denormalize(0.5);
+    click_at(&h, canvas_pos(canvas, h.state().range, value, 0.8));
+    h.run();
+    let tf = h.state().editor.tf().clone();
+    assert_eq!(tf.opacity.len(), original.opacity.len() + 1, "{tf:?}");
+    let added = tf
+        .opacity
+        .iter()
+        .find(|p| !original.opacity.contains(p))
+        .expect("a new point");
+    let (value_tol, alpha_tol) = half_point(&h);
+    assert!(
+        (added[0] - value).abs() <= value_tol,
+        "{added:?} vs {value}"
+    );
+    assert!((added[1] - 0.8).abs() <= alpha_tol, "{added:?}");
+    assert_eq!(h.state().reported_changes, 1);
+    assert!(!h.get_by_label("Undo").accesskit_node().is_disabled());
+    h.snapshot("tf_editor_point_added");
+
+    h.get_by_label("Undo").click();
+    h.run();
+    assert_eq!(h.state().editor.tf(), &original);
+    assert!(!h.get_by_label("Redo").accesskit_node().is_disabled());
+    h.get_by_label("Redo").click();
+    h.run();
+    assert_eq!(h.state().editor.tf(), &tf);
+
+    // Ctrl+Z works while no text field has the focus.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run();
+    assert_eq!(h.state().editor.tf(), &original);
+    assert_eq!(h.state().reported_changes, 4, "add, undo, redo, Ctrl+Z");
+}
+
+#[test]
+fn tf_editor_drag_moves_a_point_as_one_undo_step() {
+    let mut h = tf_panel();
+    let original = h.state().editor.tf().clone();
+    let range = h.state().range;
+    let canvas = h.get_by_label("Opacity curve").rect();
+    // ct-bone's (300 HU, 0.15) point, dragged to (500 HU, 0.4) through several moves.
+    let [from_value, from_alpha] = original.opacity[2];
+    assert_eq!([from_value, from_alpha], [300.0, 0.15], "ct-bone changed");
+    drag(
+        &h,
+        canvas_pos(canvas, range, from_value, from_alpha),
+        canvas_pos(canvas, range, 500.0, 0.4),
+    );
+    h.run();
+    let tf = h.state().editor.tf().clone();
+    assert_eq!(tf.opacity.len(), original.opacity.len(), "{tf:?}");
+    let (value_tol, alpha_tol) = half_point(&h);
+    let moved = tf.opacity[2];
+    assert!((moved[0] - 500.0).abs() <= value_tol, "{moved:?}");
+    assert!((moved[1] - 0.4).abs() <= alpha_tol, "{moved:?}");
+    assert!(h.state().reported_changes >= 1);
+    assert_eq!(tf.opacity[..2], original.opacity[..2]);
+    assert_eq!(tf.opacity[3..], original.opacity[3..]);
+
+    h.get_by_label("Undo").click();
+    h.run();
+    assert_eq!(
+        h.state().editor.tf(),
+        &original,
+        "one undo step for the whole drag"
+    );
+    assert!(!h.state().editor.can_undo());
+}
+
+#[test]
+fn tf_editor_log_toggle_changes_the_drawing_not_the_function() {
+    let mut h = tf_panel();
+    let original = h.state().editor.tf().clone();
+    let canvas = h.get_by_label("Opacity curve").rect();
+    let log_canvas = crop(&h.render().expect("render"), canvas);
+    let checkbox = h.get_by_label("log histogram");
+    assert_eq!(checkbox.accesskit_node().toggled(), Some(Toggled::True));
+    checkbox.click();
+    h.run();
+    h.remove_cursor();
+    h.run();
+    assert!(!h.state().log_scale);
+    assert_eq!(
+        h.get_by_label("log histogram").accesskit_node().toggled(),
+        Some(Toggled::False)
+    );
+    assert_eq!(h.state().editor.tf(), &original);
+    assert_eq!(h.state().reported_changes, 0);
+    let linear_canvas = crop(&h.render().expect("render"), canvas);
+    assert_ne!(linear_canvas, log_canvas, "the histogram was not redrawn");
+}
+
+/// The pixels of `rect` (points, at 1 pixel per point) in `image`.
+fn crop(image: &image::RgbaImage, rect: egui::Rect) -> image::RgbaImage {
+    let [x, y, w, h] = [rect.min.x, rect.min.y, rect.width(), rect.height()].map(|v| v as u32);
+    image::imageops::crop_imm(image, x, y, w, h).to_image()
+}
+
+/// The side panel with the phantom loaded, and the actions its buttons returned.
+struct SidePanel {
+    state: ViewerState,
+    volume: VolumeSummary,
+    actions: Vec<Action>,
+}
+
+#[test]
+fn side_panel_edits_the_viewer_state() {
+    let panel = SidePanel {
+        state: ViewerState::default(),
+        volume: phantom(),
+        actions: Vec::new(),
+    };
+    // Sized to the panel, so that the snapshot shows all of it as rows are added (and changes
+    // size then: regenerate it).
+    let mut h = harness([400.0, 800.0]).with_fit_contents().build_ui_state(
+        |ui, p: &mut SidePanel| {
+            let info = PanelInfo {
+                path_used: None,
+                volume: Some(&p.volume),
+            };
+            p.actions.extend(controls_ui(ui, &mut p.state, &info));
+        },
+        panel,
+    );
+    h.snapshot("side_panel");
+
+    h.get_by_label("Transfer function").click();
+    h.run();
+    h.get_by_label("ct-skin").click();
+    h.run();
+    assert_eq!(h.state().state.preset, "ct-skin");
+    assert_eq!(
+        h.state().state.editor.tf(),
+        &preset("ct-skin").expect("preset")
+    );
+    assert!(
+        h.state().state.editor.can_undo(),
+        "a preset is one undo step"
+    );
+
+    h.get_by_label("RC-t").click();
+    h.get_by_label("count samples").click();
+    h.run();
+    assert_eq!(h.state().state.strategy, Strategy::RcT);
+    assert!(h.state().state.statistics);
+
+    // Projection and views need the camera: the panel hands them to the app.
+    h.get_by_label("Orthographic").click();
+    h.get_by_label("+x").click();
+    h.get_by_label("Reset view (R)").click();
+    h.run();
+    assert_eq!(
+        h.state().actions,
+        [
+            Action::SetProjection(ProjectionKind::Orthographic),
+            Action::SetView(ViewPreset::PlusX),
+            Action::ResetView,
+        ]
+    );
+    assert_eq!(h.state().state.projection, ProjectionKind::Perspective);
+}
+
+/// The menu bar's state and the actions it returned.
+struct MenuBar {
+    state: ViewerState,
+    actions: Vec<Action>,
+}
+
+#[test]
+fn menu_bar_opens_menus_and_returns_actions() {
+    let bar = MenuBar {
+        state: ViewerState::default(),
+        actions: Vec::new(),
+    };
+    let mut h = harness([420.0, 320.0]).build_ui_state(
+        |ui, b: &mut MenuBar| b.actions.extend(menu_bar(ui, &mut b.state)),
+        bar,
+    );
+    h.get_by_label("View").click();
+    h.run();
+    h.remove_cursor();
+    h.run();
+    h.snapshot("menu_bar_view");
+    h.get_by_label("Orthographic").click();
+    h.run();
+    assert_eq!(
+        h.state().actions,
+        [Action::SetProjection(ProjectionKind::Orthographic)]
+    );
+    assert!(
+        h.query_by_label("Controls panel").is_none(),
+        "choosing closes the menu"
+    );
+
+    h.get_by_label("View").click();
+    h.run();
+    h.get_by_label("Controls panel").click();
+    h.run();
+    assert!(!h.state().state.show_controls);
+
+    h.get_by_label("File").click();
+    h.run();
+    assert!(
+        h.get_by_label("Recent").accesskit_node().is_disabled(),
+        "no recent files yet"
+    );
+    h.get_by_label("Shepp–Logan phantom").click();
+    h.run();
+    assert_eq!(
+        h.state().actions,
+        [
+            Action::SetProjection(ProjectionKind::Orthographic),
+            Action::LoadPhantom,
+        ]
+    );
+}
+
+#[test]
+fn error_dialog_shows_the_message_on_one_line_until_ok() {
+    let mut dialogs = Dialogs::default();
+    // A message over several lines, as wgpu's errors come.
+    dialogs.show_error(
+        "cannot read /data/head.nrrd:\n  the header says 512×512×300 int16\n  but the file holds 12 MB",
+    );
+    let message =
+        "cannot read /data/head.nrrd: the header says 512×512×300 int16 but the file holds 12 MB";
+    let mut h = harness([560.0, 220.0]).build_ui_state(
+        |ui, d: &mut Dialogs| {
+            assert_eq!(d.ui(ui.ctx()), None, "no file chosen");
+        },
+        dialogs,
+    );
+    assert!(h.query_by_label("Something went wrong").is_some());
+    assert!(h.query_by_label(message).is_some(), "{h:#?}");
+    h.snapshot("error_dialog");
+
+    h.get_by_label("OK").click();
+    h.run();
+    assert!(!h.state().has_error());
+    assert!(h.query_by_label(message).is_none());
+}
