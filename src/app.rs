@@ -212,6 +212,7 @@ impl LeapViewApp {
             Action::LoadVessels => self.start_loading(VolumeSource::VesselTree, ctx),
             Action::Quit => ctx.send_viewport_cmd(ViewportCommand::Close),
             Action::SetView(preset) => self.scene.set_view(preset, self.state.projection),
+            Action::ViewFrom(side) => self.scene.view_from(side, self.state.projection),
             Action::ResetView => self
                 .scene
                 .set_view(ViewPreset::Oblique, self.state.projection),

@@ -13,5 +13,7 @@ mod bad_files;
 mod nifti_round_trip;
 #[path = "loaders/nrrd_round_trip.rs"]
 mod nrrd_round_trip;
+#[path = "loaders/orientation.rs"]
+mod orientation;
 #[path = "loaders/real_data.rs"]
 mod real_data;

@@ -240,6 +240,7 @@ fn side_panel_edits_the_viewer_state() {
     // Projection and views need the camera: the panel hands them to the app.
     h.get_by_label("Orthographic").click();
     h.get_by_label("+x").click();
+    h.get_by_label("S").click();
     h.get_by_label("Reset view (R)").click();
     h.run();
     assert_eq!(
@@ -247,6 +248,7 @@ fn side_panel_edits_the_viewer_state() {
         [
             Action::SetProjection(ProjectionKind::Orthographic),
             Action::SetView(ViewPreset::PlusX),
+            Action::ViewFrom(leapview::volume::Direction::Superior),
             Action::ResetView,
         ]
     );

@@ -58,6 +58,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
             "air_threshold": air.map(|a| a.0),
             "air_fraction": air.map(|a| a.1),
             "tf_transparent_fraction": transparent,
+            "orientation": volume.orientation().map(|o| o.code()),
         });
         println!("{value:#}");
         return Ok(());
@@ -77,6 +78,13 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
         z as f64 * sz
     );
     println!("type:        {}", volume.scalar_type());
+    match volume.orientation() {
+        Some(o) => println!(
+            "orientation: {} (index axes i, j, k point to these)",
+            o.code()
+        ),
+        None => println!("orientation: not in the header (views assume RAS)"),
+    }
     if m != ValueMapping::IDENTITY {
         println!(
             "scaling:     value = stored x {} + {}",

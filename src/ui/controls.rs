@@ -213,6 +213,34 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
 
     ui.separator();
     ui.heading("View");
+    ui.horizontal(|ui| {
+        for side in crate::volume::Direction::VIEWS {
+            if ui
+                .button(side.letter().to_string())
+                .on_hover_text(super::menu::view_label(side))
+                .clicked()
+            {
+                action = Some(Action::ViewFrom(side));
+            }
+        }
+        if let Some(v) = info.volume {
+            let o = v.orientation_or_assumed();
+            let note = if v.orientation.is_some() {
+                format!("{} from the header", o.code())
+            } else {
+                "no orientation in the file: RAS assumed".to_string()
+            };
+            let label = ui.label(egui::RichText::new(o.code()).weak());
+            if o.is_mirrored() {
+                label.on_hover_text(format!(
+                    "{note}; the index axes are a mirror image of the patient, so the 3D \
+                     picture is mirrored (left and right swapped)"
+                ));
+            } else {
+                label.on_hover_text(note);
+            }
+        }
+    });
     ui.horizontal_wrapped(|ui| {
         for (preset, label) in VIEWS {
             let short = label.trim_start_matches("Along ");

@@ -4,6 +4,7 @@
 use egui::MenuBar;
 
 use crate::camera::{ProjectionKind, ViewPreset};
+use crate::volume::Direction;
 
 use super::{Action, ViewerState};
 
@@ -17,6 +18,11 @@ pub const VIEWS: [(ViewPreset, &str); 7] = [
     (ViewPreset::MinusZ, "Along −z"),
     (ViewPreset::Oblique, "Oblique"),
 ];
+
+/// Menu label of the view from `side`, e.g. "From anterior (A)".
+pub fn view_label(side: Direction) -> String {
+    format!("From {} ({})", side.name().to_lowercase(), side.letter())
+}
 
 /// The controls, one `(gesture, effect)` pair a line, for the Help menu and the view's tooltip.
 pub const CONTROLS: [(&str, &str); 10] = [
@@ -36,7 +42,11 @@ pub const CONTROLS: [(&str, &str); 10] = [
         "undo, redo a transfer-function edit",
     ),
     ("R, or View menu: Reset view", "reset the view"),
-    ("View menu: Along ±x/±y/±z, Oblique", "standard views"),
+    (
+        "View menu or panel: A, P, L, R, S, I",
+        "look from the patient's front, back, left, right, top, bottom (the file's orientation, \
+         RAS where it has none); also along ±x/±y/±z and oblique",
+    ),
     ("View menu: Perspective / Orthographic", "projection"),
     ("Ctrl + O", "open a file (or drop one onto the window)"),
     ("Ctrl + Q", "quit"),
@@ -78,11 +88,18 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
             }
         });
         ui.menu_button("View", |ui| {
-            for (preset, label) in VIEWS {
-                if ui.button(label).clicked() {
-                    action = Some(Action::SetView(preset));
+            for side in Direction::VIEWS {
+                if ui.button(view_label(side)).clicked() {
+                    action = Some(Action::ViewFrom(side));
                 }
             }
+            ui.menu_button("Along an axis", |ui| {
+                for (preset, label) in VIEWS {
+                    if ui.button(label).clicked() {
+                        action = Some(Action::SetView(preset));
+                    }
+                }
+            });
             if ui.button("Reset view (R)").clicked() {
                 action = Some(Action::ResetView);
             }

@@ -244,6 +244,8 @@ pub struct VolumeSummary {
     pub range: Option<ValueRange>,
     /// Sample counts in equal bins over `range`.
     pub histogram: Vec<u64>,
+    /// Anatomical orientation from the file's header, if it gave one.
+    pub orientation: Option<crate::volume::Orientation>,
 }
 
 impl VolumeSummary {
@@ -256,7 +258,14 @@ impl VolumeSummary {
             scalar_type: volume.scalar_type(),
             range: volume.value_range(),
             histogram: volume.histogram().counts.clone(),
+            orientation: volume.orientation(),
         }
+    }
+
+    /// The orientation the anatomical views use: the header's, or RAS where it gave none.
+    pub fn orientation_or_assumed(&self) -> crate::volume::Orientation {
+        self.orientation
+            .unwrap_or(crate::volume::Orientation::ASSUMED)
     }
 
     /// One line: dims, type and spacing, e.g. `256×256×256 int16, 0.8×0.8×1 mm`.
@@ -285,6 +294,8 @@ pub enum Action {
     Quit,
     /// Look along a standard direction, framing the whole volume.
     SetView(ViewPreset),
+    /// Look at the patient from one side (the A, P, L, R, S, I views), framing the whole volume.
+    ViewFrom(crate::volume::Direction),
     /// Back to the default (oblique) view, framing the whole volume.
     ResetView,
     /// Switch projection, keeping the size of what is at the orbit centre.

@@ -120,6 +120,15 @@ impl Scene {
         }
     }
 
+    /// Looks at the patient from `side` (the orientation from the header, or RAS), framing the
+    /// whole volume.
+    pub fn view_from(&mut self, side: crate::volume::Direction, projection: ProjectionKind) {
+        if let (Some(bounds), Some(volume)) = (&self.bounds, &self.volume) {
+            let (dir, up) = volume.orientation_or_assumed().view_from(side);
+            self.camera = Some(Camera::framing(bounds, dir, up, projection));
+        }
+    }
+
     /// Switches projection without a jump in size.
     pub fn set_projection(&mut self, kind: ProjectionKind) {
         self.camera = self.camera.map(|c| with_projection(&c, kind));

@@ -17,6 +17,7 @@ pub mod limits;
 pub mod load;
 pub mod nifti;
 pub mod nrrd;
+pub mod orientation;
 pub mod raw;
 pub mod samples;
 pub mod stats;
@@ -24,6 +25,7 @@ pub mod synthetic;
 
 pub use error::VolumeError;
 pub use load::{LoadOptions, load_volume};
+pub use orientation::{Direction, Orientation};
 pub use samples::{Samples, ScalarType};
 pub use stats::{Histogram, ValueRange};
 
@@ -66,6 +68,7 @@ pub struct Volume {
     range: Option<ValueRange>,
     histogram: Histogram,
     non_finite_count: u64,
+    orientation: Option<Orientation>,
 }
 
 impl Volume {
@@ -108,7 +111,19 @@ impl Volume {
             range,
             histogram,
             non_finite_count,
+            orientation: None,
         })
+    }
+
+    /// The volume with the anatomical orientation its file gave.
+    pub fn with_orientation(mut self, orientation: Option<Orientation>) -> Self {
+        self.orientation = orientation;
+        self
+    }
+
+    /// The anatomical orientation from the file's header, if it gave one.
+    pub fn orientation(&self) -> Option<Orientation> {
+        self.orientation
     }
 
     /// A short human-readable name (usually the file name).

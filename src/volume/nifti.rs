@@ -15,7 +15,7 @@ use nifti::{Endianness, NiftiHeader, NiftiType};
 use super::decode::{self, Encoding, SampleLayout};
 use super::error::VolumeError;
 use super::limits::{self, DataSource};
-use super::{ScalarType, ValueMapping, Volume};
+use super::{Orientation, ScalarType, ValueMapping, Volume};
 
 const NIFTI: &str = "NIfTI-1";
 
@@ -96,7 +96,47 @@ fn read_stream(
     };
     let samples = decode::read_samples(reader, layout, encoding)?;
     let spacing_mm = spacing_of(&header);
-    Volume::new(name, dims, spacing_mm, samples, mapping_of(&header))
+    Ok(
+        Volume::new(name, dims, spacing_mm, samples, mapping_of(&header))?
+            .with_orientation(orientation_of(&header)),
+    )
+}
+
+/// The anatomical orientation from the sform (preferred, as nibabel) or the qform; `None` when
+/// both codes are 0 (unknown).
+fn orientation_of(header: &NiftiHeader) -> Option<Orientation> {
+    if header.sform_code > 0 {
+        let rows = [header.srow_x, header.srow_y, header.srow_z];
+        return Orientation::from_ras_columns([0, 1, 2].map(|a| rows.map(|r| f64::from(r[a]))));
+    }
+    if header.qform_code > 0 {
+        // NIfTI-1 quaternion: a = √(1 − b² − c² − d²); qfac (pixdim[0] < 0) flips k.
+        let [b, c, d] = [header.quatern_b, header.quatern_c, header.quatern_d].map(f64::from);
+        let a = (1.0 - (b * b + c * c + d * d)).max(0.0).sqrt();
+        let qfac = if header.pixdim[0] < 0.0 { -1.0 } else { 1.0 };
+        let r = [
+            [
+                a * a + b * b - c * c - d * d,
+                2.0 * (b * c - a * d),
+                2.0 * (b * d + a * c),
+            ],
+            [
+                2.0 * (b * c + a * d),
+                a * a + c * c - b * b - d * d,
+                2.0 * (c * d - a * b),
+            ],
+            [
+                2.0 * (b * d - a * c),
+                2.0 * (c * d + a * b),
+                a * a + d * d - c * c - b * b,
+            ],
+        ];
+        return Orientation::from_ras_columns([0, 1, 2].map(|col| {
+            let sign = if col == 2 { qfac } else { 1.0 };
+            r.map(|row| row[col] * sign)
+        }));
+    }
+    None
 }
 
 /// Reads until `buf` is full or the stream ends; returns the bytes read.

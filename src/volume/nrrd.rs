@@ -46,7 +46,10 @@ pub fn read_nrrd(path: &Path, name: String) -> Result<Volume, VolumeError> {
         }
         None => read_data(&mut reader, file_len - header_len, &nrrd, layout)?,
     };
-    Volume::new(name, dims, nrrd.spacing_mm, samples, nrrd.mapping)
+    Ok(
+        Volume::new(name, dims, nrrd.spacing_mm, samples, nrrd.mapping)?
+            .with_orientation(nrrd.orientation),
+    )
 }
 
 /// Reads the samples from `reader`, positioned at the start of the data with `available` bytes

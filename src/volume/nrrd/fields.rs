@@ -8,6 +8,8 @@ use crate::volume::{ScalarType, ValueMapping};
 use super::header::HeaderText;
 use super::names::{parse_encoding, parse_type};
 
+use crate::volume::Orientation;
+
 const NRRD: &str = "NRRD";
 
 /// Everything the header says that LeapView uses.
@@ -23,6 +25,8 @@ pub struct NrrdHeader {
     pub big_endian: bool,
     /// Spacing in millimetres (1 where the header gives none).
     pub spacing_mm: [f64; 3],
+    /// Anatomical orientation, from an anatomical `space` and `space directions`.
+    pub orientation: Option<Orientation>,
     /// Stored values to data units.
     pub mapping: ValueMapping,
     /// The detached data file as written, if any.
@@ -81,11 +85,12 @@ pub fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
         None => false,
     };
 
-    let spacing_mm = match (field("space directions"), field("spacings")) {
+    let (spacing_mm, directions) = match (field("space directions"), field("spacings")) {
         (Some(directions), _) => parse_space_directions(directions, dimension, first)?,
-        (None, Some(spacings)) => parse_spacings(spacings, dimension, first)?,
-        (None, None) => [1.0; 3],
+        (None, Some(spacings)) => (parse_spacings(spacings, dimension, first)?, None),
+        (None, None) => ([1.0; 3], None),
     };
+    let orientation = directions.and_then(|d| orientation_of(field("space"), d));
 
     let data_file = match (field("data file"), field("datafile")) {
         (Some(f), _) | (None, Some(f)) => Some(parse_data_file(f)?),
@@ -123,6 +128,7 @@ pub fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
         encoding,
         big_endian,
         spacing_mm,
+        orientation,
         mapping: parse_mapping(text)?,
         data_file,
         line_skip,
@@ -166,20 +172,39 @@ fn parse_spacings(text: &str, dimension: usize, first: usize) -> Result<[f64; 3]
     }))
 }
 
+/// The three axis vectors of `space directions`, one per index axis.
+type Columns = [[f64; 3]; 3];
+
+/// The orientation of axes with `directions` in the anatomical `space` (`right-anterior-superior`
+/// or `RAS`, `left-posterior-superior` or `LPS`, `left-anterior-superior` or `LAS`); `None` for
+/// other spaces (scanner, 3D-right-handed) or none.
+fn orientation_of(space: Option<&str>, directions: [[f64; 3]; 3]) -> Option<Orientation> {
+    // Signs turning the space's axes into RAS.
+    let flip = match space?.to_ascii_lowercase().as_str() {
+        "right-anterior-superior" | "ras" => [1.0, 1.0, 1.0],
+        "left-posterior-superior" | "lps" => [-1.0, -1.0, 1.0],
+        "left-anterior-superior" | "las" => [-1.0, 1.0, 1.0],
+        _ => return None,
+    };
+    Orientation::from_ras_columns(directions.map(|c| [0, 1, 2].map(|r| c[r] * flip[r])))
+}
+
 /// `space directions: (1,0,0) (0,1,0) (0,0,2)`, `none` for a non-spatial axis; the spacing is the
-/// length of each vector.
+/// length of each vector. Also returns the three vectors when they are 3-vectors.
 fn parse_space_directions(
     text: &str,
     dimension: usize,
     first: usize,
-) -> Result<[f64; 3], VolumeError> {
+) -> Result<([f64; 3], Option<Columns>), VolumeError> {
     let expected = "it must hold one vector such as (1,0,0), or none, per axis";
     let bad = || bad_field("space directions", text, expected);
     let mut lengths = Vec::new();
+    let mut vectors = Vec::new();
     let mut rest = text.trim_start();
     while !rest.is_empty() {
         if let Some(after) = rest.strip_prefix("none") {
             lengths.push(f64::NAN);
+            vectors.push(None);
             rest = after.trim_start();
         } else if let Some(after) = rest.strip_prefix('(') {
             let (inside, after) = after.split_once(')').ok_or_else(bad)?;
@@ -189,6 +214,7 @@ fn parse_space_directions(
                 .collect::<Option<Vec<f64>>>()
                 .ok_or_else(bad)?;
             lengths.push(components.iter().map(|c| c * c).sum::<f64>().sqrt());
+            vectors.push(<[f64; 3]>::try_from(components.as_slice()).ok());
             rest = after.trim_start();
         } else {
             return Err(bad());
@@ -197,9 +223,13 @@ fn parse_space_directions(
     if lengths.len() != dimension {
         return Err(bad());
     }
-    Ok(std::array::from_fn(|a| {
-        usable_spacing(lengths[first + a], "space directions")
-    }))
+    let spacing = std::array::from_fn(|a| usable_spacing(lengths[first + a], "space directions"));
+    let columns = [0, 1, 2].map(|a| vectors[first + a]);
+    let columns = match columns {
+        [Some(x), Some(y), Some(z)] => Some([x, y, z]),
+        _ => None,
+    };
+    Ok((spacing, columns))
 }
 
 /// A spacing as the volume needs it: positive and finite. Negative spacings (flipped axes) keep

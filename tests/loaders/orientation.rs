@@ -1,0 +1,111 @@
+//! Anatomical orientation from headers: NIfTI sform and qform (with qfac), NRRD `space` and
+//! `space directions`, files without one, and the NIfTI originals of `../shared/data` (RAS, as
+//! their README says).
+
+use leapview::volume::ScalarType;
+
+use crate::common::{NiftiSpec, TempDir, load_ok, nrrd_file, nrrd_lines, samples_of, to_bytes};
+
+const DIMS: [u32; 3] = [4, 3, 2];
+
+/// A `.nii` file of [`DIMS`] with its header patched by `patch` (offsets of nifti1.h).
+fn nifti(dir: &TempDir, name: &str, pixdim0: f32, patch: &[(usize, Vec<u8>)]) -> String {
+    let mut spec = NiftiSpec::new(ScalarType::U8, DIMS, [1.0, 1.0, 1.0]);
+    spec.pixdim[0] = pixdim0;
+    let mut bytes = spec.file(&to_bytes(&samples_of(ScalarType::U8, 24), false));
+    for (offset, data) in patch {
+        bytes[*offset..offset + data.len()].copy_from_slice(data);
+    }
+    let path = dir.write(name, &bytes);
+    load_ok(&path)
+        .orientation()
+        .map_or("none".into(), |o| o.code())
+}
+
+fn f32s(values: &[f32]) -> Vec<u8> {
+    values.iter().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+const QFORM_CODE: usize = 252;
+const SFORM_CODE: usize = 254;
+const QUATERN_B: usize = 256;
+const SROW_X: usize = 280;
+
+#[test]
+fn nifti_sform_is_preferred_and_qform_honours_qfac() {
+    let dir = TempDir::new("orientation-nifti");
+    assert_eq!(nifti(&dir, "none.nii", 1.0, &[]), "none");
+    // sform: i → −x (left), j → +z (superior), k → −y (posterior), with 0.8 mm on i.
+    let sform = vec![
+        (SFORM_CODE, 1i16.to_le_bytes().to_vec()),
+        (SROW_X, f32s(&[-0.8, 0.0, 0.0, 10.0])),
+        (SROW_X + 16, f32s(&[0.0, 0.0, -1.0, 0.0])),
+        (SROW_X + 32, f32s(&[0.0, 1.0, 0.0, 0.0])),
+    ];
+    assert_eq!(nifti(&dir, "sform.nii", 1.0, &sform), "LSP");
+    // qform: 180° about z (b = c = 0, d = 1) turns i to the left and j to the back: LPS; with
+    // qfac = −1 (pixdim[0] < 0) k flips too: LPI.
+    let qform = vec![
+        (QFORM_CODE, 1i16.to_le_bytes().to_vec()),
+        (QUATERN_B, f32s(&[0.0, 0.0, 1.0])),
+    ];
+    assert_eq!(nifti(&dir, "qform.nii", 1.0, &qform), "LPS");
+    assert_eq!(nifti(&dir, "qfac.nii", -1.0, &qform), "LPI");
+    // With both, the sform wins (as nibabel and ITK).
+    let both: Vec<_> = qform.iter().chain(&sform).cloned().collect();
+    assert_eq!(nifti(&dir, "both.nii", 1.0, &both), "LSP");
+}
+
+#[test]
+fn nrrd_space_and_directions_give_the_orientation() {
+    let dir = TempDir::new("orientation-nrrd");
+    let data = to_bytes(&samples_of(ScalarType::U8, 24), false);
+    let code = |name: &str, extra: &[&str]| {
+        let mut lines = nrrd_lines(ScalarType::U8, DIMS, "raw", false);
+        lines.extend(extra.iter().map(|s| s.to_string()));
+        let lines: Vec<&str> = lines.iter().map(String::as_str).collect();
+        let path = dir.write(name, &nrrd_file(&lines, &data));
+        load_ok(&path)
+            .orientation()
+            .map_or("none".into(), |o| o.code())
+    };
+    let identity = "space directions: (1,0,0) (0,1,0) (0,0,1)";
+    assert_eq!(
+        code("lps.nrrd", &["space: left-posterior-superior", identity]),
+        "LPS"
+    );
+    assert_eq!(code("ras.nrrd", &["space: RAS", identity]), "RAS");
+    // Slices along y: i → superior (2 mm), j → right, k → anterior.
+    let swapped = "space directions: (0,0,2) (1,0,0) (0,1,0)";
+    assert_eq!(
+        code("sra.nrrd", &["space: right-anterior-superior", swapped]),
+        "SRA"
+    );
+    assert_eq!(
+        load_ok(&dir.path().join("sra.nrrd")).spacing_mm(),
+        [2.0, 1.0, 1.0]
+    );
+    // Not anatomical, or no directions: unknown.
+    assert_eq!(
+        code("scanner.nrrd", &["space: scanner-xyz", identity]),
+        "none"
+    );
+    assert_eq!(code("spacings.nrrd", &["spacings: 1 1 1"]), "none");
+}
+
+#[test]
+fn the_nifti_originals_are_ras() {
+    let originals = crate::common::data_dir().join("originals");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(&originals).expect("originals folder") {
+        let path = entry.expect("entry").path();
+        if path.to_string_lossy().ends_with(".nii.gz") {
+            let o = load_ok(&path)
+                .orientation()
+                .expect("the originals have an sform");
+            assert_eq!(o.code(), "RAS", "{}", path.display());
+            seen += 1;
+        }
+    }
+    assert!(seen >= 5, "only {seen} originals");
+}
