@@ -44,6 +44,7 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
     var samples = 0u;
     var contributing = 0u;
     var leaps = 0u;
+    var leapt = 0u;
 #endif
     if ray.length_mm > 0.0 {
         let step = frame.step_mm;
@@ -67,10 +68,11 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
             let next = leap_from(&leap, p, k, acc_leap_query(acc));
 #ifndef PREINTEGRATED
             if next != k {
-                k = next;
 #ifdef STATS
                 leaps += 1u;
+                leapt += min(next, ray.count) - k;
 #endif
+                k = next;
                 continue;
             }
 #endif
@@ -93,10 +95,13 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
                     let t_last = min((f32(last) + ray.offset) * step, ray.length_mm);
                     acc_resume(&acc, t_last, sample_value(entry + ray.box_per_mm * t_last));
                 }
-                k = next;
 #ifdef STATS
                 leaps += 1u;
+                // Samples k + 1 .. next − 1 (sample k was taken; the resumed one is not counted
+                // as a sample, as it is only read, not classified).
+                leapt += min(next, ray.count) - k - 1u;
 #endif
+                k = next;
                 continue;
             }
 #endif
@@ -114,6 +119,7 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
     count(COUNTER_VISIBLE_SAMPLES, contributing);
     count(COUNTER_RAYS, 1u);
     count(COUNTER_LEAPS, leaps);
+    count(COUNTER_LEAPT_SAMPLES, leapt);
 #endif
     return acc_finish(acc, ray);
 }

@@ -5,6 +5,8 @@ const COUNTER_SAMPLES: u32 = 0u;
 const COUNTER_VISIBLE_SAMPLES: u32 = 1u;
 const COUNTER_RAYS: u32 = 2u;
 const COUNTER_LEAPS: u32 = 3u;
+// Grid samples skipped by leaping (with COUNTER_SAMPLES, what RC-t takes).
+const COUNTER_LEAPT_SAMPLES: u32 = 4u;
 
 @group(2) @binding(0) var<storage, read_write> counters: array<atomic<u32>>;
 

@@ -19,6 +19,7 @@ use crate::ui::dialogs::Dialogs;
 use crate::ui::effects::effects_ui;
 use crate::ui::interaction::{window_level_drag, window_level_map};
 use crate::ui::loading::{Loader, VolumeSource};
+use crate::ui::lod::STILL_AFTER;
 use crate::ui::menu::menu_bar;
 use crate::ui::overlay::{draw_loading, draw_readout};
 use crate::ui::redraw::FrameInputs;
@@ -110,6 +111,8 @@ struct LeapViewApp {
     save_image: Option<SaveImageForm>,
     /// The view's size in pixels last pass.
     view_px: [u32; 2],
+    /// When the pointer last moved with a button held, or the wheel turned.
+    last_motion: Option<Instant>,
 }
 
 impl LeapViewApp {
@@ -140,6 +143,7 @@ impl LeapViewApp {
             readout_rect: None,
             save_image: None,
             view_px: [1, 1],
+            last_motion: None,
         };
         app.start_loading(first, &cc.egui_ctx);
         Ok(app)
@@ -279,8 +283,19 @@ impl LeapViewApp {
             }
             ctx.request_repaint();
         }
-        if let Err(message) = self.scene.render_if_changed(&mut self.state, area.size_px) {
+        let interacting = self.interacting(&ctx);
+        if let Err(message) =
+            self.scene
+                .render_if_changed(&mut self.state, area.size_px, interacting)
+        {
             self.dialogs.show_error(message);
+        }
+        if self.scene.preview_scale().is_some() {
+            // Refine once the pointer has been still long enough (or at once, if it is).
+            let still_in = self
+                .last_motion
+                .map_or(Duration::ZERO, |t| STILL_AFTER.saturating_sub(t.elapsed()));
+            ctx.request_repaint_after(still_in + Duration::from_millis(1));
         }
         self.view_rect = area.rect;
         self.view_px = area.size_px;
@@ -332,6 +347,20 @@ impl LeapViewApp {
                 Color32::WHITE,
             );
         }
+    }
+
+    /// Whether the user is dragging or zooming: the pointer moved with a button held, or the
+    /// wheel turned, less than [`STILL_AFTER`] ago.
+    fn interacting(&mut self, ctx: &egui::Context) -> bool {
+        let moving = ctx.input(|i| {
+            (i.pointer.any_down() && i.pointer.delta() != egui::Vec2::ZERO)
+                || i.smooth_scroll_delta != egui::Vec2::ZERO
+                || i.zoom_delta() != 1.0
+        });
+        if moving {
+            self.last_motion = Some(Instant::now());
+        }
+        self.last_motion.is_some_and(|t| t.elapsed() < STILL_AFTER)
     }
 
     /// The "Save image" window: renders the view again at the chosen size and writes it.
@@ -401,6 +430,7 @@ impl LeapViewApp {
         let ready = frames >= 1
             && quiet_passes > SETTLED_AFTER_PASSES
             && !self.scene.results_pending()
+            && self.scene.preview_scale().is_none()
             && self.loader.busy().is_none();
         match self.automation.poll_screenshot(ctx, ready) {
             ShotEvent::Requested => self.shot_inputs = self.scene.last_inputs().cloned(),

@@ -174,6 +174,14 @@ fn assert_leaping_exact(
                     rcs_counts.samples <= rct_counts.samples,
                     "{label}: {rcs_counts:?} vs {rct_counts:?}"
                 );
+                // Leaping only skips grid samples and stops where RC-t stops: what it took and
+                // what it skipped add up to RC-t's samples exactly.
+                assert_eq!(
+                    rcs_counts.samples + rcs_counts.leapt_samples,
+                    rct_counts.samples,
+                    "{label}: samples taken + leapt ≠ RC-t's"
+                );
+                assert_eq!(rct_counts.leapt_samples, 0, "{label}: RC-t leapt");
             }
         }
     }

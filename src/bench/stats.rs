@@ -68,6 +68,7 @@ impl RunSummary {
                 visible_samples: f.visible_samples,
                 rays: f.rays,
                 leaps: f.leaps,
+                ..FrameCounters::default()
             });
         }
         let n = run.frames.len();

@@ -126,6 +126,11 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         );
         if settings.strategy.leaps() {
             println!("leaps: {} (block {} voxels)", c.leaps, settings.block_vox);
+            println!(
+                "samples leapt: {} ({:.1} % of the grid samples before each ray's end)",
+                c.leapt_samples,
+                100.0 * c.share_leapt().unwrap_or(0.0)
+            );
             if let Some(ms) = first.rebuild_ms {
                 println!("rebuild_ms: {ms:.3} (leaping structures for this transfer function)");
             }

@@ -16,7 +16,7 @@ pub const OUTPUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Compute workgroup edge (must match `@workgroup_size` in raycast_compute.wgsl).
 pub const WORKGROUP: u32 = 8;
 /// Number of 64-bit counters in the statistics buffer (see shaders/stats.wgsl).
-pub const COUNTERS: usize = 4;
+pub const COUNTERS: usize = 5;
 
 /// Where the ray loop runs, once `auto` has been resolved.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]

@@ -31,6 +31,8 @@ pub struct FrameCounters {
     pub rays: u64,
     /// Empty regions leapt over (RC-s).
     pub leaps: u64,
+    /// Grid samples skipped by leaping (RC-s): with the samples taken, what RC-t takes.
+    pub leapt_samples: u64,
 }
 
 impl FrameCounters {
@@ -53,6 +55,14 @@ impl FrameCounters {
         self.visible_samples += other.visible_samples;
         self.rays += other.rays;
         self.leaps += other.leaps;
+        self.leapt_samples += other.leapt_samples;
+    }
+
+    /// Share of the grid samples before each ray's end that leaping skipped (0 without
+    /// leaping); `None` when no ray had a sample.
+    pub fn share_leapt(&self) -> Option<f64> {
+        let grid = self.samples + self.leapt_samples;
+        (grid > 0).then(|| self.leapt_samples as f64 / grid as f64)
     }
 }
 
@@ -282,6 +292,7 @@ impl ProbePool {
                         visible_samples: ticks(c + 1),
                         rays: ticks(c + 2),
                         leaps: ticks(c + 3),
+                        leapt_samples: ticks(c + 4),
                     });
                     drop(data);
                     probe.readback.unmap();

@@ -95,6 +95,15 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
                 );
             ui.end_row();
 
+            ui.label("Interaction");
+            ui.checkbox(&mut state.interaction_lod, "preview while dragging")
+                .on_hover_text(format!(
+                    "While you drag, a frame that would take more than {} ms renders at a lower \
+                     resolution; the full-quality frame follows once the pointer is still",
+                    super::lod::BUDGET_MS
+                ));
+            ui.end_row();
+
             let label = ui.label("Ray loop");
             ui.horizontal(|ui| {
                 ComboBox::from_id_salt("path")

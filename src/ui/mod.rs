@@ -12,6 +12,7 @@ pub mod dialogs;
 pub mod effects;
 pub mod interaction;
 pub mod loading;
+pub mod lod;
 pub mod menu;
 pub mod overlay;
 pub mod redraw;
@@ -64,6 +65,10 @@ pub struct ViewerState {
     /// Edge of the leaping blocks in voxels (RC-s).
     #[serde(default = "default_block")]
     pub block_vox: u32,
+    /// Whether frames that would miss the frame budget while the user drags are rendered at a
+    /// lower resolution (refined once still).
+    #[serde(default = "yes")]
+    pub interaction_lod: bool,
     /// Whether frames count samples (slower statistics variant) for the readout.
     #[serde(default)]
     pub statistics: bool,
@@ -118,6 +123,7 @@ impl Default for ViewerState {
             step_vox: render.step_vox,
             block_vox: render.block_vox,
             statistics: false,
+            interaction_lod: true,
             termination_alpha: DEFAULT_TERMINATION_ALPHA,
             jitter: false,
             background: [0, 0, 0],

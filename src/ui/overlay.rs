@@ -74,6 +74,8 @@ pub struct Readout<'a> {
     pub rebuild_ms: Option<f64>,
     /// Wall time from the last transfer-function change to its frame's completion, ms.
     pub tf_latency_ms: Option<f64>,
+    /// Resolution scale of the frame on screen when it is an interaction preview.
+    pub preview_scale: Option<f64>,
 }
 
 /// `1234567` as `1.23 M`.
@@ -107,14 +109,22 @@ impl Readout<'_> {
             format!("{fps} · {gpu} · {}{path}", self.strategy)
         };
         let mut lines = vec![first, self.adapter.to_string()];
+        if let Some(scale) = self.preview_scale {
+            lines.push(format!(
+                "preview at {:.0} % resolution (full quality once still)",
+                100.0 * scale
+            ));
+        }
         if let Some((c, pixels)) = self.counters {
             lines.push(format!(
-                "{} samples ({:.1}/px) · {} visible · ×{:.2} oracle · {} leaps",
+                "{} samples ({:.1}/px) · {} visible · ×{:.2} oracle · {} leaps, {:.1} % of \
+                 samples leapt",
                 compact(c.samples),
                 c.samples as f64 / pixels.max(1) as f64,
                 compact(c.visible_samples),
                 c.samples as f64 / c.visible_samples.max(1) as f64,
                 compact(c.leaps),
+                100.0 * c.share_leapt().unwrap_or(0.0),
             ));
         }
         if let Some(ms) = self.rebuild_ms {
@@ -209,6 +219,7 @@ mod tests {
             visible_samples: 500_000,
             rays: 1000,
             leaps: 1500,
+            leapt_samples: 6_000_000,
         };
         let readout = Readout {
             fps: Some(30),
@@ -221,11 +232,13 @@ mod tests {
             counters: Some((counters, 1_000_000)),
             rebuild_ms: Some(0.25),
             tf_latency_ms: Some(3.5),
+            preview_scale: None,
         };
         let lines = readout.lines();
         assert_eq!(
             lines[2],
-            "2.00 M samples (2.0/px) · 500.0 k visible · ×4.00 oracle · 1.5 k leaps"
+            "2.00 M samples (2.0/px) · 500.0 k visible · ×4.00 oracle · 1.5 k leaps, 75.0 % of \
+             samples leapt"
         );
         assert_eq!(lines[3], "leaping structures rebuilt in 0.250 ms GPU");
     }
@@ -243,6 +256,7 @@ mod tests {
             counters: None,
             rebuild_ms: None,
             tf_latency_ms: None,
+            preview_scale: None,
         };
         let nothing_yet = Readout {
             path: None,

@@ -16,6 +16,7 @@ use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
 use super::interaction::{framed, with_projection};
+use super::lod::{Lod, scaled_size};
 use super::overlay::{FpsCounter, Readout};
 use super::redraw::{FrameInputs, RedrawTracker};
 use super::viewport::ViewTexture;
@@ -48,6 +49,10 @@ pub struct Scene {
     quiet_passes: u32,
     /// Pixels of the last frame (for samples per pixel).
     last_pixels: u64,
+    /// Interaction level of detail: the cost per pixel and the scale it picks.
+    lod: Lod,
+    /// The view's size when the frame on screen is a reduced preview of it.
+    preview_of: Option<[u32; 2]>,
 }
 
 impl Scene {
@@ -79,6 +84,8 @@ impl Scene {
             frames_rendered: 0,
             quiet_passes: 0,
             last_pixels: 0,
+            lod: Lod::default(),
+            preview_of: None,
         })
     }
 
@@ -94,6 +101,7 @@ impl Scene {
         self.camera = Some(framed(&bounds, ViewPreset::Oblique, projection));
         self.bounds = Some(bounds);
         self.volume_generation += 1;
+        self.lod.forget();
         log::info!("showing {}: {}", summary.name, summary.line());
         Ok(self.volume.insert(summary))
     }
@@ -137,8 +145,9 @@ impl Scene {
     /// Takes the GPU timings that have arrived; returns whether more are on their way.
     pub fn collect_measurements(&mut self) -> bool {
         for result in self.renderer.collect_results(false) {
-            if result.gpu_ms.is_some() {
-                self.gpu_ms = result.gpu_ms;
+            if let Some(ms) = result.gpu_ms {
+                self.gpu_ms = Some(ms);
+                self.lod.measured(result.frame, ms);
             }
             if let Some(c) = result.counters {
                 self.counters = Some((c, self.last_pixels));
@@ -192,13 +201,23 @@ impl Scene {
         image
     }
 
-    /// Renders a frame at `size_px` when anything it depends on changed since the last one.
-    /// Returns whether a frame was rendered; an error is a one-line message for the user.
+    /// Renders a frame for a view of `size_px` when anything it depends on changed since the
+    /// last one: at a reduced resolution while `interacting` if a full frame would miss the
+    /// budget (and the state allows it), else at full resolution — so a preview left on screen
+    /// is replaced as soon as the user stops. Returns whether a frame was rendered; an error is a
+    /// one-line message for the user.
     pub fn render_if_changed(
         &mut self,
         state: &mut ViewerState,
-        size_px: [u32; 2],
+        view_px: [u32; 2],
+        interacting: bool,
     ) -> Result<bool, String> {
+        let scale = if state.interaction_lod {
+            self.lod.scale(view_px, interacting)
+        } else {
+            1.0
+        };
+        let size_px = scaled_size(view_px, scale);
         let Some(camera) = self.camera else {
             return Ok(false);
         };
@@ -231,13 +250,20 @@ impl Scene {
         // Marked even on failure, so a failing frame is not retried on every pass.
         self.redraw.mark_rendered(inputs);
         let submitted = result.map_err(|e| format!("Cannot render the volume: {e}"))?;
+        self.lod.submitted(submitted.frame, self.last_pixels);
+        self.preview_of = (size_px != view_px).then_some(view_px);
         self.frames_rendered += 1;
         self.quiet_passes = 0;
         self.fps.record(Instant::now());
         self.path_used = Some(submitted.key.path);
         if let Some(view) = self.renderer.output_view() {
-            self.texture
-                .sync(&self.egui_renderer, &self.device, view, size_px);
+            self.texture.sync(
+                &self.egui_renderer,
+                &self.device,
+                view,
+                size_px,
+                self.preview_of.is_some(),
+            );
         }
         log::debug!(
             "rendered volume frame {} at {size_px:?}",
@@ -246,9 +272,16 @@ impl Scene {
         Ok(true)
     }
 
-    /// Draws the last image with its top-left corner at `origin`.
+    /// Draws the last image with its top-left corner at `origin` (a preview stretched over the
+    /// view it stands for).
     pub fn paint(&self, ui: &egui::Ui, origin: egui::Pos2) {
-        self.texture.paint(ui, origin);
+        self.texture.paint(ui, origin, self.preview_of);
+    }
+
+    /// The preview's scale (per axis) when the frame on screen is a reduced preview.
+    pub fn preview_scale(&self) -> Option<f64> {
+        let view = self.preview_of?;
+        Some(f64::from(self.texture.size_px()[0]) / f64::from(view[0].max(1)))
     }
 
     /// What the readout shows now.
@@ -264,6 +297,7 @@ impl Scene {
             counters: self.counters,
             rebuild_ms: self.rebuild_ms.filter(|_| state.strategy.leaps()),
             tf_latency_ms: self.tf_latency_ms,
+            preview_scale: self.preview_scale(),
         }
     }
 

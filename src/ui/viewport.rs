@@ -82,25 +82,33 @@ pub struct ViewTexture {
     id: Option<TextureId>,
     view: Option<wgpu::TextureView>,
     size_px: [u32; 2],
+    filter: Option<wgpu::FilterMode>,
 }
 
 impl ViewTexture {
-    /// Makes the texture id show `view` (of `size_px` pixels).
+    /// Makes the texture id show `view` (of `size_px` pixels); `stretched` when the image is a
+    /// reduced-resolution preview drawn over a larger view.
     pub fn sync(
         &mut self,
         egui_renderer: &RwLock<egui_wgpu::Renderer>,
         device: &wgpu::Device,
         view: &wgpu::TextureView,
         size_px: [u32; 2],
+        stretched: bool,
     ) {
         self.size_px = size_px;
-        if self.view.as_ref() == Some(view) {
+        // Nearest at 1:1: it reads each texel exactly, where linear could blend neighbours when
+        // the panel edge is not exactly on a pixel. Linear for a stretched preview (no blocks).
+        let filter = if stretched {
+            wgpu::FilterMode::Linear
+        } else {
+            wgpu::FilterMode::Nearest
+        };
+        if self.view.as_ref() == Some(view) && self.filter == Some(filter) {
             return;
         }
+        self.filter = Some(filter);
         let mut renderer = egui_renderer.write();
-        // Nearest: at 1:1 it reads each texel exactly, where linear could blend neighbours when
-        // the panel edge is not exactly on a pixel.
-        let filter = wgpu::FilterMode::Nearest;
         match self.id {
             Some(id) => renderer.update_egui_texture_from_wgpu_texture(device, view, filter, id),
             None => self.id = Some(renderer.register_native_texture(device, view, filter)),
@@ -113,14 +121,13 @@ impl ViewTexture {
         self.size_px
     }
 
-    /// Draws the image with its top-left corner at `origin`, one texel per physical pixel.
-    pub fn paint(&self, ui: &egui::Ui, origin: Pos2) -> Option<Rect> {
+    /// Draws the image with its top-left corner at `origin`, one texel per physical pixel, or,
+    /// for a reduced preview, stretched over `view_px` physical pixels.
+    pub fn paint(&self, ui: &egui::Ui, origin: Pos2, view_px: Option<[u32; 2]>) -> Option<Rect> {
         let id = self.id?;
         let ppp = ui.ctx().pixels_per_point();
-        let rect = Rect::from_min_size(
-            origin,
-            vec2(self.size_px[0] as f32 / ppp, self.size_px[1] as f32 / ppp),
-        );
+        let size = view_px.unwrap_or(self.size_px);
+        let rect = Rect::from_min_size(origin, vec2(size[0] as f32 / ppp, size[1] as f32 / ppp));
         let uv = Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0));
         ui.painter().image(id, rect, uv, Color32::WHITE);
         Some(rect)
