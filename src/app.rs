@@ -329,8 +329,11 @@ impl LeapViewApp {
                 ctx.request_repaint_after(wait + Duration::from_millis(1));
             }
         }
-        if let Some((what, since)) = self.loader.busy() {
-            draw_loading(ui, area.rect, what, since);
+        if let Some(status) = self.loader.busy()
+            && draw_loading(ui, area.rect, &status)
+        {
+            self.loader.cancel();
+            self.untitle_if_empty(&ctx);
         }
         let hovered = ctx.input(|i| i.raw.hovered_files.first().and_then(|f| f.path.clone()));
         if let Some(path) = hovered {

@@ -61,6 +61,7 @@ pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
             spacing_mm: raw.spacing.unwrap_or([1.0; 3]),
             big_endian: raw.big_endian,
         }),
+        ..LoadOptions::default()
     })
 }
 

@@ -1,14 +1,15 @@
 //! Loading or generating a volume on a background thread, so that the window stays responsive
 //! and the old volume stays on screen until the new one is ready. One load at a time: starting
-//! another abandons the first (its result is dropped when it arrives).
+//! another abandons the first (its result is dropped when it arrives). A file load reports how
+//! much of its samples it has read, and Cancel stops it at its next chunk.
 
 use std::path::PathBuf;
-use std::sync::mpsc;
+use std::sync::{Arc, mpsc};
 use std::time::Instant;
 
 use crate::volume::error::LoadError;
 use crate::volume::synthetic::{shepp_logan, vessel_tree};
-use crate::volume::{LoadOptions, Volume, VolumeError, load_volume};
+use crate::volume::{LoadOptions, LoadProgress, Volume, VolumeError, load_volume};
 
 /// Edge length of the generated volumes, in voxels.
 pub const GENERATED_SIZE: u32 = 256;
@@ -53,10 +54,17 @@ impl VolumeSource {
         }
     }
 
-    /// Loads or generates the volume (slow: call it off the UI thread).
-    pub fn load(&self) -> Result<Volume, LoadFailure> {
+    /// Loads or generates the volume (slow: call it off the UI thread), reporting a file's
+    /// progress to `progress`.
+    pub fn load(&self, progress: &Arc<LoadProgress>) -> Result<Volume, LoadFailure> {
         match self {
-            Self::File { path, options } => Ok(load_volume(path, options)?),
+            Self::File { path, options } => {
+                let options = LoadOptions {
+                    progress: Some(Arc::clone(progress)),
+                    ..options.clone()
+                };
+                Ok(load_volume(path, &options)?)
+            }
             Self::SheppLogan => Ok(shepp_logan(GENERATED_SIZE)?),
             Self::VesselTree => Ok(vessel_tree(GENERATED_SIZE, VESSEL_SEED)?),
         }
@@ -86,7 +94,21 @@ struct Pending {
     source: VolumeSource,
     label: String,
     started: Instant,
+    progress: Arc<LoadProgress>,
     rx: mpsc::Receiver<Result<Volume, LoadFailure>>,
+}
+
+/// A load in progress, as the window shows it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadStatus {
+    /// What is being loaded.
+    pub label: String,
+    /// When it started.
+    pub started: Instant,
+    /// Share of the samples read (files only, once the header is read).
+    pub fraction: Option<f64>,
+    /// Whether the volume is generated rather than read (no progress to show).
+    pub generated: bool,
 }
 
 /// Wakes the UI when the loader thread ends, whether it answered or panicked.
@@ -111,12 +133,14 @@ impl Loader {
         let pending_source = source.clone();
         let (tx, rx) = mpsc::channel();
         let waker = RepaintOnDrop(ctx.clone());
+        let progress = Arc::new(LoadProgress::default());
+        let thread_progress = Arc::clone(&progress);
         std::thread::Builder::new()
             .name("volume loader".into())
             .spawn(move || {
                 let _waker = waker;
                 let started = Instant::now();
-                let result = source.load();
+                let result = source.load(&thread_progress);
                 log::info!(
                     "loaded {} in {:.2} s",
                     source.label(),
@@ -129,18 +153,34 @@ impl Loader {
                 what: label.clone(),
                 reason: e.to_string(),
             })?;
+        self.cancel();
         self.pending = Some(Pending {
             source: pending_source,
             label,
             started: Instant::now(),
+            progress,
             rx,
         });
         Ok(())
     }
 
-    /// What is being loaded and since when, while a load is in progress.
-    pub fn busy(&self) -> Option<(&str, Instant)> {
-        self.pending.as_ref().map(|p| (p.label.as_str(), p.started))
+    /// What is being loaded, since when and how far, while a load is in progress.
+    pub fn busy(&self) -> Option<LoadStatus> {
+        self.pending.as_ref().map(|p| LoadStatus {
+            label: p.label.clone(),
+            started: p.started,
+            fraction: p.progress.fraction(),
+            generated: !matches!(p.source, VolumeSource::File { .. }),
+        })
+    }
+
+    /// Stops the load in progress (a file load ends at its next chunk; a generator runs to its
+    /// end, unseen); the volume on screen stays.
+    pub fn cancel(&mut self) {
+        if let Some(p) = self.pending.take() {
+            p.progress.cancel();
+            log::info!("cancelled loading {}", p.label);
+        }
     }
 
     /// The result of the load in progress, with its source, once it has arrived.
@@ -188,10 +228,28 @@ mod tests {
                 &ctx,
             )
             .expect("thread starts");
-        assert_eq!(loader.busy().map(|b| b.0), Some("leapview-test.nrrd"));
+        assert_eq!(
+            loader.busy().map(|b| b.label),
+            Some("leapview-test.nrrd".to_string())
+        );
         let err = wait(&mut loader).expect_err("no such file");
         assert!(err.to_string().contains("/nonexistent/leapview-test.nrrd"));
         assert!(loader.busy().is_none());
+        assert!(loader.poll().is_none());
+    }
+
+    #[test]
+    fn cancel_forgets_the_load_and_its_result() {
+        let ctx = egui::Context::default();
+        let mut loader = Loader::default();
+        loader
+            .start(VolumeSource::SheppLogan, &ctx)
+            .expect("thread starts");
+        assert!(loader.busy().is_some());
+        loader.cancel();
+        assert!(loader.busy().is_none());
+        // The generator may still finish; its result is never delivered.
+        std::thread::sleep(std::time::Duration::from_millis(50));
         assert!(loader.poll().is_none());
     }
 

@@ -10,6 +10,7 @@ use egui::{Align2, Color32, Frame, Rect, RichText, UiBuilder};
 use crate::render::{ConcretePath, FrameCounters};
 
 use super::VolumeSummary;
+use super::loading::LoadStatus;
 
 /// The window the frame rate is measured over.
 pub const FPS_WINDOW: Duration = Duration::from_secs(1);
@@ -162,29 +163,44 @@ pub fn draw_readout(ui: &mut egui::Ui, view: Rect, readout: &Readout) -> Rect {
         .rect
 }
 
-/// Draws a spinner and "Loading …" in the top-right corner of `view`.
-pub fn draw_loading(ui: &mut egui::Ui, view: Rect, what: &str, since: Instant) {
-    let text = format!("Loading {what}… {:.0} s", since.elapsed().as_secs_f64());
-    let galley = ui.painter().layout_no_wrap(
-        text,
-        egui::FontId::proportional(14.0),
-        Color32::from_gray(230),
-    );
-    let size = galley.size() + egui::vec2(36.0, 12.0);
-    let rect = Align2::RIGHT_TOP.align_size_within_rect(size, view.shrink(8.0));
-    ui.painter()
-        .rect_filled(rect, 4.0, Color32::from_black_alpha(170));
-    let spinner = Rect::from_center_size(
-        rect.left_center() + egui::vec2(16.0, 0.0),
-        egui::vec2(16.0, 16.0),
-    );
-    egui::Spinner::new().paint_at(ui, spinner);
-    ui.painter().galley(
-        rect.left_top() + egui::vec2(30.0, 6.0),
-        galley,
-        Color32::from_gray(230),
-    );
-    // The elapsed seconds change by themselves; the spinner already asks for repaints.
+/// Draws the load in progress in the top-right corner of `view`: a spinner, what and for how
+/// long, a progress bar once the share read is known, and a Cancel button. Returns whether
+/// Cancel was clicked.
+pub fn draw_loading(ui: &mut egui::Ui, view: Rect, status: &LoadStatus) -> bool {
+    let width = 300.0_f32.min(view.width() - 16.0).max(120.0);
+    let rect = Align2::RIGHT_TOP.align_size_within_rect(egui::vec2(width, 60.0), view.shrink(8.0));
+    let mut child = ui.new_child(UiBuilder::new().max_rect(rect));
+    let mut cancel = false;
+    Frame::new()
+        .fill(Color32::from_black_alpha(170))
+        .corner_radius(4.0)
+        .inner_margin(6.0)
+        .show(&mut child, |ui| {
+            ui.set_width(width - 12.0);
+            ui.horizontal(|ui| {
+                ui.add(egui::Spinner::new().size(14.0));
+                ui.label(
+                    RichText::new(format!(
+                        "Loading {}… {:.0} s",
+                        status.label,
+                        status.started.elapsed().as_secs_f64()
+                    ))
+                    .color(Color32::from_gray(230)),
+                );
+            });
+            ui.horizontal(|ui| {
+                cancel = ui.button("Cancel").clicked();
+                if let Some(f) = status.fraction {
+                    ui.add(egui::ProgressBar::new(f as f32).show_percentage());
+                } else if status.generated {
+                    ui.label(RichText::new("generating…").weak());
+                } else {
+                    ui.label(RichText::new("reading the header…").weak());
+                }
+            });
+        });
+    // The elapsed seconds and the bar change by themselves; the spinner asks for repaints.
+    cancel
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@ use std::io::{ErrorKind, Read};
 use std::path::Path;
 
 use super::error::VolumeError;
+use super::progress::{CHUNK_BYTES, LoadProgress};
 use super::{Samples, ScalarType};
 
 /// What the loaders know about the samples before reading them.
@@ -93,15 +94,26 @@ pub fn read_samples(
     layout: SampleLayout,
     encoding: Encoding,
 ) -> Result<Samples, VolumeError> {
+    read_samples_with(reader, layout, encoding, None)
+}
+
+/// [`read_samples`], reporting to `progress` (and stopping with [`VolumeError::Cancelled`] when
+/// it is cancelled) after each chunk of at most [`CHUNK_BYTES`].
+pub fn read_samples_with(
+    reader: &mut impl Read,
+    layout: SampleLayout,
+    encoding: Encoding,
+    progress: Option<&LoadProgress>,
+) -> Result<Samples, VolumeError> {
     match layout.scalar_type {
-        ScalarType::U8 => read_typed::<u8>(reader, layout, encoding),
-        ScalarType::I8 => read_typed::<i8>(reader, layout, encoding),
-        ScalarType::U16 => read_typed::<u16>(reader, layout, encoding),
-        ScalarType::I16 => read_typed::<i16>(reader, layout, encoding),
-        ScalarType::U32 => read_typed::<u32>(reader, layout, encoding),
-        ScalarType::I32 => read_typed::<i32>(reader, layout, encoding),
-        ScalarType::F32 => read_typed::<f32>(reader, layout, encoding),
-        ScalarType::F64 => read_typed::<f64>(reader, layout, encoding),
+        ScalarType::U8 => read_typed::<u8>(reader, layout, encoding, progress),
+        ScalarType::I8 => read_typed::<i8>(reader, layout, encoding, progress),
+        ScalarType::U16 => read_typed::<u16>(reader, layout, encoding, progress),
+        ScalarType::I16 => read_typed::<i16>(reader, layout, encoding, progress),
+        ScalarType::U32 => read_typed::<u32>(reader, layout, encoding, progress),
+        ScalarType::I32 => read_typed::<i32>(reader, layout, encoding, progress),
+        ScalarType::F32 => read_typed::<f32>(reader, layout, encoding, progress),
+        ScalarType::F64 => read_typed::<f64>(reader, layout, encoding, progress),
     }
 }
 
@@ -109,6 +121,7 @@ fn read_typed<T: Stored>(
     reader: &mut impl Read,
     layout: SampleLayout,
     encoding: Encoding,
+    progress: Option<&LoadProgress>,
 ) -> Result<Samples, VolumeError> {
     let declared_bytes = layout.byte_len();
     let too_short = |found_bytes: u64| VolumeError::DataTooShort {
@@ -130,10 +143,22 @@ fn read_typed<T: Stored>(
 
     let bytes: &mut [u8] = bytemuck::cast_slice_mut(&mut values);
     let mut filled = 0usize;
+    if let Some(p) = progress {
+        p.start(bytes.len() as u64);
+    }
     while filled < bytes.len() {
-        match reader.read(&mut bytes[filled..]) {
+        if progress.is_some_and(LoadProgress::is_cancelled) {
+            return Err(VolumeError::Cancelled);
+        }
+        let end = bytes.len().min(filled + CHUNK_BYTES);
+        match reader.read(&mut bytes[filled..end]) {
             Ok(0) => return Err(too_short(filled as u64)),
-            Ok(n) => filled += n,
+            Ok(n) => {
+                filled += n;
+                if let Some(p) = progress {
+                    p.advance(n as u64);
+                }
+            }
             Err(e) if e.kind() == ErrorKind::Interrupted => {}
             Err(e) if encoding == Encoding::Gzip && e.kind() == ErrorKind::UnexpectedEof => {
                 return Err(too_short(filled as u64));
@@ -219,6 +244,57 @@ mod tests {
             scalar_type,
             big_endian,
         }
+    }
+
+    /// A reader that cancels `progress` once it has handed out `after` bytes.
+    struct CancelAfter<'a> {
+        data: &'a [u8],
+        after: usize,
+        given: usize,
+        progress: &'a LoadProgress,
+    }
+
+    impl Read for CancelAfter<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            let n = self.data.read(buf)?;
+            self.given += n;
+            if self.given >= self.after {
+                self.progress.cancel();
+            }
+            Ok(n)
+        }
+    }
+
+    #[test]
+    fn progress_reaches_the_whole_and_cancel_stops_between_chunks() {
+        // Three chunks' worth of bytes.
+        let n = 3 * CHUNK_BYTES;
+        let data = vec![7u8; n];
+        let progress = LoadProgress::default();
+        let s = read_samples_with(
+            &mut &data[..],
+            layout(n as u32, ScalarType::U8, false),
+            Encoding::Raw,
+            Some(&progress),
+        );
+        assert!(matches!(s, Ok(Samples::U8(ref v)) if v.len() == n));
+        assert_eq!(progress.fraction(), Some(1.0));
+        let progress = LoadProgress::default();
+        let mut reader = CancelAfter {
+            data: &data,
+            after: CHUNK_BYTES,
+            given: 0,
+            progress: &progress,
+        };
+        let s = read_samples_with(
+            &mut reader,
+            layout(n as u32, ScalarType::U8, false),
+            Encoding::Raw,
+            Some(&progress),
+        );
+        assert!(matches!(s, Err(VolumeError::Cancelled)), "{s:?}");
+        // It stopped after the chunk that cancelled, not at the end.
+        assert!(reader.given < n, "read {} of {n}", reader.given);
     }
 
     #[test]

@@ -227,6 +227,9 @@ pub enum VolumeError {
         /// Bytes in the file.
         found_bytes: u64,
     },
+    /// The user cancelled the load.
+    #[error("loading was cancelled")]
+    Cancelled,
     /// The samples passed every limit but this machine could not provide the memory.
     #[error("not enough memory to hold the volume's samples ({})", fmt_bytes(*.bytes))]
     OutOfMemory {

@@ -11,6 +11,8 @@ use super::{Volume, decode, nifti, nrrd, raw};
 pub struct LoadOptions {
     /// Layout of a headerless raw file; required for raw files, ignored otherwise.
     pub raw: Option<RawParams>,
+    /// Where to report how much of the samples was read, and to look for a cancellation.
+    pub progress: Option<std::sync::Arc<super::LoadProgress>>,
 }
 
 /// The readers, as chosen from a file name and the options.
@@ -40,11 +42,12 @@ fn load(path: &Path, options: &LoadOptions) -> Result<Volume, VolumeError> {
     );
     // A missing file, a folder or an empty file is reported as such whatever its name.
     decode::open_file(path)?;
+    let progress = options.progress.as_deref();
     match (format_of(&name, options)?, &options.raw) {
-        (Format::Raw, Some(params)) => raw::read_raw(path, name, params),
+        (Format::Raw, Some(params)) => raw::read_raw(path, name, params, progress),
         (Format::Raw, None) => Err(VolumeError::RawNeedsParams),
-        (Format::Nrrd, _) => nrrd::read_nrrd(path, name),
-        (Format::Nifti, _) => nifti::read_nifti(path, name),
+        (Format::Nrrd, _) => nrrd::read_nrrd(path, name, progress),
+        (Format::Nifti, _) => nifti::read_nifti(path, name, progress),
     }
 }
 
@@ -83,6 +86,7 @@ mod tests {
                 spacing_mm: [1.0; 3],
                 big_endian: false,
             }),
+            ..LoadOptions::default()
         };
         assert_eq!(format_of("a.NRRD", &none).ok(), Some(Format::Nrrd));
         assert_eq!(format_of("a.nhdr", &none).ok(), Some(Format::Nrrd));

@@ -18,6 +18,7 @@ pub mod load;
 pub mod nifti;
 pub mod nrrd;
 pub mod orientation;
+pub mod progress;
 pub mod raw;
 pub mod samples;
 pub mod stats;
@@ -26,6 +27,7 @@ pub mod synthetic;
 pub use error::VolumeError;
 pub use load::{LoadOptions, load_volume};
 pub use orientation::{Direction, Orientation};
+pub use progress::LoadProgress;
 pub use samples::{Samples, ScalarType};
 pub use stats::{Histogram, ValueRange};
 

@@ -15,6 +15,7 @@ use nifti::{Endianness, NiftiHeader, NiftiType};
 use super::decode::{self, Encoding, SampleLayout};
 use super::error::VolumeError;
 use super::limits::{self, DataSource};
+use super::progress::LoadProgress;
 use super::{Orientation, ScalarType, ValueMapping, Volume};
 
 const NIFTI: &str = "NIfTI-1";
@@ -24,7 +25,11 @@ const HEADER_BYTES: usize = 348;
 
 /// Reads a NIfTI-1 volume, gzip-compressed or not (told by the content, not the name); `name`
 /// becomes the volume's name.
-pub fn read_nifti(path: &Path, name: String) -> Result<Volume, VolumeError> {
+pub fn read_nifti(
+    path: &Path,
+    name: String,
+    progress: Option<&LoadProgress>,
+) -> Result<Volume, VolumeError> {
     let (file, file_len) = decode::open_file(path)?;
     let mut reader = BufReader::new(file);
     let gzip = reader.fill_buf()?.starts_with(&[0x1f, 0x8b]);
@@ -34,9 +39,10 @@ pub fn read_nifti(path: &Path, name: String) -> Result<Volume, VolumeError> {
             Encoding::Gzip,
             file_len,
             name,
+            progress,
         )
     } else {
-        read_stream(&mut reader, Encoding::Raw, file_len, name)
+        read_stream(&mut reader, Encoding::Raw, file_len, name, progress)
     }
 }
 
@@ -46,6 +52,7 @@ fn read_stream(
     encoding: Encoding,
     file_len: u64,
     name: String,
+    progress: Option<&LoadProgress>,
 ) -> Result<Volume, VolumeError> {
     let mut bytes = [0u8; HEADER_BYTES];
     let got = read_up_to(reader, &mut bytes, encoding)?;
@@ -94,7 +101,7 @@ fn read_stream(
         scalar_type,
         big_endian: header.endianness == Endianness::Big,
     };
-    let samples = decode::read_samples(reader, layout, encoding)?;
+    let samples = decode::read_samples_with(reader, layout, encoding, progress)?;
     let spacing_mm = spacing_of(&header);
     Ok(
         Volume::new(name, dims, spacing_mm, samples, mapping_of(&header))?

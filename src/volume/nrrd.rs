@@ -15,13 +15,18 @@ use flate2::bufread::MultiGzDecoder;
 use super::decode::{self, Encoding, SampleLayout};
 use super::error::VolumeError;
 use super::limits::{self, DataSource};
+use super::progress::LoadProgress;
 use super::{Samples, Volume};
 
 use fields::NrrdHeader;
 use header::HeaderEnd;
 
 /// Reads a NRRD volume; `name` becomes the volume's name.
-pub fn read_nrrd(path: &Path, name: String) -> Result<Volume, VolumeError> {
+pub fn read_nrrd(
+    path: &Path,
+    name: String,
+    progress: Option<&LoadProgress>,
+) -> Result<Volume, VolumeError> {
     let (file, file_len) = decode::open_file(path)?;
     let mut reader = BufReader::new(file);
     let (text, end, header_len) = header::read_header_text(&mut reader)?;
@@ -35,7 +40,7 @@ pub fn read_nrrd(path: &Path, name: String) -> Result<Volume, VolumeError> {
     let samples = match &nrrd.data_file {
         Some(data_file) => {
             let (file, len) = open_data_file(path, data_file)?;
-            read_data(&mut BufReader::new(file), len, &nrrd, layout)?
+            read_data(&mut BufReader::new(file), len, &nrrd, layout, progress)?
         }
         None if end == HeaderEnd::EndOfFile => {
             return Err(header::bad_header(
@@ -44,7 +49,7 @@ pub fn read_nrrd(path: &Path, name: String) -> Result<Volume, VolumeError> {
                     .to_string(),
             ));
         }
-        None => read_data(&mut reader, file_len - header_len, &nrrd, layout)?,
+        None => read_data(&mut reader, file_len - header_len, &nrrd, layout, progress)?,
     };
     Ok(
         Volume::new(name, dims, nrrd.spacing_mm, samples, nrrd.mapping)?
@@ -59,6 +64,7 @@ fn read_data(
     mut available: u64,
     nrrd: &NrrdHeader,
     layout: SampleLayout,
+    progress: Option<&LoadProgress>,
 ) -> Result<Samples, VolumeError> {
     let declared_bytes = layout.byte_len();
     let too_short = |found_bytes| VolumeError::DataTooShort {
@@ -97,7 +103,7 @@ fn read_data(
             if decode::skip_bytes(reader, skip, Encoding::Raw)? < skip {
                 return Err(too_short(0));
             }
-            decode::read_samples(reader, layout, Encoding::Raw)
+            decode::read_samples_with(reader, layout, Encoding::Raw, progress)
         }
         Encoding::Gzip => {
             // The header parser refuses `byte skip: -1` with gzip.
@@ -111,7 +117,7 @@ fn read_data(
             if decode::skip_bytes(&mut decoder, skip, Encoding::Gzip)? < skip {
                 return Err(too_short(0));
             }
-            decode::read_samples(&mut decoder, layout, Encoding::Gzip)
+            decode::read_samples_with(&mut decoder, layout, Encoding::Gzip, progress)
         }
     }
 }

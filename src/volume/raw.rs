@@ -22,7 +22,12 @@ pub struct RawParams {
 }
 
 /// Reads a raw volume laid out as `params` says; `name` becomes the volume's name.
-pub fn read_raw(path: &Path, name: String, params: &RawParams) -> Result<Volume, VolumeError> {
+pub fn read_raw(
+    path: &Path,
+    name: String,
+    params: &RawParams,
+    progress: Option<&super::LoadProgress>,
+) -> Result<Volume, VolumeError> {
     let (dims, expected_bytes) =
         limits::check_dims(params.dims.map(u64::from), params.scalar_type)?;
     let (file, found_bytes) = decode::open_file(path)?;
@@ -39,7 +44,8 @@ pub fn read_raw(path: &Path, name: String, params: &RawParams) -> Result<Volume,
         scalar_type: params.scalar_type,
         big_endian: params.big_endian,
     };
-    let samples = decode::read_samples(&mut BufReader::new(file), layout, Encoding::Raw)?;
+    let samples =
+        decode::read_samples_with(&mut BufReader::new(file), layout, Encoding::Raw, progress)?;
     Volume::new(
         name,
         dims,

@@ -281,5 +281,6 @@ pub fn raw_options(dims: [u32; 3], scalar_type: ScalarType) -> LoadOptions {
             spacing_mm: [1.0; 3],
             big_endian: false,
         }),
+        ..LoadOptions::default()
     }
 }

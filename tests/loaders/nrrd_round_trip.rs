@@ -215,6 +215,7 @@ fn raw_files_round_trip_in_every_type_and_byte_order() {
                     spacing_mm: [0.25, 0.5, 3.0],
                     big_endian,
                 }),
+                ..LoadOptions::default()
             };
             let v = load_volume(&path, &options).unwrap_or_else(|e| panic!("{e}"));
             assert_eq!(

@@ -170,3 +170,24 @@ fn nifti_originals_equal_their_nrrd_twins() {
         assert_eq!(ra.min, rb.min, "{nifti_name}");
     }
 }
+
+#[test]
+fn a_real_load_reports_progress_and_can_be_cancelled() {
+    use leapview::volume::{LoadOptions, LoadProgress, load_volume};
+    use std::sync::Arc;
+    let path = crate::common::data_dir().join("ct_head_cthead_256x256x113_uint16.nrrd");
+    let progress = Arc::new(LoadProgress::default());
+    let options = LoadOptions {
+        progress: Some(Arc::clone(&progress)),
+        ..LoadOptions::default()
+    };
+    load_volume(&path, &options).expect("loads");
+    assert_eq!(progress.fraction(), Some(1.0));
+    progress.cancel();
+    let err = load_volume(&path, &options).expect_err("cancelled before the first chunk");
+    let message = err.to_string();
+    assert!(
+        message.contains("cancelled") && message.contains("ct_head_cthead"),
+        "{message}"
+    );
+}
