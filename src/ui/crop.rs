@@ -30,10 +30,18 @@ pub fn crop_ui(ui: &mut egui::Ui, crop: &mut CropBox, show_box: &mut bool, dims:
                 ui.label(AXES[a]);
                 // Whole voxels: the cut falls on voxel edges, as in the CLI's --crop. The box
                 // keeps at least one voxel on each axis.
-                ui.add(egui::Slider::new(&mut lo[a], 0.0..=n - 1.0).step_by(1.0))
-                    .on_hover_text(format!("Lowest {} voxel kept", AXES[a]));
-                ui.add(egui::Slider::new(&mut hi[a], 1.0..=n).step_by(1.0))
-                    .on_hover_text(format!("Voxel edge the box ends at on {}", AXES[a]));
+                ui.add(
+                    egui::Slider::new(&mut lo[a], 0.0..=n - 1.0)
+                        .step_by(1.0)
+                        .custom_formatter(voxel_text),
+                )
+                .on_hover_text(format!("Lowest {} voxel kept", AXES[a]));
+                ui.add(
+                    egui::Slider::new(&mut hi[a], 1.0..=n)
+                        .step_by(1.0)
+                        .custom_formatter(voxel_text),
+                )
+                .on_hover_text(format!("Voxel edge the box ends at on {}", AXES[a]));
                 ui.end_row();
                 // The face moved last pushes the other one rather than crossing it.
                 if hi[a] <= lo[a] {
@@ -61,6 +69,16 @@ pub fn crop_ui(ui: &mut egui::Ui, crop: &mut CropBox, show_box: &mut bool, dims:
         }
     });
     *crop != before
+}
+
+/// A voxel edge as the sliders show it: whole voxels as integers, a face a handle left between
+/// voxels to a tenth.
+fn voxel_text(v: f64, _: std::ops::RangeInclusive<usize>) -> String {
+    if v.fract() == 0.0 {
+        format!("{v:.0}")
+    } else {
+        format!("{v:.1}")
+    }
 }
 
 /// Projects world points onto the view (in points).
