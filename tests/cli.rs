@@ -305,3 +305,45 @@ fn every_mode_and_its_parameters_reach_the_renderer() {
         assert_eq!(o.status.code(), Some(2), "{bad:?}");
     }
 }
+
+#[test]
+fn anatomical_views_follow_the_orientation() {
+    // The shared NRRDs carry no orientation: RAS is assumed, so the view from anterior looks
+    // along −y with +z up, exactly the axis view `-y`; from superior it looks down −z with
+    // anterior (+y) up, which is `-z` turned by 180°.
+    let data = common::data_dir().join("mra_head_200x256x120_uint8.nrrd");
+    let data = data.to_str().expect("utf-8");
+    let dir = common::TempDir::new("cli-views");
+    let render = |view: &str| {
+        let out = dir
+            .path()
+            .join(format!("{}.png", view.replace(['+', '-'], "_")));
+        let o = leapview(&[
+            "render",
+            data,
+            "--out",
+            out.to_str().expect("utf-8"),
+            "--size",
+            "40x40",
+            "--tf",
+            "mr-angio",
+            "--projection",
+            "orthographic",
+            "--view",
+            view,
+        ]);
+        (o.status.code(), ImageF32::read_png(&out).ok())
+    };
+    let (_, anterior) = render("A");
+    let (_, minus_y) = render("-y");
+    assert_eq!(anterior.expect("A").pixels, minus_y.expect("-y").pixels);
+    let (_, superior) = render("superior");
+    let (_, minus_z) = render("-z");
+    let (s, z) = (superior.expect("S"), minus_z.expect("-z"));
+    let w = s.width as usize;
+    let h = s.height as usize;
+    let turned: Vec<[f32; 4]> = (0..h * w).map(|i| z.pixels[h * w - 1 - i]).collect();
+    assert_eq!(s.pixels, turned, "S is -z turned by 180°");
+    let (code, _) = render("Q");
+    assert_eq!(code, Some(2), "an unknown view is bad input");
+}

@@ -125,7 +125,9 @@ pub struct CameraArgs {
     /// Perspective or orthographic projection.
     #[arg(long, value_enum, default_value = "perspective")]
     pub projection: ProjectionKind,
-    /// Look along an axis of the volume (`+x`, `-x`, `+y`, `-y`, `+z`, `-z`) or `oblique`.
+    /// Look at the patient from a side (`A`, `P`, `L`, `R`, `S`, `I`, by the file's orientation,
+    /// RAS where it has none), along an axis of the volume (`+x`, `-x`, `+y`, `-y`, `+z`, `-z`),
+    /// or `oblique`.
     #[arg(long, allow_hyphen_values = true, default_value = "oblique")]
     pub view: String,
     /// Orbit azimuth in degrees (0 looks along +y; overrides --view).

@@ -72,7 +72,11 @@ pub fn load(path: &Path, raw: &args::RawArgs) -> Result<Volume, Failure> {
 }
 
 /// The camera the flags describe, for a volume with bounds `bounds`.
-pub fn camera_from_args(args: &args::CameraArgs, bounds: &Aabb) -> Result<Camera, Failure> {
+pub fn camera_from_args(
+    args: &args::CameraArgs,
+    bounds: &Aabb,
+    orientation: leapview::volume::Orientation,
+) -> Result<Camera, Failure> {
     let bad = |msg: String| Failure::BadInput(anyhow::anyhow!(msg));
     let mut camera = if let Some(eye) = args.eye {
         let eye = DVec3::from_array(eye);
@@ -98,14 +102,18 @@ pub fn camera_from_args(args: &args::CameraArgs, bounds: &Aabb) -> Result<Camera
     } else {
         let (dir, up) = match args.azimuth {
             Some(az) => (orbit_direction(az, args.elevation.unwrap_or(0.0)), DVec3::Z),
-            None => ViewPreset::parse(&args.view)
-                .ok_or_else(|| {
-                    bad(format!(
-                        "unknown view {:?} (use +x, -x, +y, -y, +z, -z or oblique)",
-                        args.view
-                    ))
-                })?
-                .direction_and_up(),
+            None => match leapview::volume::Direction::parse(&args.view) {
+                Some(side) => orientation.view_from(side),
+                None => ViewPreset::parse(&args.view)
+                    .ok_or_else(|| {
+                        bad(format!(
+                            "unknown view {:?} (use A, P, L, R, S, I, +x, -x, +y, -y, +z, -z or \
+                             oblique)",
+                            args.view
+                        ))
+                    })?
+                    .direction_and_up(),
+            },
         };
         Camera::framing(bounds, dir, up, args.projection)
     };

@@ -51,7 +51,10 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         .validate()
         .map_err(|e| Failure::BadInput(e.into()))?;
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
-    let camera = camera_from_args(&args.camera, &bounds)?;
+    let orientation = volume
+        .orientation()
+        .unwrap_or(leapview::volume::Orientation::ASSUMED);
+    let camera = camera_from_args(&args.camera, &bounds, orientation)?;
     let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
     let adapter = ctx.adapter_summary();
     let mut renderer = VolumeRenderer::new(ctx).map_err(render_failure)?;

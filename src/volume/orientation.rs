@@ -34,6 +34,15 @@ impl Direction {
         Self::Inferior,
     ];
 
+    /// Parses a view name: the letter (`A`, `p`, …) or the full name (`anterior`, …), in any
+    /// case.
+    pub fn parse(s: &str) -> Option<Self> {
+        let s = s.to_ascii_lowercase();
+        Self::VIEWS.into_iter().find(|d| {
+            s == d.letter().to_ascii_lowercase().to_string() || s == d.name().to_lowercase()
+        })
+    }
+
     /// The opposite direction.
     pub fn opposite(self) -> Self {
         match self {
@@ -208,6 +217,15 @@ mod tests {
         assert!(Orientation::from_ras_columns(twice).is_none());
         let nan = [[f64::NAN, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
         assert!(Orientation::from_ras_columns(nan).is_none());
+    }
+
+    #[test]
+    fn view_names_parse_in_any_case() {
+        assert_eq!(Direction::parse("A"), Some(Direction::Anterior));
+        assert_eq!(Direction::parse("inferior"), Some(Direction::Inferior));
+        assert_eq!(Direction::parse("Left"), Some(Direction::Left));
+        assert_eq!(Direction::parse("x"), None);
+        assert_eq!(Direction::parse(""), None);
     }
 
     #[test]
