@@ -158,7 +158,7 @@ pub fn frame_uniforms(
     FrameUniforms {
         clip_from_box: to_f32(geometry.clip_from_box),
         box_from_clip: to_f32(geometry.clip_from_box.inverse()),
-        extent_mm: [extent.x as f32, extent.y as f32, extent.z as f32, 0.0],
+        extent_mm: xyz0(extent.to_array()),
         background: [r, g, b, 1.0],
         viewport: [size[0] as f32, size[1] as f32],
         step_mm: (settings.step_vox * d0) as f32,
@@ -170,20 +170,11 @@ pub fn frame_uniforms(
         volume_dims: [dims[0] as f32, dims[1] as f32, dims[2] as f32, 0.0],
         leaf_level: leap.leaf_level,
         level_count: leap.level_count,
-        ray_near: geometry
-            .ray_near
-            .map(|v| [v.x as f32, v.y as f32, v.z as f32, 0.0]),
-        ray_dir: geometry
-            .ray_dir
-            .map(|v| [v.x as f32, v.y as f32, v.z as f32, 0.0]),
+        ray_near: geometry.ray_near.map(|v| xyz0(v.to_array())),
+        ray_dir: geometry.ray_dir.map(|v| xyz0(v.to_array())),
         iso_refine: settings.iso.refine_iterations,
         pad: 0,
-        spacing_mm: [
-            spacing_mm[0] as f32,
-            spacing_mm[1] as f32,
-            spacing_mm[2] as f32,
-            0.0,
-        ],
+        spacing_mm: xyz0(spacing_mm),
         phong: [
             settings.phong.ambient,
             settings.phong.diffuse,
@@ -193,10 +184,7 @@ pub fn frame_uniforms(
         .map(|c| c as f32),
         light: match settings.light {
             Light::Headlight => [0.0, 0.0, 0.0, 1.0],
-            Light::Direction(d) => {
-                let d = DVec3::from_array(d).normalize_or(DVec3::NEG_Z);
-                [d.x as f32, d.y as f32, d.z as f32, 0.0]
-            }
+            Light::Direction(d) => xyz0(DVec3::from_array(d).normalize_or(DVec3::NEG_Z).to_array()),
         },
         window: window_uniform(settings, decoding.range),
         iso: [
@@ -208,14 +196,14 @@ pub fn frame_uniforms(
             // per millimetre of segment.
             (settings.opacity_step_vox() / (settings.step_vox * d0)) as f32,
         ],
-        crop_min: corner(settings.crop.min),
-        crop_max: corner(settings.crop.max),
+        crop_min: xyz0(settings.crop.min),
+        crop_max: xyz0(settings.crop.max),
     }
 }
 
-/// A box-coordinate corner as a uniform vector.
-fn corner(c: [f64; 3]) -> [f32; 4] {
-    [c[0] as f32, c[1] as f32, c[2] as f32, 0.0]
+/// A 3-vector as a uniform `vec4` with w = 0.
+fn xyz0(v: [f64; 3]) -> [f32; 4] {
+    [v[0] as f32, v[1] as f32, v[2] as f32, 0.0]
 }
 
 /// Window lo/hi as normalised values, the MIP/MinIP saturation value (where the image can no

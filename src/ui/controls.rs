@@ -239,21 +239,16 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
             } else {
                 "no orientation in the file: RAS assumed".to_string()
             };
-            let label = if o.is_mirrored() {
-                ui.label(
-                    egui::RichText::new(format!("{} · mirrored", o.code()))
-                        .color(ui.visuals().warn_fg_color),
-                )
-            } else {
-                ui.label(egui::RichText::new(o.code()).weak())
-            };
             if o.is_mirrored() {
-                label.on_hover_text(format!(
+                let text = egui::RichText::new(format!("{} · mirrored", o.code()))
+                    .color(ui.visuals().warn_fg_color);
+                ui.label(text).on_hover_text(format!(
                     "{note}; the index axes are a mirror image of the patient, so the 3D \
                      picture is mirrored (left and right swapped)"
                 ));
             } else {
-                label.on_hover_text(note);
+                ui.label(egui::RichText::new(o.code()).weak())
+                    .on_hover_text(note);
             }
         }
     });

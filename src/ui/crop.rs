@@ -102,7 +102,8 @@ impl Projector {
     }
 }
 
-/// The twelve edges of a box as corner-index pairs (corner c has bit a set for the max on axis a).
+/// The twelve edges of a box as index pairs into [`Aabb::corners`] (corner c has bit a set for
+/// the max on axis a).
 const EDGES: [(usize, usize); 12] = [
     (0, 1),
     (2, 3),
@@ -135,17 +136,11 @@ pub fn crop_handles(
         rect,
     };
     let world = crop.world(bounds);
-    let corner = |c: usize| {
-        DVec3::new(
-            if c & 1 == 0 { world.min.x } else { world.max.x },
-            if c & 2 == 0 { world.min.y } else { world.max.y },
-            if c & 4 == 0 { world.min.z } else { world.max.z },
-        )
-    };
+    let corners = world.corners();
     let painter = ui.painter_at(rect);
     let line = Stroke::new(1.5, Color32::from_rgb(255, 200, 60));
     for (a, b) in EDGES {
-        if let (Some(p), Some(q)) = (projector.screen(corner(a)), projector.screen(corner(b))) {
+        if let (Some(p), Some(q)) = (projector.screen(corners[a]), projector.screen(corners[b])) {
             painter.line_segment([p, q], line);
         }
     }
