@@ -11,12 +11,13 @@
 //! Update the snapshots after an intended UI change with
 //! `UPDATE_SNAPSHOTS=1 cargo test --test ui_snapshots`, then look at the PNGs before committing.
 
-mod common;
+#[path = "ui_snapshots/harness.rs"]
+mod harness;
 
-use common::ui::{canvas_pos, click_at, drag, harness};
 use egui::accesskit::Toggled;
 use egui::{Key, Modifiers};
 use egui_kittest::kittest::{NodeT, Queryable};
+use harness::{canvas_pos, click_at, drag, harness};
 use leapview::camera::{ProjectionKind, ViewPreset};
 use leapview::render::Strategy;
 use leapview::transfer::editor::TfEditor;

@@ -6,7 +6,6 @@ mod analytic;
 mod files;
 mod hard;
 pub mod scene;
-pub mod ui;
 pub use analytic::*;
 pub use files::*;
 pub use hard::*;
