@@ -2,7 +2,7 @@
 //! with a clear error one pixel beyond the limit, and an image whose read-back needs more than
 //! the device's largest buffer. Analytic answers of uniform volumes; no pixel NaN or infinite.
 
-mod common;
+use crate::common;
 
 use common::Uniform;
 use leapview::camera::{Aabb, ProjectionKind, ViewPreset};

@@ -2,7 +2,7 @@
 //! paths, leaping stays exact with it, and a thin transfer-function feature that large steps
 //! miss with post-classification survives with it.
 
-mod common;
+use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
@@ -46,7 +46,7 @@ fn preintegrated_dvr_matches_the_reference_on_both_paths() {
                 // The GPU integrates the TF sampled at 4096 entries with the trapezoid rule and
                 // subtracts f32 running integrals; the reference integrates the TF's pieces in
                 // f64 (Gauss–Legendre). Same 1/255-scale bound as the post-classified modes
-                // (tests/modes.rs), with room for the table's resolution at ramp ends.
+                // (modes.rs), with room for the table's resolution at ramp ends.
                 common::assert_close(
                     &format!("preint-step{step_vox}-{shading:?}-{path:?}"),
                     &actual,

@@ -1,6 +1,6 @@
 //! GPU images against the f64 CPU reference on small synthetic volumes.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};

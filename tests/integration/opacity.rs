@@ -3,7 +3,7 @@
 //! on both paths, with and without early termination, with post-classification and with
 //! pre-integration.
 
-mod common;
+use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::render::effects::Shading;

@@ -12,7 +12,7 @@ use leapview::transfer::{TransferFunction, ValueSpace};
 pub const PATHS: [RenderPath; 2] = [RenderPath::Fragment, RenderPath::Compute];
 
 /// The bound for analytic answers: one 8-bit level. The output is f16 (2^-11 relative)
-/// and the ray loop f32; tests/opacity.rs measured at most 2.4e-4 against `1 − (1 − α)^L`.
+/// and the ray loop f32; opacity.rs measured at most 2.4e-4 against `1 − (1 − α)^L`.
 pub const ANALYTIC_TOLERANCE: f64 = 1.0 / 255.0;
 
 /// Path length in millimetres inside `bounds` of the ray through pixel position `(px, py)`

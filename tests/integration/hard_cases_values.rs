@@ -3,7 +3,7 @@
 //! Each case asserts an analytic answer (or the f64 reference where lighting makes one
 //! impractical) on every strategy and both paths, and that no pixel is NaN or infinite.
 
-mod common;
+use crate::common;
 
 use common::{BACKGROUND, framing, renderer_for, settings, variants};
 
@@ -59,7 +59,7 @@ fn a_constant_volume_of_every_type_in_every_mode() {
         let mut r = renderer_for(&volume, &common::uniform_tf(uniform.alpha, uniform.rgb));
         let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
         let camera = framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
-        // A sixteenth of a pixel, as in tests/hard_cases_camera.rs.
+        // A sixteenth of a pixel, as in hard_cases_camera.rs.
         let lengths = common::footprint_lengths(&camera, &bounds, [32, 32], 1.0 / 16.0);
         let name = volume.scalar_type().name();
         for mode in Mode::ALL {
@@ -228,7 +228,7 @@ fn a_fully_opaque_transfer_function_shows_the_first_sample() {
             ..lit
         };
         let image = r.render_image(&camera, size, &s).expect("render");
-        // tests/modes.rs's bound for lit DVR against the reference.
+        // modes.rs's bound for lit DVR against the reference.
         let name = format!("opaque-lit-{}-{path:?}", strategy.label());
         common::assert_close(&name, &image, &expected, 4.0 / 255.0, 0.0);
     }
@@ -286,7 +286,7 @@ fn opacities_of_exactly_one_and_of_a_millionth() {
                 },
             )
             .expect("render");
-        // tests/modes.rs's bound for lit DVR against the reference.
+        // modes.rs's bound for lit DVR against the reference.
         let name = format!("alpha-one-structured-{}-{path:?}", strategy.label());
         common::assert_close(&name, &image, &expected, 4.0 / 255.0, 0.0);
     }

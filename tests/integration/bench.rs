@@ -2,7 +2,7 @@
 //! Table 1's speed-ups follow from the measured frame times, `frames.csv` has a row per view of
 //! every run, and leaping passes the image check.
 
-mod common;
+use crate::common;
 
 use std::process::Command;
 

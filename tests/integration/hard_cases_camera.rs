@@ -4,7 +4,7 @@
 //! ray's path length through the box (`common::Uniform`); every case runs every mode, strategy and
 //! path, and no pixel may be NaN or infinite.
 
-mod common;
+use crate::common;
 
 use common::Uniform;
 use glam::DVec3;
@@ -303,7 +303,7 @@ fn structured_volume_from_the_boundary_matches_the_reference() {
                     let image = r
                         .render_image(&camera, [40, 40], &settings)
                         .expect("render");
-                    // tests/modes.rs's bounds: 4/255 (lookup table, f16 output; measured here at
+                    // modes.rs's bounds: 4/255 (lookup table, f16 output; measured here at
                     // most 2.2e-3, RC included, which the reference's RC-t differs from by under
                     // 1/255); isosurfaces may flip up to 0.5 % of pixels where a ray grazes the
                     // surface (none seen).

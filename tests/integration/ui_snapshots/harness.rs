@@ -1,4 +1,4 @@
-//! Helpers for the UI tests (`tests/ui_snapshots.rs`): an `egui_kittest` harness that renders
+//! Helpers for the UI tests (`ui_snapshots.rs`): an `egui_kittest` harness that renders
 //! with egui's wgpu renderer on the CPU adapter (lavapipe), the snapshot tolerance, and pointer
 //! gestures at positions inside a canvas.
 

@@ -1,6 +1,6 @@
 //! RC against RC-t, and the fragment path against the compute path, on a dense synthetic volume.
 
-mod common;
+use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;

@@ -1,6 +1,6 @@
 //! Volumes and images past the adapter's limits get clear errors, not panics or wrong pictures.
 
-mod common;
+use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::render::renderer::RenderError;

@@ -54,7 +54,7 @@ pub fn colour_ramp(lo: f64, hi: f64, alpha: f64) -> TransferFunction {
 }
 
 /// Renders `mode` with `base` on every strategy and path and compares with the reference, the
-/// isosurface bounds of tests/modes.rs: up to 0.5 % of the pixels may flip where a ray grazes
+/// isosurface bounds of modes.rs: up to 0.5 % of the pixels may flip where a ray grazes
 /// the surface; elsewhere 4/255 (lookup table, f16 output).
 pub fn check_reference(
     r: &mut VolumeRenderer,
@@ -124,7 +124,7 @@ pub fn check_uniform(
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let mut worst = 0.0f64;
     for (i, camera) in cameras.iter().enumerate() {
-        // A sixteenth of a pixel around each centre, as in tests/hard_cases_camera.rs.
+        // A sixteenth of a pixel around each centre, as in hard_cases_camera.rs.
         let lengths = super::footprint_lengths(camera, &bounds, size, 1.0 / 16.0);
         for mode in Mode::ALL {
             for &strategy in strategies {

@@ -1,7 +1,7 @@
 //! The `leapview` binary: render and info on real data, and one-line errors with status 2 on bad
 //! input.
 
-mod common;
+use crate::common;
 
 use std::process::{Command, Output};
 

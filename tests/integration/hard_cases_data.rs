@@ -2,7 +2,7 @@
 //! ±Inf (and nothing else), and X-ray paths of zero length. The f64 reference or analytic
 //! answers, every strategy and both paths; no pixel may be NaN or infinite.
 
-mod common;
+use crate::common;
 
 use common::{check_reference, colour_ramp, framing, renderer_for, settings, variants};
 use glam::DVec3;
@@ -169,7 +169,7 @@ fn nan_and_infinite_samples_are_missing_in_every_mode() {
 
 /// Renders `camera` in `modes` with every strategy on both paths and checks the analytic answer
 /// of the uniform volume at a sixteenth of a pixel around each centre (as in
-/// tests/hard_cases_camera.rs): a ray of zero length may round to a miss (the background) or to
+/// hard_cases_camera.rs): a ray of zero length may round to a miss (the background) or to
 /// a short hit (the constant's grey), nothing else.
 fn check_touching(
     r: &mut VolumeRenderer,

@@ -2,7 +2,7 @@
 //! edit re-bakes the lookup table and rebuilds the emptiness flags only, the min/max pyramid is
 //! built once per volume, modes that leap by the pyramid alone rebuild nothing.
 
-mod common;
+use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::render::{

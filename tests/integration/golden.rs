@@ -1,8 +1,8 @@
 //! Golden images rendered on lavapipe: generated volumes and real scans, several views,
-//! transfer functions and both paths. `LEAPVIEW_BLESS=1 cargo test --test golden` rewrites them
-//! (then look at every image before committing).
+//! transfer functions and both paths. `LEAPVIEW_BLESS=1 cargo test --test integration golden::`
+//! rewrites them (then look at every image before committing).
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};

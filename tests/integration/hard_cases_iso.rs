@@ -3,7 +3,7 @@
 //! cross, lighting that changes nothing where the gradient vanishes, the f64 reference
 //! elsewhere; every strategy and both paths; no pixel may be NaN or infinite.
 
-mod common;
+use crate::common;
 
 use common::{check_reference, colour_ramp, framing, renderer_for, settings, variants};
 use glam::DVec3;

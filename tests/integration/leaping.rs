@@ -1,7 +1,7 @@
 //! RC-s: the GPU's min/max pyramid, emptiness table, node flags and distance field equal their
 //! CPU references, and leaping changes no image while taking fewer samples.
 
-mod common;
+use crate::common;
 
 use leapview::accel::distance::chebyshev;
 use leapview::accel::emptiness::{OpacityIndex, TABLE_SIZE, table_says_empty};

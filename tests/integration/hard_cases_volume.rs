@@ -3,7 +3,7 @@
 //! their analytic answers, structured ones against the f64 reference; every mode and both paths,
 //! and no pixel may be NaN or infinite.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use leapview::camera::{Camera, ProjectionKind, ViewPreset};
@@ -57,7 +57,7 @@ fn check_reference(
                     ..settings
                 };
                 let image = r.render_image(camera, size, &settings).expect("render");
-                // tests/modes.rs's bounds: 4/255 (lookup table, f16 output, RC against the
+                // modes.rs's bounds: 4/255 (lookup table, f16 output, RC against the
                 // reference's RC-t); isosurfaces may flip up to 0.5 % of the pixels.
                 let (max_abs, share) = if mode == Mode::Iso {
                     (1.0, 0.005)

@@ -2,7 +2,7 @@
 //! f64 reference on both paths, leaping exact in every mode, and the X-ray mean unbiased by path
 //! length.
 
-mod common;
+use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;

@@ -2,7 +2,7 @@
 //! with its own slab test), and a proof that nothing outside the box is ever sampled — a bright
 //! object outside it leaves the image bit for bit unchanged.
 
-mod common;
+use crate::common;
 
 use glam::DVec3;
 use leapview::camera::{Camera, ProjectionKind, ViewPreset};
@@ -50,7 +50,7 @@ fn cropped_dvr_and_mip_match_the_reference_everywhere() {
                 ..base
             };
             let image = r.render_image(&camera, size, &s).expect("render");
-            // tests/preintegration.rs's bound (4/255); up to 1 % of the pixels may pass 1/255
+            // preintegration.rs's bound (4/255); up to 1 % of the pixels may pass 1/255
             // (measured along −y, RC-t on the fragment path: 3 of 1600 pixels, at most 0.0043,
             // at the dense cube the box cuts).
             let name = format!("crop-preintegrated-{view:?}-{}-{path:?}", strategy.label());

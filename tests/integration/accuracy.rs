@@ -2,7 +2,7 @@
 //! measurements say what the knobs are for (finer steps are more accurate; pre-integration keeps
 //! a thin shell that post-classification aliases).
 
-mod common;
+use crate::common;
 
 use std::process::Command;
 

@@ -9,9 +9,9 @@
 //! state the UI edits; the snapshots catch what the state cannot (clipping, overlap, layout).
 //!
 //! Update the snapshots after an intended UI change with
-//! `UPDATE_SNAPSHOTS=1 cargo test --test ui_snapshots`, then look at the PNGs before committing.
+//! `UPDATE_SNAPSHOTS=1 cargo test --test integration ui_snapshots::`, then look at the PNGs
+//! before committing.
 
-#[path = "ui_snapshots/harness.rs"]
 mod harness;
 
 use egui::accesskit::Toggled;

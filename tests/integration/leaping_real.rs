@@ -2,7 +2,7 @@
 //! paths, both leaping schemes. Leaping must not change a pixel by more than 1/255 and must take
 //! every sample RC-t takes that has non-zero opacity.
 
-mod common;
+use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::render::{FrameCounters, RenderPath, RenderSettings, Strategy, VolumeRenderer};
@@ -123,7 +123,7 @@ fn preintegrated_leaping_equals_rc_t_on_every_shared_scan() {
                 for (strategy, (rcs, counts)) in leaping {
                     let label = format!("preint-{scan}-{tf_name}-{path:?}-{strategy:?}");
                     // Every skipped segment lies inside one empty region, where the running
-                    // integrals are equal texel for texel (tests/preintegration.rs): identical.
+                    // integrals are equal texel for texel (preintegration.rs): identical.
                     common::assert_close(&label, &rcs, &rct, 0.0, 0.0);
                     assert!(counts.samples <= rct_counts.samples, "{label}");
                 }

@@ -4,7 +4,7 @@
 //! `LEAPVIEW_SCREENSHOT`). Needs `Xvfb` (`apt-get install xvfb`); fails, rather than skips,
 //! without it.
 
-mod common;
+use crate::common;
 
 use std::os::unix::fs::PermissionsExt;
 use std::path::Path;
