@@ -59,6 +59,8 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
             "air_fraction": air.map(|a| a.1),
             "tf_transparent_fraction": transparent,
             "orientation": volume.orientation().map(|o| o.code()),
+            "orientation_in_file": volume.file_orientation().map(|o| o.code()),
+            "reversed_i": volume.reversed_i(),
         });
         println!("{value:#}");
         return Ok(());
@@ -79,6 +81,13 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
     );
     println!("type:        {}", volume.scalar_type());
     match volume.orientation() {
+        Some(o) if volume.reversed_i() => println!(
+            "orientation: {} in the header, a mirror image of the patient: read reversed along i, \
+             so renders show {} (voxel i is {} - i in the file)",
+            o.with_axis_reversed(0).code(),
+            o.code(),
+            x.saturating_sub(1)
+        ),
         Some(o) => println!(
             "orientation: {} (index axes i, j, k point to these)",
             o.code()

@@ -246,6 +246,15 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
                     "{note}; the index axes are a mirror image of the patient, so the 3D \
                      picture is mirrored (left and right swapped)"
                 ));
+            } else if v.reversed_i {
+                let file = o.with_axis_reversed(0).code();
+                ui.label(egui::RichText::new(format!("{} · i reversed", o.code())).weak())
+                    .on_hover_text(format!(
+                        "{file} from the header: a mirror image of the patient, so the samples \
+                         were reversed along i when loading and the 3D picture is not mirrored \
+                         (voxel i here is {} − i in the file)",
+                        v.dims[0].saturating_sub(1)
+                    ));
             } else {
                 ui.label(egui::RichText::new(o.code()).weak())
                     .on_hover_text(note);

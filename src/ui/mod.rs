@@ -250,8 +250,11 @@ pub struct VolumeSummary {
     pub range: Option<ValueRange>,
     /// Sample counts in equal bins over `range`.
     pub histogram: Vec<u64>,
-    /// Anatomical orientation from the file's header, if it gave one.
+    /// Anatomical orientation of the index axes, if the file's header gave one (after any
+    /// reversal along i, see [`Volume::unmirrored`]).
     pub orientation: Option<crate::volume::Orientation>,
+    /// Whether the samples were reversed along i because the file's orientation is mirrored.
+    pub reversed_i: bool,
 }
 
 impl VolumeSummary {
@@ -265,6 +268,7 @@ impl VolumeSummary {
             range: volume.value_range(),
             histogram: volume.histogram().counts.clone(),
             orientation: volume.orientation(),
+            reversed_i: volume.reversed_i(),
         }
     }
 

@@ -26,13 +26,18 @@ enum Format {
 /// Loads a NRRD (`.nrrd`, `.nhdr`), NIfTI-1 (`.nii`, `.nii.gz`) or raw volume. Raw layout
 /// parameters in `options` make any file read as raw. The volume is named after the file.
 ///
+/// A file whose orientation is mirrored comes back [`Volume::unmirrored`]: reversed along i, so
+/// that no render shows the patient's mirror image.
+///
 /// Errors name the file last; no header, however corrupt, makes this allocate more than the file
 /// can hold or than [`super::limits::MAX_VOLUME_BYTES`].
 pub fn load_volume(path: &Path, options: &LoadOptions) -> Result<Volume, LoadError> {
-    load(path, options).map_err(|problem| LoadError {
-        path: path.to_path_buf(),
-        problem,
-    })
+    load(path, options)
+        .map(Volume::unmirrored)
+        .map_err(|problem| LoadError {
+            path: path.to_path_buf(),
+            problem,
+        })
 }
 
 fn load(path: &Path, options: &LoadOptions) -> Result<Volume, VolumeError> {

@@ -71,6 +71,7 @@ pub struct Volume {
     histogram: Histogram,
     non_finite_count: u64,
     orientation: Option<Orientation>,
+    reversed_i: bool,
 }
 
 impl Volume {
@@ -114,6 +115,7 @@ impl Volume {
             histogram,
             non_finite_count,
             orientation: None,
+            reversed_i: false,
         })
     }
 
@@ -123,9 +125,40 @@ impl Volume {
         self
     }
 
-    /// The anatomical orientation from the file's header, if it gave one.
+    /// The volume as a right-handed picture of the patient: when its orientation is mirrored (an
+    /// odd number of flipped index axes, e.g. LAS), the samples are reversed along i and the
+    /// orientation follows (LAS becomes RAS), so that renders show the patient, not their mirror
+    /// image: the world frame of the renderer is the index frame. Anything else is unchanged.
+    pub fn unmirrored(mut self) -> Self {
+        if let Some(o) = self.orientation.filter(Orientation::is_mirrored) {
+            self.samples.reverse_rows(self.dims[0] as usize);
+            self.orientation = Some(o.with_axis_reversed(0));
+            self.reversed_i = !self.reversed_i;
+        }
+        self
+    }
+
+    /// The anatomical orientation of the index axes as stored here: the header's, except along
+    /// i when [`Volume::unmirrored`] reversed it.
     pub fn orientation(&self) -> Option<Orientation> {
         self.orientation
+    }
+
+    /// The orientation the file's header gave (before any reversal).
+    pub fn file_orientation(&self) -> Option<Orientation> {
+        self.orientation.map(|o| {
+            if self.reversed_i {
+                o.with_axis_reversed(0)
+            } else {
+                o
+            }
+        })
+    }
+
+    /// Whether the samples were reversed along i to undo a mirrored orientation: voxel index i
+    /// here is `dims[0] - 1 - i` in the file.
+    pub fn reversed_i(&self) -> bool {
+        self.reversed_i
     }
 
     /// A short human-readable name (usually the file name).

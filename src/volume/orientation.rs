@@ -166,6 +166,14 @@ impl Orientation {
         r.cross(a).dot(s) < 0.0
     }
 
+    /// The same orientation with index axis `axis` (0, 1 or 2) pointing the other way.
+    pub fn with_axis_reversed(mut self, axis: usize) -> Self {
+        if let Some(d) = self.axes.get_mut(axis) {
+            *d = d.opposite();
+        }
+        self
+    }
+
     /// Camera direction and up vector of the standard view *from* `side`: the eye on that side
     /// of the patient looking across; superior up for A, P, L, R, anterior up for S and I (as 3D
     /// Slicer's view buttons).

@@ -146,6 +146,14 @@ impl Samples {
         each_variant!(self, v => v[index] as f64)
     }
 
+    /// Reverses the order of the samples inside every run of `row` consecutive ones: with `row`
+    /// the x dimension, mirrors the volume along x in place. `row` of 0 changes nothing.
+    pub fn reverse_rows(&mut self, row: usize) {
+        if row > 0 {
+            each_variant!(self, v => v.chunks_mut(row).for_each(<[_]>::reverse))
+        }
+    }
+
     /// Calls `f` with every stored value as f64, in storage order.
     #[allow(clippy::unnecessary_cast)]
     pub fn for_each_f64(&self, mut f: impl FnMut(f64)) {

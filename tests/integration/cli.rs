@@ -347,3 +347,100 @@ fn anatomical_views_follow_the_orientation() {
     let (code, _) = render("Q");
     assert_eq!(code, Some(2), "an unknown view is bad input");
 }
+
+#[test]
+fn a_mirrored_file_renders_as_the_patient_not_their_mirror_image() {
+    // One patient (a dim body with a bright ball on their left, a smaller one in front) stored
+    // twice: RAS (i to the right), and LAS (i to the left, samples reversed along i), which is a
+    // mirror image of the patient in the index frame. Both must render the same from every side,
+    // and from the front the patient's left is on the viewer's right.
+    const DIMS: [u32; 3] = [12, 10, 8];
+    let [nx, ny, nz] = DIMS.map(|d| d as usize);
+    let mut ras = vec![20u8; nx * ny * nz];
+    for (i, v) in ras.iter_mut().enumerate() {
+        let (x, y, z) = (i % nx, (i / nx) % ny, i / (nx * ny));
+        let dist = |c: [f64; 3]| {
+            let d = [x as f64 - c[0], y as f64 - c[1], z as f64 - c[2]];
+            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+        };
+        if dist([2.0, 5.0, 4.0]) < 2.0 {
+            *v = 250; // the patient's left: low i in RAS
+        } else if dist([6.0, 8.0, 4.0]) < 1.5 {
+            *v = 150; // anterior: high j
+        }
+    }
+    let las: Vec<u8> = ras
+        .chunks(nx)
+        .flat_map(|row| row.iter().rev().copied())
+        .collect();
+    let dir = common::TempDir::new("cli-mirrored");
+    let file = |name: &str, srow_x: [f32; 4], data: &[u8]| {
+        let mut bytes =
+            common::NiftiSpec::new(leapview::volume::ScalarType::U8, DIMS, [1.0; 3]).file(data);
+        let srows = [srow_x, [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
+        bytes[254..256].copy_from_slice(&1i16.to_le_bytes()); // sform_code
+        for (r, row) in srows.iter().enumerate() {
+            for (c, v) in row.iter().enumerate() {
+                let at = 280 + 16 * r + 4 * c;
+                bytes[at..at + 4].copy_from_slice(&v.to_le_bytes());
+            }
+        }
+        dir.write(name, &bytes)
+    };
+    let ras_path = file("ras.nii", [1.0, 0.0, 0.0, 0.0], &ras);
+    let las_path = file("las.nii", [-1.0, 0.0, 0.0, 11.0], &las);
+
+    let o = leapview(&["info", las_path.to_str().expect("utf-8"), "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let info: serde_json::Value = serde_json::from_slice(&o.stdout).expect("json");
+    assert_eq!(info["orientation_in_file"], "LAS");
+    assert_eq!(info["orientation"], "RAS");
+    assert_eq!(info["reversed_i"], true);
+
+    let render = |path: &std::path::Path, view: &str| {
+        let out = dir.path().join(format!(
+            "{}-{view}.png",
+            path.file_stem().and_then(|s| s.to_str()).expect("name")
+        ));
+        let o = leapview(&[
+            "render",
+            path.to_str().expect("utf-8"),
+            "--out",
+            out.to_str().expect("utf-8"),
+            "--size",
+            "48x48",
+            "--mode",
+            "mip",
+            "--projection",
+            "orthographic",
+            "--view",
+            view,
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        ImageF32::read_png(&out).expect("png")
+    };
+    for view in ["A", "P", "L", "R", "S", "I"] {
+        let (a, b) = (render(&ras_path, view), render(&las_path, view));
+        assert_eq!(
+            a.pixels, b.pixels,
+            "view from {view}: RAS and LAS files differ"
+        );
+    }
+    // From the front, superior up: the bright ball (the patient's left) is right of centre.
+    let front = render(&ras_path, "A");
+    let w = front.width as usize;
+    let (mut left, mut right) = (0.0f32, 0.0f32);
+    for (i, p) in front.pixels.iter().enumerate() {
+        if p[0] > 0.9 {
+            if i % w < w / 2 {
+                left += 1.0
+            } else {
+                right += 1.0
+            }
+        }
+    }
+    assert!(
+        right > 0.0 && left == 0.0,
+        "bright pixels: {left} left, {right} right"
+    );
+}

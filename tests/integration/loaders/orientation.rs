@@ -2,7 +2,7 @@
 //! `space directions`, files without one, and the NIfTI originals of `../shared/data` (RAS, as
 //! their README says).
 
-use leapview::volume::ScalarType;
+use leapview::volume::{ScalarType, Volume};
 
 use crate::common::{NiftiSpec, TempDir, load_ok, nrrd_file, nrrd_lines, samples_of, to_bytes};
 
@@ -17,9 +17,21 @@ fn nifti(dir: &TempDir, name: &str, pixdim0: f32, patch: &[(usize, Vec<u8>)]) ->
         bytes[*offset..offset + data.len()].copy_from_slice(data);
     }
     let path = dir.write(name, &bytes);
-    load_ok(&path)
-        .orientation()
-        .map_or("none".into(), |o| o.code())
+    file_code(&load_ok(&path))
+}
+
+/// The header's orientation code (`none` without one), after checking that a mirrored one came
+/// back reversed along i, as a right-handed picture of the patient.
+fn file_code(v: &Volume) -> String {
+    let Some(file) = v.file_orientation() else {
+        assert!(!v.reversed_i());
+        return "none".into();
+    };
+    let here = v.orientation().expect("orientation");
+    assert!(!here.is_mirrored(), "{} loaded mirrored", file.code());
+    assert_eq!(v.reversed_i(), file.is_mirrored(), "{}", file.code());
+    assert_eq!(here == file, !file.is_mirrored(), "{}", file.code());
+    file.code()
 }
 
 fn f32s(values: &[f32]) -> Vec<u8> {
@@ -65,9 +77,7 @@ fn nrrd_space_and_directions_give_the_orientation() {
         lines.extend(extra.iter().map(|s| s.to_string()));
         let lines: Vec<&str> = lines.iter().map(String::as_str).collect();
         let path = dir.write(name, &nrrd_file(&lines, &data));
-        load_ok(&path)
-            .orientation()
-            .map_or("none".into(), |o| o.code())
+        file_code(&load_ok(&path))
     };
     let identity = "space directions: (1,0,0) (0,1,0) (0,0,1)";
     assert_eq!(
@@ -108,4 +118,38 @@ fn the_nifti_originals_are_ras() {
         }
     }
     assert!(seen >= 5, "only {seen} originals");
+}
+
+#[test]
+fn a_mirrored_file_is_read_reversed_along_i() {
+    // LAS (sform i → −x): a mirror image of the patient; every row comes back reversed, so that
+    // voxel i here is voxel 3 − i of the file, and the orientation reads RAS.
+    let dir = TempDir::new("orientation-mirrored");
+    let las = vec![
+        (SFORM_CODE, 1i16.to_le_bytes().to_vec()),
+        (SROW_X, f32s(&[-1.0, 0.0, 0.0, 0.0])),
+        (SROW_X + 16, f32s(&[0.0, 1.0, 0.0, 0.0])),
+        (SROW_X + 32, f32s(&[0.0, 0.0, 1.0, 0.0])),
+    ];
+    assert_eq!(nifti(&dir, "las.nii", 1.0, &las), "LAS");
+    let v = load_ok(&dir.path().join("las.nii"));
+    assert_eq!(v.orientation().map(|o| o.code()).as_deref(), Some("RAS"));
+    let file = samples_of(ScalarType::U8, 24);
+    let [nx, ny, nz] = DIMS;
+    for (z, y, x) in
+        (0..nz).flat_map(|z| (0..ny).flat_map(move |y| (0..nx).map(move |x| (z, y, x))))
+    {
+        let in_file = (nx - 1 - x + nx * (y + ny * z)) as usize;
+        assert_eq!(v.value(x, y, z), file.get_f64(in_file), "voxel {x} {y} {z}");
+    }
+    // Not mirrored (LPS, a half turn of RAS): unchanged.
+    let lps = vec![
+        (SFORM_CODE, 1i16.to_le_bytes().to_vec()),
+        (SROW_X, f32s(&[-1.0, 0.0, 0.0, 0.0])),
+        (SROW_X + 16, f32s(&[0.0, -1.0, 0.0, 0.0])),
+        (SROW_X + 32, f32s(&[0.0, 0.0, 1.0, 0.0])),
+    ];
+    assert_eq!(nifti(&dir, "lps.nii", 1.0, &lps), "LPS");
+    let v = load_ok(&dir.path().join("lps.nii"));
+    assert_eq!(v.samples(), &file);
 }
