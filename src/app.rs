@@ -21,6 +21,7 @@ use crate::ui::interaction::{window_level_drag, window_level_map};
 use crate::ui::loading::{Loader, VolumeSource};
 use crate::ui::lod::STILL_AFTER;
 use crate::ui::menu::menu_bar;
+use crate::ui::orientation_marker;
 use crate::ui::overlay::{draw_loading, draw_readout};
 use crate::ui::redraw::FrameInputs;
 use crate::ui::save_image::{SaveImageEvent, SaveImageForm, save_image_window};
@@ -107,6 +108,8 @@ struct LeapViewApp {
     /// Where the view and the readout were drawn last pass, for the screenshot check.
     view_rect: egui::Rect,
     readout_rect: Option<egui::Rect>,
+    /// Where the orientation marker was drawn over the view in the last pass.
+    marker_rect: Option<egui::Rect>,
     /// The "Save image" window, while open.
     save_image: Option<SaveImageForm>,
     /// The view's size in pixels last pass.
@@ -141,6 +144,7 @@ impl LeapViewApp {
             shot_inputs: None,
             view_rect: egui::Rect::NOTHING,
             readout_rect: None,
+            marker_rect: None,
             save_image: None,
             view_px: [1, 1],
             last_motion: None,
@@ -303,6 +307,14 @@ impl LeapViewApp {
         ui.painter()
             .rect_filled(area.rect, 0.0, Color32::from_rgb(r, g, b));
         self.scene.paint(ui, area.rect.min);
+        self.marker_rect = None;
+        if self.state.show_orientation_marker
+            && let Some((camera, _)) = self.scene.camera_and_bounds()
+            && let Some(volume) = self.scene.volume()
+        {
+            self.marker_rect =
+                orientation_marker::draw(ui, area.rect, &camera, &volume.orientation_or_assumed());
+        }
         if self.state.show_crop_box
             && let Some((camera, bounds)) = self.scene.camera_and_bounds()
         {
@@ -467,10 +479,12 @@ impl LeapViewApp {
         };
         let px = |v: f32| (v * ppp).round().max(0.0) as usize;
         let origin = [px(self.view_rect.min.x), px(self.view_rect.min.y)];
-        let skip = self
-            .readout_rect
-            .map(|r| [px(r.min.x), px(r.min.y), px(r.max.x), px(r.max.y)]);
-        let c = screenshot::compare_view(image, origin, &rendered, skip);
+        let skip: Vec<[usize; 4]> = [self.readout_rect, self.marker_rect]
+            .into_iter()
+            .flatten()
+            .map(|r| [px(r.min.x), px(r.min.y), px(r.max.x), px(r.max.y)])
+            .collect();
+        let c = screenshot::compare_view(image, origin, &rendered, &skip);
         log::info!(
             "window vs rendered image: {} pixels compared, {} differ, largest difference {} levels",
             c.pixels,

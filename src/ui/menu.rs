@@ -115,6 +115,10 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
             ui.separator();
             ui.checkbox(&mut state.show_controls, "Controls panel");
             ui.checkbox(&mut state.show_readout, "Readout (FPS, GPU time)");
+            ui.checkbox(
+                &mut state.show_orientation_marker,
+                "Orientation marker (R, A, S)",
+            );
         });
         ui.menu_button("Help", |ui| {
             ui.label(egui::RichText::new("Controls").strong());

@@ -14,6 +14,7 @@ pub mod interaction;
 pub mod loading;
 pub mod lod;
 pub mod menu;
+pub mod orientation_marker;
 pub mod overlay;
 pub mod redraw;
 pub mod save_image;
@@ -92,6 +93,9 @@ pub struct ViewerState {
     pub show_controls: bool,
     /// Whether the readout (FPS, GPU time, adapter, volume) is drawn over the view.
     pub show_readout: bool,
+    /// Whether the orientation marker (R/A/S axes) is drawn in the view's corner.
+    #[serde(default = "yes")]
+    pub show_orientation_marker: bool,
     /// The part of the volume shown (reset to the whole volume for each volume opened).
     #[serde(skip)]
     pub crop: crate::render::CropBox,
@@ -130,6 +134,7 @@ impl Default for ViewerState {
             projection: ProjectionKind::Perspective,
             show_controls: true,
             show_readout: true,
+            show_orientation_marker: true,
             recent: Vec::new(),
             preintegrated: false,
             crop: crate::render::CropBox::FULL,

@@ -190,8 +190,11 @@ pub fn draw_loading(ui: &mut egui::Ui, view: Rect, status: &LoadStatus) -> bool 
             });
             ui.horizontal(|ui| {
                 cancel = ui.button("Cancel").clicked();
-                if let Some(f) = status.fraction {
+                if let Some(f) = status.fraction.filter(|f| *f < 1.0) {
                     ui.add(egui::ProgressBar::new(f as f32).show_percentage());
+                } else if status.fraction.is_some() {
+                    // Every sample is read; the reader is computing the range and histogram.
+                    ui.label(RichText::new("read; computing the histogram…").weak());
                 } else if status.generated {
                     ui.label(RichText::new("generating…").weak());
                 } else {

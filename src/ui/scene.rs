@@ -95,7 +95,13 @@ impl Scene {
         volume: &Volume,
         projection: ProjectionKind,
     ) -> Result<&VolumeSummary, RenderError> {
+        let started = std::time::Instant::now();
         self.renderer.set_volume(volume)?;
+        log::info!(
+            "uploaded {} in {:.0} ms",
+            volume.name(),
+            started.elapsed().as_secs_f64() * 1e3
+        );
         let summary = VolumeSummary::of(volume);
         let bounds = Aabb::of_volume(summary.dims, summary.spacing_mm);
         self.camera = Some(framed(&bounds, ViewPreset::Oblique, projection));
@@ -246,7 +252,9 @@ impl Scene {
             self.counters = None;
         }
         self.last_pixels = u64::from(size_px[0]) * u64::from(size_px[1]);
+        let submit_started = Instant::now();
         let result = self.renderer.render(&request);
+        let submit_ms = submit_started.elapsed().as_secs_f64() * 1e3;
         // Marked even on failure, so a failing frame is not retried on every pass.
         self.redraw.mark_rendered(inputs);
         let submitted = result.map_err(|e| format!("Cannot render the volume: {e}"))?;
@@ -266,7 +274,7 @@ impl Scene {
             );
         }
         log::debug!(
-            "rendered volume frame {} at {size_px:?}",
+            "rendered volume frame {} at {size_px:?} ({submit_ms:.0} ms to submit)",
             self.frames_rendered
         );
         Ok(true)

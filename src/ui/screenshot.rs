@@ -163,12 +163,13 @@ pub struct ViewComparison {
 }
 
 /// Compares the screenshot's pixels at `origin_px` (top-left of the view, physical pixels) with
-/// `rendered`, skipping pixels inside `skip_px` (`[x0, y0, x1, y1]`, e.g. under the readout).
+/// `rendered`, skipping pixels inside any of `skip_px` (`[x0, y0, x1, y1]`, e.g. under the
+/// readout and the orientation marker).
 pub fn compare_view(
     shot: &ColorImage,
     origin_px: [usize; 2],
     rendered: &image::RgbaImage,
-    skip_px: Option<[usize; 4]>,
+    skip_px: &[[usize; 4]],
 ) -> ViewComparison {
     let mut out = ViewComparison {
         pixels: 0,
@@ -178,8 +179,9 @@ pub fn compare_view(
     let [sw, sh] = shot.size;
     for (x, y, px) in rendered.enumerate_pixels() {
         let (sx, sy) = (origin_px[0] + x as usize, origin_px[1] + y as usize);
-        let skipped =
-            skip_px.is_some_and(|[x0, y0, x1, y1]| sx >= x0 && sx < x1 && sy >= y0 && sy < y1);
+        let skipped = skip_px
+            .iter()
+            .any(|&[x0, y0, x1, y1]| sx >= x0 && sx < x1 && sy >= y0 && sy < y1);
         if sx >= sw || sy >= sh || skipped {
             continue;
         }
@@ -228,12 +230,12 @@ mod tests {
     fn comparison_finds_offsets_and_skips_the_readout() {
         let mut shot = ColorImage::filled([8, 6], Color32::from_rgb(10, 20, 30));
         let rendered = image::RgbaImage::from_pixel(4, 3, image::Rgba([10, 20, 30, 255]));
-        let same = compare_view(&shot, [2, 2], &rendered, None);
+        let same = compare_view(&shot, [2, 2], &rendered, &[]);
         assert_eq!((same.pixels, same.max_levels, same.differing), (12, 0, 0));
         shot.pixels[2 * 8 + 2] = Color32::from_rgb(13, 20, 30);
-        let off = compare_view(&shot, [2, 2], &rendered, None);
+        let off = compare_view(&shot, [2, 2], &rendered, &[]);
         assert_eq!((off.max_levels, off.differing), (3, 1));
-        let skipped = compare_view(&shot, [2, 2], &rendered, Some([0, 0, 3, 3]));
+        let skipped = compare_view(&shot, [2, 2], &rendered, &[[0, 0, 3, 3]]);
         assert_eq!((skipped.pixels, skipped.max_levels), (11, 0));
     }
 }

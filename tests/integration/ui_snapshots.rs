@@ -1,5 +1,5 @@
 //! UI tests without a window: the crate's own panel functions (transfer-function editor, side
-//! panel, menu bar, error dialog) run inside an `egui_kittest` harness, are driven through the
+//! panel, menu bar, error dialog, loading indicator) run inside an `egui_kittest` harness, are driven through the
 //! AccessKit tree the way a user would (clicks, drags, keys, found by label, never by pixel
 //! position, except inside the opacity canvas where a position *is* the input), and are rendered
 //! with egui's wgpu renderer for image snapshots in `tests/snapshots/`.
@@ -268,7 +268,7 @@ fn menu_bar_opens_menus_and_returns_actions() {
         state: ViewerState::default(),
         actions: Vec::new(),
     };
-    let mut h = harness([420.0, 320.0]).build_ui_state(
+    let mut h = harness([420.0, 350.0]).build_ui_state(
         |ui, b: &mut MenuBar| b.actions.extend(menu_bar(ui, &mut b.state)),
         bar,
     );
@@ -293,6 +293,12 @@ fn menu_bar_opens_menus_and_returns_actions() {
     h.get_by_label("Controls panel").click();
     h.run();
     assert!(!h.state().state.show_controls);
+    h.get_by_label("View").click();
+    h.run();
+    assert!(h.state().state.show_orientation_marker, "on by default");
+    h.get_by_label("Orientation marker (R, A, S)").click();
+    h.run();
+    assert!(!h.state().state.show_orientation_marker);
 
     h.get_by_label("File").click();
     h.run();
@@ -334,4 +340,33 @@ fn error_dialog_shows_the_message_on_one_line_until_ok() {
     h.run();
     assert!(!h.state().has_error());
     assert!(h.query_by_label(message).is_none());
+}
+
+#[test]
+fn loading_shows_a_bar_then_says_the_histogram_is_being_computed() {
+    let status = |fraction| leapview::ui::loading::LoadStatus {
+        label: "head.nrrd".into(),
+        started: std::time::Instant::now(),
+        fraction,
+        generated: false,
+    };
+    let mut h = harness([360.0, 120.0]).build_ui_state(
+        |ui, (s, cancelled): &mut (leapview::ui::loading::LoadStatus, bool)| {
+            let view = ui.max_rect();
+            *cancelled |= leapview::ui::overlay::draw_loading(ui, view, s);
+        },
+        (status(None), false),
+    );
+    assert!(h.query_by_label("reading the header…").is_some());
+    h.state_mut().0 = status(Some(0.4));
+    // The spinner keeps asking for repaints: step rather than run to a settled state.
+    h.run_steps(2);
+    assert!(h.query_by_label("reading the header…").is_none());
+    assert!(h.query_by_label("read; computing the histogram…").is_none());
+    h.state_mut().0 = status(Some(1.0));
+    h.run_steps(2);
+    assert!(h.query_by_label("read; computing the histogram…").is_some());
+    h.get_by_label("Cancel").click();
+    h.run_steps(2);
+    assert!(h.state().1, "Cancel is reported");
 }
