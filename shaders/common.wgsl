@@ -69,10 +69,13 @@ fn pixel_jitter(px: vec2<u32>) -> f32 {
     return f32(h >> 8u) / 16777216.0;
 }
 
-// Where the first sample of pixel `px`'s ray lies within its first step.
+// Where the first sample of pixel `px`'s ray lies within its first step: the frame's offset,
+// or with jitter the pixel's hash rotated by the frame's offset minus ½ (exactly the hash at the
+// default ½; progressive refinement rotates it), as `jittered_offset` in src/sampling.rs.
 fn sample_offset_of(px: vec2<u32>) -> f32 {
     if frame.iso.z > 0.5 {
-        return pixel_jitter(px);
+        let o = pixel_jitter(px) + (frame.sample_offset - 0.5);
+        return select(o, o - 1.0, o >= 1.0) + select(0.0, 1.0, o < 0.0);
     }
     return frame.sample_offset;
 }

@@ -294,6 +294,10 @@ impl LeapViewApp {
         {
             self.dialogs.show_error(message);
         }
+        if self.scene.refining() && !interacting {
+            // The next refinement frame comes in the next pass.
+            ctx.request_repaint();
+        }
         if self.scene.preview_scale().is_some() {
             // Refine once the pointer has been still long enough (or at once, if it is).
             let still_in = self
@@ -446,6 +450,7 @@ impl LeapViewApp {
             && quiet_passes > SETTLED_AFTER_PASSES
             && !self.scene.results_pending()
             && self.scene.preview_scale().is_none()
+            && !self.scene.refining()
             && self.loader.busy().is_none();
         match self.automation.poll_screenshot(ctx, ready) {
             ShotEvent::Requested => self.shot_inputs = self.scene.last_inputs().cloned(),

@@ -86,6 +86,13 @@ pub fn pixel_jitter(x: u32, y: u32) -> f64 {
     f64::from(h >> 8) / 16_777_216.0
 }
 
+/// The first-sample offset of pixel `(x, y)` with jitter: its [`pixel_jitter`] rotated by
+/// `sample_offset − ½` (mod 1), so the default offset ½ gives the hash itself and progressive
+/// refinement's offsets rotate every pixel's start alike.
+pub fn jittered_offset(x: u32, y: u32, sample_offset: f64) -> f64 {
+    (pixel_jitter(x, y) + (sample_offset - 0.5)).rem_euclid(1.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

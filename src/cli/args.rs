@@ -112,6 +112,10 @@ pub struct RenderArgs {
     /// `0:NX,0:NY,0:NZ` is the whole volume): rays see only what lies inside it.
     #[arg(long)]
     pub crop: Option<String>,
+    /// Progressive refinement: the mean of this many frames with their sample grids shifted
+    /// along the rays (as the window's "Refine when still"); 1 renders one frame.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub refine: u32,
     /// Print samples taken, samples with non-zero opacity (what any leaping scheme must still
     /// take), empty regions leapt, rays, and GPU milliseconds (median of several frames after a
     /// warm-up) including the leaping structures' rebuild.

@@ -69,7 +69,13 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         stats: false,
     };
     let (submitted, first) = renderer.render_and_wait(&request).map_err(render_failure)?;
-    let image = renderer.read_image().map_err(render_failure)?;
+    let image = if args.refine > 1 {
+        renderer
+            .render_refined(&camera, args.size, &settings, args.refine)
+            .map_err(render_failure)?
+    } else {
+        renderer.read_image().map_err(render_failure)?
+    };
     image
         .save(&args.out)
         .context("writing the image")

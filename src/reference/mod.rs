@@ -134,7 +134,7 @@ impl Caster<'_> {
                     dir,
                     length_mm: t1 - entry,
                     offset: if self.settings.jitter {
-                        crate::sampling::pixel_jitter(x, y)
+                        crate::sampling::jittered_offset(x, y, self.settings.sample_offset)
                     } else {
                         self.settings.sample_offset
                     },

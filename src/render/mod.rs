@@ -12,6 +12,7 @@ pub mod pipelines;
 pub mod probe;
 pub mod quality;
 pub mod readback;
+pub mod refine;
 pub mod renderer;
 pub mod settings;
 pub mod shader;

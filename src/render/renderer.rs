@@ -15,6 +15,7 @@ use super::pipelines::{
 };
 use super::probe::{FrameResults, ProbePool, ProbeSlot};
 use super::readback::read_texture;
+use super::refine::{self, Accumulator};
 use super::settings::{Mode, RenderPath, RenderSettings, SettingsError, Strategy};
 use super::shader::ShaderError;
 use super::targets::Targets;
@@ -111,6 +112,12 @@ pub struct VolumeRenderer {
     leap: Option<(LeapStructures, wgpu::BindGroup)>,
     pub(super) auto_path: Option<ConcretePath>,
     work: WorkCounts,
+    /// The running mean of progressive refinement (built on first use).
+    refine: Option<Accumulator>,
+    /// Whether the next frame is added to the mean (`Some(true)`: as its first frame).
+    accumulate_next: Option<bool>,
+    /// Frames in the mean after the last frame that was added, `None` when it could not be.
+    accumulated: Option<u32>,
 }
 
 /// How often the renderer did each piece of work since it was made: what tests read to prove
@@ -187,6 +194,9 @@ impl VolumeRenderer {
             leap_pipelines,
             leap: None,
             auto_path: None,
+            refine: None,
+            accumulate_next: None,
+            accumulated: None,
         })
     }
 
@@ -349,6 +359,8 @@ impl VolumeRenderer {
     /// Records and submits one frame. Its measurements arrive through [`Self::collect_results`].
     pub fn render(&mut self, request: &FrameRequest) -> Result<SubmittedFrame, RenderError> {
         request.settings.validate()?;
+        // Taken first: resolving `auto` renders calibration frames, which must not accumulate.
+        let accumulate = self.accumulate_next.take();
         let path = self.resolve_path(request.settings.path)?;
         let key = PipelineKey::new(request.settings, path, request.stats);
         self.ensure_targets(request.size)?;
@@ -495,6 +507,20 @@ impl VolumeRenderer {
                     1,
                 );
             }
+        }
+        // In the frame's own submission: a separate one upsets lavapipe's timestamps of every
+        // later frame (they read ~0.1 ms; seen with Mesa 22.3, not on the H100).
+        if let Some(restart) = accumulate {
+            self.accumulated = match self.refine.as_mut() {
+                Some(acc) => acc.add(
+                    &self.ctx,
+                    &mut encoder,
+                    &targets.output_view,
+                    targets.size,
+                    restart,
+                ),
+                None => None,
+            };
         }
         if let Some(s) = &slot {
             self.probes.finish(s, &mut encoder);
@@ -681,6 +707,83 @@ impl VolumeRenderer {
 }
 
 impl VolumeRenderer {
+    /// Renders `request` and adds it to the refinement mean (`restart`: as its first frame);
+    /// returns the frame and the frames the mean holds, `None` when the image is too large for
+    /// the per-pixel sums (more than the device's largest storage buffer: 128 MiB, 8.4 M pixels,
+    /// by default).
+    pub fn render_accumulated(
+        &mut self,
+        request: &FrameRequest,
+        restart: bool,
+    ) -> Result<(SubmittedFrame, Option<u32>), RenderError> {
+        if self.refine.is_none() {
+            self.refine = Some(Accumulator::new(&self.ctx.device)?);
+        }
+        self.accumulate_next = Some(restart);
+        self.accumulated = None;
+        let submitted = self.render(request);
+        self.accumulate_next = None;
+        Ok((submitted?, self.accumulated))
+    }
+
+    /// Whether any frame was ever added to a refinement mean.
+    pub fn has_accumulated(&self) -> bool {
+        self.refine.as_ref().is_some_and(|a| a.count() > 0)
+    }
+
+    /// The refinement mean's view (for display), once a frame was added to it.
+    pub fn refined_view(&self) -> Option<&wgpu::TextureView> {
+        self.refine.as_ref()?.mean().map(|(_, view, _)| view)
+    }
+
+    /// Copies the refinement mean to the CPU (waits for the GPU).
+    pub fn read_refined(&self) -> Result<ImageF32, RenderError> {
+        let (texture, _, size) = self
+            .refine
+            .as_ref()
+            .and_then(Accumulator::mean)
+            .ok_or(RenderError::NoVolume)?;
+        read_texture(&self.ctx, texture, size).map_err(RenderError::Gpu)
+    }
+
+    /// Renders `frames` frames of the view at the offsets of [`refine::offset`] and returns
+    /// their mean (one plain frame for `frames` ≤ 1, or when the image is too large for the
+    /// sums: then with a warning in the log).
+    pub fn render_refined(
+        &mut self,
+        camera: &Camera,
+        size: [u32; 2],
+        settings: &RenderSettings,
+        frames: u32,
+    ) -> Result<ImageF32, RenderError> {
+        if frames <= 1 {
+            return self.render_image(camera, size, settings);
+        }
+        for k in 0..frames {
+            let shifted = RenderSettings {
+                sample_offset: refine::offset(k),
+                ..*settings
+            };
+            let request = FrameRequest {
+                camera,
+                size,
+                settings: &shifted,
+                stats: false,
+            };
+            if self.render_accumulated(&request, k == 0)?.1.is_none() {
+                log::warn!(
+                    "a {}×{} image is too large to refine; rendered once",
+                    size[0],
+                    size[1]
+                );
+                return self.render_image(camera, size, settings);
+            }
+        }
+        // The frames' timings are nobody's: free their probes for the frames that follow.
+        self.collect_results(true);
+        self.read_refined()
+    }
+
     /// The leaping structures of the current volume (for tests and diagnostics).
     pub fn leap_structures(&self) -> Option<&LeapStructures> {
         self.leap.as_ref().map(|(l, _)| l)

@@ -144,8 +144,8 @@ pub struct RenderSettings {
     /// Position of the first sample within the first step, in steps (0..1): sample `k` lies at
     /// `t_entry + (k + offset) * step`.
     pub sample_offset: f64,
-    /// Jittered ray start: each pixel's offset comes from a stable hash of the pixel
-    /// ([`crate::sampling::pixel_jitter`]) instead of `sample_offset`, trading wood-grain rings
+    /// Jittered ray start: each pixel's offset comes from a stable hash of the pixel, rotated
+    /// by `sample_offset − ½` ([`crate::sampling::jittered_offset`]), trading wood-grain rings
     /// for fine noise.
     pub jitter: bool,
     /// Scale each sample's opacity to the step (`1 − (1 − α)^(Δt/d₀)`), so the picture does not

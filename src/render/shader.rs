@@ -30,6 +30,7 @@ const MODULES: &[(&str, &str)] = modules![
     "mode_iso.wgsl",
     "mode_mip.wgsl",
     "mode_xray.wgsl",
+    "accumulate.wgsl",
 ];
 
 /// Names of all shader modules.

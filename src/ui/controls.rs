@@ -162,6 +162,20 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
             );
             ui.end_row();
 
+            ui.label("Refine when still");
+            ui.add(
+                Slider::new(&mut state.refine_frames, 1..=super::MAX_REFINE_FRAMES)
+                    .logarithmic(true)
+                    .suffix(" frames"),
+            )
+            .on_hover_text(
+                "Once the view is still, render it again with the samples shifted along the \
+                 rays and show the mean: 8 frames sample each ray as densely as an 8× finer \
+                 step, for 8 frames' time spent only while nothing changes (1: off). Saved \
+                 images are refined the same way.",
+            );
+            ui.end_row();
+
             ui.label("Jitter");
             ui.checkbox(&mut state.jitter, "jittered ray starts")
                 .on_hover_text("A per-pixel offset of the first sample: fine noise instead of wood-grain rings");

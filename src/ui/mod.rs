@@ -93,6 +93,9 @@ pub struct ViewerState {
     pub show_controls: bool,
     /// Whether the readout (FPS, GPU time, adapter, volume) is drawn over the view.
     pub show_readout: bool,
+    /// Frames averaged, at shifted sample grids, once the view is still (1: no refinement).
+    #[serde(default = "default_refine_frames")]
+    pub refine_frames: u32,
     /// Whether the orientation marker (R/A/S axes) is drawn in the view's corner.
     #[serde(default = "yes")]
     pub show_orientation_marker: bool,
@@ -135,6 +138,7 @@ impl Default for ViewerState {
             show_controls: true,
             show_readout: true,
             show_orientation_marker: true,
+            refine_frames: DEFAULT_REFINE_FRAMES,
             recent: Vec::new(),
             preintegrated: false,
             crop: crate::render::CropBox::FULL,
@@ -143,6 +147,17 @@ impl Default for ViewerState {
         state.apply_quality(QualityPreset::Balanced);
         state
     }
+}
+
+/// Frames a still view is refined to by default: 8 shifted grids sample each ray as densely as
+/// a step 8 times finer.
+pub const DEFAULT_REFINE_FRAMES: u32 = 8;
+
+/// Most frames the refinement control offers.
+pub const MAX_REFINE_FRAMES: u32 = 64;
+
+fn default_refine_frames() -> u32 {
+    DEFAULT_REFINE_FRAMES
 }
 
 fn yes() -> bool {

@@ -77,6 +77,8 @@ pub struct Readout<'a> {
     pub tf_latency_ms: Option<f64>,
     /// Resolution scale of the frame on screen when it is an interaction preview.
     pub preview_scale: Option<f64>,
+    /// Frames in the refined mean on screen and the number aimed at, while refining or refined.
+    pub refined: Option<(u32, u32)>,
 }
 
 /// `1234567` as `1.23 M`.
@@ -97,7 +99,7 @@ impl Readout<'_> {
         let gpu = match (self.gpu_ms, self.has_timestamps) {
             (Some(ms), _) => format!("{ms:.2} ms GPU"),
             (None, true) => "… ms GPU".to_string(),
-            (None, false) => "GPU time n/a (no timestamp queries)".to_string(),
+            (None, false) => "GPU time n/a (no reliable timestamp queries)".to_string(),
         };
         let path = match self.path {
             Some(ConcretePath::Fragment) => " fragment",
@@ -115,6 +117,13 @@ impl Readout<'_> {
                 "preview at {:.0} % resolution (full quality once still)",
                 100.0 * scale
             ));
+        }
+        if let Some((n, target)) = self.refined {
+            lines.push(if n < target {
+                format!("refining: mean of {n} of {target} frames")
+            } else {
+                format!("refined: mean of {n} frames (shifted sample grids)")
+            });
         }
         if let Some((c, pixels)) = self.counters {
             lines.push(format!(
@@ -252,6 +261,7 @@ mod tests {
             rebuild_ms: Some(0.25),
             tf_latency_ms: Some(3.5),
             preview_scale: None,
+            refined: None,
         };
         let lines = readout.lines();
         assert_eq!(
@@ -276,6 +286,7 @@ mod tests {
             rebuild_ms: None,
             tf_latency_ms: None,
             preview_scale: None,
+            refined: None,
         };
         let nothing_yet = Readout {
             path: None,

@@ -53,6 +53,12 @@ pub struct Scene {
     lod: Lod,
     /// The view's size when the frame on screen is a reduced preview of it.
     preview_of: Option<[u32; 2]>,
+    /// Frames in the refinement mean on screen (0: the plain frame is on screen) and the number
+    /// aimed at.
+    refined: (u32, u32),
+    /// Renderer frame number of the last plain (not refinement) frame: the readout and the
+    /// cost model take timings of plain frames only.
+    last_plain_frame: u64,
 }
 
 impl Scene {
@@ -86,6 +92,8 @@ impl Scene {
             last_pixels: 0,
             lod: Lod::default(),
             preview_of: None,
+            refined: (0, 0),
+            last_plain_frame: 0,
         })
     }
 
@@ -151,9 +159,16 @@ impl Scene {
     /// Takes the GPU timings that have arrived; returns whether more are on their way.
     pub fn collect_measurements(&mut self) -> bool {
         for result in self.renderer.collect_results(false) {
+            // A refinement frame costs what its plain frame cost; lavapipe (Mesa 22.3) also
+            // misreports the timestamps of frames after an accumulation (~0.1 ms).
+            if result.frame > self.last_plain_frame {
+                continue;
+            }
             if let Some(ms) = result.gpu_ms {
                 self.gpu_ms = Some(ms);
-                self.lod.measured(result.frame, ms);
+                if self.timestamps_reliable() {
+                    self.lod.measured(result.frame, ms);
+                }
             }
             if let Some(c) = result.counters {
                 self.counters = Some((c, self.last_pixels));
@@ -201,7 +216,7 @@ impl Scene {
         self.apply_transfer(state);
         let image = self
             .renderer
-            .render_image(&camera, size, &state.render_settings())
+            .render_refined(&camera, size, &state.render_settings(), state.refine_frames)
             .map_err(|e| format!("Cannot render a {}×{} image: {e}", size[0], size[1]));
         self.redraw.invalidate();
         image
@@ -240,7 +255,7 @@ impl Scene {
             stats: state.statistics,
         };
         if !self.redraw.needs_render(&inputs) {
-            return Ok(false);
+            return self.refine_step(&inputs, interacting);
         }
         let request = FrameRequest {
             camera: &inputs.camera,
@@ -253,18 +268,48 @@ impl Scene {
         }
         self.last_pixels = u64::from(size_px[0]) * u64::from(size_px[1]);
         let submit_started = Instant::now();
-        let result = self.renderer.render(&request);
+        // A full frame of a view that may be refined starts the mean (a cheap pass in the same
+        // submission) and is shown from it; previews and statistics frames are shown as they
+        // are.
+        let refine = scale == 1.0 && !state.statistics && state.refine_frames > 1;
+        self.refined = (0, state.refine_frames);
+        let result = if refine {
+            self.renderer
+                .render_accumulated(&request, true)
+                .map(|(frame, n)| {
+                    self.refined.0 = n.unwrap_or(0);
+                    frame
+                })
+        } else {
+            self.renderer.render(&request)
+        };
         let submit_ms = submit_started.elapsed().as_secs_f64() * 1e3;
         // Marked even on failure, so a failing frame is not retried on every pass.
         self.redraw.mark_rendered(inputs);
         let submitted = result.map_err(|e| format!("Cannot render the volume: {e}"))?;
         self.lod.submitted(submitted.frame, self.last_pixels);
+        self.last_plain_frame = submitted.frame;
         self.preview_of = (size_px != view_px).then_some(view_px);
         self.frames_rendered += 1;
         self.quiet_passes = 0;
         self.fps.record(Instant::now());
         self.path_used = Some(submitted.key.path);
-        if let Some(view) = self.renderer.output_view() {
+        self.show_frame(size_px);
+        log::debug!(
+            "rendered volume frame {} at {size_px:?} ({submit_ms:.0} ms to submit)",
+            self.frames_rendered
+        );
+        Ok(true)
+    }
+
+    /// Points the view at the refinement mean when it holds frames, else at the plain frame.
+    fn show_frame(&mut self, size_px: [u32; 2]) {
+        let view = if self.refined.0 > 0 {
+            self.renderer.refined_view()
+        } else {
+            self.renderer.output_view()
+        };
+        if let Some(view) = view {
             self.texture.sync(
                 &self.egui_renderer,
                 &self.device,
@@ -273,11 +318,64 @@ impl Scene {
                 self.preview_of.is_some(),
             );
         }
+    }
+
+    /// With the view unchanged (`inputs` already on screen) and still: renders the next frame of
+    /// the refinement at its shifted sample grid and adds it to the mean on screen. Returns
+    /// whether a frame was rendered.
+    fn refine_step(&mut self, inputs: &FrameInputs, interacting: bool) -> Result<bool, String> {
+        let (done, target) = self.refined;
+        if interacting || done == 0 || done >= target || self.preview_of.is_some() {
+            return Ok(false);
+        }
+        let settings = crate::render::RenderSettings {
+            sample_offset: crate::render::refine::offset(done),
+            ..inputs.settings
+        };
+        let request = FrameRequest {
+            camera: &inputs.camera,
+            size: inputs.size_px,
+            settings: &settings,
+            stats: false,
+        };
+        let added = self
+            .renderer
+            .render_accumulated(&request, false)
+            .map_err(render_error)
+            .map(|(_, n)| n);
+        match added {
+            Ok(Some(n)) => self.refined.0 = n,
+            Ok(None) => self.refined = (0, 0),
+            Err(e) => {
+                // Not retried: the plain frame stays on screen.
+                self.refined = (0, 0);
+                self.show_frame(inputs.size_px);
+                return Err(e);
+            }
+        }
+        self.show_frame(inputs.size_px);
+        self.quiet_passes = 0;
         log::debug!(
-            "rendered volume frame {} at {size_px:?} ({submit_ms:.0} ms to submit)",
-            self.frames_rendered
+            "refined volume frame {} to a mean of {}/{target}",
+            self.frames_rendered,
+            self.refined.0
         );
         Ok(true)
+    }
+
+    /// Whether the GPU timings can be shown: the adapter has timestamp queries, and it is not a
+    /// CPU driver that has run a refinement (lavapipe, Mesa 22.3, reports ~0.1 ms for every frame
+    /// from the first accumulation on; the H100 reports the same times with and without).
+    fn timestamps_reliable(&self) -> bool {
+        let ctx = self.renderer.context();
+        ctx.has_timestamps()
+            && !(ctx.adapter_info.device_type == wgpu::DeviceType::Cpu
+                && self.renderer.has_accumulated())
+    }
+
+    /// Whether the view is being refined (another refinement frame will come when still).
+    pub fn refining(&self) -> bool {
+        self.refined.0 > 0 && self.refined.0 < self.refined.1
     }
 
     /// Draws the last image with its top-left corner at `origin` (a preview stretched over the
@@ -296,8 +394,8 @@ impl Scene {
     pub fn readout(&mut self, state: &ViewerState, now: Instant) -> Readout<'_> {
         Readout {
             fps: self.fps.fps(now),
-            gpu_ms: self.gpu_ms,
-            has_timestamps: self.renderer.context().has_timestamps(),
+            gpu_ms: self.gpu_ms.filter(|_| self.timestamps_reliable()),
+            has_timestamps: self.timestamps_reliable(),
             adapter: &self.adapter_label,
             path: self.path_used,
             strategy: state.strategy.label(),
@@ -306,6 +404,7 @@ impl Scene {
             rebuild_ms: self.rebuild_ms.filter(|_| state.strategy.leaps()),
             tf_latency_ms: self.tf_latency_ms,
             preview_scale: self.preview_scale(),
+            refined: Some(self.refined).filter(|(n, _)| *n > 0),
         }
     }
 
@@ -337,11 +436,20 @@ impl Scene {
 
     /// The frame on screen, read back from the GPU (waits for it).
     pub fn read_image(&self) -> Result<ImageF32, RenderError> {
-        self.renderer.read_image()
+        if self.refined.0 > 0 {
+            self.renderer.read_refined()
+        } else {
+            self.renderer.read_image()
+        }
     }
 
     /// Whether GPU timings are still on their way.
     pub fn results_pending(&self) -> bool {
         self.renderer.results_pending()
     }
+}
+
+/// A render error as the one-line message the window shows.
+fn render_error(e: RenderError) -> String {
+    format!("Cannot render the volume: {e}")
 }

@@ -29,6 +29,7 @@ mod opacity;
 mod preintegration;
 mod recompute;
 mod reference_match;
+mod refine;
 mod shaders;
 mod strategies;
 mod ui_snapshots;

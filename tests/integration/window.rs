@@ -114,6 +114,21 @@ fn window_renders_the_frames_asked_for_and_shows_the_renderers_pixels() {
     let frames = log.matches("rendered volume frame").count();
     let passes = log.matches("egui pass").count();
     assert_eq!(frames, FRAMES, "{log}");
+    // The first frame stays still until the screenshot, which waits for its refinement to the
+    // default mean; frame 2 is turned away from at once, so it is never refined.
+    let full = leapview::ui::DEFAULT_REFINE_FRAMES;
+    assert_eq!(
+        log.matches("refined volume frame 1 to").count() as u32,
+        full - 1,
+        "{log}"
+    );
+    assert_eq!(log.matches("refined volume frame 2 to").count(), 0, "{log}");
+    let refined_at = log.find(&format!("mean of {full}/{full}"));
+    let shot_at = log.find("saved the window");
+    assert!(
+        refined_at.zip(shot_at).is_some_and(|(r, s)| r < s),
+        "the screenshot did not wait for the refinement:\n{log}"
+    );
     // The screenshot waits for several passes without a new frame: passes alone render nothing.
     assert!(
         passes > frames + 3,
