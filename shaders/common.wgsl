@@ -74,8 +74,7 @@ fn pixel_jitter(px: vec2<u32>) -> f32 {
 // default ½; progressive refinement rotates it), as `jittered_offset` in src/sampling.rs.
 fn sample_offset_of(px: vec2<u32>) -> f32 {
     if frame.iso.z > 0.5 {
-        let o = pixel_jitter(px) + (frame.sample_offset - 0.5);
-        return select(o, o - 1.0, o >= 1.0) + select(0.0, 1.0, o < 0.0);
+        return fract(pixel_jitter(px) + (frame.sample_offset - 0.5));
     }
     return frame.sample_offset;
 }

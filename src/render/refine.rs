@@ -8,6 +8,7 @@
 use super::context::GpuContext;
 use super::pipelines::OUTPUT_FORMAT;
 use super::shader::{ShaderError, compose};
+use super::targets::texture;
 
 /// Sample offset (in steps, in `[0, 1)`) of refinement frame `k`: 0.5 for the first (the offset
 /// of an unrefined frame), then the van der Corput sequence rotated by ½, so that the first
@@ -42,9 +43,11 @@ pub struct Accumulator {
 
 struct Images {
     size: [u32; 2],
-    sum: wgpu::Buffer,
     mean: wgpu::Texture,
     mean_view: wgpu::TextureView,
+    /// The frame it reads (the renderer's output), and the pass's bindings for it.
+    latest: wgpu::TextureView,
+    group: wgpu::BindGroup,
 }
 
 impl Accumulator {
@@ -99,8 +102,13 @@ impl Accumulator {
         restart: bool,
     ) -> Option<u32> {
         let bytes = Self::sum_bytes(ctx, size)?;
-        if self.images.as_ref().is_none_or(|i| i.size != size) {
-            self.images = Some(Images::new(&ctx.device, size, bytes));
+        // Rebuilt only when the image size or the output texture changed.
+        if self
+            .images
+            .as_ref()
+            .is_none_or(|i| i.size != size || i.latest != *latest)
+        {
+            self.images = Some(self.images_for(&ctx.device, latest, size, bytes));
             self.count = 0;
         }
         let images = self.images.as_ref()?;
@@ -113,34 +121,12 @@ impl Accumulator {
         };
         ctx.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("accumulate"),
-            layout: &self.pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: self.params.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(latest),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: images.sum.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&images.mean_view),
-                },
-            ],
-        });
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("accumulate"),
             timestamp_writes: None,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &group, &[]);
+        pass.set_bind_group(0, &images.group, &[]);
         pass.dispatch_workgroups(size[0].div_ceil(8), size[1].div_ceil(8), 1);
         Some(self.count)
     }
@@ -159,8 +145,15 @@ impl Accumulator {
     }
 }
 
-impl Images {
-    fn new(device: &wgpu::Device, size: [u32; 2], bytes: u64) -> Self {
+impl Accumulator {
+    /// The sums (`bytes`), the mean texture and the bind group for frames read from `latest`.
+    fn images_for(
+        &self,
+        device: &wgpu::Device,
+        latest: &wgpu::TextureView,
+        size: [u32; 2],
+        bytes: u64,
+    ) -> Images {
         use wgpu::TextureUsages as U;
         let sum = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("accumulated sums"),
@@ -168,26 +161,42 @@ impl Images {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
-        let mean = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("refined mean"),
-            size: wgpu::Extent3d {
-                width: size[0],
-                height: size[1],
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: OUTPUT_FORMAT,
-            usage: U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC,
-            view_formats: &[],
-        });
-        let mean_view = mean.create_view(&wgpu::TextureViewDescriptor::default());
-        Self {
+        let mean = texture(
+            device,
             size,
-            sum,
+            OUTPUT_FORMAT,
+            U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC,
+            "refined mean",
+        );
+        let mean_view = mean.create_view(&wgpu::TextureViewDescriptor::default());
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("accumulate"),
+            layout: &self.pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(latest),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: sum.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&mean_view),
+                },
+            ],
+        });
+        Images {
+            size,
             mean,
             mean_view,
+            latest: latest.clone(),
+            group,
         }
     }
 }

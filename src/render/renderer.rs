@@ -114,10 +114,6 @@ pub struct VolumeRenderer {
     work: WorkCounts,
     /// The running mean of progressive refinement (built on first use).
     refine: Option<Accumulator>,
-    /// Whether the next frame is added to the mean (`Some(true)`: as its first frame).
-    accumulate_next: Option<bool>,
-    /// Frames in the mean after the last frame that was added, `None` when it could not be.
-    accumulated: Option<u32>,
 }
 
 /// How often the renderer did each piece of work since it was made: what tests read to prove
@@ -195,8 +191,6 @@ impl VolumeRenderer {
             leap: None,
             auto_path: None,
             refine: None,
-            accumulate_next: None,
-            accumulated: None,
         })
     }
 
@@ -358,9 +352,18 @@ impl VolumeRenderer {
 
     /// Records and submits one frame. Its measurements arrive through [`Self::collect_results`].
     pub fn render(&mut self, request: &FrameRequest) -> Result<SubmittedFrame, RenderError> {
+        self.render_with(request, None).map(|(frame, _)| frame)
+    }
+
+    /// [`Self::render`], adding the frame to the refinement mean in the same submission when
+    /// `accumulate` says so (`Some(true)`: as its first frame); returns the frames the mean
+    /// then holds (`None`: not added).
+    fn render_with(
+        &mut self,
+        request: &FrameRequest,
+        accumulate: Option<bool>,
+    ) -> Result<(SubmittedFrame, Option<u32>), RenderError> {
         request.settings.validate()?;
-        // Taken first: resolving `auto` renders calibration frames, which must not accumulate.
-        let accumulate = self.accumulate_next.take();
         let path = self.resolve_path(request.settings.path)?;
         let key = PipelineKey::new(request.settings, path, request.stats);
         self.ensure_targets(request.size)?;
@@ -510,18 +513,16 @@ impl VolumeRenderer {
         }
         // In the frame's own submission: a separate one upsets lavapipe's timestamps of every
         // later frame (they read ~0.1 ms; seen with Mesa 22.3, not on the H100).
-        if let Some(restart) = accumulate {
-            self.accumulated = match self.refine.as_mut() {
-                Some(acc) => acc.add(
-                    &self.ctx,
-                    &mut encoder,
-                    &targets.output_view,
-                    targets.size,
-                    restart,
-                ),
-                None => None,
-            };
-        }
+        let accumulated = match (accumulate, self.refine.as_mut()) {
+            (Some(restart), Some(acc)) => acc.add(
+                &self.ctx,
+                &mut encoder,
+                &targets.output_view,
+                targets.size,
+                restart,
+            ),
+            _ => None,
+        };
         if let Some(s) = &slot {
             self.probes.finish(s, &mut encoder);
         }
@@ -532,10 +533,11 @@ impl VolumeRenderer {
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RenderError::Gpu(e.to_string()));
         }
-        Ok(SubmittedFrame {
+        let frame = SubmittedFrame {
             frame: self.frame_counter,
             key,
-        })
+        };
+        Ok((frame, accumulated))
     }
 
     /// Results of finished frames, oldest first; with `wait`, waits for all submitted frames.
@@ -719,11 +721,7 @@ impl VolumeRenderer {
         if self.refine.is_none() {
             self.refine = Some(Accumulator::new(&self.ctx.device)?);
         }
-        self.accumulate_next = Some(restart);
-        self.accumulated = None;
-        let submitted = self.render(request);
-        self.accumulate_next = None;
-        Ok((submitted?, self.accumulated))
+        self.render_with(request, Some(restart))
     }
 
     /// Whether any frame was ever added to a refinement mean.

@@ -15,7 +15,8 @@ pub struct Targets {
     pub output_view: wgpu::TextureView,
 }
 
-fn texture(
+/// A 2D texture of `size` pixels, one mip level, no multisampling.
+pub(super) fn texture(
     device: &wgpu::Device,
     size: [u32; 2],
     format: wgpu::TextureFormat,

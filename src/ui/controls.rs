@@ -253,14 +253,9 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
             } else {
                 "no orientation in the file: RAS assumed".to_string()
             };
-            if o.is_mirrored() {
-                let text = egui::RichText::new(format!("{} · mirrored", o.code()))
-                    .color(ui.visuals().warn_fg_color);
-                ui.label(text).on_hover_text(format!(
-                    "{note}; the index axes are a mirror image of the patient, so the 3D \
-                     picture is mirrored (left and right swapped)"
-                ));
-            } else if v.reversed_i {
+            // Loading reverses a mirrored file along i (`Volume::unmirrored`), so what is shown
+            // is never a mirror image.
+            if v.reversed_i {
                 let file = o.with_axis_reversed(0).code();
                 ui.label(egui::RichText::new(format!("{} · i reversed", o.code())).weak())
                     .on_hover_text(format!(

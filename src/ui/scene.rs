@@ -286,7 +286,7 @@ impl Scene {
         let submit_ms = submit_started.elapsed().as_secs_f64() * 1e3;
         // Marked even on failure, so a failing frame is not retried on every pass.
         self.redraw.mark_rendered(inputs);
-        let submitted = result.map_err(|e| format!("Cannot render the volume: {e}"))?;
+        let submitted = result.map_err(render_error)?;
         self.lod.submitted(submitted.frame, self.last_pixels);
         self.last_plain_frame = submitted.frame;
         self.preview_of = (size_px != view_px).then_some(view_px);

@@ -375,17 +375,9 @@ fn a_mirrored_file_renders_as_the_patient_not_their_mirror_image() {
         .collect();
     let dir = common::TempDir::new("cli-mirrored");
     let file = |name: &str, srow_x: [f32; 4], data: &[u8]| {
-        let mut bytes =
-            common::NiftiSpec::new(leapview::volume::ScalarType::U8, DIMS, [1.0; 3]).file(data);
-        let srows = [srow_x, [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]];
-        bytes[254..256].copy_from_slice(&1i16.to_le_bytes()); // sform_code
-        for (r, row) in srows.iter().enumerate() {
-            for (c, v) in row.iter().enumerate() {
-                let at = 280 + 16 * r + 4 * c;
-                bytes[at..at + 4].copy_from_slice(&v.to_le_bytes());
-            }
-        }
-        dir.write(name, &bytes)
+        let mut spec = common::NiftiSpec::new(leapview::volume::ScalarType::U8, DIMS, [1.0; 3]);
+        spec.sform = Some([srow_x, [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]);
+        dir.write(name, &spec.file(data))
     };
     let ras_path = file("ras.nii", [1.0, 0.0, 0.0, 0.0], &ras);
     let las_path = file("las.nii", [-1.0, 0.0, 0.0, 11.0], &las);

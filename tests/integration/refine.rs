@@ -5,38 +5,18 @@
 
 use crate::common;
 
-use glam::DVec3;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
 use leapview::reference;
 use leapview::render::refine::offset;
 use leapview::render::{RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
-use leapview::volume::{Samples, ValueMapping, Volume};
+use leapview::volume::{Volume, synthetic};
 
-/// A 20³ volume holding a ball with a hard edge (value 1000 inside radius 7): under a sharp
-/// transfer function its surface aliases at coarse steps.
+/// A 20³ volume holding a ball of radius 7 (1000 inside, 0 outside, a one-voxel edge): under a
+/// sharp transfer function its surface aliases at coarse steps.
 fn hard_ball() -> Volume {
-    let n = 20u32;
-    let c = DVec3::splat(9.5);
-    let samples = (0..n * n * n)
-        .map(|i| {
-            let p = DVec3::new(
-                f64::from(i % n),
-                f64::from((i / n) % n),
-                f64::from(i / (n * n)),
-            );
-            if (p - c).length() < 7.0 { 1000.0 } else { 0.0 }
-        })
-        .collect();
-    Volume::new(
-        "hard ball",
-        [n; 3],
-        [1.0; 3],
-        Samples::F32(samples),
-        ValueMapping::IDENTITY,
-    )
-    .expect("valid")
+    synthetic::sphere(20, 7.0, 1000.0, 0.0).expect("valid")
 }
 
 /// Opaque from 450 to 550: a thin shell of the interpolated edge.

@@ -178,6 +178,8 @@ pub struct NiftiSpec {
     pub big_endian: bool,
     /// `magic`.
     pub magic: [u8; 4],
+    /// `srow_x`, `srow_y`, `srow_z` with `sform_code` 1 (scanner anatomical), or no sform.
+    pub sform: Option<[[f32; 4]; 3]>,
 }
 
 impl NiftiSpec {
@@ -203,6 +205,7 @@ impl NiftiSpec {
             scl_inter: 0.0,
             big_endian: false,
             magic: *b"n+1\0",
+            sform: None,
         }
     }
 
@@ -229,6 +232,14 @@ impl NiftiSpec {
         put(112, &f32b(self.scl_slope));
         put(116, &f32b(self.scl_inter));
         put(344, &self.magic);
+        if let Some(rows) = self.sform {
+            put(254, &i16b(1));
+            for (r, row) in rows.iter().enumerate() {
+                for (c, v) in row.iter().enumerate() {
+                    put(280 + 16 * r + 4 * c, &f32b(*v));
+                }
+            }
+        }
         h
     }
 

@@ -8,10 +8,21 @@ use crate::common::{NiftiSpec, TempDir, load_ok, nrrd_file, nrrd_lines, samples_
 
 const DIMS: [u32; 3] = [4, 3, 2];
 
-/// A `.nii` file of [`DIMS`] with its header patched by `patch` (offsets of nifti1.h).
-fn nifti(dir: &TempDir, name: &str, pixdim0: f32, patch: &[(usize, Vec<u8>)]) -> String {
+/// The rows of an sform.
+type Sform = Option<[[f32; 4]; 3]>;
+
+/// A `.nii` file of [`DIMS`] with `sform` and its header patched by `patch` (offsets of
+/// nifti1.h); returns the header's orientation code.
+fn nifti(
+    dir: &TempDir,
+    name: &str,
+    pixdim0: f32,
+    sform: Sform,
+    patch: &[(usize, Vec<u8>)],
+) -> String {
     let mut spec = NiftiSpec::new(ScalarType::U8, DIMS, [1.0, 1.0, 1.0]);
     spec.pixdim[0] = pixdim0;
+    spec.sform = sform;
     let mut bytes = spec.file(&to_bytes(&samples_of(ScalarType::U8, 24), false));
     for (offset, data) in patch {
         bytes[*offset..offset + data.len()].copy_from_slice(data);
@@ -39,33 +50,29 @@ fn f32s(values: &[f32]) -> Vec<u8> {
 }
 
 const QFORM_CODE: usize = 252;
-const SFORM_CODE: usize = 254;
 const QUATERN_B: usize = 256;
-const SROW_X: usize = 280;
 
 #[test]
 fn nifti_sform_is_preferred_and_qform_honours_qfac() {
     let dir = TempDir::new("orientation-nifti");
-    assert_eq!(nifti(&dir, "none.nii", 1.0, &[]), "none");
+    assert_eq!(nifti(&dir, "none.nii", 1.0, None, &[]), "none");
     // sform: i → −x (left), j → +z (superior), k → −y (posterior), with 0.8 mm on i.
-    let sform = vec![
-        (SFORM_CODE, 1i16.to_le_bytes().to_vec()),
-        (SROW_X, f32s(&[-0.8, 0.0, 0.0, 10.0])),
-        (SROW_X + 16, f32s(&[0.0, 0.0, -1.0, 0.0])),
-        (SROW_X + 32, f32s(&[0.0, 1.0, 0.0, 0.0])),
-    ];
-    assert_eq!(nifti(&dir, "sform.nii", 1.0, &sform), "LSP");
+    let sform = Some([
+        [-0.8, 0.0, 0.0, 10.0],
+        [0.0, 0.0, -1.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+    ]);
+    assert_eq!(nifti(&dir, "sform.nii", 1.0, sform, &[]), "LSP");
     // qform: 180° about z (b = c = 0, d = 1) turns i to the left and j to the back: LPS; with
     // qfac = −1 (pixdim[0] < 0) k flips too: LPI.
     let qform = vec![
         (QFORM_CODE, 1i16.to_le_bytes().to_vec()),
         (QUATERN_B, f32s(&[0.0, 0.0, 1.0])),
     ];
-    assert_eq!(nifti(&dir, "qform.nii", 1.0, &qform), "LPS");
-    assert_eq!(nifti(&dir, "qfac.nii", -1.0, &qform), "LPI");
+    assert_eq!(nifti(&dir, "qform.nii", 1.0, None, &qform), "LPS");
+    assert_eq!(nifti(&dir, "qfac.nii", -1.0, None, &qform), "LPI");
     // With both, the sform wins (as nibabel and ITK).
-    let both: Vec<_> = qform.iter().chain(&sform).cloned().collect();
-    assert_eq!(nifti(&dir, "both.nii", 1.0, &both), "LSP");
+    assert_eq!(nifti(&dir, "both.nii", 1.0, sform, &qform), "LSP");
 }
 
 #[test]
@@ -125,13 +132,12 @@ fn a_mirrored_file_is_read_reversed_along_i() {
     // LAS (sform i → −x): a mirror image of the patient; every row comes back reversed, so that
     // voxel i here is voxel 3 − i of the file, and the orientation reads RAS.
     let dir = TempDir::new("orientation-mirrored");
-    let las = vec![
-        (SFORM_CODE, 1i16.to_le_bytes().to_vec()),
-        (SROW_X, f32s(&[-1.0, 0.0, 0.0, 0.0])),
-        (SROW_X + 16, f32s(&[0.0, 1.0, 0.0, 0.0])),
-        (SROW_X + 32, f32s(&[0.0, 0.0, 1.0, 0.0])),
-    ];
-    assert_eq!(nifti(&dir, "las.nii", 1.0, &las), "LAS");
+    let las = Some([
+        [-1.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0, 0.0],
+    ]);
+    assert_eq!(nifti(&dir, "las.nii", 1.0, las, &[]), "LAS");
     let v = load_ok(&dir.path().join("las.nii"));
     assert_eq!(v.orientation().map(|o| o.code()).as_deref(), Some("RAS"));
     let file = samples_of(ScalarType::U8, 24);
@@ -143,13 +149,12 @@ fn a_mirrored_file_is_read_reversed_along_i() {
         assert_eq!(v.value(x, y, z), file.get_f64(in_file), "voxel {x} {y} {z}");
     }
     // Not mirrored (LPS, a half turn of RAS): unchanged.
-    let lps = vec![
-        (SFORM_CODE, 1i16.to_le_bytes().to_vec()),
-        (SROW_X, f32s(&[-1.0, 0.0, 0.0, 0.0])),
-        (SROW_X + 16, f32s(&[0.0, -1.0, 0.0, 0.0])),
-        (SROW_X + 32, f32s(&[0.0, 0.0, 1.0, 0.0])),
-    ];
-    assert_eq!(nifti(&dir, "lps.nii", 1.0, &lps), "LPS");
+    let lps = Some([
+        [-1.0, 0.0, 0.0, 0.0],
+        [0.0, -1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0, 0.0],
+    ]);
+    assert_eq!(nifti(&dir, "lps.nii", 1.0, lps, &[]), "LPS");
     let v = load_ok(&dir.path().join("lps.nii"));
     assert_eq!(v.samples(), &file);
 }
