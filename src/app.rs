@@ -10,7 +10,8 @@ use std::time::{Duration, Instant};
 use egui::{CentralPanel, Color32, Key, KeyboardShortcut, Modifiers, Panel, ViewportCommand};
 
 use crate::camera::ViewPreset;
-use crate::render::{Mode, RenderError};
+use crate::render::RenderError;
+use crate::settings::Mode;
 use crate::transfer::editor::TfEditor;
 use crate::transfer::{TransferFunction, ValueSpace};
 use crate::ui::controls::{PanelInfo, controls_ui};
@@ -183,7 +184,7 @@ impl LeapViewApp {
         match self.scene.show_volume(volume, self.state.projection) {
             Ok(summary) => {
                 self.state.effects.forget_data_values();
-                self.state.crop = crate::render::CropBox::FULL;
+                self.state.crop = crate::settings::CropBox::FULL;
                 if let VolumeSource::File { path, .. } = source {
                     self.state.remember_file(path);
                 }

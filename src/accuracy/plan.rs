@@ -4,9 +4,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::render::effects::{GradientScheme, MAX_ISO_REFINEMENT, Shading};
-use crate::render::settings::DEFAULT_TERMINATION_ALPHA;
-use crate::render::{Mode, QualityPreset, RenderSettings, Strategy, TexturePrecision};
+use crate::settings::DEFAULT_TERMINATION_ALPHA;
+use crate::settings::effects::{GradientScheme, MAX_ISO_REFINEMENT, Shading};
+use crate::settings::{Mode, QualityPreset, RenderSettings, Strategy, TexturePrecision};
 
 /// One swept quality knob (a series on the plot).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use clap::ValueEnum;
 use serde::{Deserialize, Serialize};
 
-use crate::render::{Mode, RenderPath, Strategy};
+use crate::settings::{Mode, RenderPath, Strategy};
 
 /// Why a configuration cannot be used.
 #[derive(Debug, thiserror::Error)]

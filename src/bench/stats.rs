@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::record::{RunKey, RunRecord};
-use crate::render::FrameCounters;
+use crate::counters::FrameCounters;
 
 /// The `q`-quantile (0..1) by nearest rank of `values`; `None` when empty.
 pub fn quantile(values: &[f64], q: f64) -> Option<f64> {

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 use leapview::camera::ProjectionKind;
-use leapview::render::{Mode, RenderPath, Strategy};
+use leapview::settings::{Mode, RenderPath, Strategy};
 
 /// LeapView: GPU volume ray casting for CT and MRI with empty-space leaping.
 #[derive(Parser, Debug)]
@@ -90,7 +90,7 @@ pub struct RenderArgs {
     #[arg(long)]
     pub jitter: bool,
     /// RC-t stops once accumulated opacity exceeds this.
-    #[arg(long, default_value_t = leapview::render::settings::DEFAULT_TERMINATION_ALPHA)]
+    #[arg(long, default_value_t = leapview::settings::DEFAULT_TERMINATION_ALPHA)]
     pub termination: f64,
     /// Pre-integrated classification (DVR): thin transfer-function features survive large steps.
     #[arg(long)]
@@ -98,12 +98,12 @@ pub struct RenderArgs {
     /// A quality preset (docs/accuracy): sets the step, termination, jitter, pre-integration,
     /// gradients and iso refinement (--gradient and --iso-refine still override it).
     #[arg(long, value_enum, conflicts_with_all = ["step", "termination", "jitter", "preintegrate"])]
-    pub quality: Option<leapview::render::QualityPreset>,
+    pub quality: Option<leapview::settings::QualityPreset>,
     /// Texel precision of the volume texture (auto: exact integers, f32 for floats).
     #[arg(long, value_enum, default_value = "auto")]
-    pub precision: leapview::render::TexturePrecision,
+    pub precision: leapview::settings::TexturePrecision,
     /// Edge of the leaping blocks in voxels (RC-s): 4, 8, 16, 32, 64 or 128.
-    #[arg(long, default_value_t = leapview::render::settings::DEFAULT_BLOCK_VOX)]
+    #[arg(long, default_value_t = leapview::settings::DEFAULT_BLOCK_VOX)]
     pub block: u32,
     /// Background colour `R,G,B` in 0..1.
     #[arg(long, value_parser = parse_vec3, default_value = "0,0,0")]

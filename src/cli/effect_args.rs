@@ -2,8 +2,8 @@
 //! colouring and X-ray attenuation (shared by `render` and `bench`).
 
 use clap::Args;
-use leapview::render::RenderSettings;
-use leapview::render::effects::{GradientScheme, IsoSettings, Light, MipColor, Phong, Shading};
+use leapview::settings::RenderSettings;
+use leapview::settings::effects::{GradientScheme, IsoSettings, Light, MipColor, Phong, Shading};
 
 use super::args::parse_vec3;
 

@@ -2,8 +2,10 @@
 
 use anyhow::Context;
 use leapview::camera::Aabb;
-use leapview::render::renderer::RenderError;
-use leapview::render::{FrameRequest, GpuContext, RenderSettings, VolumeRenderer};
+use leapview::render::RenderError;
+use leapview::render::raycast::auto_path;
+use leapview::render::{FrameRequest, GpuContext, VolumeRenderer};
+use leapview::settings::RenderSettings;
 use leapview::transfer::TransferFunction;
 
 use super::args::{RawArgs, RenderArgs};
@@ -44,7 +46,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     }
     args.effects.apply(&mut settings);
     if let Some(crop) = &args.crop {
-        settings.crop = leapview::render::CropBox::parse_voxels(crop, volume.dims())
+        settings.crop = leapview::settings::CropBox::parse_voxels(crop, volume.dims())
             .map_err(|e| Failure::BadInput(e.into()))?;
     }
     settings
@@ -62,6 +64,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         .set_volume_with(&volume, args.precision)
         .map_err(render_failure)?;
     renderer.set_transfer_function(&tf);
+    auto_path::choose(&mut renderer, settings.path).map_err(render_failure)?;
     let request = FrameRequest {
         camera: &camera,
         size: args.size,

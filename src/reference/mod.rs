@@ -13,8 +13,9 @@ mod trilinear;
 use glam::{DMat4, DVec2, DVec3};
 
 use crate::camera::{Aabb, Camera, pixel_to_ndc, unproject};
+use crate::counters::FrameCounters;
 use crate::imaging::ImageF32;
-use crate::render::settings::RenderSettings;
+use crate::settings::RenderSettings;
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
@@ -22,24 +23,13 @@ pub use modes::RayInput;
 pub use shade::{gradient, phong};
 pub use trilinear::sample_trilinear;
 
-/// Sample counts of a reference image (comparable with the GPU's statistics variants).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct ReferenceCounts {
-    /// Samples taken.
-    pub samples: u64,
-    /// Samples with non-zero opacity.
-    pub visible_samples: u64,
-    /// Rays that met the volume.
-    pub rays: u64,
-}
-
 /// A reference image and its counts.
 #[derive(Clone, Debug)]
 pub struct ReferenceImage {
     /// The image (alpha = 1: composited over the background).
     pub image: ImageF32,
     /// Sample counts.
-    pub counts: ReferenceCounts,
+    pub counts: FrameCounters,
 }
 
 /// Renders `volume` as the GPU would, in f64, on all cores.
@@ -66,13 +56,13 @@ pub fn render(
         .map_or(1, |n| n.get())
         .min(size[1].max(1) as usize);
     let chunk = rows.len().div_ceil(threads.max(1)).max(1);
-    let parts: Vec<(Vec<[f32; 4]>, ReferenceCounts)> = std::thread::scope(|scope| {
+    let parts: Vec<(Vec<[f32; 4]>, FrameCounters)> = std::thread::scope(|scope| {
         let handles: Vec<_> = rows
             .chunks(chunk)
             .map(|ys| {
                 let caster = &caster;
                 scope.spawn(move || {
-                    let mut counts = ReferenceCounts::default();
+                    let mut counts = FrameCounters::default();
                     let mut pixels = Vec::with_capacity(ys.len() * size[0] as usize);
                     for &y in ys {
                         for x in 0..size[0] {
@@ -88,13 +78,11 @@ pub fn render(
             .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
             .collect()
     });
-    let mut counts = ReferenceCounts::default();
+    let mut counts = FrameCounters::default();
     let mut pixels = Vec::with_capacity(size[0] as usize * size[1] as usize);
     for (p, c) in parts {
         pixels.extend(p);
-        counts.samples += c.samples;
-        counts.visible_samples += c.visible_samples;
-        counts.rays += c.rays;
+        counts.add(&c);
     }
     ReferenceImage {
         image: ImageF32 {
@@ -116,7 +104,7 @@ struct Caster<'a> {
 }
 
 impl Caster<'_> {
-    fn pixel(&self, x: u32, y: u32, counts: &mut ReferenceCounts) -> [f32; 4] {
+    fn pixel(&self, x: u32, y: u32, counts: &mut FrameCounters) -> [f32; 4] {
         let bg = DVec3::from_array(self.settings.background);
         let ndc = pixel_to_ndc(DVec2::new(x as f64 + 0.5, y as f64 + 0.5), self.size);
         // The ray starts on the near plane (t = 0), like the GPU's near-plane cap.

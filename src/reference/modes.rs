@@ -3,15 +3,14 @@
 
 use glam::DVec3;
 
-use crate::render::effects::{MipColor, Shading};
-use crate::render::settings::{Mode, RenderSettings, Strategy};
 use crate::sampling::{SampleGrid, corrected_opacity};
+use crate::settings::{MipColor, Mode, RenderSettings, Shading, Strategy};
 use crate::transfer::{TransferFunction, preintegration};
 use crate::volume::{ValueRange, Volume};
 
-use super::ReferenceCounts;
 use super::shade::{gradient, phong};
 use super::trilinear::sample_trilinear;
+use crate::counters::FrameCounters;
 
 /// One ray through the volume.
 pub struct RayInput<'a> {
@@ -86,7 +85,7 @@ impl RayInput<'_> {
 
 /// The pixel colour for a ray (composited over the background where the mode composites), or
 /// `None` to show the background.
-pub fn cast(ray: &RayInput, counts: &mut ReferenceCounts) -> Option<DVec3> {
+pub fn cast(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
     match ray.settings.mode {
         Mode::Dvr => Some(dvr(ray, counts)),
         Mode::Iso => iso(ray, counts),
@@ -99,7 +98,7 @@ fn stops_early(ray: &RayInput) -> bool {
     ray.settings.strategy != Strategy::Rc
 }
 
-fn dvr(ray: &RayInput, counts: &mut ReferenceCounts) -> DVec3 {
+fn dvr(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     if ray.settings.preintegrated {
         return dvr_preintegrated(ray, counts);
     }
@@ -131,7 +130,7 @@ fn dvr(ray: &RayInput, counts: &mut ReferenceCounts) -> DVec3 {
 
 /// DVR over the segments between consecutive samples (the first from the entry point), each
 /// classified by [`preintegration::segment`].
-fn dvr_preintegrated(ray: &RayInput, counts: &mut ReferenceCounts) -> DVec3 {
+fn dvr_preintegrated(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     let range = ray.range();
     let per_mm =
         ray.settings.opacity_step_vox() / (ray.settings.step_vox * ray.volume.min_spacing_mm());
@@ -168,7 +167,7 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut ReferenceCounts) -> DVec3 {
     color + (1.0 - alpha) * DVec3::from_array(ray.settings.background)
 }
 
-fn iso(ray: &RayInput, counts: &mut ReferenceCounts) -> Option<DVec3> {
+fn iso(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
     let range = ray.range();
     let iso = ray.settings.iso.threshold(range);
     let mut prev: Option<(f64, f64)> = None;
@@ -201,7 +200,7 @@ fn iso(ray: &RayInput, counts: &mut ReferenceCounts) -> Option<DVec3> {
     None
 }
 
-fn extreme(ray: &RayInput, counts: &mut ReferenceCounts) -> Option<DVec3> {
+fn extreme(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
     let minimum = ray.settings.mode == Mode::MinIp;
     let (lo, hi) = ray.window();
     let saturation = match (minimum, ray.settings.mip_color) {
@@ -240,7 +239,7 @@ fn extreme(ray: &RayInput, counts: &mut ReferenceCounts) -> Option<DVec3> {
     })
 }
 
-fn xray(ray: &RayInput, counts: &mut ReferenceCounts) -> DVec3 {
+fn xray(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     let (lo, hi) = ray.window();
     let attenuation = ray.settings.mode == Mode::XrayAttenuation;
     let density = ray.settings.xray_density_per_mm;

@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use crate::render::effects::{GradientScheme, Light, Phong};
+use crate::settings::{GradientScheme, Light, Phong};
 use crate::volume::Volume;
 
 use super::trilinear::sample_trilinear;

@@ -1,6 +1,7 @@
-//! WGSL composition: a tiny preprocessor over the modules in `shaders/` (`#include "file"`,
-//! included once; `#ifdef NAME` / `#ifndef NAME` / `#else` / `#endif`), so each pipeline variant
-//! is compiled from exactly the code its key selects.
+//! WGSL composition: a tiny preprocessor over the modules in `shaders/` (`#include "dir/file"`,
+//! relative to `shaders/`, included once; `#ifdef NAME` / `#ifndef NAME` / `#else` / `#endif`),
+//! so each pipeline variant is compiled from exactly the code its key selects. One module is generated rather than read:
+//! [`GENERATED_CONSTANTS`], the constants WGSL shares with Rust.
 
 /// `(name, source)` for files of `shaders/`, compiled into the binary.
 macro_rules! modules {
@@ -9,28 +10,30 @@ macro_rules! modules {
     };
 }
 
-/// The shader modules, compiled into the binary.
+/// The shader modules, compiled into the binary, by folder: the entry points of every pipeline,
+/// the ray loop and what it shares, one module per mode family, leaping, and the builders of the
+/// leaping structures.
 const MODULES: &[(&str, &str)] = modules![
-    "common.wgsl",
-    "proxy.wgsl",
-    "proxy_passes.wgsl",
-    "classify.wgsl",
-    "stats.wgsl",
-    "march.wgsl",
-    "raycast_fragment.wgsl",
-    "raycast_compute.wgsl",
-    "leap_common.wgsl",
-    "leap.wgsl",
-    "build_minmax.wgsl",
-    "build_emptiness.wgsl",
-    "build_distance.wgsl",
-    "shade.wgsl",
-    "mode_dvr.wgsl",
-    "preintegrate.wgsl",
-    "mode_iso.wgsl",
-    "mode_mip.wgsl",
-    "mode_xray.wgsl",
-    "accumulate.wgsl",
+    "entry/raycast_fragment.wgsl",
+    "entry/raycast_compute.wgsl",
+    "entry/proxy_passes.wgsl",
+    "entry/accumulate.wgsl",
+    "shared/common.wgsl",
+    "shared/proxy.wgsl",
+    "shared/classify.wgsl",
+    "shared/stats.wgsl",
+    "shared/shade.wgsl",
+    "shared/preintegrate.wgsl",
+    "shared/march.wgsl",
+    "modes/dvr.wgsl",
+    "modes/iso.wgsl",
+    "modes/mip.wgsl",
+    "modes/xray.wgsl",
+    "leap/pyramid.wgsl",
+    "leap/leap.wgsl",
+    "build/minmax.wgsl",
+    "build/emptiness.wgsl",
+    "build/distance.wgsl",
 ];
 
 /// Names of all shader modules.
@@ -77,8 +80,18 @@ pub fn compose(entry: &str, defines: &[&str]) -> Result<String, ShaderError> {
     Ok(out)
 }
 
-fn source_of(name: &str) -> Option<&'static str> {
-    MODULES.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
+/// The module that holds the constants shared with Rust, generated from
+/// [`super::gpu_data`] (it is not a file).
+pub const GENERATED_CONSTANTS: &str = "generated/constants.wgsl";
+
+fn source_of(name: &str) -> Option<std::borrow::Cow<'static, str>> {
+    if name == GENERATED_CONSTANTS {
+        return Some(super::gpu_data::wgsl_constants().into());
+    }
+    MODULES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, s)| (*s).into())
 }
 
 fn expand(
@@ -147,7 +160,7 @@ mod tests {
 
     #[test]
     fn includes_once_and_honours_defines() {
-        let plain = compose("march.wgsl", &[]).expect("composes");
+        let plain = compose("shared/march.wgsl", &[]).expect("composes");
         assert_eq!(
             plain.matches("struct Frame").count(),
             1,
@@ -155,8 +168,11 @@ mod tests {
         );
         assert!(!plain.contains("atomicAdd"));
         assert!(!plain.contains("frame.termination_alpha"));
-        let full =
-            compose("march.wgsl", &["MODE_DVR", "STATS", "EARLY_TERMINATION"]).expect("composes");
+        let full = compose(
+            "shared/march.wgsl",
+            &["MODE_DVR", "STATS", "EARLY_TERMINATION"],
+        )
+        .expect("composes");
         assert!(full.contains("atomicAdd"));
         assert!(full.contains("frame.termination_alpha"));
     }

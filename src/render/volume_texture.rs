@@ -8,12 +8,19 @@
 //! stays negative and the shader renders it transparent (hardware filter weights are multiples
 //! of 1/256, so a non-zero weight on `MISSING` gives at most −65504/256 + 1 < 0).
 
+use crate::settings::TexturePrecision;
 use crate::volume::{Samples, ScalarType, Volume};
 
 use super::context::GpuContext;
 
 /// Texel value of a NaN or infinite sample (the most negative finite f16).
 pub const MISSING: f32 = -65504.0;
+
+/// Normalised values below this come from interpolation touching a [`MISSING`] texel: the shaders
+/// treat such samples as missing (transparent) and the pyramid build leaves them out. Any
+/// non-zero hardware filter weight on `MISSING` (at least 1/256) gives at most −65504/256 + 1,
+/// far below it; finite values are at least 0.
+pub const MISSING_BELOW: f32 = -0.5;
 
 /// Largest slab uploaded in one `write_texture` call, in bytes.
 const SLAB_BYTES: usize = 64 << 20;
@@ -31,56 +38,13 @@ pub struct TexelEncoding {
     pub warning: Option<&'static str>,
 }
 
-/// The texel precision asked for: the best the adapter filters (the default), or one format
-/// forced, to measure what precision costs and buys (the accuracy benchmark).
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    Hash,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum TexturePrecision {
-    /// Exact integers in unorm texels, floats in R32Float, falling back to what the adapter
-    /// filters.
-    #[default]
-    Auto,
-    /// 8-bit unorm: 256 levels over the value range (exact for 8-bit data).
-    Unorm8,
-    /// 16-bit unorm: 65536 levels over the value range (exact for 16-bit data).
-    Unorm16,
-    /// 32-bit float holding the normalised value.
-    Float32,
-}
-
-impl TexturePrecision {
-    /// All precisions.
-    pub const ALL: [Self; 4] = [Self::Auto, Self::Unorm8, Self::Unorm16, Self::Float32];
-
-    /// The name used on the command line and in tables.
-    pub fn label(self) -> &'static str {
-        match self {
-            Self::Auto => "auto",
-            Self::Unorm8 => "8-bit",
-            Self::Unorm16 => "16-bit",
-            Self::Float32 => "f32",
-        }
-    }
-
-    /// The forced format, `None` for `Auto`.
-    pub fn format(self) -> Option<wgpu::TextureFormat> {
-        match self {
-            Self::Auto => None,
-            Self::Unorm8 => Some(wgpu::TextureFormat::R8Unorm),
-            Self::Unorm16 => Some(wgpu::TextureFormat::R16Unorm),
-            Self::Float32 => Some(wgpu::TextureFormat::R32Float),
-        }
+/// The format `precision` forces, `None` for `Auto`.
+pub fn forced_format(precision: TexturePrecision) -> Option<wgpu::TextureFormat> {
+    match precision {
+        TexturePrecision::Auto => None,
+        TexturePrecision::Unorm8 => Some(wgpu::TextureFormat::R8Unorm),
+        TexturePrecision::Unorm16 => Some(wgpu::TextureFormat::R16Unorm),
+        TexturePrecision::Float32 => Some(wgpu::TextureFormat::R32Float),
     }
 }
 
@@ -301,7 +265,7 @@ impl VolumeTexture {
                 adapter: ctx.adapter_info.name.clone(),
             });
         }
-        let encoding = match precision.format() {
+        let encoding = match forced_format(precision) {
             None => choose_encoding(volume, |f| ctx.is_filterable(f)),
             Some(format) => {
                 let refuse = |why: String| VolumeTextureError::Precision {
@@ -492,7 +456,7 @@ mod tests {
             let v = volume(samples, m);
             let norm = v.normalization_range();
             for precision in TexturePrecision::ALL {
-                let Some(format) = precision.format() else {
+                let Some(format) = forced_format(precision) else {
                     continue;
                 };
                 let e = encoding_for(&v, format);

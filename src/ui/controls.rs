@@ -4,8 +4,8 @@
 use egui::{ComboBox, Slider, SliderClamping};
 
 use crate::camera::ProjectionKind;
-use crate::render::settings::DEFAULT_TERMINATION_ALPHA;
-use crate::render::{ConcretePath, QualityPreset, RenderPath, Strategy};
+use crate::settings::DEFAULT_TERMINATION_ALPHA;
+use crate::settings::{ConcretePath, QualityPreset, RenderPath, Strategy};
 use crate::transfer::presets::NAMES;
 
 use super::menu::VIEWS;
@@ -183,7 +183,7 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
 
             ui.label("Pre-integration");
             ui.add_enabled(
-                state.mode == crate::render::Mode::Dvr,
+                state.mode == crate::settings::Mode::Dvr,
                 egui::Checkbox::new(&mut state.preintegrated, "pre-integrated classification"),
             )
             .on_hover_text(

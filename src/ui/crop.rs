@@ -6,8 +6,8 @@ use egui::{Color32, Pos2, Rect, Sense, Stroke, Vec2, pos2, vec2};
 use glam::{DMat4, DVec3};
 
 use crate::camera::{Aabb, Camera};
-use crate::render::CropBox;
-use crate::render::crop::MIN_CROP_FRACTION;
+use crate::settings::CropBox;
+use crate::settings::crop::MIN_CROP_FRACTION;
 
 /// Radius of a face handle, in points.
 const HANDLE_RADIUS: f32 = 6.0;

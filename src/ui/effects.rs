@@ -4,11 +4,11 @@
 use egui::{ComboBox, DragValue, Sense, Slider, SliderClamping, Stroke, vec2};
 use serde::{Deserialize, Serialize};
 
-use crate::render::effects::{
+use crate::settings::effects::{
     DEFAULT_XRAY_DENSITY_PER_MM, GradientScheme, IsoSettings, Light, MAX_ISO_REFINEMENT, MipColor,
     Phong, Shading,
 };
-use crate::render::{Mode, RenderSettings};
+use crate::settings::{Mode, RenderSettings};
 use crate::volume::ValueRange;
 
 /// Height of the histogram under the iso slider, in points.

@@ -27,8 +27,8 @@ pub mod window;
 use serde::{Deserialize, Serialize};
 
 use crate::camera::{ProjectionKind, ViewPreset};
-use crate::render::settings::DEFAULT_TERMINATION_ALPHA;
-use crate::render::{Mode, QualityPreset, RenderPath, RenderSettings, Strategy};
+use crate::settings::DEFAULT_TERMINATION_ALPHA;
+use crate::settings::{Mode, QualityPreset, RenderPath, RenderSettings, Strategy};
 use crate::transfer::editor::TfEditor;
 use crate::transfer::{TransferFunction, presets};
 use crate::volume::{ScalarType, ValueRange, Volume};
@@ -101,7 +101,7 @@ pub struct ViewerState {
     pub show_orientation_marker: bool,
     /// The part of the volume shown (reset to the whole volume for each volume opened).
     #[serde(skip)]
-    pub crop: crate::render::CropBox,
+    pub crop: crate::settings::CropBox,
     /// Whether the cropping box and its handles are drawn over the view.
     #[serde(default)]
     pub show_crop_box: bool,
@@ -141,7 +141,7 @@ impl Default for ViewerState {
             refine_frames: DEFAULT_REFINE_FRAMES,
             recent: Vec::new(),
             preintegrated: false,
-            crop: crate::render::CropBox::FULL,
+            crop: crate::settings::CropBox::FULL,
             show_crop_box: false,
         };
         state.apply_quality(QualityPreset::Balanced);
@@ -169,7 +169,7 @@ fn default_mode() -> Mode {
 }
 
 fn default_block() -> u32 {
-    crate::render::settings::DEFAULT_BLOCK_VOX
+    crate::settings::DEFAULT_BLOCK_VOX
 }
 
 impl ViewerState {

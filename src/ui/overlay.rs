@@ -7,7 +7,8 @@ use std::time::{Duration, Instant};
 
 use egui::{Align2, Color32, Frame, Rect, RichText, UiBuilder};
 
-use crate::render::{ConcretePath, FrameCounters};
+use crate::counters::FrameCounters;
+use crate::settings::ConcretePath;
 
 use super::VolumeSummary;
 use super::loading::LoadStatus;

@@ -4,7 +4,7 @@
 //! like.
 
 use crate::camera::Camera;
-use crate::render::RenderSettings;
+use crate::settings::RenderSettings;
 
 /// Everything a volume frame depends on.
 #[derive(Clone, Debug, PartialEq)]
@@ -57,7 +57,7 @@ impl RedrawTracker {
 mod tests {
     use super::*;
     use crate::camera::{Aabb, ProjectionKind, ViewPreset};
-    use crate::render::Strategy;
+    use crate::settings::Strategy;
 
     fn inputs() -> FrameInputs {
         let bounds = Aabb::of_volume([64, 64, 32], [1.0, 1.0, 2.0]);

@@ -8,11 +8,11 @@ use std::time::{Duration, Instant};
 use egui::mutex::RwLock;
 
 use crate::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
+use crate::counters::FrameCounters;
 use crate::imaging::ImageF32;
-use crate::render::{
-    ConcretePath, FrameCounters, FrameRequest, GpuContext, RenderError, VolumeRenderer,
-};
-use crate::transfer::TransferFunction;
+use crate::render::raycast::auto_path;
+use crate::render::{FrameRequest, GpuContext, RenderError, VolumeRenderer};
+use crate::settings::ConcretePath;
 use crate::volume::Volume;
 
 use super::interaction::{framed, with_projection};
@@ -33,8 +33,9 @@ pub struct Scene {
     bounds: Option<Aabb>,
     volume: Option<VolumeSummary>,
     volume_generation: u64,
-    /// The transfer function given to the renderer and its generation.
-    transfer: Option<(TransferFunction, u64)>,
+    /// Whether the renderer has been given the editor's function yet (the first one is not an
+    /// edit whose latency is measured).
+    transfer_given: bool,
     /// When the renderer got a new transfer function whose frame has not come back yet.
     tf_edit_at: Option<Instant>,
     /// Milliseconds from the last transfer-function change to its frame's completion.
@@ -78,7 +79,7 @@ impl Scene {
             bounds: None,
             volume: None,
             volume_generation: 0,
-            transfer: None,
+            transfer_given: false,
             tf_edit_at: None,
             tf_latency_ms: None,
             redraw: RedrawTracker::default(),
@@ -185,24 +186,16 @@ impl Scene {
         self.renderer.results_pending()
     }
 
-    /// Gives the renderer the editor's transfer function when it changed; the table and the
-    /// leaping structures are rebuilt in the next frame.
+    /// Gives the renderer the editor's transfer function; when it changed, the renderer's
+    /// generation moves on (the one change signal: frames are rendered again for it) and the
+    /// table and the leaping structures are rebuilt in the next frame.
     fn apply_transfer(&mut self, state: &ViewerState) {
-        let tf = state.editor.tf();
-        if self
-            .transfer
-            .as_ref()
-            .is_some_and(|(applied, _)| applied == tf)
-        {
-            return;
-        }
-        self.renderer.set_transfer_function(tf);
+        let changed = self.renderer.set_transfer_function(state.editor.tf());
         // Latency is measured for edits, not for the first function (pipelines still compile).
-        if self.transfer.is_some() {
+        if changed && self.transfer_given {
             self.tf_edit_at = Some(Instant::now());
         }
-        let generation = self.transfer.as_ref().map_or(1, |(_, g)| g + 1);
-        self.transfer = Some((tf.clone(), generation));
+        self.transfer_given = true;
     }
 
     /// Renders the current view at `size` pixels at full quality, for saving; the window
@@ -214,9 +207,12 @@ impl Scene {
     ) -> Result<crate::imaging::ImageF32, String> {
         let camera = self.camera.ok_or("no volume on screen")?;
         self.apply_transfer(state);
-        let image = self
-            .renderer
-            .render_refined(&camera, size, &state.render_settings(), state.refine_frames)
+        let settings = state.render_settings();
+        let image = auto_path::choose(&mut self.renderer, settings.path)
+            .and_then(|_| {
+                self.renderer
+                    .render_refined(&camera, size, &settings, state.refine_frames)
+            })
             .map_err(|e| format!("Cannot render a {}×{} image: {e}", size[0], size[1]));
         self.redraw.invalidate();
         image
@@ -250,7 +246,7 @@ impl Scene {
             camera,
             size_px,
             settings: state.render_settings(),
-            transfer_generation: self.transfer.as_ref().map_or(0, |(_, g)| *g),
+            transfer_generation: self.renderer.transfer_generation(),
             volume_generation: self.volume_generation,
             stats: state.statistics,
         };
@@ -273,16 +269,19 @@ impl Scene {
         // are.
         let refine = scale == 1.0 && !state.statistics && state.refine_frames > 1;
         self.refined = (0, state.refine_frames);
-        let result = if refine {
-            self.renderer
-                .render_accumulated(&request, true)
-                .map(|(frame, n)| {
-                    self.refined.0 = n.unwrap_or(0);
-                    frame
-                })
-        } else {
-            self.renderer.render(&request)
-        };
+        // `auto` is timed on the first frame that asks for it (a few frames, once).
+        let result = auto_path::choose(&mut self.renderer, inputs.settings.path).and_then(|_| {
+            if refine {
+                self.renderer
+                    .render_accumulated(&request, true)
+                    .map(|(frame, n)| {
+                        self.refined.0 = n.unwrap_or(0);
+                        frame
+                    })
+            } else {
+                self.renderer.render(&request)
+            }
+        });
         let submit_ms = submit_started.elapsed().as_secs_f64() * 1e3;
         // Marked even on failure, so a failing frame is not retried on every pass.
         self.redraw.mark_rendered(inputs);
@@ -328,8 +327,8 @@ impl Scene {
         if interacting || done == 0 || done >= target || self.preview_of.is_some() {
             return Ok(false);
         }
-        let settings = crate::render::RenderSettings {
-            sample_offset: crate::render::refine::offset(done),
+        let settings = crate::settings::RenderSettings {
+            sample_offset: crate::render::raycast::refine::offset(done),
             ..inputs.settings
         };
         let request = FrameRequest {

@@ -6,8 +6,8 @@ use crate::common;
 
 use glam::DVec3;
 use leapview::camera::{Camera, ProjectionKind, ViewPreset};
-use leapview::render::effects::MipColor;
-use leapview::render::{CropBox, Mode, RenderPath, RenderSettings, Strategy};
+use leapview::settings::effects::MipColor;
+use leapview::settings::{CropBox, Mode, RenderPath, RenderSettings, Strategy};
 use leapview::volume::{Samples, ValueMapping, Volume};
 
 /// A crop of the test scene that cuts through the ball and the dense cube on every axis.

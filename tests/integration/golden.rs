@@ -6,7 +6,7 @@ use crate::common;
 
 use glam::DVec3;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
-use leapview::render::{RenderPath, RenderSettings, Strategy};
+use leapview::settings::{RenderPath, RenderSettings, Strategy};
 use leapview::transfer::TransferFunction;
 use leapview::transfer::presets::preset;
 use leapview::volume::synthetic::{self, Axis};

@@ -3,9 +3,10 @@
 use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
-use leapview::render::renderer::RenderError;
+use leapview::render::FrameRequest;
+use leapview::render::RenderError;
 use leapview::render::volume_texture::VolumeTextureError;
-use leapview::render::{FrameRequest, RenderSettings};
+use leapview::settings::RenderSettings;
 use leapview::volume::{Samples, ValueMapping, Volume};
 
 fn line(n: u32) -> Volume {
@@ -24,6 +25,8 @@ fn volume_past_the_3d_texture_limit_is_refused_and_the_previous_one_kept() {
     let mut r = common::renderer();
     let max = r.context().limits.max_texture_dimension_3d;
     r.set_volume(&line(4)).expect("small volume fits");
+    // Settings left at their default render with the path `auto`.
+    common::choose_auto_path(&mut r);
     let err = r.set_volume(&line(max + 1)).expect_err("too large");
     assert!(
         matches!(
@@ -52,6 +55,8 @@ fn volume_past_the_3d_texture_limit_is_refused_and_the_previous_one_kept() {
 fn image_sizes_outside_the_2d_limit_are_refused() {
     let mut r = common::renderer();
     r.set_volume(&line(4)).expect("fits");
+    // Settings left at their default render with the path `auto`.
+    common::choose_auto_path(&mut r);
     let max = r.context().limits.max_texture_dimension_2d;
     let bounds = Aabb::of_volume([4, 1, 1], [1.0; 3]);
     let (dir, up) = ViewPreset::Oblique.direction_and_up();
@@ -80,7 +85,7 @@ fn rendering_without_a_volume_is_an_error() {
             camera: &camera,
             size: [8, 8],
             settings: &RenderSettings {
-                path: leapview::render::RenderPath::Compute,
+                path: leapview::settings::RenderPath::Compute,
                 ..RenderSettings::default()
             },
             stats: false,

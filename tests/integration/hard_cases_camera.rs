@@ -10,8 +10,9 @@ use common::Uniform;
 use glam::DVec3;
 use leapview::camera::{Aabb, Camera, Projection, ProjectionKind, ViewPreset};
 use leapview::reference;
-use leapview::render::effects::IsoSettings;
-use leapview::render::{Mode, RenderSettings, Strategy, VolumeRenderer};
+use leapview::render::VolumeRenderer;
+use leapview::settings::effects::IsoSettings;
+use leapview::settings::{Mode, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume, synthetic};
 

@@ -7,8 +7,9 @@ use crate::common;
 use common::{check_reference, colour_ramp, framing, renderer_for, settings, variants};
 use glam::DVec3;
 use leapview::camera::{Aabb, Camera, Projection, ProjectionKind, ViewPreset};
-use leapview::render::effects::{IsoSettings, MipColor, Shading};
-use leapview::render::{Mode, RenderPath, RenderSettings, Strategy, VolumeRenderer};
+use leapview::render::VolumeRenderer;
+use leapview::settings::effects::{IsoSettings, MipColor, Shading};
+use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
 use leapview::volume::{Samples, ValueMapping, Volume, synthetic};
 
 #[test]

@@ -7,9 +7,10 @@ use crate::common;
 use common::Uniform;
 use leapview::camera::{Aabb, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
+use leapview::render::RenderError;
 use leapview::render::context::device_descriptor;
-use leapview::render::renderer::RenderError;
-use leapview::render::{GpuContext, Mode, RenderPath, Strategy, VolumeRenderer};
+use leapview::render::{GpuContext, VolumeRenderer};
+use leapview::settings::{Mode, RenderPath, Strategy};
 use leapview::volume::synthetic;
 
 #[test]

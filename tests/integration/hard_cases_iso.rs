@@ -9,8 +9,8 @@ use common::{check_reference, colour_ramp, framing, renderer_for, settings, vari
 use glam::DVec3;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::reference;
-use leapview::render::effects::{IsoSettings, Shading};
-use leapview::render::{Mode, RenderPath, RenderSettings, Strategy};
+use leapview::settings::effects::{IsoSettings, Shading};
+use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
 use leapview::volume::{Samples, ValueMapping, Volume, synthetic};
 
 /// 16-bit terraces: a floor of 100 (the minimum), a box of 2000 (a plateau) holding a smaller

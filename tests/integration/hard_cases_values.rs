@@ -11,8 +11,8 @@ use common::Uniform;
 use leapview::camera::{Aabb, Camera, Projection, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
 use leapview::reference::{self, sample_trilinear};
-use leapview::render::effects::{IsoSettings, MipColor, Shading};
-use leapview::render::{Mode, RenderPath, RenderSettings, Strategy};
+use leapview::settings::effects::{IsoSettings, MipColor, Shading};
+use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume, synthetic};
 

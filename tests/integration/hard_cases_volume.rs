@@ -8,8 +8,9 @@ use crate::common;
 use glam::DVec3;
 use leapview::camera::{Camera, ProjectionKind, ViewPreset};
 use leapview::reference;
-use leapview::render::effects::IsoSettings;
-use leapview::render::{Mode, RenderPath, RenderSettings, Strategy, VolumeRenderer};
+use leapview::render::VolumeRenderer;
+use leapview::settings::effects::IsoSettings;
+use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume, synthetic};
 

@@ -7,8 +7,10 @@ use leapview::accel::distance::chebyshev;
 use leapview::accel::emptiness::{OpacityIndex, TABLE_SIZE, table_says_empty};
 use leapview::accel::pyramid::{MinMax, build_cpu, normalized_values};
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
+use leapview::counters::FrameCounters;
+use leapview::render::VolumeRenderer;
 use leapview::render::readback::read_buffer;
-use leapview::render::{FrameCounters, RenderPath, RenderSettings, Strategy, VolumeRenderer};
+use leapview::settings::{RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace, lut};
 use leapview::volume::{Samples, ValueMapping, Volume, synthetic};
 
@@ -64,6 +66,8 @@ fn gpu_structures_equal_the_cpu_references() {
     let tf = threshold_tf(300.0);
     let mut r = common::renderer();
     r.set_volume(&volume).expect("upload");
+    // Settings left at their default render with the path `auto`.
+    common::choose_auto_path(&mut r);
     r.set_transfer_function(&tf);
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let (dir, up) = ViewPreset::Oblique.direction_and_up();
@@ -214,6 +218,8 @@ fn leaping_skips_most_samples_of_a_sparse_volume() {
     let mut r = common::renderer();
     r.set_volume(&volume).expect("upload");
     r.set_transfer_function(&tf);
+    // Settings left at their default render with the path `auto`.
+    common::choose_auto_path(&mut r);
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let (dir, up) = ViewPreset::Oblique.direction_and_up();
     let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);

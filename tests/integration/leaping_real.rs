@@ -5,7 +5,9 @@
 use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
-use leapview::render::{FrameCounters, RenderPath, RenderSettings, Strategy, VolumeRenderer};
+use leapview::counters::FrameCounters;
+use leapview::render::VolumeRenderer;
+use leapview::settings::{RenderPath, RenderSettings, Strategy};
 use leapview::transfer::TransferFunction;
 use leapview::transfer::presets::preset;
 use leapview::volume::load_volume;

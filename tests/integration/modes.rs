@@ -7,8 +7,9 @@ use crate::common;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
 use leapview::reference;
-use leapview::render::effects::{GradientScheme, IsoSettings, Light, MipColor, Shading};
-use leapview::render::{Mode, RenderPath, RenderSettings, Strategy, VolumeRenderer};
+use leapview::render::VolumeRenderer;
+use leapview::settings::effects::{GradientScheme, IsoSettings, Light, MipColor, Shading};
+use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
 use leapview::volume::synthetic;
 
 use common::scene::{scene, tf};
@@ -211,6 +212,8 @@ fn xray_mean_is_a_path_length_mean() {
     let volume = synthetic::constant([16, 12, 10], [1.0, 1.0, 2.0], 40.0).expect("constant");
     let mut r = common::renderer();
     r.set_volume(&volume).expect("upload");
+    // Settings left at their default render with the path `auto`.
+    common::choose_auto_path(&mut r);
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let (dir, up) = ViewPreset::Oblique.direction_and_up();
     let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);

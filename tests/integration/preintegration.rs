@@ -7,8 +7,8 @@ use crate::common;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
 use leapview::reference;
-use leapview::render::effects::Shading;
-use leapview::render::{RenderPath, RenderSettings, Strategy};
+use leapview::settings::effects::Shading;
+use leapview::settings::{RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume};
 

@@ -5,9 +5,8 @@
 use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
-use leapview::render::{
-    FrameRequest, Mode, RenderPath, RenderSettings, Strategy, VolumeRenderer, WorkCounts,
-};
+use leapview::render::{FrameRequest, VolumeRenderer, WorkCounts};
+use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
 use leapview::transfer::presets::preset;
 use leapview::volume::synthetic;
 

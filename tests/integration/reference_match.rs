@@ -4,8 +4,10 @@ use crate::common;
 
 use glam::DVec3;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
+use leapview::counters::FrameCounters;
 use leapview::reference;
-use leapview::render::{FrameRequest, RenderPath, RenderSettings, Strategy};
+use leapview::render::FrameRequest;
+use leapview::settings::{RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume};
 
@@ -98,7 +100,7 @@ fn compare(
     camera: &Camera,
     size: [u32; 2],
     settings: RenderSettings,
-) -> (leapview::render::FrameCounters, reference::ReferenceCounts) {
+) -> (FrameCounters, FrameCounters) {
     let mut r = common::renderer();
     r.set_volume(volume).expect("upload");
     r.set_transfer_function(tf);
@@ -303,6 +305,8 @@ fn jittered_starts_follow_the_reference_and_leaping_stays_exact() {
 
     let mut r = common::renderer();
     r.set_volume(&volume).expect("upload");
+    // Settings left at their default render with the path `auto`.
+    common::choose_auto_path(&mut r);
     r.set_transfer_function(&tf());
     let mut image = |settings: RenderSettings| {
         r.render_image(&camera, [40, 40], &settings)

@@ -8,8 +8,8 @@ use crate::common;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
 use leapview::reference;
-use leapview::render::refine::offset;
-use leapview::render::{RenderPath, RenderSettings, Strategy};
+use leapview::render::raycast::refine::offset;
+use leapview::settings::{RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Volume, synthetic};
 
@@ -112,6 +112,8 @@ fn the_mean_of_coarse_frames_is_closer_to_a_fine_step_than_one_frame() {
     let truth = reference::render(&volume, &tf, &camera, size, &fine).image;
     let mut r = common::renderer();
     r.set_volume(&volume).expect("upload");
+    // Settings left at their default render with the path `auto`.
+    common::choose_auto_path(&mut r);
     r.set_transfer_function(&tf);
     let coarse = RenderSettings {
         step_vox: 1.0,

@@ -1,9 +1,9 @@
-//! Every pipeline variant's WGSL, validated with naga without a GPU, and the uniform block's
-//! layout checked against the Rust struct.
+//! Every pipeline variant's WGSL, validated with naga without a GPU, and every GPU struct's
+//! layout checked field by field against naga's reflection of its WGSL twin.
 
-use leapview::render::pipelines::PipelineKey;
+use leapview::render::PipelineKey;
+use leapview::render::gpu_data::layouts;
 use leapview::render::shader::{compose, module_names};
-use leapview::render::uniforms::FrameUniforms;
 
 fn validate(name: &str, source: &str) -> naga::Module {
     let module = naga::front::wgsl::parse_str(source)
@@ -23,10 +23,15 @@ fn every_variant_validates() {
         let source = key.source().unwrap_or_else(|e| panic!("{key:?}: {e}"));
         validate(&format!("{key:?}"), &source);
     }
-    validate(
-        "proxy passes",
-        &compose("proxy_passes.wgsl", &[]).expect("composes"),
-    );
+    for entry in [
+        "entry/proxy_passes.wgsl",
+        "entry/accumulate.wgsl",
+        "build/minmax.wgsl",
+        "build/emptiness.wgsl",
+        "build/distance.wgsl",
+    ] {
+        validate(entry, &compose(entry, &[]).expect("composes"));
+    }
 }
 
 #[test]
@@ -95,8 +100,8 @@ fn texture_reads(module: &naga::Module) -> usize {
 
 #[test]
 fn variants_carry_only_the_effects_their_scene_needs() {
-    use leapview::render::Mode;
-    use leapview::render::effects::Shading;
+    use leapview::settings::Mode;
+    use leapview::settings::effects::Shading;
     for key in PipelineKey::all() {
         let module = validate(&format!("{key:?}"), &key.source().expect("composes"));
         let names = function_names(&module);
@@ -134,18 +139,77 @@ fn variants_carry_only_the_effects_their_scene_needs() {
     }
 }
 
+/// A naga type as WGSL spells it (the spelling `WgslType` uses on the Rust side).
+fn wgsl_spelling(module: &naga::Module, ty: naga::Handle<naga::Type>) -> String {
+    let scalar = |s: naga::Scalar| match (s.kind, s.width) {
+        (naga::ScalarKind::Float, 4) => "f32".to_string(),
+        (naga::ScalarKind::Uint, 4) => "u32".to_string(),
+        (naga::ScalarKind::Sint, 4) => "i32".to_string(),
+        other => format!("{other:?}"),
+    };
+    match &module.types[ty].inner {
+        naga::TypeInner::Scalar(s) => scalar(*s),
+        naga::TypeInner::Vector { size, scalar: s } => {
+            format!("vec{}<{}>", *size as u8, scalar(*s))
+        }
+        naga::TypeInner::Matrix {
+            columns,
+            rows,
+            scalar: s,
+        } => format!("mat{}x{}<{}>", *columns as u8, *rows as u8, scalar(*s)),
+        naga::TypeInner::Array {
+            base,
+            size: naga::ArraySize::Constant(n),
+            ..
+        } => format!("array<{}, {n}>", wgsl_spelling(module, *base)),
+        other => format!("{other:?}"),
+    }
+}
+
 #[test]
-fn frame_uniforms_match_the_wgsl_struct() {
-    let module = validate("common", &compose("common.wgsl", &[]).expect("composes"));
-    let (handle, _) = module
-        .types
-        .iter()
-        .find(|(_, t)| t.name.as_deref() == Some("Frame"))
-        .expect("struct Frame in common.wgsl");
-    let mut layouter = naga::proc::Layouter::default();
-    layouter.update(module.to_ctx()).expect("layout");
-    assert_eq!(
-        layouter[handle].size as usize,
-        std::mem::size_of::<FrameUniforms>()
+fn every_gpu_struct_matches_its_wgsl_twin_field_by_field() {
+    let all = layouts();
+    assert!(
+        all.len() >= 6,
+        "the uniform and parameter blocks are listed"
     );
+    for rust in all {
+        let source = compose(rust.module, &[]).expect("composes");
+        let module = validate(rust.module, &source);
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(rust.wgsl_name))
+            .unwrap_or_else(|| panic!("no struct {} in {}", rust.wgsl_name, rust.module));
+        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+            panic!("{} is not a struct", rust.wgsl_name);
+        };
+        let wgsl: Vec<(String, usize, String)> = members
+            .iter()
+            .map(|m| {
+                (
+                    m.name.clone().unwrap_or_default(),
+                    m.offset as usize,
+                    wgsl_spelling(&module, m.ty),
+                )
+            })
+            .collect();
+        let ours: Vec<(String, usize, String)> = rust
+            .fields
+            .iter()
+            .map(|f| (f.name.to_string(), f.offset, f.wgsl_type.clone()))
+            .collect();
+        assert_eq!(
+            ours, wgsl,
+            "{} (Rust) against {} in {}: (name, offset, type) per field",
+            rust.rust_name, rust.wgsl_name, rust.module
+        );
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("layout");
+        assert_eq!(
+            layouter[handle].size as usize, rust.size,
+            "{} size",
+            rust.rust_name
+        );
+    }
 }

@@ -3,8 +3,11 @@
 use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
+use leapview::counters::FrameCounters;
 use leapview::imaging::ImageF32;
-use leapview::render::{FrameCounters, RenderPath, RenderSettings, Strategy, VolumeRenderer};
+use leapview::render::VolumeRenderer;
+use leapview::render::raycast::auto_path;
+use leapview::settings::{RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume};
 
@@ -149,6 +152,10 @@ fn fragment_and_compute_paths_give_the_same_image() {
 fn auto_path_picks_one_of_the_two() {
     let mut r = common::renderer();
     r.set_volume(&dense()).expect("upload");
-    let p = r.resolve_path(RenderPath::Auto).expect("calibrates");
-    assert_eq!(r.resolve_path(RenderPath::Auto).expect("cached"), p);
+    let p = auto_path::choose(&mut r, RenderPath::Auto).expect("calibrates");
+    assert_eq!(
+        auto_path::choose(&mut r, RenderPath::Auto).expect("cached"),
+        p
+    );
+    assert_eq!(r.resolve_path(RenderPath::Auto).expect("chosen"), p);
 }

@@ -19,7 +19,7 @@ use egui::{Key, Modifiers};
 use egui_kittest::kittest::{NodeT, Queryable};
 use harness::{canvas_pos, click_at, drag, harness};
 use leapview::camera::{ProjectionKind, ViewPreset};
-use leapview::render::Strategy;
+use leapview::settings::Strategy;
 use leapview::transfer::editor::TfEditor;
 use leapview::transfer::presets::preset;
 use leapview::ui::controls::{PanelInfo, controls_ui};

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use leapview::render::RenderPath;
+use leapview::settings::RenderPath;
 
 /// `leapview accuracy`: GPU time and error against a reference for every quality knob.
 #[derive(Args, Debug)]

@@ -5,9 +5,9 @@ use leapview::accuracy::{ErrorStats, Measurement, Variant, plan, reference};
 use leapview::camera::Camera;
 use leapview::imaging::ImageF32;
 use leapview::reference as cpu;
-use leapview::render::{
-    FrameRequest, Mode, RenderError, RenderSettings, TexturePrecision, VolumeRenderer,
-};
+use leapview::render::raycast::auto_path;
+use leapview::render::{FrameRequest, RenderError, VolumeRenderer};
+use leapview::settings::{Mode, RenderSettings, TexturePrecision};
 use leapview::transfer::TransferFunction;
 use leapview::volume::Volume;
 
@@ -64,6 +64,10 @@ pub fn measure(
     progress: &mut dyn FnMut(&str),
 ) -> Result<(Vec<Measurement>, Vec<NotMeasured>), RenderError> {
     renderer.set_transfer_function(data.tf);
+    if !renderer.has_volume() {
+        renderer.set_volume(data.volume)?;
+    }
+    auto_path::choose(renderer, method.base.path)?;
     let mut skipped = Vec::new();
     let mut references = Vec::new();
     for mode in [Mode::Dvr, Mode::Iso] {

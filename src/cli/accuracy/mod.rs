@@ -14,7 +14,8 @@ use leapview::accuracy::results::{csv, markdown_table};
 use leapview::bench::BenchConfig;
 use leapview::bench::record::Environment;
 use leapview::camera::Aabb;
-use leapview::render::{GpuContext, RenderSettings, VolumeRenderer};
+use leapview::render::{GpuContext, VolumeRenderer};
+use leapview::settings::RenderSettings;
 use leapview::transfer::TransferFunction;
 use leapview::transfer::presets::preset;
 use leapview::volume::{ValueRange, synthetic::shepp_logan};
@@ -190,7 +191,7 @@ fn measure_one(
     renderer: &mut VolumeRenderer,
     data: &Dataset,
     iso_value: Option<f64>,
-    (size, views, frames, path): ([u32; 2], u32, u32, leapview::render::RenderPath),
+    (size, views, frames, path): ([u32; 2], u32, u32, leapview::settings::RenderPath),
     (all, not_measured): (&mut Vec<Measurement>, &mut Vec<NotMeasured>),
     progress: &mut dyn FnMut(&str),
 ) -> Result<(), Failure> {
@@ -312,7 +313,7 @@ fn write(
         size[0],
         size[1],
         env.command_line,
-        leapview::render::effects::MAX_ISO_REFINEMENT,
+        leapview::settings::effects::MAX_ISO_REFINEMENT,
     );
     let mut names: Vec<&str> = all.iter().map(|m| m.dataset.as_str()).collect();
     names.dedup();

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use leapview::render::{Mode, RenderPath, Strategy};
+use leapview::settings::{Mode, RenderPath, Strategy};
 
 /// `leapview bench`: Tables 1 and 2 of the paper, rebuild times and an image check.
 #[derive(Args, Debug)]

@@ -5,9 +5,8 @@ use leapview::bench::BenchConfig;
 use leapview::bench::config::DatasetSpec;
 use leapview::bench::record::{IMAGE_TOLERANCE, ImageCheck, RebuildRecord};
 use leapview::camera::Camera;
-use leapview::render::{
-    FrameRequest, Mode, RenderError, RenderPath, RenderSettings, Strategy, VolumeRenderer,
-};
+use leapview::render::{FrameRequest, RenderError, VolumeRenderer};
+use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
 use leapview::transfer::TransferFunction;
 
 use super::run::settings_for;

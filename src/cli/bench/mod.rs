@@ -15,7 +15,9 @@ use std::path::{Path, PathBuf};
 use leapview::bench::record::{Environment, Skipped};
 use leapview::bench::{BenchConfig, BenchResults, Filters};
 use leapview::camera::Aabb;
+use leapview::render::raycast::auto_path;
 use leapview::render::{GpuContext, VolumeRenderer};
+use leapview::settings::RenderPath;
 
 pub use args::BenchArgs;
 
@@ -97,6 +99,14 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
             continue;
         }
         renderer.set_transfer_function(&loaded.tf);
+        if config.paths.contains(&RenderPath::Auto)
+            && let Err(e) = auto_path::choose(&mut renderer, RenderPath::Auto)
+        {
+            progress.note(&format!("skipping {}: {e}", spec.name));
+            results.skipped.push(skip(e.to_string()));
+            progress.advance(runs.len() as u64 + 1);
+            continue;
+        }
         let bounds = Aabb::of_volume(loaded.volume.dims(), loaded.volume.spacing_mm());
         let cameras = run::orbit(&bounds, config.views, config.elevation_deg);
         results.datasets.push(loaded.info);

@@ -9,11 +9,9 @@ use leapview::bench::BenchConfig;
 use leapview::bench::config::DatasetSpec;
 use leapview::bench::record::{FrameRecord, RunKey, RunRecord};
 use leapview::camera::{Aabb, Camera, ProjectionKind, orbit_direction};
-use leapview::render::effects::{IsoSettings, Shading};
-use leapview::render::{
-    FrameRequest, FrameResults, Mode, RenderError, RenderPath, RenderSettings, Strategy,
-    VolumeRenderer,
-};
+use leapview::render::{FrameRequest, FrameResults, RenderError, VolumeRenderer};
+use leapview::settings::effects::{IsoSettings, Shading};
+use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
 
 /// One run to do.
 #[derive(Clone, Copy, Debug)]

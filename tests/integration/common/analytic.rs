@@ -5,7 +5,7 @@
 
 use leapview::camera::{Aabb, Camera};
 use leapview::imaging::ImageF32;
-use leapview::render::{Mode, RenderPath, RenderSettings};
+use leapview::settings::{Mode, RenderPath, RenderSettings};
 use leapview::transfer::{TransferFunction, ValueSpace};
 
 /// Both ray-loop entry points.

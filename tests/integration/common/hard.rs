@@ -3,8 +3,9 @@
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::reference;
-use leapview::render::effects::Shading;
-use leapview::render::{Mode, RenderPath, RenderSettings, Strategy, VolumeRenderer};
+use leapview::render::VolumeRenderer;
+use leapview::settings::effects::Shading;
+use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::Volume;
 

@@ -13,8 +13,11 @@ pub use hard::*;
 use std::path::PathBuf;
 
 use leapview::camera::Camera;
+use leapview::counters::FrameCounters;
 use leapview::imaging::{ImageDiff, ImageF32};
-use leapview::render::{FrameCounters, FrameRequest, GpuContext, RenderSettings, VolumeRenderer};
+use leapview::render::raycast::auto_path;
+use leapview::render::{FrameRequest, GpuContext, VolumeRenderer};
+use leapview::settings::{RenderPath, RenderSettings};
 
 /// A headless GPU context; fails the test with the install hint when no adapter exists (never a
 /// silent skip).
@@ -30,6 +33,12 @@ pub fn gpu() -> GpuContext {
 /// A renderer on a fresh headless context.
 pub fn renderer() -> VolumeRenderer {
     VolumeRenderer::new(gpu()).unwrap_or_else(|e| panic!("renderer: {e}"))
+}
+
+/// Times both ray-loop paths on `r`'s volume so that frames with the path `auto` can render
+/// (what every caller of the renderer does before its first `auto` frame).
+pub fn choose_auto_path(r: &mut VolumeRenderer) {
+    auto_path::choose(r, RenderPath::Auto).unwrap_or_else(|e| panic!("auto path: {e}"));
 }
 
 /// Renders with the statistics variant, then with the plain one; checks that counting changed

@@ -1,0 +1,67 @@
+// Builds the min/max pyramid: level 0 from the volume's texels (each 4³ brick extended by one
+// voxel on every side, see src/accel/pyramid.rs), every other level from its children.
+// Values are normalised as the ray loop decodes them; non-finite voxels are left out.
+
+#include "leap/pyramid.wgsl"
+#include "generated/constants.wgsl"
+
+// `BuildParams` in src/render/gpu_data.rs.
+struct BuildParams {
+    // The level this pass builds.
+    level: u32,
+    // Normalised value = texel * texel_scale + texel_bias.
+    texel_scale: f32,
+    texel_bias: f32,
+    _pad0: u32,
+}
+
+@group(0) @binding(0) var<uniform> params: BuildParams;
+@group(0) @binding(1) var<storage, read> levels: array<LevelInfo>;
+@group(0) @binding(2) var<storage, read_write> minmax: array<vec2<f32>>;
+@group(0) @binding(3) var volume_tex: texture_3d<f32>;
+
+// Texels of non-finite voxels decode below MISSING_BELOW (generated/constants.wgsl), as in
+// shared/classify.wgsl.
+const NONE: vec2<f32> = vec2<f32>(3.0e38, -3.0e38);
+
+@compute @workgroup_size(BUILD_WORKGROUP, BUILD_WORKGROUP, BUILD_WORKGROUP)
+fn build_base(@builtin(global_invocation_id) id: vec3<u32>) {
+    let level = levels[0];
+    if any(id >= level.nodes) {
+        return;
+    }
+    let dims = vec3<i32>(textureDimensions(volume_tex));
+    let b = i32(level.brick_vox);
+    let lo = max(vec3<i32>(id) * b - 1, vec3<i32>(0));
+    let hi = min((vec3<i32>(id) + 1) * b, dims - 1);
+    var m = NONE;
+    for (var z = lo.z; z <= hi.z; z++) {
+        for (var y = lo.y; y <= hi.y; y++) {
+            for (var x = lo.x; x <= hi.x; x++) {
+                let s = textureLoad(volume_tex, vec3<i32>(x, y, z), 0).r * params.texel_scale + params.texel_bias;
+                if s >= MISSING_BELOW {
+                    m = vec2<f32>(min(m.x, s), max(m.y, s));
+                }
+            }
+        }
+    }
+    minmax[node_index(level, id)] = m;
+}
+
+@compute @workgroup_size(BUILD_WORKGROUP, BUILD_WORKGROUP, BUILD_WORKGROUP)
+fn build_parent(@builtin(global_invocation_id) id: vec3<u32>) {
+    let parent = levels[params.level];
+    let child = levels[params.level - 1u];
+    if any(id >= parent.nodes) {
+        return;
+    }
+    var m = NONE;
+    for (var c = 0u; c < 8u; c++) {
+        let k = 2u * id + vec3<u32>(c & 1u, (c >> 1u) & 1u, (c >> 2u) & 1u);
+        if all(k < child.nodes) {
+            let v = minmax[node_index(child, k)];
+            m = vec2<f32>(min(m.x, v.x), max(m.y, v.y));
+        }
+    }
+    minmax[node_index(parent, id)] = m;
+}

@@ -1,0 +1,58 @@
+// The same ray loop in a compute shader, one invocation per pixel (GPU.md: far faster than
+// fragments on data-centre GPUs). Each invocation intersects its pixel's ray with the box itself,
+// so the path needs no rasterised entry and exit points: on GPUs whose graphics slice is small,
+// those two full-screen passes cost more than the whole ray loop of a sparse volume.
+
+#include "shared/march.wgsl"
+
+@group(1) @binding(0) var out_tex: texture_storage_2d<rgba16float, write>;
+
+// Entry (xyz, w = 1 where the ray meets the box) and exit of the ray through pixel `px`, clipped
+// to the near and far planes as the rasterised proxy geometry is: the part of the segment from
+// the near-plane point to the far-plane point that lies inside the cropping box (slab test;
+// [0,1]^3 when nothing is cropped).
+fn box_segment(px: vec2<u32>) -> array<vec4<f32>, 2> {
+    let ndc = vec2<f32>(
+        2.0 * (f32(px.x) + 0.5) / frame.viewport.x - 1.0,
+        1.0 - 2.0 * (f32(px.y) + 0.5) / frame.viewport.y,
+    );
+    // Affine in NDC (from f64 on the CPU): an f32 unprojection through box_from_clip would lose
+    // most digits when the near plane is 1e-5 of the far one (the eye inside the volume).
+    let near = frame.ray_near[0].xyz + ndc.x * frame.ray_near[1].xyz + ndc.y * frame.ray_near[2].xyz;
+    let d = frame.ray_dir[0].xyz + ndc.x * frame.ray_dir[1].xyz + ndc.y * frame.ray_dir[2].xyz;
+    let lo = frame.crop_min;
+    let hi = frame.crop_max;
+    var t0 = 0.0;
+    var t1 = 1.0;
+    for (var a = 0; a < 3; a += 1) {
+        if abs(d[a]) < 1e-30 {
+            // Parallel to this slab: inside it or never.
+            if near[a] < lo[a] || near[a] > hi[a] {
+                t1 = -1.0;
+            }
+        } else {
+            let ta = (lo[a] - near[a]) / d[a];
+            let tb = (hi[a] - near[a]) / d[a];
+            t0 = max(t0, min(ta, tb));
+            t1 = min(t1, max(ta, tb));
+        }
+    }
+    let hit = f32(t1 > t0);
+    let entry = clamp(near + d * t0, lo, hi);
+    let exit = clamp(near + d * t1, lo, hi);
+    return array<vec4<f32>, 2>(vec4<f32>(entry, hit), vec4<f32>(exit, hit));
+}
+
+@compute @workgroup_size(WORKGROUP, WORKGROUP)
+fn cs_raycast(@builtin(global_invocation_id) id: vec3<u32>) {
+    let size = vec2<u32>(frame.viewport);
+    if any(id.xy >= size) {
+        return;
+    }
+    let segment = box_segment(id.xy);
+    var color = frame.background;
+    if segment[0].w > 0.0 {
+        color = march(segment[0].xyz, segment[1].xyz, id.xy);
+    }
+    textureStore(out_tex, id.xy, color);
+}

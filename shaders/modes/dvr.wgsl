@@ -1,0 +1,113 @@
+// DVR: front-to-back compositing with post-classification and opacity correction, or with
+// PREINTEGRATED, of the segments between consecutive samples (sample k closes the segment from
+// the previous sample, or from the entry point for k = 0).
+
+#include "shared/classify.wgsl"
+#ifdef PREINTEGRATED
+#include "shared/preintegrate.wgsl"
+#endif
+#ifdef SHADING
+#include "shared/shade.wgsl"
+#endif
+
+struct Acc {
+    color: vec4<f32>,
+#ifdef PREINTEGRATED
+    // The segment's front end (the previous sample) and its distance.
+    front: SegmentEnd,
+    front_t: f32,
+#endif
+}
+
+#ifdef PREINTEGRATED
+fn acc_init() -> Acc {
+    var acc: Acc;
+    acc.color = vec4<f32>(0.0);
+    return acc;
+}
+
+// The ray's entry value starts the first segment.
+fn acc_start(acc: ptr<function, Acc>, ray: Ray) {
+    (*acc).front = segment_end(sample_value(ray.entry));
+    (*acc).front_t = 0.0;
+}
+
+// After a leap: the sample at t (value s) starts the next segment; the segment ending at it lies
+// inside the empty region and adds nothing.
+fn acc_resume(acc: ptr<function, Acc>, t: f32, s: f32) {
+    (*acc).front = segment_end(s);
+    (*acc).front_t = t;
+}
+#else
+fn acc_init() -> Acc {
+    return Acc(vec4<f32>(0.0));
+}
+#endif
+
+#ifdef LEAP
+// A node is skipped where the transfer function is zero over its values (its emptiness flag).
+fn acc_skips(acc: Acc, node: u32) -> bool {
+    return node_empty[node] != 0u;
+}
+
+fn acc_leap_target(k: u32, after: u32) -> u32 {
+    return after;
+}
+#endif
+
+fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32 {
+#ifdef PREINTEGRATED
+    let back = segment_end(s);
+    var c = preintegrated((*acc).front, back, t - (*acc).front_t);
+    (*acc).front = back;
+    (*acc).front_t = t;
+    if c.a <= 0.0 {
+        return 0u;
+    }
+#else
+    // The table holds the optical depth of a full step (src/transfer/lut.rs).
+    var c = classify(s);
+    if c.a <= 0.0 {
+        return 0u;
+    }
+    var w = 1.0;
+    if k + 1u == ray.count {
+        // The last segment may be shorter than a step: scale its optical depth.
+        w = clamp((ray.length_mm - f32(k) * frame.step_mm) / frame.step_mm, 0.0, 1.0);
+    }
+    c.a = opacity_of_depth(c.a * w);
+#endif
+    return composite(acc, ray, p, c);
+}
+
+// Adds colour c (straight) lit at p behind what the ray has gathered.
+fn composite(acc: ptr<function, Acc>, ray: Ray, p: vec3<f32>, c_in: vec4<f32>) -> u32 {
+    var c = c_in;
+#ifdef SHADING
+    c = vec4<f32>(phong(c.rgb, gradient(p), ray.dir_world), c.a);
+#endif
+    (*acc).color += (1.0 - (*acc).color.a) * vec4<f32>(c.rgb * c.a, c.a);
+#ifdef EARLY_TERMINATION
+    if (*acc).color.a > frame.termination_alpha {
+        return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
+    }
+#endif
+    return SAMPLE_CONTRIBUTED;
+}
+
+#ifdef PREINTEGRATED
+// After the last sample: the segment from it to the exit point (the last sample lies up to a
+// step before the exit).
+fn acc_tail(acc: ptr<function, Acc>, ray: Ray) {
+    let exit = ray.entry + ray.box_per_mm * ray.length_mm;
+    let back = segment_end(sample_value(exit));
+    let c = preintegrated((*acc).front, back, ray.length_mm - (*acc).front_t);
+    if c.a > 0.0 {
+        composite(acc, ray, exit, c);
+    }
+}
+#endif
+
+fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
+    return vec4<f32>(acc.color.rgb + (1.0 - acc.color.a) * frame.background.rgb, 1.0);
+}

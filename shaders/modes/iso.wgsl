@@ -1,0 +1,90 @@
+// Isosurface: the first sign change of (value − iso) between consecutive samples, refined by
+// false position (secant steps that keep the bracket), coloured by the transfer function at the
+// iso value and lit. Leaping hands over the side of the last sample so that no crossing is missed
+// and the bracketing samples stay those of plain ray casting.
+
+#include "shared/classify.wgsl"
+#ifdef SHADING
+#include "shared/shade.wgsl"
+#endif
+
+struct Acc {
+    // Side of the previous sample: -1 below the iso value, +1 at or above, 0 before the first.
+    side: f32,
+    prev_t: f32,
+    prev_d: f32,
+    hit: bool,
+    hit_p: vec3<f32>,
+}
+
+fn acc_init() -> Acc {
+    return Acc(0.0, 0.0, 0.0, false, vec3<f32>(0.0));
+}
+
+#ifdef LEAP
+// A node is skipped where it lies wholly on the side of the iso value the ray is already on (or
+// before the first sample, on either side: no crossing can begin inside it).
+fn acc_skips(acc: Acc, node: u32) -> bool {
+    let m = minmax[node];
+    let iso = frame.iso_threshold;
+    return holds_no_finite_voxel(m) || (m.y < iso && acc.side <= 0.0)
+        || (m.x >= iso && acc.side >= 0.0);
+}
+
+// Land on the region's last sample, so the crossing after it is bracketed by the same two
+// samples as without leaping; where that is sample k itself, do not leap.
+fn acc_leap_target(k: u32, after: u32) -> u32 {
+    return select(k, after - 1u, after - 1u > k);
+}
+#endif
+
+fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32 {
+    if (*acc).hit {
+        // Plain RC marches on without effect.
+        return 0u;
+    }
+    let d = s - frame.iso_threshold;
+    let side = select(-1.0, 1.0, d >= 0.0);
+    if (*acc).side != 0.0 && side != (*acc).side && s >= MISSING_BELOW {
+        var t0 = (*acc).prev_t;
+        var d0 = (*acc).prev_d;
+        var t1 = t;
+        var d1 = d;
+        for (var i = 0u; i < frame.iso_refine; i++) {
+            let tm = t0 + (t1 - t0) * clamp(d0 / (d0 - d1), 0.0, 1.0);
+            let dm = sample_value(ray.entry + ray.box_per_mm * tm) - frame.iso_threshold;
+            if (dm >= 0.0) == (d0 >= 0.0) {
+                t0 = tm;
+                d0 = dm;
+            } else {
+                t1 = tm;
+                d1 = dm;
+            }
+        }
+        let th = t0 + (t1 - t0) * clamp(d0 / (d0 - d1), 0.0, 1.0);
+        (*acc).hit = true;
+        (*acc).hit_p = ray.entry + ray.box_per_mm * th;
+#ifdef EARLY_TERMINATION
+        return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
+#else
+        return SAMPLE_CONTRIBUTED;
+#endif
+    }
+    if s >= MISSING_BELOW {
+        (*acc).side = side;
+        (*acc).prev_t = t;
+        (*acc).prev_d = d;
+    }
+    return 0u;
+}
+
+fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
+    if !acc.hit {
+        return frame.background;
+    }
+    var color = classify(frame.iso_threshold).rgb;
+#ifdef SHADING
+    color = phong(color, gradient(acc.hit_p), ray.dir_world);
+#endif
+    return vec4<f32>(color, 1.0);
+}

@@ -1,0 +1,77 @@
+// Maximum (or, with MINIP, minimum) intensity projection: the extreme normalised value along the
+// ray, as grey through the window or as the transfer function's colour.
+
+#include "shared/classify.wgsl"
+
+struct Acc {
+    extreme: f32,
+    seen: bool,
+}
+
+fn acc_init() -> Acc {
+#ifdef MODE_MINIP
+    return Acc(3.0e38, false);
+#else
+    return Acc(-3.0e38, false);
+#endif
+}
+
+#ifdef LEAP
+// A node is skipped where its maximum cannot raise the ray's maximum (MinIP: its minimum cannot
+// lower the minimum).
+fn acc_skips(acc: Acc, node: u32) -> bool {
+    let m = minmax[node];
+#ifdef MODE_MINIP
+    return holds_no_finite_voxel(m) || m.x >= acc.extreme;
+#else
+    return holds_no_finite_voxel(m) || m.y <= acc.extreme;
+#endif
+}
+
+fn acc_leap_target(k: u32, after: u32) -> u32 {
+    return after;
+}
+#endif
+
+fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32 {
+    if s < MISSING_BELOW {
+        return 0u;
+    }
+    (*acc).seen = true;
+#ifdef MODE_MINIP
+    let better = s < (*acc).extreme;
+    (*acc).extreme = min((*acc).extreme, s);
+#ifdef EARLY_TERMINATION
+    if (*acc).extreme <= frame.saturation {
+        return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
+    }
+#endif
+#else
+    let better = s > (*acc).extreme;
+    (*acc).extreme = max((*acc).extreme, s);
+#ifdef EARLY_TERMINATION
+    // Nothing can change the image once the value reaches the saturation point.
+    if (*acc).extreme >= frame.saturation {
+        return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
+    }
+#endif
+#endif
+    return select(0u, SAMPLE_CONTRIBUTED, better);
+}
+
+fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
+    if !acc.seen {
+        return frame.background;
+    }
+#ifdef MIP_TF_COLOR
+    // The TF's colour weighted by its own (uncorrected) opacity over the background, so values
+    // the TF hides show the background.
+    let c = classify(acc.extreme);
+    // The table holds the optical depth of a step; iso.y turns it into that of one d0.
+    let a = opacity_of_depth(c.a * frame.steps_per_d0);
+    return vec4<f32>(c.rgb * a + (1.0 - a) * frame.background.rgb, 1.0);
+#else
+    let grey = clamp((acc.extreme - frame.window_lo) / (frame.window_hi - frame.window_lo), 0.0, 1.0);
+    return vec4<f32>(vec3<f32>(grey), 1.0);
+#endif
+}

@@ -1,0 +1,62 @@
+// X-ray projection. The integrand is the windowed value f = clamp((s − lo)/(hi − lo), 0, 1),
+// integrated over the path with each sample's segment length. The mean mode divides by the path
+// length inside the volume (known analytically, so leaping over f = 0 changes nothing); the
+// attenuation mode shows 1 − exp(−density · ∫f ds), like a radiograph.
+
+#include "shared/classify.wgsl"
+
+struct Acc {
+    integral_mm: f32,
+}
+
+fn acc_init() -> Acc {
+    return Acc(0.0);
+}
+
+#ifdef LEAP
+// A node is skipped where no value lies above the window's low end: it adds nothing to the
+// integral (and the mean divides by the analytic path length).
+fn acc_skips(acc: Acc, node: u32) -> bool {
+    let m = minmax[node];
+    return holds_no_finite_voxel(m) || m.y <= frame.window_lo;
+}
+
+fn acc_leap_target(k: u32, after: u32) -> u32 {
+    return after;
+}
+#endif
+
+fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32 {
+    if s < MISSING_BELOW {
+        return 0u;
+    }
+    let f = clamp((s - frame.window_lo) / (frame.window_hi - frame.window_lo), 0.0, 1.0);
+    if f <= 0.0 {
+        return 0u;
+    }
+    let segment = min(frame.step_mm, ray.length_mm - f32(k) * frame.step_mm);
+    (*acc).integral_mm += f * segment;
+#ifdef MODE_XRAY_ATTENUATION
+#ifdef EARLY_TERMINATION
+    // Past an optical depth of ln(255) the radiograph is within 1/255 of white.
+    if frame.xray_density_per_mm * (*acc).integral_mm > 5.5413 {
+        return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
+    }
+#endif
+#endif
+    return SAMPLE_CONTRIBUTED;
+}
+
+fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
+#ifdef MODE_XRAY_ATTENUATION
+    let grey = 1.0 - exp(-frame.xray_density_per_mm * acc.integral_mm);
+#else
+    // A path of zero length (a ray that touches an edge or a corner, where the f32 entry and exit
+    // coincide) has no mean, and 0/0 would be NaN: it shows the background, as a ray that misses.
+    if !(ray.length_mm > 0.0) {
+        return frame.background;
+    }
+    let grey = clamp(acc.integral_mm / ray.length_mm, 0.0, 1.0);
+#endif
+    return vec4<f32>(vec3<f32>(grey), 1.0);
+}

@@ -1,0 +1,116 @@
+// Frame uniforms and the volume's resources, shared by every ray-casting shader.
+// `Frame` is `FrameUniforms` in src/render/gpu_data.rs; a test checks every field's name, offset
+// and type against naga's reflection of this declaration.
+//
+// Coordinate spaces: ray positions are *box* coordinates, [0, 1]^3 over the volume's bounding
+// box, which are also its texture coordinates; lengths along rays are millimetres (through
+// `extent_mm`); voxel coordinates are box coordinates × `volume_dims` (voxel-centre + ½).
+
+#include "generated/constants.wgsl"
+
+struct Frame {
+    // Box coordinates -> clip space, and back (for rays of the near-plane cap).
+    clip_from_box: mat4x4<f32>,
+    box_from_clip: mat4x4<f32>,
+    // Compute-path rays (box coordinates, w unused): near-plane point and near-to-far vector of
+    // the ray through NDC (0,0), then their changes per unit of NDC x and y.
+    ray_near: array<vec4<f32>, 3>,
+    ray_dir: array<vec4<f32>, 3>,
+    // Composited behind the volume (a = 1).
+    background: vec4<f32>,
+    // Size of the bounding box in millimetres.
+    extent_mm: vec3<f32>,
+    // Distance between samples, millimetres.
+    step_mm: f32,
+    // Volume dimensions in voxels.
+    volume_dims: vec3<f32>,
+    // Normalised value = texel * texel_scale + texel_bias.
+    texel_scale: f32,
+    // Voxel spacing in millimetres.
+    spacing_mm: vec3<f32>,
+    texel_bias: f32,
+    // The cropping box in box coordinates: rays start and end on it.
+    crop_min: vec3<f32>,
+    // Entries in the transfer-function lookup table.
+    lut_size: f32,
+    crop_max: vec3<f32>,
+    // First sample at (k + sample_offset) * step, k = 0, 1, ...
+    sample_offset: f32,
+    // Direction a directional light travels (world, unit); unused with the headlight.
+    light_dir: vec3<f32>,
+    // 1: the light is at the eye, shining along each ray.
+    headlight: u32,
+    // Viewport width and height in pixels.
+    viewport: vec2<f32>,
+    // RC-t stops once accumulated opacity exceeds this.
+    termination_alpha: f32,
+    // 1: each pixel's first sample at its own jittered offset.
+    jitter: u32,
+    // Phong Ka, Kd, Ks and exponent n.
+    phong_ambient: f32,
+    phong_diffuse: f32,
+    phong_specular: f32,
+    phong_shininess: f32,
+    // The window (normalised values) MIP, MinIP and X-ray map to black..white.
+    window_lo: f32,
+    window_hi: f32,
+    // MIP/MinIP: the value past which the image can no longer change.
+    saturation: f32,
+    // X-ray attenuation per mm at the window's top.
+    xray_density_per_mm: f32,
+    // Normalised iso value, less the tie tolerance.
+    iso_threshold: f32,
+    // Lookup-table steps per d0 (1 / step in voxels): undoes the table's opacity correction where
+    // MIP and MinIP colour by the transfer function.
+    steps_per_d0: f32,
+    // Pre-integration: optical-depth units (d0, or steps without opacity correction) per mm.
+    depth_units_per_mm: f32,
+    // Isosurface refinement steps.
+    iso_refine: u32,
+    // Pyramid level of the leaping blocks, and the number of levels.
+    leaf_level: u32,
+    level_count: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+// One ray inside the volume: entry (box coordinates), direction in box units per mm and in
+// world space, length in mm, number of grid samples.
+struct Ray {
+    entry: vec3<f32>,
+    // First sample at (k + offset) * step.
+    offset: f32,
+    box_per_mm: vec3<f32>,
+    dir_world: vec3<f32>,
+    length_mm: f32,
+    count: u32,
+}
+
+// Bits returned by acc_sample.
+const SAMPLE_STOP: u32 = 1u;
+const SAMPLE_CONTRIBUTED: u32 = 2u;
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var volume_tex: texture_3d<f32>;
+@group(0) @binding(2) var linear_clamp: sampler;
+@group(0) @binding(3) var lut_tex: texture_2d<f32>;
+
+// The jittered first-sample offset of a pixel in [0, 1): the same hash as `pixel_jitter` in
+// src/sampling.rs, bit for bit (u32 arithmetic wraps in both).
+fn pixel_jitter(px: vec2<u32>) -> f32 {
+    var h = px.x * 1973u + px.y * 9277u + 26699u;
+    h = (h ^ (h >> 16u)) * 0x7feb352du;
+    h = (h ^ (h >> 15u)) * 0x846ca68bu;
+    h = h ^ (h >> 16u);
+    return f32(h >> 8u) / 16777216.0;
+}
+
+// Where the first sample of pixel `px`'s ray lies within its first step: the frame's offset,
+// or with jitter the pixel's hash rotated by the frame's offset minus ½ (exactly the hash at the
+// default ½; progressive refinement rotates it), as `jittered_offset` in src/sampling.rs.
+fn sample_offset_of(px: vec2<u32>) -> f32 {
+    if frame.jitter != 0u {
+        return fract(pixel_jitter(px) + (frame.sample_offset - 0.5));
+    }
+    return frame.sample_offset;
+}

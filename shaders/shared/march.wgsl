@@ -1,0 +1,122 @@
+// The ray loop, shared by the fragment and compute entry points and by every mode. Samples lie on
+// one grid per ray, t_k = min((k + offset) * step, L) (src/sampling.rs documents the rule; the CPU
+// reference implements the same). Leaping variants skip grid samples but never move them.
+//
+// THE MODE CONTRACT. Exactly one module of modes/ is included (by the MODE_* symbol of the
+// variant, src/render/raycast/variant.rs); it decides what a sample does and defines:
+//   struct Acc                                   what a ray gathers
+//   fn acc_init() -> Acc
+//   fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32
+//       sample k at distance t (mm), box position p, normalised value s; returns SAMPLE_STOP
+//       (the ray may end: nothing behind can change the pixel) | SAMPLE_CONTRIBUTED (counted)
+//   fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32>      the pixel's colour
+// and, for leaping variants (LEAP), its leap predicate and landing rule:
+//   fn acc_skips(acc: Acc, node: u32) -> bool
+//       whether nothing in pyramid node `node` can change the pixel, given what the ray holds
+//       (reads `node_empty` or `minmax` of leap/leap.wgsl)
+//   fn acc_leap_target(k: u32, after: u32) -> u32
+//       where a leap from sample k lands, given the first sample `after` past the region
+// and, for pre-integrated DVR only (PREINTEGRATED), the segment hooks:
+//   fn acc_start(acc, ray)           the entry value starts the first segment
+//   fn acc_resume(acc, t, s)         after a leap, the sample at t starts the next segment
+//   fn acc_tail(acc, ray)            the segment from the last sample to the exit
+// A new mode is a new modes/*.wgsl implementing this, one include line below, and its key in
+// variant.rs; nothing else in the loop or in leap/ changes.
+
+#include "shared/common.wgsl"
+#include "shared/classify.wgsl"
+#include "shared/stats.wgsl"
+#ifdef MODE_DVR
+#include "modes/dvr.wgsl"
+#endif
+#ifdef MODE_ISO
+#include "modes/iso.wgsl"
+#endif
+#ifdef MODE_MIP
+#include "modes/mip.wgsl"
+#endif
+#ifdef MODE_MINIP
+#include "modes/mip.wgsl"
+#endif
+#ifdef MODE_XRAY
+#include "modes/xray.wgsl"
+#endif
+#ifdef MODE_XRAY_ATTENUATION
+#include "modes/xray.wgsl"
+#endif
+#ifdef LEAP
+#include "leap/leap.wgsl"
+#endif
+
+// Casts the ray from `entry` to `exit` (box coordinates); returns the pixel colour.
+fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
+    let segment = exit - entry;
+    let segment_mm = segment * frame.extent_mm;
+    var ray: Ray;
+    ray.entry = entry;
+    ray.offset = sample_offset_of(px);
+    ray.length_mm = length(segment_mm);
+    var acc = acc_init();
+    var tally = tally_new();
+    if ray.length_mm > 0.0 {
+        let step = frame.step_mm;
+        ray.box_per_mm = segment / ray.length_mm;
+        ray.dir_world = segment_mm / ray.length_mm;
+        ray.count = u32(ceil(ray.length_mm / step));
+#ifdef PREINTEGRATED
+        acc_start(&acc, ray);
+#endif
+#ifdef LEAP
+        var leap = leap_ray(entry, ray.box_per_mm, ray.offset);
+#endif
+        var k = 0u;
+        loop {
+            if k >= ray.count {
+                break;
+            }
+            let t = min((f32(k) + ray.offset) * step, ray.length_mm);
+            let p = entry + ray.box_per_mm * t;
+#ifdef LEAP
+            let next = leap_from(&leap, p, k, acc);
+#ifndef PREINTEGRATED
+            if next != k {
+                tally_leap(&tally, min(next, ray.count) - k);
+                k = next;
+                continue;
+            }
+#endif
+#endif
+            let result = acc_sample(&acc, ray, k, t, p, sample_value(p));
+            tally_sample(&tally, result);
+            if (result & SAMPLE_STOP) != 0u {
+                break;
+            }
+#ifdef LEAP
+#ifdef PREINTEGRATED
+            if next != k {
+                // Sample k closed the segment into the empty region; the segments inside it add
+                // nothing, and the region's last sample starts the segment out of it.
+                let last = min(next, ray.count) - 1u;
+                if last > k {
+                    let t_last = min((f32(last) + ray.offset) * step, ray.length_mm);
+                    acc_resume(&acc, t_last, sample_value(entry + ray.box_per_mm * t_last));
+                }
+                // Samples k + 1 .. next − 1 (sample k was taken; the resumed one is not counted
+                // as a sample, as it is only read, not classified).
+                tally_leap(&tally, min(next, ray.count) - k - 1u);
+                k = next;
+                continue;
+            }
+#endif
+#endif
+            k += 1u;
+        }
+#ifdef PREINTEGRATED
+        if k >= ray.count {
+            acc_tail(&acc, ray);
+        }
+#endif
+    }
+    tally_ray(tally);
+    return acc_finish(acc, ray);
+}

@@ -1,0 +1,382 @@
+//! Everything the Rust side shares with the shaders, in one place: the constants both use (the
+//! WGSL side is generated from them, [`wgsl_constants`]) and every `#[repr(C)]` struct a buffer
+//! hands to WGSL, each listed in [`layouts`] with its WGSL twin so that a test can check every
+//! field's name, offset and type against naga's reflection of the shader.
+
+use crate::accel::{distance::MAX_DISTANCE, emptiness::TABLE_SIZE};
+
+use super::volume_texture::MISSING_BELOW;
+
+/// Compute workgroup edge of the ray loop and the accumulation pass (8 × 8 invocations).
+pub const WORKGROUP: u32 = 8;
+/// Workgroup edge of the 3D builders (min/max pyramid, distance field): 4 × 4 × 4 nodes.
+pub const BUILD_WORKGROUP: u32 = 4;
+/// Workgroup edge of the emptiness-table build: 16 × 16 entries.
+pub const TABLE_WORKGROUP: u32 = 16;
+/// Workgroup size of the node-flag pass (one node per invocation).
+pub const NODE_WORKGROUP: u32 = 256;
+/// Most workgroups a dispatch has along one dimension (WebGPU's default limit); wider 1D
+/// dispatches wrap into y.
+pub const MAX_WORKGROUPS_PER_DIMENSION: u32 = 65535;
+
+/// Number of 64-bit counters in the statistics buffer, in the order of
+/// [`crate::counters::FrameCounters`]'s fields: samples, visible samples, rays, leaps, samples
+/// leapt (the `COUNTER_*` indices in WGSL).
+pub const COUNTERS: usize = 5;
+
+/// The constants WGSL shares with Rust, as `(name, WGSL type, value)`.
+fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
+    let u = |v: u32| format!("{v}u");
+    let mut constants = vec![
+        ("WORKGROUP", "u32", u(WORKGROUP)),
+        ("BUILD_WORKGROUP", "u32", u(BUILD_WORKGROUP)),
+        ("TABLE_WORKGROUP", "u32", u(TABLE_WORKGROUP)),
+        ("NODE_WORKGROUP", "u32", u(NODE_WORKGROUP)),
+        (
+            "MAX_WORKGROUPS_PER_DIMENSION",
+            "u32",
+            u(MAX_WORKGROUPS_PER_DIMENSION),
+        ),
+        ("TABLE_SIZE", "u32", u(TABLE_SIZE as u32)),
+        ("MAX_DISTANCE", "u32", u(MAX_DISTANCE)),
+        ("MISSING_BELOW", "f32", format!("{MISSING_BELOW:?}")),
+    ];
+    let counters = [
+        "COUNTER_SAMPLES",
+        "COUNTER_VISIBLE_SAMPLES",
+        "COUNTER_RAYS",
+        "COUNTER_LEAPS",
+        "COUNTER_LEAPT_SAMPLES",
+    ];
+    const { assert!(COUNTERS == 5, "one name per counter") };
+    for (index, name) in counters.into_iter().enumerate() {
+        constants.push((name, "u32", u(index as u32)));
+    }
+    constants
+}
+
+/// The WGSL module `generated/constants.wgsl`: [`shared_constants`] as WGSL `const`s.
+pub fn wgsl_constants() -> String {
+    let mut out = String::from(
+        "// Generated from src/render/gpu_data.rs at start-up; there is no file to edit.\n",
+    );
+    for (name, ty, value) in shared_constants() {
+        out.push_str(&format!("const {name}: {ty} = {value};\n"));
+    }
+    out
+}
+
+/// A 4×4 column-major f32 matrix (WGSL `mat4x4<f32>`).
+#[repr(transparent)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Mat4x4(pub [[f32; 4]; 4]);
+
+/// The WGSL type a Rust field stands for, as naga would print it.
+pub trait WgslType {
+    /// E.g. `vec3<f32>`.
+    fn wgsl() -> String;
+}
+
+macro_rules! wgsl_type {
+    ($($rust:ty => $wgsl:literal),* $(,)?) => {
+        $(impl WgslType for $rust {
+            fn wgsl() -> String {
+                $wgsl.to_string()
+            }
+        })*
+    };
+}
+
+wgsl_type! {
+    f32 => "f32",
+    u32 => "u32",
+    [f32; 2] => "vec2<f32>",
+    [f32; 3] => "vec3<f32>",
+    [f32; 4] => "vec4<f32>",
+    [u32; 3] => "vec3<u32>",
+    Mat4x4 => "mat4x4<f32>",
+}
+
+impl<const N: usize> WgslType for [[f32; 4]; N] {
+    fn wgsl() -> String {
+        format!("array<vec4<f32>, {N}>")
+    }
+}
+
+/// One field of a GPU struct as Rust lays it out.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FieldLayout {
+    /// Field name (the WGSL member must have the same).
+    pub name: &'static str,
+    /// Byte offset.
+    pub offset: usize,
+    /// The WGSL type it stands for.
+    pub wgsl_type: String,
+}
+
+/// A GPU struct as Rust lays it out, and where its WGSL twin is declared.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StructLayout {
+    /// The Rust type.
+    pub rust_name: &'static str,
+    /// The WGSL struct's name.
+    pub wgsl_name: &'static str,
+    /// The shader module (under `shaders/`) that declares it.
+    pub module: &'static str,
+    /// Size in bytes.
+    pub size: usize,
+    /// The fields, in declaration order.
+    pub fields: Vec<FieldLayout>,
+}
+
+/// The WGSL type of the field `_field` selects (only its type is used).
+fn field_type<S, T: WgslType>(_field: fn(&S) -> &T) -> String {
+    T::wgsl()
+}
+
+/// `StructLayout` of a Rust struct from its field names, in order.
+macro_rules! layout {
+    ($rust:ident = $wgsl:literal in $module:literal { $($field:ident),* $(,)? }) => {
+        StructLayout {
+            rust_name: stringify!($rust),
+            wgsl_name: $wgsl,
+            module: $module,
+            size: std::mem::size_of::<$rust>(),
+            fields: vec![$(FieldLayout {
+                name: stringify!($field),
+                offset: std::mem::offset_of!($rust, $field),
+                wgsl_type: field_type(|s: &$rust| &s.$field),
+            }),*],
+        }
+    };
+}
+
+/// Every GPU struct with its WGSL twin.
+pub fn layouts() -> Vec<StructLayout> {
+    vec![
+        layout!(FrameUniforms = "Frame" in "shared/common.wgsl" {
+            clip_from_box, box_from_clip, ray_near, ray_dir, background, extent_mm, step_mm,
+            volume_dims, texel_scale, spacing_mm, texel_bias, crop_min, lut_size, crop_max,
+            sample_offset, light_dir, headlight, viewport, termination_alpha, jitter,
+            phong_ambient, phong_diffuse, phong_specular, phong_shininess, window_lo, window_hi,
+            saturation, xray_density_per_mm, iso_threshold, steps_per_d0, depth_units_per_mm,
+            iso_refine, leaf_level, level_count, _pad0, _pad1,
+        }),
+        layout!(LevelInfo = "LevelInfo" in "leap/pyramid.wgsl" {
+            nodes, offset, brick_vox, _pad0, _pad1, _pad2,
+        }),
+        layout!(BuildParams = "BuildParams" in "build/minmax.wgsl" {
+            level, texel_scale, texel_bias, _pad0,
+        }),
+        layout!(EmptinessParams = "EmptinessParams" in "build/emptiness.wgsl" {
+            lut_size, node_count, rule, threshold,
+        }),
+        layout!(DistanceParams = "DistanceParams" in "build/distance.wgsl" {
+            leaf_level, axis, _pad0, _pad1,
+        }),
+        layout!(AccumulateParams = "AccumulateParams" in "entry/accumulate.wgsl" {
+            count, width, height, _pad0,
+        }),
+    ]
+}
+
+/// The uniform block every ray-casting shader reads (`Frame`). Built each frame by the pure
+/// [`crate::render::raycast::uniforms::frame_uniforms`]; shaders/shared/common.wgsl documents
+/// each field beside its WGSL declaration.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct FrameUniforms {
+    /// Box coordinates → clip space.
+    pub clip_from_box: Mat4x4,
+    /// Clip space → box coordinates (rays of the near-plane cap).
+    pub box_from_clip: Mat4x4,
+    /// The compute path's rays (box coordinates, w unused): the near-plane point of the ray
+    /// through NDC `(x, y)` is `ray_near[0] + x·ray_near[1] + y·ray_near[2]`, and the ray runs
+    /// to the far plane along `ray_dir[0] + x·ray_dir[1] + y·ray_dir[2]` (both affine in x and y
+    /// for either projection; computed in f64 so no f32 unprojection loses digits).
+    pub ray_near: [[f32; 4]; 3],
+    /// See `ray_near`.
+    pub ray_dir: [[f32; 4]; 3],
+    /// Background colour composited behind the volume (a = 1).
+    pub background: [f32; 4],
+    /// Size of the bounding box in millimetres.
+    pub extent_mm: [f32; 3],
+    /// Distance between samples, millimetres.
+    pub step_mm: f32,
+    /// Volume dimensions in voxels: box coordinates × dims = voxel coordinate + ½.
+    pub volume_dims: [f32; 3],
+    /// Normalised value = texel * texel_scale + texel_bias.
+    pub texel_scale: f32,
+    /// Voxel spacing in millimetres.
+    pub spacing_mm: [f32; 3],
+    /// See `texel_scale`.
+    pub texel_bias: f32,
+    /// The cropping box's smallest corner in box coordinates: rays start and end on the
+    /// cropping box ([`crate::settings::CropBox`]).
+    pub crop_min: [f32; 3],
+    /// Number of entries in the transfer-function lookup table.
+    pub lut_size: f32,
+    /// The cropping box's largest corner.
+    pub crop_max: [f32; 3],
+    /// First sample at `(k + sample_offset) * step`, k = 0, 1, …
+    pub sample_offset: f32,
+    /// Direction a directional light travels (world, unit); unused with the headlight.
+    pub light_dir: [f32; 3],
+    /// 1 for a headlight (at the eye, shining along each ray), else 0.
+    pub headlight: u32,
+    /// Viewport width and height in pixels.
+    pub viewport: [f32; 2],
+    /// RC-t stops once accumulated opacity exceeds this.
+    pub termination_alpha: f32,
+    /// 1 for jittered ray starts, else 0.
+    pub jitter: u32,
+    /// Phong Ka.
+    pub phong_ambient: f32,
+    /// Phong Kd.
+    pub phong_diffuse: f32,
+    /// Phong Ks.
+    pub phong_specular: f32,
+    /// Phong exponent n.
+    pub phong_shininess: f32,
+    /// The window's low end (normalised value) of MIP, MinIP and X-ray.
+    pub window_lo: f32,
+    /// The window's high end.
+    pub window_hi: f32,
+    /// MIP/MinIP: the value past which the image can no longer change (the window's end for
+    /// grey, the volume's extreme for colours).
+    pub saturation: f32,
+    /// X-ray attenuation per millimetre at the window's top.
+    pub xray_density_per_mm: f32,
+    /// The normalised iso value less the tie tolerance
+    /// ([`crate::settings::IsoSettings::threshold`]).
+    pub iso_threshold: f32,
+    /// Lookup-table steps per d₀ (the reciprocal of the step in voxels): undoes the table's
+    /// opacity correction where MIP and MinIP colour by the transfer function.
+    pub steps_per_d0: f32,
+    /// Pre-integration: optical-depth units (d₀, or steps without opacity correction) per
+    /// millimetre of segment.
+    pub depth_units_per_mm: f32,
+    /// Isosurface refinement steps.
+    pub iso_refine: u32,
+    /// Pyramid level of the leaping blocks.
+    pub leaf_level: u32,
+    /// Number of pyramid levels.
+    pub level_count: u32,
+    /// Padding to a multiple of 16 bytes.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+}
+
+/// One pyramid level as the shaders read it (`LevelInfo`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LevelInfo {
+    /// Nodes per axis.
+    pub nodes: [u32; 3],
+    /// First node's index in the flat arrays.
+    pub offset: u32,
+    /// Brick edge in voxels.
+    pub brick_vox: u32,
+    /// Padding to 32 bytes.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+    /// Padding.
+    pub _pad2: u32,
+}
+
+/// Parameters of one pass of the min/max pyramid build (`BuildParams`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct BuildParams {
+    /// The level this pass builds.
+    pub level: u32,
+    /// Normalised value = texel * texel_scale + texel_bias.
+    pub texel_scale: f32,
+    /// See `texel_scale`.
+    pub texel_bias: f32,
+    /// Padding to 16 bytes.
+    pub _pad0: u32,
+}
+
+/// What makes a node empty in the node-flag pass (`EmptinessParams.rule`).
+pub const RULE_TRANSFER: u32 = 0;
+/// X-ray: empty where no value lies above `threshold`.
+pub const RULE_AT_MOST: u32 = 1;
+
+/// Parameters of the emptiness-table and node-flag passes (`EmptinessParams`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct EmptinessParams {
+    /// Entries in the lookup table.
+    pub lut_size: u32,
+    /// Nodes of all pyramid levels.
+    pub node_count: u32,
+    /// [`RULE_TRANSFER`] or [`RULE_AT_MOST`].
+    pub rule: u32,
+    /// The normalised value at or below which a node is empty under [`RULE_AT_MOST`].
+    pub threshold: f32,
+}
+
+/// Parameters of one axis pass of the distance field (`DistanceParams`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct DistanceParams {
+    /// The pyramid level the field covers.
+    pub leaf_level: u32,
+    /// The axis this pass runs along (0, 1, 2).
+    pub axis: u32,
+    /// Padding to 16 bytes.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+}
+
+/// Parameters of one accumulation pass of progressive refinement (`AccumulateParams`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct AccumulateParams {
+    /// Frames in the mean after this pass (1 restarts it).
+    pub count: u32,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Padding to 16 bytes.
+    pub _pad0: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_layout_is_a_whole_number_of_16_byte_rows_without_gaps() {
+        for layout in layouts() {
+            assert_eq!(layout.size % 16, 0, "{}", layout.rust_name);
+            // Fields follow each other with no hidden padding (Pod needs none; WGSL's rules
+            // are what the naga test checks).
+            let mut names: Vec<_> = layout.fields.iter().map(|f| f.name).collect();
+            names.dedup();
+            assert_eq!(names.len(), layout.fields.len(), "{}", layout.rust_name);
+        }
+    }
+
+    #[test]
+    fn the_generated_constants_hold_the_rust_values() {
+        let wgsl = wgsl_constants();
+        assert!(
+            wgsl.contains(&format!("const WORKGROUP: u32 = {WORKGROUP}u;\n")),
+            "{wgsl}"
+        );
+        // An f32 literal WGSL parses back to the same value (Rust's shortest round-trip form).
+        let missing = format!("const MISSING_BELOW: f32 = {MISSING_BELOW:?};\n");
+        assert!(wgsl.contains(&missing), "{wgsl}");
+        assert!(
+            wgsl.contains("const COUNTER_LEAPT_SAMPLES: u32 = 4u;\n"),
+            "the fifth counter: {wgsl}"
+        );
+        assert_eq!(wgsl.matches("const COUNTER_").count(), COUNTERS);
+    }
+}

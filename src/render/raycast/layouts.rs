@@ -1,0 +1,241 @@
+//! The ray caster's bind group layouts, each beside the constructor of its bind groups, so a
+//! group's entries are written once, next to the layout they must match (the WGSL declarations
+//! are in `shaders/shared/common.wgsl`, `shaders/entry/`, `shaders/shared/stats.wgsl` and
+//! `shaders/leap/leap.wgsl`).
+
+use wgpu::ShaderStages as S;
+
+use crate::render::texture::OUTPUT_FORMAT;
+
+/// The bind group layouts shared by all ray-casting pipelines.
+pub struct Layouts {
+    /// Group 0: frame uniforms, volume, sampler, transfer-function table, pre-integration table.
+    pub frame: wgpu::BindGroupLayout,
+    /// Group 1 of the fragment path: the exit-point texture.
+    pub fragment_io: wgpu::BindGroupLayout,
+    /// Group 1 of the compute path: the output image.
+    pub compute_io: wgpu::BindGroupLayout,
+    /// Group 2 of statistics variants: the counters.
+    pub stats: wgpu::BindGroupLayout,
+    /// Group 3 of leaping variants: pyramid levels, node flags, distances, node min/max.
+    pub leap: wgpu::BindGroupLayout,
+}
+
+/// What group 0 binds: resources of the renderer (uniforms, sampler, the transfer function's
+/// tables) and of the volume.
+pub struct FrameResources<'a> {
+    /// The frame uniforms.
+    pub uniforms: &'a wgpu::Buffer,
+    /// The volume's 3D texture.
+    pub volume: &'a wgpu::TextureView,
+    /// The linear clamp-to-edge sampler.
+    pub sampler: &'a wgpu::Sampler,
+    /// The transfer function's lookup table.
+    pub lut: &'a wgpu::TextureView,
+    /// The pre-integration table.
+    pub integrals: &'a wgpu::TextureView,
+}
+
+/// What group 3 binds: the leaping structures of one volume.
+pub struct LeapResources<'a> {
+    /// The pyramid's levels (`LevelInfo` per level).
+    pub levels: &'a wgpu::Buffer,
+    /// Per-node emptiness flags.
+    pub node_empty: &'a wgpu::Buffer,
+    /// The distance field over the leaf blocks.
+    pub distance: &'a wgpu::Buffer,
+    /// Per-node (min, max).
+    pub minmax: &'a wgpu::Buffer,
+}
+
+/// The stages that run the ray loop.
+const RAY_LOOP: S = S::FRAGMENT.union(S::COMPUTE);
+
+fn texture_entry(
+    binding: u32,
+    dim: wgpu::TextureViewDimension,
+    filterable: bool,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable },
+            view_dimension: dim,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: RAY_LOOP,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn layout(
+    device: &wgpu::Device,
+    label: &str,
+    entries: &[wgpu::BindGroupLayoutEntry],
+) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries,
+    })
+}
+
+fn group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    resources: &[wgpu::BindingResource<'_>],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+        .iter()
+        .enumerate()
+        .map(|(binding, resource)| wgpu::BindGroupEntry {
+            binding: binding as u32,
+            resource: resource.clone(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
+impl Layouts {
+    /// Creates the layouts.
+    pub fn new(device: &wgpu::Device) -> Self {
+        use wgpu::TextureViewDimension::{D2, D3};
+        let frame = layout(
+            device,
+            "frame",
+            &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: S::VERTEX | RAY_LOOP,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                texture_entry(1, D3, true, RAY_LOOP),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: RAY_LOOP,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+                texture_entry(3, D2, true, RAY_LOOP),
+                texture_entry(4, D2, false, RAY_LOOP),
+            ],
+        );
+        let fragment_io = layout(
+            device,
+            "fragment io",
+            &[texture_entry(0, D2, false, S::FRAGMENT)],
+        );
+        let compute_io = layout(
+            device,
+            "compute io",
+            &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: S::COMPUTE,
+                ty: wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: OUTPUT_FORMAT,
+                    view_dimension: D2,
+                },
+                count: None,
+            }],
+        );
+        let stats = layout(device, "stats", &[storage_entry(0, false)]);
+        let leap = layout(
+            device,
+            "leap",
+            &[0, 1, 2, 3].map(|binding| storage_entry(binding, true)),
+        );
+        Self {
+            frame,
+            fragment_io,
+            compute_io,
+            stats,
+            leap,
+        }
+    }
+
+    /// Group 0 for one volume.
+    pub fn frame_group(&self, device: &wgpu::Device, r: &FrameResources<'_>) -> wgpu::BindGroup {
+        use wgpu::BindingResource::{Sampler, TextureView};
+        group(
+            device,
+            "frame",
+            &self.frame,
+            &[
+                r.uniforms.as_entire_binding(),
+                TextureView(r.volume),
+                Sampler(r.sampler),
+                TextureView(r.lut),
+                TextureView(r.integrals),
+            ],
+        )
+    }
+
+    /// Group 1 of the fragment path: the exit points of one image size.
+    pub fn fragment_io_group(
+        &self,
+        device: &wgpu::Device,
+        exit: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
+        let exit = wgpu::BindingResource::TextureView(exit);
+        group(device, "fragment io", &self.fragment_io, &[exit])
+    }
+
+    /// Group 1 of the compute path: the output image of one image size.
+    pub fn compute_io_group(
+        &self,
+        device: &wgpu::Device,
+        output: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
+        let output = wgpu::BindingResource::TextureView(output);
+        group(device, "compute io", &self.compute_io, &[output])
+    }
+
+    /// Group 2: the statistics counters.
+    pub fn stats_group(&self, device: &wgpu::Device, counters: &wgpu::Buffer) -> wgpu::BindGroup {
+        group(
+            device,
+            "stats",
+            &self.stats,
+            &[counters.as_entire_binding()],
+        )
+    }
+
+    /// Group 3: one volume's leaping structures.
+    pub fn leap_group(&self, device: &wgpu::Device, r: &LeapResources<'_>) -> wgpu::BindGroup {
+        group(
+            device,
+            "leap",
+            &self.leap,
+            &[
+                r.levels.as_entire_binding(),
+                r.node_empty.as_entire_binding(),
+                r.distance.as_entire_binding(),
+                r.minmax.as_entire_binding(),
+            ],
+        )
+    }
+}

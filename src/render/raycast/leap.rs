@@ -1,0 +1,482 @@
+//! The GPU side of empty-space leaping: the min/max pyramid (built once per volume), the
+//! emptiness table and node flags (rebuilt when the transfer function changes), and the distance
+//! field over leaf blocks (rebuilt when the flags or the block size change). Everything is built
+//! lazily, only when a leaping frame needs it. The CPU references are in `crate::accel`.
+
+use crate::accel::emptiness::TABLE_SIZE;
+use crate::accel::pyramid::Pyramid;
+use crate::render::context::GpuContext;
+use crate::render::gpu_data::{
+    BUILD_WORKGROUP, BuildParams, DistanceParams, EmptinessParams, LevelInfo,
+    MAX_WORKGROUPS_PER_DIMENSION, NODE_WORKGROUP, RULE_AT_MOST, RULE_TRANSFER, TABLE_WORKGROUP,
+};
+use crate::render::probe::{ProbePool, ProbeSlot};
+use crate::render::shader::{ShaderError, compose};
+use crate::render::table_texture::TableTexture;
+use crate::settings::{Mode, RenderSettings, Strategy};
+
+use super::layouts::LeapResources;
+use super::pipelines::shader_module;
+use super::uniforms::LeapLevels;
+
+/// The builder pipelines, created once per renderer.
+pub struct LeapPipelines {
+    base: wgpu::ComputePipeline,
+    parent: wgpu::ComputePipeline,
+    scan: wgpu::ComputePipeline,
+    table: wgpu::ComputePipeline,
+    flags: wgpu::ComputePipeline,
+    distance: wgpu::ComputePipeline,
+}
+
+fn compute(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: None,
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
+impl LeapPipelines {
+    /// Compiles the builders.
+    pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
+        let module = |name: &str| -> Result<wgpu::ShaderModule, ShaderError> {
+            Ok(shader_module(device, name, compose(name, &[])?))
+        };
+        let minmax = module("build/minmax.wgsl")?;
+        let emptiness = module("build/emptiness.wgsl")?;
+        let distance = module("build/distance.wgsl")?;
+        Ok(Self {
+            base: compute(device, &minmax, "build_base"),
+            parent: compute(device, &minmax, "build_parent"),
+            scan: compute(device, &emptiness, "scan_lut"),
+            table: compute(device, &emptiness, "build_table"),
+            flags: compute(device, &emptiness, "flag_nodes"),
+            distance: compute(device, &distance, "distance_pass"),
+        })
+    }
+}
+
+fn buffer(
+    device: &wgpu::Device,
+    label: &str,
+    size: u64,
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(16),
+        usage,
+        mapped_at_creation: false,
+    })
+}
+
+/// A 16-byte uniform buffer, written with `queue.write_buffer` before each use.
+fn uniform(device: &wgpu::Device, label: &str) -> wgpu::Buffer {
+    buffer(
+        device,
+        label,
+        16,
+        wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+    )
+}
+
+fn entry(binding: u32, resource: wgpu::BindingResource<'_>) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry { binding, resource }
+}
+
+fn groups_for(count: u32, per_group: u32) -> (u32, u32) {
+    let groups = count.div_ceil(per_group).max(1);
+    let max = MAX_WORKGROUPS_PER_DIMENSION;
+    if groups <= max {
+        (groups, 1)
+    } else {
+        (max, groups.div_ceil(max))
+    }
+}
+
+/// What makes a node empty, and the inputs that rule depends on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FlagRule {
+    /// DVR: the transfer function is zero over the node's values (generation of the function).
+    Transfer(u64),
+    /// X-ray: no value above the window's low end (normalised, as f32 bits).
+    AtMost(u32),
+}
+
+/// The leaping structures of one volume.
+pub struct LeapStructures {
+    /// Layout of the pyramid.
+    pub pyramid: Pyramid,
+    level_buffer: wgpu::Buffer,
+    /// Per-node (min, max) of normalised values, all levels (vec2<f32>).
+    pub minmax: wgpu::Buffer,
+    /// Per-node emptiness flags (u32 0/1), all levels.
+    pub node_empty: wgpu::Buffer,
+    /// The emptiness table, `TABLE_SIZE²` u32 (1 = empty), indexed `max_bin * TABLE_SIZE + min_bin`.
+    pub table: wgpu::Buffer,
+    prefix: wgpu::Buffer,
+    /// Distance field over the leaf level (u32 per block), and its ping-pong partner.
+    pub distance: [wgpu::Buffer; 2],
+    level_params: Vec<wgpu::Buffer>,
+    emptiness_params: wgpu::Buffer,
+    distance_params: [wgpu::Buffer; 3],
+    /// Whether the pyramid has been built.
+    minmax_ready: bool,
+    /// What the node flags were built for, if anything.
+    pub flags_for: Option<FlagRule>,
+    /// The flags and leaf level the distance field was built for, if anything.
+    pub distance_for: Option<(FlagRule, u32)>,
+}
+
+impl LeapStructures {
+    /// Allocates the structures for a volume of `dims` whose texels decode as
+    /// `s = texel * scale + bias`.
+    pub fn new(ctx: &GpuContext, dims: [u32; 3], texel_scale: f32, texel_bias: f32) -> Self {
+        use wgpu::BufferUsages as U;
+        let device = &ctx.device;
+        let pyramid = Pyramid::new(dims);
+        let nodes = pyramid.node_count() as u64;
+        let infos: Vec<LevelInfo> = pyramid
+            .levels
+            .iter()
+            .map(|l| LevelInfo {
+                nodes: l.nodes,
+                offset: l.offset,
+                brick_vox: l.brick_vox,
+                _pad0: 0,
+                _pad1: 0,
+                _pad2: 0,
+            })
+            .collect();
+        let level_buffer = buffer(
+            device,
+            "pyramid levels",
+            std::mem::size_of_val(infos.as_slice()) as u64,
+            U::STORAGE | U::COPY_DST,
+        );
+        ctx.queue
+            .write_buffer(&level_buffer, 0, bytemuck::cast_slice(&infos));
+        let leaf_max = pyramid.levels[0].count() as u64 * 4;
+        let storage = U::STORAGE | U::COPY_SRC | U::COPY_DST;
+        let level_params = (0..pyramid.levels.len() as u32)
+            .map(|l| {
+                let b = uniform(device, "build params");
+                let params = BuildParams {
+                    level: l,
+                    texel_scale,
+                    texel_bias,
+                    _pad0: 0,
+                };
+                ctx.queue.write_buffer(&b, 0, bytemuck::bytes_of(&params));
+                b
+            })
+            .collect();
+        let emptiness_params = uniform(device, "emptiness params");
+        Self {
+            minmax: buffer(device, "node min/max", nodes * 8, storage),
+            node_empty: buffer(device, "node emptiness", nodes * 4, storage),
+            table: buffer(
+                device,
+                "emptiness table",
+                (TABLE_SIZE * TABLE_SIZE * 4) as u64,
+                storage,
+            ),
+            prefix: buffer(
+                device,
+                "opacity prefix",
+                (crate::transfer::lut::LUT_SIZE as u64 + 1) * 4,
+                storage,
+            ),
+            distance: [
+                buffer(device, "block distance", leaf_max, storage),
+                buffer(device, "block distance (pass)", leaf_max, storage),
+            ],
+            level_params,
+            emptiness_params,
+            distance_params: [0, 1, 2].map(|_| uniform(device, "distance params")),
+            pyramid,
+            level_buffer,
+            minmax_ready: false,
+            flags_for: None,
+            distance_for: None,
+        }
+    }
+
+    /// Records the pyramid build (once per volume); returns whether it recorded one.
+    fn build_minmax(
+        &mut self,
+        ctx: &GpuContext,
+        pipelines: &LeapPipelines,
+        volume_view: &wgpu::TextureView,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> bool {
+        if self.minmax_ready {
+            return false;
+        }
+        let device = &ctx.device;
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("min/max pyramid"),
+            timestamp_writes: None,
+        });
+        for (l, level) in self.pyramid.levels.iter().enumerate() {
+            let pipeline = if l == 0 {
+                &pipelines.base
+            } else {
+                &pipelines.parent
+            };
+            let layout = pipeline.get_bind_group_layout(0);
+            let mut entries = vec![
+                entry(0, self.level_params[l].as_entire_binding()),
+                entry(1, self.level_buffer.as_entire_binding()),
+                entry(2, self.minmax.as_entire_binding()),
+            ];
+            if l == 0 {
+                entries.push(entry(3, wgpu::BindingResource::TextureView(volume_view)));
+            }
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("min/max build"),
+                layout: &layout,
+                entries: &entries,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            let n = level.nodes;
+            pass.dispatch_workgroups(
+                n[0].div_ceil(BUILD_WORKGROUP),
+                n[1].div_ceil(BUILD_WORKGROUP),
+                n[2].div_ceil(BUILD_WORKGROUP),
+            );
+        }
+        drop(pass);
+        self.minmax_ready = true;
+        true
+    }
+
+    /// Records the rebuild of the emptiness table and node flags from the lookup table (after
+    /// every transfer-function change), timed with `timestamps` when given.
+    fn build_flags(
+        &mut self,
+        ctx: &GpuContext,
+        pipelines: &LeapPipelines,
+        rule: FlagRule,
+        lut: &TableTexture,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let device = &ctx.device;
+        let (lut_view, lut_size) = (&lut.view, lut.entries());
+        let nodes = self.pyramid.node_count();
+        let (rule_code, threshold) = match rule {
+            FlagRule::Transfer(_) => (RULE_TRANSFER, 0.0),
+            FlagRule::AtMost(bits) => (RULE_AT_MOST, f32::from_bits(bits)),
+        };
+        let params = EmptinessParams {
+            lut_size,
+            node_count: nodes,
+            rule: rule_code,
+            threshold,
+        };
+        ctx.queue
+            .write_buffer(&self.emptiness_params, 0, bytemuck::bytes_of(&params));
+        let entries_for = |pipeline: &wgpu::ComputePipeline, bindings: &[u32]| {
+            let all = [
+                entry(0, self.emptiness_params.as_entire_binding()),
+                entry(1, wgpu::BindingResource::TextureView(lut_view)),
+                entry(2, self.prefix.as_entire_binding()),
+                entry(3, self.table.as_entire_binding()),
+                entry(4, self.minmax.as_entire_binding()),
+                entry(5, self.node_empty.as_entire_binding()),
+            ];
+            let entries: Vec<_> = all
+                .into_iter()
+                .filter(|e| bindings.contains(&e.binding))
+                .collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("emptiness build"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &entries,
+            })
+        };
+        let scan = entries_for(&pipelines.scan, &[0, 1, 2]);
+        let table = entries_for(&pipelines.table, &[0, 2, 3]);
+        let flags = entries_for(&pipelines.flags, &[0, 3, 4, 5]);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("emptiness"),
+            timestamp_writes: timestamps,
+        });
+        pass.set_pipeline(&pipelines.scan);
+        pass.set_bind_group(0, &scan, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+        pass.set_pipeline(&pipelines.table);
+        pass.set_bind_group(0, &table, &[]);
+        let t = (TABLE_SIZE as u32).div_ceil(TABLE_WORKGROUP);
+        pass.dispatch_workgroups(t, t, 1);
+        pass.set_pipeline(&pipelines.flags);
+        pass.set_bind_group(0, &flags, &[]);
+        let (gx, gy) = groups_for(nodes, NODE_WORKGROUP);
+        pass.dispatch_workgroups(gx, gy, 1);
+        drop(pass);
+        self.flags_for = Some(rule);
+    }
+
+    /// Records the distance-field build over leaf level `leaf` (three 1D passes ending in
+    /// `distance[0]`).
+    fn build_distance(
+        &mut self,
+        ctx: &GpuContext,
+        pipelines: &LeapPipelines,
+        leaf: u32,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let device = &ctx.device;
+        let layout = pipelines.distance.get_bind_group_layout(0);
+        let level = self.pyramid.levels[leaf as usize];
+        // Axis 0 writes distance[1], axis 1 reads it and writes distance[0], axis 2 back to [1]…
+        // so the order of targets is [1, 0, 1]; copy the last into [0] afterwards.
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("distance field"),
+            timestamp_writes: timestamps,
+        });
+        for axis in 0..3u32 {
+            ctx.queue.write_buffer(
+                &self.distance_params[axis as usize],
+                0,
+                bytemuck::bytes_of(&DistanceParams {
+                    leaf_level: leaf,
+                    axis,
+                    _pad0: 0,
+                    _pad1: 0,
+                }),
+            );
+            let (src, dst) = if axis == 1 { (1, 0) } else { (0, 1) };
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("distance pass"),
+                layout: &layout,
+                entries: &[
+                    entry(0, self.distance_params[axis as usize].as_entire_binding()),
+                    entry(1, self.level_buffer.as_entire_binding()),
+                    entry(2, self.node_empty.as_entire_binding()),
+                    entry(3, self.distance[src].as_entire_binding()),
+                    entry(4, self.distance[dst].as_entire_binding()),
+                ],
+            });
+            pass.set_pipeline(&pipelines.distance);
+            pass.set_bind_group(0, &group, &[]);
+            let n = level.nodes;
+            pass.dispatch_workgroups(
+                n[0].div_ceil(BUILD_WORKGROUP),
+                n[1].div_ceil(BUILD_WORKGROUP),
+                n[2].div_ceil(BUILD_WORKGROUP),
+            );
+        }
+        drop(pass);
+        encoder.copy_buffer_to_buffer(
+            &self.distance[1],
+            0,
+            &self.distance[0],
+            0,
+            level.count() as u64 * 4,
+        );
+        self.distance_for = self.flags_for.map(|rule| (rule, leaf));
+    }
+
+    /// What the ray loop's bind group (group 3) binds.
+    pub fn resources(&self) -> LeapResources<'_> {
+        LeapResources {
+            levels: &self.level_buffer,
+            node_empty: &self.node_empty,
+            distance: &self.distance[0],
+            minmax: &self.minmax,
+        }
+    }
+
+    /// Number of pyramid levels.
+    pub fn level_count(&self) -> u32 {
+        self.pyramid.levels.len() as u32
+    }
+}
+
+/// What a leaping frame asks of [`LeapStructures::prepare`].
+pub struct LeapRequest<'a> {
+    /// The frame's settings (mode, strategy, block size).
+    pub settings: &'a RenderSettings,
+    /// Generation of the transfer function the lookup table holds.
+    pub transfer_generation: u64,
+    /// The lookup table (the emptiness table is built from it).
+    pub lut: &'a TableTexture,
+    /// The window's low end, normalised (X-ray leaps over what lies below it).
+    pub window_lo: f32,
+    /// The volume's texture (the pyramid is built from it).
+    pub volume: &'a wgpu::TextureView,
+}
+
+/// Which structures one [`LeapStructures::prepare`] recorded a build of.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Builds {
+    /// The min/max pyramid (once per volume).
+    pub minmax: bool,
+    /// The emptiness table and node flags.
+    pub flags: bool,
+    /// The distance field.
+    pub distance: bool,
+}
+
+impl LeapStructures {
+    /// Records whatever the structures still need for this frame and returns the levels the ray
+    /// loop uses: the pyramid once per volume; node flags when the rule they follow changed
+    /// (DVR: the transfer function; X-ray with the distance field: the window); the distance
+    /// field when its flags or the block size changed. MIP, MinIP, isosurfaces and octree X-ray
+    /// read the min/max pyramid directly. The rebuild is timed into `probe` when given.
+    pub fn prepare(
+        &mut self,
+        ctx: &GpuContext,
+        pipelines: &LeapPipelines,
+        request: &LeapRequest<'_>,
+        encoder: &mut wgpu::CommandEncoder,
+        mut probe: Option<(&mut ProbePool, &ProbeSlot)>,
+    ) -> (LeapLevels, Builds) {
+        let settings = request.settings;
+        // validate() admitted only sizes the pyramid has.
+        let leaf = self.pyramid.level_of_block(settings.block_vox).unwrap_or(0) as u32;
+        let mut builds = Builds {
+            minmax: self.build_minmax(ctx, pipelines, request.volume, encoder),
+            ..Builds::default()
+        };
+        let levels = LeapLevels {
+            leaf_level: leaf,
+            level_count: self.level_count(),
+        };
+        let distance = settings.strategy.for_mode(settings.mode) == Strategy::RcSDistance;
+        let rule = match settings.mode {
+            Mode::Dvr => FlagRule::Transfer(request.transfer_generation),
+            Mode::Xray | Mode::XrayAttenuation if distance => {
+                FlagRule::AtMost(request.window_lo.to_bits())
+            }
+            _ => return (levels, builds),
+        };
+        builds.flags = self.flags_for != Some(rule);
+        builds.distance = distance && (builds.flags || self.distance_for != Some((rule, leaf)));
+        if builds.flags {
+            let ts = probe
+                .as_mut()
+                .and_then(|(p, s)| p.rebuild_timestamps(s, true, !builds.distance));
+            self.build_flags(ctx, pipelines, rule, request.lut, encoder, ts);
+        }
+        if builds.distance {
+            let ts = probe
+                .as_mut()
+                .and_then(|(p, s)| p.rebuild_timestamps(s, !builds.flags, true));
+            self.build_distance(ctx, pipelines, leaf, encoder, ts);
+        }
+        (levels, builds)
+    }
+}

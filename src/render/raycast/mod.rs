@@ -1,0 +1,20 @@
+//! The 3D ray caster, one kind of drawing: [`VolumeRenderer`] and the owners it orchestrates,
+//! one per lifetime — pipelines and layouts (the device's), the volume's resources, the transfer
+//! function's tables, the leaping structures, the per-size targets — plus the pure per-frame
+//! uniforms, the pass recording, progressive refinement and the `auto` path choice (a caller).
+
+pub mod auto_path;
+pub mod layouts;
+pub mod leap;
+pub mod passes;
+pub mod pipelines;
+pub mod refine;
+pub mod renderer;
+pub mod targets;
+pub mod transfer;
+pub mod uniforms;
+pub mod variant;
+pub mod volume;
+
+pub use renderer::{FrameRequest, RenderError, SubmittedFrame, VolumeRenderer, WorkCounts};
+pub use variant::PipelineKey;

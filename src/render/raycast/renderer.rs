@@ -1,0 +1,571 @@
+//! The long-lived volume renderer. It orchestrates small owners, one per lifetime: the pipelines
+//! (the device's), the volume's resources, the transfer function's tables, the per-size targets,
+//! and the probes and refinement of frames. The window, the command line and the tests all render
+//! through it.
+
+use crate::camera::Camera;
+use crate::imaging::ImageF32;
+use crate::render::context::GpuContext;
+use crate::render::probe::{FrameResults, ProbePool};
+use crate::render::readback::read_texture;
+use crate::render::shader::ShaderError;
+use crate::render::volume_texture::{VolumeTexture, VolumeTextureError};
+use crate::settings::{
+    ConcretePath, Mode, RenderPath, RenderSettings, SettingsError, TexturePrecision,
+};
+use crate::transfer::TransferFunction;
+use crate::volume::Volume;
+
+use super::leap::{LeapRequest, LeapStructures};
+use super::passes::RaycastPasses;
+use super::pipelines::Pipelines;
+use super::refine::{self, Accumulator};
+use super::targets::Targets;
+use super::uniforms::{FrameGeometry, LeapLevels, SampleDecoding, frame_uniforms};
+use super::variant::PipelineKey;
+use super::volume::{FrameShared, GpuVolume};
+use crate::render::gpu_data::FrameUniforms;
+
+/// Why a frame could not be rendered.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// `render` was called before any volume was set.
+    #[error("no volume is loaded")]
+    NoVolume,
+    /// A setting is out of range.
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
+    /// The path is `auto` but no path was chosen for this renderer yet (a bug of the caller: run
+    /// [`super::auto_path::choose`] first).
+    #[error("the ray-loop path is 'auto' but the paths have not been timed on this GPU yet")]
+    AutoPathNotChosen,
+    /// The image is larger than the adapter's 2D texture limit (or empty).
+    #[error(
+        "an image of {width}×{height} pixels is not possible on this GPU ({adapter}): each side must be 1 to {max}"
+    )]
+    ImageSize {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+        /// The adapter's `max_texture_dimension_2d`.
+        max: u32,
+        /// Adapter name.
+        adapter: String,
+    },
+    /// The volume could not be put on the GPU.
+    #[error(transparent)]
+    Volume(#[from] VolumeTextureError),
+    /// A shader module is malformed (a bug).
+    #[error("internal shader error: {0}")]
+    Shader(#[from] ShaderError),
+    /// The GPU reported an error while rendering.
+    #[error("the GPU reported an error: {0}")]
+    Gpu(String),
+}
+
+/// One frame to render.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameRequest<'a> {
+    /// Camera in world millimetres.
+    pub camera: &'a Camera,
+    /// Image size in pixels.
+    pub size: [u32; 2],
+    /// Mode, strategy, path and quality knobs.
+    pub settings: &'a RenderSettings,
+    /// Use the statistics variant (counts samples; slower).
+    pub stats: bool,
+}
+
+/// What was submitted for a frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SubmittedFrame {
+    /// Sequence number (matches [`FrameResults::frame`]).
+    pub frame: u64,
+    /// The pipeline variant used.
+    pub key: PipelineKey,
+}
+
+/// How often the renderer did each piece of work since it was made: what tests read to prove
+/// that nothing is recomputed that did not change.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WorkCounts {
+    /// Frames submitted.
+    pub frames: u64,
+    /// Lookup tables baked and uploaded (transfer function, value range or step changed).
+    pub lut_bakes: u64,
+    /// Min/max pyramids built (once per volume, on the first leaping frame).
+    pub minmax_builds: u64,
+    /// Emptiness tables and node flags built (transfer function, or the X-ray window for the
+    /// distance field, changed).
+    pub flag_builds: u64,
+    /// Distance fields built (flags or block size changed).
+    pub distance_builds: u64,
+    /// Pre-integration tables built (transfer function or value range changed while
+    /// pre-integration is on).
+    pub integral_builds: u64,
+}
+
+/// A frame added to the refinement mean: whether it starts a new mean.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Accumulate {
+    restart: bool,
+}
+
+/// The frames' measurements: GPU timestamps and counters, the statistics variants' group, and
+/// what was done so far.
+struct Measurements {
+    probes: ProbePool,
+    stats_group: wgpu::BindGroup,
+    frames_submitted: u64,
+    work: WorkCounts,
+}
+
+/// The renderer. See the module documentation.
+pub struct VolumeRenderer {
+    ctx: GpuContext,
+    pipelines: Pipelines,
+    /// The frame uniforms (rewritten every frame) and the volume sampler.
+    uniforms: wgpu::Buffer,
+    sampler: wgpu::Sampler,
+    transfer: super::transfer::TransferTables,
+    volume: Option<GpuVolume>,
+    targets: Option<Targets>,
+    measurements: Measurements,
+    /// The running mean of progressive refinement (built on first use).
+    refine: Option<Accumulator>,
+    /// The path `auto` stands for on this adapter, once chosen ([`super::auto_path::choose`]).
+    auto_path: Option<ConcretePath>,
+}
+
+impl VolumeRenderer {
+    /// Creates the renderer's long-lived resources on `ctx`.
+    pub fn new(ctx: GpuContext) -> Result<Self, RenderError> {
+        let device = &ctx.device;
+        let pipelines = Pipelines::new(device)?;
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("linear clamp"),
+            address_mode_u: wgpu::AddressMode::ClampToEdge,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            address_mode_w: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame uniforms"),
+            size: std::mem::size_of::<FrameUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let probes = ProbePool::new(device, &ctx.queue, ctx.has_timestamps());
+        let measurements = Measurements {
+            stats_group: pipelines.layouts.stats_group(device, &probes.counters),
+            probes,
+            frames_submitted: 0,
+            work: WorkCounts::default(),
+        };
+        Ok(Self {
+            transfer: super::transfer::TransferTables::new(&ctx),
+            ctx,
+            pipelines,
+            uniforms,
+            sampler,
+            volume: None,
+            targets: None,
+            measurements,
+            refine: None,
+            auto_path: None,
+        })
+    }
+
+    /// The device the renderer works on.
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+
+    /// Uploads `volume`, replacing the current one. On error the current volume stays.
+    pub fn set_volume(&mut self, volume: &Volume) -> Result<(), RenderError> {
+        self.set_volume_with(volume, TexturePrecision::Auto)
+    }
+
+    /// [`Self::set_volume`] with the texel precision forced (the accuracy benchmark's knob).
+    pub fn set_volume_with(
+        &mut self,
+        volume: &Volume,
+        precision: TexturePrecision,
+    ) -> Result<(), RenderError> {
+        let shared = FrameShared {
+            uniforms: &self.uniforms,
+            sampler: &self.sampler,
+            tables: &self.transfer,
+        };
+        let uploaded = GpuVolume::new(
+            &self.ctx,
+            &self.pipelines.layouts,
+            &shared,
+            volume,
+            precision,
+        )?;
+        self.volume = Some(uploaded);
+        self.transfer.invalidate();
+        Ok(())
+    }
+
+    /// Whether a volume is loaded.
+    pub fn has_volume(&self) -> bool {
+        self.volume.is_some()
+    }
+
+    /// The loaded volume's texture, for other kinds of drawing of the same volume.
+    pub fn volume_texture(&self) -> Option<&VolumeTexture> {
+        self.volume.as_ref().map(|v| &v.texture)
+    }
+
+    /// Sets the transfer function; the tables are rebuilt before the next frame that needs
+    /// them. Returns whether the function changed.
+    pub fn set_transfer_function(&mut self, transfer: &TransferFunction) -> bool {
+        self.transfer.set(transfer)
+    }
+
+    /// The current transfer function.
+    pub fn transfer_function(&self) -> &TransferFunction {
+        self.transfer.function()
+    }
+
+    /// The transfer function's generation: it changes exactly when the function does, so it is
+    /// the one signal that a frame must be rendered again for a new function.
+    pub fn transfer_generation(&self) -> u64 {
+        self.transfer.generation()
+    }
+
+    /// Makes sure the per-size textures exist for `size`.
+    fn ensure_targets(&mut self, size: [u32; 2]) -> Result<(), RenderError> {
+        let max = self.ctx.limits.max_texture_dimension_2d;
+        if size.iter().any(|&s| s == 0 || s > max) {
+            return Err(RenderError::ImageSize {
+                width: size[0],
+                height: size[1],
+                max,
+                adapter: self.ctx.adapter_info.name.clone(),
+            });
+        }
+        if self.targets.as_ref().is_some_and(|t| t.size == size) {
+            return Ok(());
+        }
+        let device = &self.ctx.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let targets = Targets::new(device, &self.pipelines.layouts, size);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RenderError::Gpu(format!(
+                "out of GPU memory for a {}×{} image: {e}",
+                size[0], size[1]
+            )));
+        }
+        self.targets = Some(targets);
+        Ok(())
+    }
+
+    /// Bakes what the frame's settings need of the transfer function's tables.
+    fn refresh_tables(&mut self, settings: &RenderSettings) {
+        let Some(volume) = &self.volume else { return };
+        let work = &mut self.measurements.work;
+        if self
+            .transfer
+            .refresh_lut(&self.ctx, volume.range, settings.opacity_step_vox())
+        {
+            work.lut_bakes += 1;
+        }
+        if settings.preintegrated
+            && settings.mode == Mode::Dvr
+            && self.transfer.refresh_integrals(&self.ctx, volume.range)
+        {
+            work.integral_builds += 1;
+        }
+    }
+
+    /// Records and submits one frame. Its measurements arrive through [`Self::collect_results`].
+    pub fn render(&mut self, request: &FrameRequest) -> Result<SubmittedFrame, RenderError> {
+        self.render_frame(request, None).map(|(frame, _)| frame)
+    }
+
+    /// Records and submits `request`'s frame, adding it to the refinement mean in the same
+    /// submission when `accumulate` says so; returns the frames the mean then holds (`None`:
+    /// not added).
+    fn render_frame(
+        &mut self,
+        request: &FrameRequest,
+        accumulate: Option<Accumulate>,
+    ) -> Result<(SubmittedFrame, Option<u32>), RenderError> {
+        let settings = request.settings;
+        settings.validate()?;
+        let key = PipelineKey::new(settings, self.resolve_path(settings.path)?, request.stats);
+        self.ensure_targets(request.size)?;
+        self.refresh_tables(settings);
+        let volume = self.volume.as_mut().ok_or(RenderError::NoVolume)?;
+        let geometry =
+            FrameGeometry::new(request.camera, request.size, volume.dims, volume.spacing_mm);
+        let decoding = SampleDecoding {
+            texel_scale: volume.texture.encoding.scale,
+            texel_bias: volume.texture.encoding.bias,
+            lut_size: self.transfer.lut().entries(),
+            range: volume.range,
+        };
+        let mut uniforms = frame_uniforms(
+            &geometry,
+            request.size,
+            volume.dims,
+            volume.spacing_mm,
+            settings,
+            decoding,
+            LeapLevels::default(),
+        );
+        let scope = self
+            .ctx
+            .device
+            .push_error_scope(wgpu::ErrorFilter::Validation);
+        let m = &mut self.measurements;
+        m.frames_submitted += 1;
+        m.work.frames += 1;
+        let slot = m.probes.acquire(m.frames_submitted, request.stats);
+        let mut encoder = self
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            });
+        if request.stats {
+            m.probes.clear_counters(&mut encoder);
+        }
+        if key.strategy.leaps() {
+            let leap_request = LeapRequest {
+                settings,
+                transfer_generation: self.transfer.generation(),
+                lut: self.transfer.lut(),
+                window_lo: uniforms.window_lo,
+                volume: &volume.texture.view,
+            };
+            let probe = slot.as_ref().map(|s| (&mut m.probes, s));
+            let (levels, builds) = volume.leap.prepare(
+                &self.ctx,
+                &self.pipelines.leap,
+                &leap_request,
+                &mut encoder,
+                probe,
+            );
+            m.work.minmax_builds += u64::from(builds.minmax);
+            m.work.flag_builds += u64::from(builds.flags);
+            m.work.distance_builds += u64::from(builds.distance);
+            uniforms.leaf_level = levels.leaf_level;
+            uniforms.level_count = levels.level_count;
+        }
+        self.ctx
+            .queue
+            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
+        let targets = self.targets.as_ref().ok_or(RenderError::NoVolume)?;
+        let passes = RaycastPasses {
+            pipelines: self.pipelines.for_frame(&self.ctx.device, key)?,
+            frame_group: &volume.frame_group,
+            targets,
+            stats_group: request.stats.then_some(&m.stats_group),
+            leap_group: key.strategy.leaps().then_some(&volume.leap_group),
+            near_cap: geometry.needs_near_cap,
+            background: settings.background,
+        };
+        passes.record(&mut encoder, slot.as_ref().map(|s| (&m.probes, s)));
+        // In the frame's own submission: a separate one upsets lavapipe's timestamps of every
+        // later frame (they read ~0.1 ms; seen with Mesa 22.3, not on the H100).
+        let accumulated = match (accumulate, self.refine.as_mut()) {
+            (Some(a), Some(acc)) => acc.add(
+                &self.ctx,
+                &mut encoder,
+                &targets.output_view,
+                targets.size,
+                a.restart,
+            ),
+            _ => None,
+        };
+        if let Some(s) = &slot {
+            m.probes.finish(s, &mut encoder);
+        }
+        self.ctx.queue.submit([encoder.finish()]);
+        if let Some(s) = slot {
+            m.probes.submitted(s);
+        }
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RenderError::Gpu(e.to_string()));
+        }
+        let frame = SubmittedFrame {
+            frame: m.frames_submitted,
+            key,
+        };
+        Ok((frame, accumulated))
+    }
+
+    /// Results of finished frames, oldest first; with `wait`, waits for all submitted frames.
+    pub fn collect_results(&mut self, wait: bool) -> Vec<FrameResults> {
+        self.measurements.probes.collect(&self.ctx.device, wait)
+    }
+
+    /// Whether measurements of submitted frames are still on their way. The window polls
+    /// [`Self::collect_results`] without waiting and asks for another pass while this is true.
+    pub fn results_pending(&self) -> bool {
+        self.measurements.probes.any_in_flight()
+    }
+
+    /// Renders a frame and waits for its measurements.
+    pub fn render_and_wait(
+        &mut self,
+        request: &FrameRequest,
+    ) -> Result<(SubmittedFrame, FrameResults), RenderError> {
+        let submitted = self.render(request)?;
+        let results = self.collect_results(true);
+        let mine = results
+            .into_iter()
+            .find(|r| r.frame == submitted.frame)
+            .unwrap_or_default();
+        Ok((submitted, mine))
+    }
+
+    /// The rendered image's view (for display in the window), once a frame was rendered.
+    pub fn output_view(&self) -> Option<&wgpu::TextureView> {
+        self.targets.as_ref().map(|t| &t.output_view)
+    }
+
+    /// Copies the last rendered image to the CPU (waits for the GPU).
+    pub fn read_image(&self) -> Result<ImageF32, RenderError> {
+        let targets = self.targets.as_ref().ok_or(RenderError::NoVolume)?;
+        read_texture(&self.ctx, &targets.output, targets.size).map_err(RenderError::Gpu)
+    }
+
+    /// The path `path` stands for: itself, or for `auto` the path chosen on this adapter
+    /// ([`RenderError::AutoPathNotChosen`] before [`super::auto_path::choose`] ran).
+    pub fn resolve_path(&self, path: RenderPath) -> Result<ConcretePath, RenderError> {
+        match path {
+            RenderPath::Fragment => Ok(ConcretePath::Fragment),
+            RenderPath::Compute => Ok(ConcretePath::Compute),
+            RenderPath::Auto => self.auto_path.ok_or(RenderError::AutoPathNotChosen),
+        }
+    }
+
+    /// The path `auto` stands for, once chosen.
+    pub fn auto_path(&self) -> Option<ConcretePath> {
+        self.auto_path
+    }
+
+    /// Sets the path `auto` stands for (what [`super::auto_path::choose`] measured).
+    pub fn set_auto_path(&mut self, path: ConcretePath) {
+        self.auto_path = Some(path);
+    }
+
+    /// Number of pipeline variants built so far.
+    pub fn pipeline_count(&self) -> usize {
+        self.pipelines.variant_count()
+    }
+
+    /// What work the renderer has done so far.
+    pub fn work_counts(&self) -> WorkCounts {
+        self.measurements.work
+    }
+
+    /// The loaded volume's camera-independent description: dims, spacing.
+    pub fn volume_geometry(&self) -> Option<([u32; 3], [f64; 3])> {
+        self.volume.as_ref().map(|v| (v.dims, v.spacing_mm))
+    }
+
+    /// The leaping structures of the current volume (for tests and diagnostics).
+    pub fn leap_structures(&self) -> Option<&LeapStructures> {
+        self.volume.as_ref().map(|v| &v.leap)
+    }
+
+    /// Renders `camera` at `size` and returns the image (waits for the GPU).
+    pub fn render_image(
+        &mut self,
+        camera: &Camera,
+        size: [u32; 2],
+        settings: &RenderSettings,
+    ) -> Result<ImageF32, RenderError> {
+        self.render(&FrameRequest {
+            camera,
+            size,
+            settings,
+            stats: false,
+        })?;
+        self.read_image()
+    }
+}
+
+impl VolumeRenderer {
+    /// Renders `request` and adds it to the refinement mean (`restart`: as its first frame);
+    /// returns the frame and the frames the mean holds, `None` when the image is too large for
+    /// the per-pixel sums (more than the device's largest storage buffer: 128 MiB, 8.4 M pixels,
+    /// by default).
+    pub fn render_accumulated(
+        &mut self,
+        request: &FrameRequest,
+        restart: bool,
+    ) -> Result<(SubmittedFrame, Option<u32>), RenderError> {
+        if self.refine.is_none() {
+            self.refine = Some(Accumulator::new(&self.ctx.device)?);
+        }
+        self.render_frame(request, Some(Accumulate { restart }))
+    }
+
+    /// Whether any frame was ever added to a refinement mean.
+    pub fn has_accumulated(&self) -> bool {
+        self.refine.as_ref().is_some_and(|a| a.count() > 0)
+    }
+
+    /// The refinement mean's view (for display), once a frame was added to it.
+    pub fn refined_view(&self) -> Option<&wgpu::TextureView> {
+        self.refine.as_ref()?.mean().map(|(_, view, _)| view)
+    }
+
+    /// Copies the refinement mean to the CPU (waits for the GPU).
+    pub fn read_refined(&self) -> Result<ImageF32, RenderError> {
+        let (texture, _, size) = self
+            .refine
+            .as_ref()
+            .and_then(Accumulator::mean)
+            .ok_or(RenderError::NoVolume)?;
+        read_texture(&self.ctx, texture, size).map_err(RenderError::Gpu)
+    }
+
+    /// Renders `frames` frames of the view at the offsets of [`refine::offset`] and returns
+    /// their mean (one plain frame for `frames` ≤ 1, or when the image is too large for the
+    /// sums: then with a warning in the log).
+    pub fn render_refined(
+        &mut self,
+        camera: &Camera,
+        size: [u32; 2],
+        settings: &RenderSettings,
+        frames: u32,
+    ) -> Result<ImageF32, RenderError> {
+        if frames <= 1 {
+            return self.render_image(camera, size, settings);
+        }
+        for k in 0..frames {
+            let shifted = RenderSettings {
+                sample_offset: refine::offset(k),
+                ..*settings
+            };
+            let request = FrameRequest {
+                camera,
+                size,
+                settings: &shifted,
+                stats: false,
+            };
+            if self.render_accumulated(&request, k == 0)?.1.is_none() {
+                log::warn!(
+                    "a {}×{} image is too large to refine; rendered once",
+                    size[0],
+                    size[1]
+                );
+                return self.render_image(camera, size, settings);
+            }
+        }
+        // The frames' timings are nobody's: free their probes for the frames that follow.
+        self.collect_results(true);
+        self.read_refined()
+    }
+}

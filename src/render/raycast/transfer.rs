@@ -1,0 +1,96 @@
+//! What lives as long as one transfer function: the function itself, its generation (the one
+//! change signal the window and the leaping structures follow), the baked lookup table and the
+//! pre-integration table, each rebuilt only when what it depends on changed.
+
+use crate::render::context::GpuContext;
+use crate::render::table_texture::TableTexture;
+use crate::transfer::{TransferFunction, lut, preintegration};
+use crate::volume::ValueRange;
+
+/// The transfer function on the GPU.
+pub struct TransferTables {
+    function: TransferFunction,
+    /// Bumped on every change of the function.
+    generation: u64,
+    lut: TableTexture,
+    integrals: TableTexture,
+    /// (generation, step bits) the lookup table was baked for; `None` = stale.
+    lut_baked_for: Option<(u64, u64)>,
+    /// Generation the integral table was built for; `None` = stale.
+    integrals_built_for: Option<u64>,
+}
+
+impl TransferTables {
+    /// The tables, holding the grey ramp until a function is set (baked on first use).
+    pub fn new(ctx: &GpuContext) -> Self {
+        Self {
+            function: TransferFunction::grey_ramp(),
+            generation: 0,
+            lut: TableTexture::lut(ctx, lut::LUT_SIZE as u32),
+            integrals: TableTexture::integrals(ctx, lut::LUT_SIZE as u32),
+            lut_baked_for: None,
+            integrals_built_for: None,
+        }
+    }
+
+    /// Sets the function; returns whether it changed (and the generation with it).
+    pub fn set(&mut self, function: &TransferFunction) -> bool {
+        if *function == self.function {
+            return false;
+        }
+        self.function = function.clone();
+        self.generation += 1;
+        true
+    }
+
+    /// The current function.
+    pub fn function(&self) -> &TransferFunction {
+        &self.function
+    }
+
+    /// The function's generation: changes exactly when the function does.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// Marks both tables stale (a new volume brings a new value range).
+    pub fn invalidate(&mut self) {
+        self.lut_baked_for = None;
+        self.integrals_built_for = None;
+    }
+
+    /// Re-bakes the lookup table when the function or the step changed since it was baked for
+    /// `range`; returns whether it did.
+    pub fn refresh_lut(&mut self, ctx: &GpuContext, range: ValueRange, step_vox: f64) -> bool {
+        let wanted = (self.generation, step_vox.to_bits());
+        if self.lut_baked_for == Some(wanted) {
+            return false;
+        }
+        let table = lut::bake(&self.function, range, step_vox);
+        self.lut.write(&ctx.queue, &table);
+        self.lut_baked_for = Some(wanted);
+        true
+    }
+
+    /// Rebuilds the pre-integration table when the function changed since it was built for
+    /// `range` (it does not depend on the step); returns whether it did.
+    pub fn refresh_integrals(&mut self, ctx: &GpuContext, range: ValueRange) -> bool {
+        if self.integrals_built_for == Some(self.generation) {
+            return false;
+        }
+        let rows = preintegration::integral_table(&self.function, range);
+        self.integrals.write(&ctx.queue, &rows);
+        self.integrals_built_for = Some(self.generation);
+        true
+    }
+
+    /// The lookup table.
+    pub fn lut(&self) -> &TableTexture {
+        &self.lut
+    }
+
+    /// The pre-integration table.
+    pub fn integrals(&self) -> &TableTexture {
+        &self.integrals
+    }
+}

@@ -1,0 +1,79 @@
+//! What lives as long as one volume: its 3D texture and geometry, group 0 (which binds the
+//! texture beside the renderer's uniforms, sampler and tables), and the leaping structures with
+//! their group 3.
+
+use crate::render::context::GpuContext;
+use crate::render::volume_texture::{VolumeTexture, VolumeTextureError};
+use crate::settings::TexturePrecision;
+use crate::volume::{ValueRange, Volume};
+
+use super::layouts::{FrameResources, Layouts};
+use super::leap::LeapStructures;
+use super::transfer::TransferTables;
+
+/// The resources group 0 binds that outlive any one volume.
+pub struct FrameShared<'a> {
+    /// The frame uniforms.
+    pub uniforms: &'a wgpu::Buffer,
+    /// The linear clamp-to-edge sampler.
+    pub sampler: &'a wgpu::Sampler,
+    /// The transfer function's tables.
+    pub tables: &'a TransferTables,
+}
+
+/// A volume on the GPU, ready to be ray-cast.
+pub struct GpuVolume {
+    /// The 3D texture (shared with any other kind of drawing of the same volume).
+    pub texture: VolumeTexture,
+    /// Samples along x, y, z.
+    pub dims: [u32; 3],
+    /// Voxel spacing in millimetres.
+    pub spacing_mm: [f64; 3],
+    /// The value range normalised values run over.
+    pub range: ValueRange,
+    /// Group 0 of every ray-casting pipeline.
+    pub frame_group: wgpu::BindGroup,
+    /// The min/max pyramid, node flags and distance field (built lazily).
+    pub leap: LeapStructures,
+    /// Group 3 of the leaping variants.
+    pub leap_group: wgpu::BindGroup,
+}
+
+impl GpuVolume {
+    /// Uploads `volume` with texels of `precision` and builds its groups.
+    pub fn new(
+        ctx: &GpuContext,
+        layouts: &Layouts,
+        shared: &FrameShared<'_>,
+        volume: &Volume,
+        precision: TexturePrecision,
+    ) -> Result<Self, VolumeTextureError> {
+        let texture = VolumeTexture::upload_with(ctx, volume, precision)?;
+        let frame_group = layouts.frame_group(
+            &ctx.device,
+            &FrameResources {
+                uniforms: shared.uniforms,
+                volume: &texture.view,
+                sampler: shared.sampler,
+                lut: &shared.tables.lut().view,
+                integrals: &shared.tables.integrals().view,
+            },
+        );
+        let leap = LeapStructures::new(
+            ctx,
+            volume.dims(),
+            texture.encoding.scale,
+            texture.encoding.bias,
+        );
+        let leap_group = layouts.leap_group(&ctx.device, &leap.resources());
+        Ok(Self {
+            texture,
+            dims: volume.dims(),
+            spacing_mm: volume.spacing_mm(),
+            range: volume.normalization_range(),
+            frame_group,
+            leap,
+            leap_group,
+        })
+    }
+}

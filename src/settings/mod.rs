@@ -1,0 +1,336 @@
+//! What to render: mode, strategy, path and the quality knobs. Plain, serialisable values shared
+//! by the GPU renderer, the CPU reference, the benchmarks, the command line and the window; no
+//! GPU code (the renderer turns them into pipelines and uniforms).
+
+pub mod crop;
+pub mod effects;
+pub mod precision;
+pub mod quality;
+
+use serde::{Deserialize, Serialize};
+
+pub use crop::{CropBox, CropError};
+pub use effects::{
+    GradientScheme, IsoSettings, Light, MAX_ISO_REFINEMENT, MipColor, Phong, Shading,
+};
+pub use precision::TexturePrecision;
+pub use quality::QualityPreset;
+
+/// The visual effect computed along each ray.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
+pub enum Mode {
+    /// Direct volume rendering: front-to-back alpha compositing of the transfer function.
+    Dvr,
+    /// The first crossing of the iso value, refined, lit, coloured by the transfer function.
+    Iso,
+    /// Maximum intensity projection.
+    Mip,
+    /// Minimum intensity projection.
+    #[value(name = "minip")]
+    MinIp,
+    /// Mean of the windowed values along the ray's path inside the volume.
+    Xray,
+    /// A radiograph: `1 − exp(−∫μ ds)` with μ proportional to the windowed value.
+    #[value(name = "xray-attenuation")]
+    XrayAttenuation,
+}
+
+impl Mode {
+    /// All modes.
+    pub const ALL: [Self; 6] = [
+        Self::Dvr,
+        Self::Iso,
+        Self::Mip,
+        Self::MinIp,
+        Self::Xray,
+        Self::XrayAttenuation,
+    ];
+
+    /// Whether the mode can light its samples (and so needs gradients).
+    pub fn can_shade(self) -> bool {
+        matches!(self, Self::Dvr | Self::Iso)
+    }
+
+    /// The name used on the command line.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Dvr => "dvr",
+            Self::Iso => "iso",
+            Self::Mip => "mip",
+            Self::MinIp => "minip",
+            Self::Xray => "xray",
+            Self::XrayAttenuation => "xray-attenuation",
+        }
+    }
+}
+
+/// How the ray loop saves work.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
+pub enum Strategy {
+    /// RC: every sample from entry to exit.
+    #[value(name = "rc")]
+    Rc,
+    /// RC-t: stop once the accumulated opacity passes the termination threshold.
+    #[value(name = "rc-t")]
+    RcT,
+    /// RC-s: RC-t plus empty-space leaping over the min/max octree, climbing to the coarsest
+    /// empty node (the paper's hierarchical leaping).
+    #[value(name = "rc-s")]
+    RcS,
+    /// RC-s with a distance field over blocks: one step clears the whole cube of blocks the
+    /// field proves empty (beyond the paper). The default: fastest on every dataset of the
+    /// benchmark. The field leaps by the transfer function or the X-ray window; isosurfaces,
+    /// MIP and MinIP leap by the octree as RC-s does.
+    #[value(name = "rc-s-df")]
+    RcSDistance,
+}
+
+impl Strategy {
+    /// The short name used in tables and on the command line.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Rc => "RC",
+            Self::RcT => "RC-t",
+            Self::RcS => "RC-s",
+            Self::RcSDistance => "RC-s-df",
+        }
+    }
+
+    /// Whether rays stop once (nearly) opaque.
+    pub fn terminates_early(self) -> bool {
+        !matches!(self, Self::Rc)
+    }
+
+    /// Whether rays leap over empty space.
+    pub fn leaps(self) -> bool {
+        matches!(self, Self::RcS | Self::RcSDistance)
+    }
+
+    /// The strategy `mode` runs with: the distance field exists for DVR and the X-ray modes;
+    /// the other modes leap by the min/max octree (RC-s) instead.
+    pub fn for_mode(self, mode: Mode) -> Self {
+        let df_modes = matches!(mode, Mode::Dvr | Mode::Xray | Mode::XrayAttenuation);
+        if self == Self::RcSDistance && !df_modes {
+            Self::RcS
+        } else {
+            self
+        }
+    }
+
+    /// All strategies, plainest first.
+    pub const ALL: [Self; 4] = [Self::Rc, Self::RcT, Self::RcS, Self::RcSDistance];
+}
+
+/// Which entry point runs the ray loop. Both share the same WGSL marching function.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
+pub enum RenderPath {
+    /// Time both on the adapter once and use the faster.
+    Auto,
+    /// The paper's single pass: the ray loop runs in the fragment shader of the front faces.
+    Fragment,
+    /// Entry and exit points are rasterised, then a compute shader runs the ray loop.
+    Compute,
+}
+
+/// Where the ray loop runs, once [`RenderPath::Auto`] has been resolved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum ConcretePath {
+    /// In the fragment shader of the front faces.
+    Fragment,
+    /// In a compute shader, one invocation per pixel, each intersecting its ray with the box.
+    Compute,
+}
+
+/// Default termination threshold: stop once accumulated opacity exceeds `1 - 1/255`, so the
+/// remaining contribution is below one 8-bit level.
+pub const DEFAULT_TERMINATION_ALPHA: f64 = 1.0 - 1.0 / 255.0;
+
+/// Everything about a frame except the camera, the volume and the transfer function.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct RenderSettings {
+    /// Visual effect.
+    pub mode: Mode,
+    /// Work-saving strategy.
+    pub strategy: Strategy,
+    /// Fragment or compute ray loop.
+    pub path: RenderPath,
+    /// Distance between samples along a ray, in units of the smallest voxel spacing `d0`.
+    pub step_vox: f64,
+    /// RC-t stops once accumulated opacity exceeds this (in (0, 1]).
+    pub termination_alpha: f64,
+    /// Position of the first sample within the first step, in steps (0..1): sample `k` lies at
+    /// `t_entry + (k + offset) * step`.
+    pub sample_offset: f64,
+    /// Jittered ray start: each pixel's offset comes from a stable hash of the pixel, rotated
+    /// by `sample_offset − ½` ([`crate::sampling::jittered_offset`]), trading wood-grain rings
+    /// for fine noise.
+    pub jitter: bool,
+    /// Scale each sample's opacity to the step (`1 − (1 − α)^(Δt/d₀)`), so the picture does not
+    /// change with the step. Off only to show what it buys (the accuracy benchmark).
+    pub opacity_correction: bool,
+    /// Pre-integrated classification (Engel, Kraus, Ertl 2001) in DVR: each segment between two
+    /// samples is classified by the transfer function integrated over the values between its
+    /// ends, so thin features survive large steps (src/transfer/preintegration.rs).
+    pub preintegrated: bool,
+    /// Linear RGB composited behind the volume.
+    pub background: [f64; 3],
+    /// Edge of the leaping blocks in voxels (a power of two from 4 to 128).
+    pub block_vox: u32,
+    /// Lighting (DVR and isosurface only).
+    pub shading: Shading,
+    /// Phong coefficients.
+    pub phong: Phong,
+    /// Light direction.
+    pub light: Light,
+    /// Gradient estimator for lighting.
+    pub gradient: GradientScheme,
+    /// Isosurface value and refinement.
+    pub iso: IsoSettings,
+    /// Data window `[lo, hi]` mapped to black..white by MIP, MinIP and X-ray; `None` = the whole
+    /// value range.
+    pub window: Option<[f64; 2]>,
+    /// How MIP and MinIP colour their value.
+    pub mip_color: MipColor,
+    /// X-ray attenuation per millimetre at the window's top (attenuation mode).
+    pub xray_density_per_mm: f64,
+    /// The part of the volume rays are limited to (the whole volume by default).
+    pub crop: crop::CropBox,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            mode: Mode::Dvr,
+            strategy: Strategy::RcSDistance,
+            path: RenderPath::Auto,
+            step_vox: 0.5,
+            termination_alpha: DEFAULT_TERMINATION_ALPHA,
+            sample_offset: 0.5,
+            jitter: false,
+            opacity_correction: true,
+            preintegrated: false,
+            background: [0.0; 3],
+            block_vox: DEFAULT_BLOCK_VOX,
+            shading: Shading::Phong,
+            phong: Phong::default(),
+            light: Light::Headlight,
+            gradient: GradientScheme::Central,
+            iso: IsoSettings::default(),
+            window: None,
+            mip_color: MipColor::Window,
+            xray_density_per_mm: effects::DEFAULT_XRAY_DENSITY_PER_MM,
+            crop: crop::CropBox::FULL,
+        }
+    }
+}
+
+/// Default leaping block edge in voxels: the fastest edge for RC-s-df on every dataset of the
+/// block-size sweep on the H100 (docs/benchmarks, Table 2), 4–26 % ahead of 8³.
+pub const DEFAULT_BLOCK_VOX: u32 = 4;
+
+/// Smallest and largest step the renderer accepts, in voxels: below 1/1024 a ray through a 4096³
+/// volume would need tens of millions of samples; above 1024 it would skip whole volumes.
+pub const STEP_VOX_RANGE: (f64, f64) = (1.0 / 1024.0, 1024.0);
+
+impl RenderSettings {
+    /// The step, in units of `d₀`, that sample opacities are corrected for: the step itself, or 1
+    /// with opacity correction off (each sample then counts as one voxel length).
+    pub fn opacity_step_vox(&self) -> f64 {
+        if self.opacity_correction {
+            self.step_vox
+        } else {
+            1.0
+        }
+    }
+
+    /// Checks the numeric knobs, so no frame is ever rendered with a NaN or degenerate step.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        let (lo, hi) = STEP_VOX_RANGE;
+        if !(self.step_vox.is_finite() && (lo..=hi).contains(&self.step_vox)) {
+            return Err(SettingsError::Step(self.step_vox));
+        }
+        if !(self.termination_alpha > 0.0 && self.termination_alpha <= 1.0) {
+            return Err(SettingsError::Termination(self.termination_alpha));
+        }
+        if !crate::accel::pyramid::BLOCK_SIZES.contains(&self.block_vox) {
+            return Err(SettingsError::Block(self.block_vox));
+        }
+        let p = self.phong;
+        if [p.ambient, p.diffuse, p.specular]
+            .iter()
+            .any(|c| !(c.is_finite() && *c >= 0.0 && *c <= 4.0))
+            || !(p.shininess.is_finite() && (0.0..=1024.0).contains(&p.shininess))
+        {
+            return Err(SettingsError::Phong);
+        }
+        if let Light::Direction(d) = self.light
+            && (d.iter().any(|c| !c.is_finite()) || d.iter().all(|c| *c == 0.0))
+        {
+            return Err(SettingsError::Light(d));
+        }
+        if self.iso.refine_iterations > MAX_ISO_REFINEMENT
+            || self.iso.value.is_some_and(|v| !v.is_finite())
+        {
+            return Err(SettingsError::Iso);
+        }
+        if let Some([lo, hi]) = self.window
+            && !(lo.is_finite() && hi.is_finite() && hi > lo)
+        {
+            return Err(SettingsError::Window(lo, hi));
+        }
+        if !(self.xray_density_per_mm.is_finite() && self.xray_density_per_mm >= 0.0) {
+            return Err(SettingsError::Density(self.xray_density_per_mm));
+        }
+        if !(0.0..1.0).contains(&self.sample_offset) {
+            return Err(SettingsError::Offset(self.sample_offset));
+        }
+        if self
+            .background
+            .iter()
+            .any(|c| !c.is_finite() || !(0.0..=1.0).contains(c))
+        {
+            return Err(SettingsError::Background(self.background));
+        }
+        self.crop.validate()?;
+        Ok(())
+    }
+}
+
+/// A render setting out of its valid range.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum SettingsError {
+    /// Step outside [`STEP_VOX_RANGE`].
+    #[error("the step must be between 1/1024 and 1024 voxels, got {0}")]
+    Step(f64),
+    /// Termination threshold outside (0, 1].
+    #[error("the termination threshold must be in (0, 1], got {0}")]
+    Termination(f64),
+    /// Block size not a power of two from 4 to 128.
+    #[error("the block size must be 4, 8, 16, 32, 64 or 128 voxels, got {0}")]
+    Block(u32),
+    /// A Phong coefficient out of range.
+    #[error("Phong coefficients must be between 0 and 4 and the exponent between 0 and 1024")]
+    Phong,
+    /// A zero or non-finite light direction.
+    #[error("the light direction must be a non-zero vector, got {0:?}")]
+    Light([f64; 3]),
+    /// Iso value not finite or too many refinement steps.
+    #[error("the iso value must be finite and refinement at most 16 steps")]
+    Iso,
+    /// A window with hi ≤ lo.
+    #[error("the window must have lo < hi, got {0}, {1}")]
+    Window(f64, f64),
+    /// A negative X-ray density.
+    #[error("the X-ray density must be a non-negative number per mm, got {0}")]
+    Density(f64),
+    /// Sample offset outside [0, 1).
+    #[error("the sample offset must be in [0, 1), got {0}")]
+    Offset(f64),
+    /// Background components outside [0, 1].
+    #[error("background colour components must be in 0..1, got {0:?}")]
+    Background([f64; 3]),
+    /// A cropping box outside the volume or empty.
+    #[error(transparent)]
+    Crop(#[from] crop::CropError),
+}
