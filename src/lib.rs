@@ -1,12 +1,13 @@
 //! LeapView: GPU volume ray casting for CT and MRI with empty-space leaping.
 //!
-//! Pure parts (volume loading, transfer functions, camera maths, the sample grid and the CPU
-//! reference ray caster) are independent of the GPU; `render` holds the wgpu renderer that the
-//! window, the command line and the tests share.
+//! Layers, bottom up (docs/ARCHITECTURE.md): the pure core — `volume`, `transfer`, `accel`,
+//! `camera`, `sampling`, `imaging`, `settings`, `counters` — and what is built on it without a
+//! GPU — the CPU `reference` ray caster, the `bench` and `accuracy` records and tables; `render`,
+//! the wgpu renderer that the window, the command line and the tests share; `ui`, the window. A
+//! module imports only from its own layer or below.
 
 pub mod accel;
 pub mod accuracy;
-pub mod app;
 pub mod bench;
 pub mod camera;
 pub mod counters;

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use cli::{Cli, Failure};
-use leapview::app::{AppError, AppOptions};
+use leapview::ui::app::{AppError, AppOptions};
 
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
@@ -18,7 +18,7 @@ fn main() -> ExitCode {
                 file: cli.file,
                 load_options,
             };
-            leapview::app::run(options).map_err(|e| match e {
+            leapview::ui::app::run(options).map_err(|e| match e {
                 AppError::Automation(_) => Failure::BadInput(e.into()),
                 other => Failure::Other(other.into()),
             })

@@ -6,7 +6,7 @@
 //! sample at `t_k = min((k + offset)·Δt, L)` with weight `w_k = min(Δt, L − kΔt) / Δt`. The
 //! weight scales the opacity correction, `α' = 1 − (1 − α)^(w_k·Δt/d₀)`, so a ray through a
 //! homogeneous region composites exactly `1 − (1 − α)^(L/d₀)` whatever the step. Only the last
-//! segment can be partial. The WGSL ray loop (`shaders/march.wgsl`) implements the same rule.
+//! segment can be partial. The WGSL ray loop (`shaders/shared/march.wgsl`) implements the same rule.
 
 /// The samples of one ray.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -73,7 +73,7 @@ pub fn corrected_opacity(alpha: f64, step_over_d0: f64, weight: f64) -> f64 {
 
 /// The jittered first-sample offset of pixel `(x, y)` in [0, 1): an integer hash (the
 /// "lowbias32" finaliser) of the pixel, the same on the GPU (`pixel_jitter` in
-/// `shaders/common.wgsl`) bit for bit, so the CPU reference can follow it. Stable from frame to
+/// `shaders/shared/common.wgsl`) bit for bit, so the CPU reference can follow it. Stable from frame to
 /// frame: a still image does not shimmer.
 pub fn pixel_jitter(x: u32, y: u32) -> f64 {
     let mut h = x

@@ -6,6 +6,8 @@ use clap::{Args, Parser, Subcommand};
 use leapview::camera::ProjectionKind;
 use leapview::settings::{Mode, RenderPath, Strategy};
 
+use super::parse::{parse_dims, parse_size, parse_vec3};
+
 /// LeapView: GPU volume ray casting for CT and MRI with empty-space leaping.
 #[derive(Parser, Debug)]
 #[command(version, about, args_conflicts_with_subcommands = true)]
@@ -168,58 +170,9 @@ pub struct InfoArgs {
     pub json: bool,
 }
 
-fn parse_list<const N: usize, T: std::str::FromStr>(s: &str, what: &str) -> Result<[T; N], String> {
-    let parts: Vec<&str> = s.split([',', 'x', 'X']).map(str::trim).collect();
-    if parts.len() != N {
-        return Err(format!(
-            "expected {N} {what} separated by commas, got {s:?}"
-        ));
-    }
-    let mut values = Vec::with_capacity(N);
-    for p in parts {
-        values.push(
-            p.parse::<T>()
-                .map_err(|_| format!("{p:?} is not a valid number in {s:?}"))?,
-        );
-    }
-    values
-        .try_into()
-        .map_err(|_| format!("expected {N} {what}"))
-}
-
-pub(super) fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
-    let v: [f64; 3] = parse_list(s, "numbers")?;
-    if v.iter().any(|x| !x.is_finite()) {
-        return Err(format!("{s:?} holds a value that is not finite"));
-    }
-    Ok(v)
-}
-
-fn parse_dims(s: &str) -> Result<[u32; 3], String> {
-    parse_list(s, "dimensions")
-}
-
-pub(crate) fn parse_size(s: &str) -> Result<[u32; 2], String> {
-    let v: [u32; 2] = parse_list(s, "sizes (WxH)")?;
-    if v.contains(&0) {
-        return Err(format!("image size {s:?} has a zero side"));
-    }
-    Ok(v)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn lists_parse_and_reject() {
-        assert_eq!(parse_size("640x480"), Ok([640, 480]));
-        assert!(parse_size("640x0").is_err());
-        assert_eq!(parse_vec3("1,-2.5,3"), Ok([1.0, -2.5, 3.0]));
-        assert!(parse_vec3("1,2").is_err());
-        assert!(parse_vec3("1,nan,2").is_err());
-        assert_eq!(parse_dims("4,5,6"), Ok([4, 5, 6]));
-    }
 
     #[test]
     fn grammar_is_consistent() {

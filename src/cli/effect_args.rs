@@ -5,7 +5,7 @@ use clap::Args;
 use leapview::settings::RenderSettings;
 use leapview::settings::effects::{GradientScheme, IsoSettings, Light, MipColor, Phong, Shading};
 
-use super::args::parse_vec3;
+use super::parse::parse_vec3;
 
 /// Effect parameters; each flag left out keeps the renderer's default.
 #[derive(Args, Debug, Clone, Default)]

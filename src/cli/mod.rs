@@ -1,11 +1,16 @@
-//! The command line: `render`, `bench` and `info` (the window is opened from `main`). Input problems
-//! (a bad volume or transfer-function file) are [`Failure::BadInput`] and exit with status 2.
+//! The command line: `render`, `info`, `bench` and `accuracy` (the window is opened from `main`).
+//! Input problems (a bad volume or transfer-function file, a bad flag) are [`Failure::BadInput`]
+//! and exit with status 2.
 
 mod accuracy;
 pub mod args;
 mod bench;
+mod datasets;
 pub mod effect_args;
 mod info;
+mod measuring;
+pub mod parse;
+mod plotting;
 mod render;
 
 use std::path::Path;

@@ -11,7 +11,7 @@ use crate::volume::Volume;
 use super::trilinear::sample_trilinear;
 
 /// Gradients shorter than this (normalised value per mm) are flat (as `FLAT_GRADIENT` in
-/// shaders/shade.wgsl).
+/// shaders/shared/shade.wgsl).
 const FLAT_GRADIENT: f64 = 1e-7;
 
 /// The gradient of the normalised value per mm at world position `p`; zero where a read touches

@@ -36,6 +36,14 @@ const MODULES: &[(&str, &str)] = modules![
     "build/distance.wgsl",
 ];
 
+/// A WGSL module from composed source.
+pub fn shader_module(device: &wgpu::Device, label: &str, source: String) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    })
+}
+
 /// Names of all shader modules.
 pub fn module_names() -> impl Iterator<Item = &'static str> {
     MODULES.iter().map(|(name, _)| *name)

@@ -4,8 +4,10 @@
 use egui::{ComboBox, Slider, SliderClamping};
 
 use crate::camera::ProjectionKind;
-use crate::settings::DEFAULT_TERMINATION_ALPHA;
-use crate::settings::{ConcretePath, QualityPreset, RenderPath, Strategy};
+use crate::settings::{
+    ConcretePath, DEFAULT_TERMINATION_ALPHA, Mode, QualityPreset, RenderPath, RenderSettings,
+    Strategy,
+};
 use crate::transfer::presets::NAMES;
 
 use super::menu::VIEWS;
@@ -39,203 +41,272 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
         .num_columns(2)
         .spacing([8.0, 6.0])
         .show(ui, |ui| {
-            // Combo boxes are named by their row's label (screen readers, the UI tests).
-            let label = ui.label("Transfer function");
-            ComboBox::from_id_salt("preset")
-                .selected_text(state.preset.as_str())
-                .show_ui(ui, |ui| {
-                    for name in NAMES {
-                        if ui.selectable_label(state.preset == name, name).clicked() {
-                            // Presets are built in: loading one cannot fail.
-                            let _ = state.choose_preset(name);
-                        }
-                    }
-                })
-                .response
-                .labelled_by(label.id);
-            ui.end_row();
-
-            ui.label("Strategy");
-            ui.horizontal(|ui| {
-                ui.selectable_value(&mut state.strategy, Strategy::Rc, "RC")
-                    .on_hover_text("Every sample from entry to exit");
-                ui.selectable_value(&mut state.strategy, Strategy::RcT, "RC-t")
-                    .on_hover_text("Stop once the ray is (nearly) opaque");
-                ui.selectable_value(&mut state.strategy, Strategy::RcS, "RC-s")
-                    .on_hover_text("RC-t plus leaping over empty octree nodes (the paper)");
-                ui.selectable_value(&mut state.strategy, Strategy::RcSDistance, "RC-s-df")
-                    .on_hover_text("RC-t plus leaping by a distance field over blocks");
-                if state.strategy_in_use() != state.strategy {
-                    ui.label("(RC-s in this mode)").on_hover_text(
-                        "The distance field leaps by the transfer function or the window, \
-                         which isosurfaces, MIP and MinIP do not use",
-                    );
-                }
-            });
-            ui.end_row();
-
-            ui.label("Block (voxels)");
-            ui.add_enabled_ui(state.strategy.leaps(), |ui| {
-                ComboBox::from_id_salt("block")
-                    .selected_text(state.block_vox.to_string())
-                    .show_ui(ui, |ui| {
-                        for b in crate::accel::pyramid::BLOCK_SIZES {
-                            ui.selectable_value(&mut state.block_vox, b, b.to_string());
-                        }
-                    })
-                    .response
-                    .on_hover_text("Edge of the blocks whose emptiness the rays test");
-            });
-            ui.end_row();
-
-            ui.label("Statistics");
-            ui.checkbox(&mut state.statistics, "count samples")
-                .on_hover_text(
-                    "Samples taken, samples with non-zero opacity, regions leapt (slower)",
-                );
-            ui.end_row();
-
-            ui.label("Interaction");
-            ui.checkbox(&mut state.interaction_lod, "preview while dragging")
-                .on_hover_text(format!(
-                    "While you drag, a frame that would take more than {} ms renders at a lower \
-                     resolution; the full-quality frame follows once the pointer is still",
-                    super::lod::BUDGET_MS
-                ));
-            ui.end_row();
-
-            let label = ui.label("Ray loop");
-            ui.horizontal(|ui| {
-                ComboBox::from_id_salt("path")
-                    .selected_text(path_label(state.path))
-                    .show_ui(ui, |ui| {
-                        for path in [RenderPath::Auto, RenderPath::Fragment, RenderPath::Compute] {
-                            ui.selectable_value(&mut state.path, path, path_label(path));
-                        }
-                    })
-                    .response
-                    .labelled_by(label.id);
-                if state.path == RenderPath::Auto {
-                    let chosen = match info.path_used {
-                        Some(ConcretePath::Fragment) => "uses fragment",
-                        Some(ConcretePath::Compute) => "uses compute",
-                        None => "(decided at the first frame)",
-                    };
-                    ui.label(chosen).on_hover_text(
-                        "Auto timed both paths once on this GPU and kept the faster",
-                    );
-                }
-            });
-            ui.end_row();
-
-            ui.label("Quality");
-            let current = state.quality();
-            ComboBox::from_id_salt("quality")
-                .selected_text(current.map_or("Custom", QualityPreset::label))
-                .show_ui(ui, |ui| {
-                    for preset in QualityPreset::ALL {
-                        if ui
-                            .selectable_label(current == Some(preset), preset.label())
-                            .on_hover_text(quality_hint(preset))
-                            .clicked()
-                        {
-                            state.apply_quality(preset);
-                        }
-                    }
-                })
-                .response
-                .on_hover_text(
-                    "Step, termination, jitter, pre-integration, gradients and iso refinement \
-                     chosen from the accuracy benchmark's Pareto front (docs/accuracy)",
-                );
-            ui.end_row();
-
-            ui.label("Step (voxels)");
-            ui.add(
-                Slider::new(&mut state.step_vox, STEP_RANGE_VOX)
-                    .logarithmic(true)
-                    .max_decimals(3)
-                    .clamping(SliderClamping::Edits),
-            )
-            .on_hover_text(
-                "Distance between samples along a ray, in units of the smallest voxel spacing",
-            );
-            ui.end_row();
-
-            ui.label("Refine when still");
-            ui.add(
-                Slider::new(&mut state.refine_frames, 1..=super::MAX_REFINE_FRAMES)
-                    .logarithmic(true)
-                    .suffix(" frames"),
-            )
-            .on_hover_text(
-                "Once the view is still, render it again with the samples shifted along the \
-                 rays and show the mean: 8 frames sample each ray as densely as an 8× finer \
-                 step, for 8 frames' time spent only while nothing changes (1: off). Saved \
-                 images are refined the same way.",
-            );
-            ui.end_row();
-
-            ui.label("Jitter");
-            ui.checkbox(&mut state.jitter, "jittered ray starts")
-                .on_hover_text("A per-pixel offset of the first sample: fine noise instead of wood-grain rings");
-            ui.end_row();
-
-            ui.label("Pre-integration");
-            ui.add_enabled(
-                state.mode == crate::settings::Mode::Dvr,
-                egui::Checkbox::new(&mut state.preintegrated, "pre-integrated classification"),
-            )
-            .on_hover_text(
-                "Classify each segment between samples by the transfer function integrated over \
-                 its values: thin TF features survive large steps (slower; on smooth ramps plain \
-                 sampling is as accurate)",
-            );
-            ui.end_row();
-
-            ui.label("Termination");
-            ui.add_enabled_ui(state.strategy.terminates_early(), |ui| {
-                ui.horizontal(|ui| {
-                    ui.add(
-                        Slider::new(&mut state.termination_alpha, TERMINATION_RANGE)
-                            .max_decimals(4)
-                            .clamping(SliderClamping::Edits),
-                    )
-                    .on_hover_text("RC-t stops once accumulated opacity exceeds this");
-                    if ui
-                        .small_button("1−1/255")
-                        .on_hover_text("The default: what is left is below one 8-bit level")
-                        .clicked()
-                    {
-                        state.termination_alpha = DEFAULT_TERMINATION_ALPHA;
-                    }
-                });
-            });
-            ui.end_row();
-
-            ui.label("Background");
-            ui.color_edit_button_srgb(&mut state.background);
-            ui.end_row();
-
-            ui.label("Projection");
-            ui.horizontal(|ui| {
-                for (kind, label) in [
-                    (ProjectionKind::Perspective, "Perspective"),
-                    (ProjectionKind::Orthographic, "Orthographic"),
-                ] {
-                    if ui
-                        .selectable_label(state.projection == kind, label)
-                        .clicked()
-                    {
-                        action = Some(Action::SetProjection(kind));
-                    }
-                }
-            });
-            ui.end_row();
+            preset_row(ui, state);
+            strategy_rows(ui, state);
+            path_row(ui, state, info.path_used);
+            quality_rows(ui, state);
+            if let Some(a) = look_rows(ui, state) {
+                action = Some(a);
+            }
         });
-
     ui.separator();
     ui.heading("View");
+    if let Some(a) = view_section(ui, info.volume) {
+        action = Some(a);
+    }
+    if let Some(volume) = info.volume {
+        ui.separator();
+        ui.heading("Cropping");
+        let crop = &mut state.render.crop;
+        super::crop::crop_ui(ui, crop, &mut state.show_crop_box, volume.dims);
+    }
+    ui.separator();
+    ui.heading("Volume");
+    volume_section(ui, info.volume);
+    action
+}
+
+/// The transfer-function preset.
+fn preset_row(ui: &mut egui::Ui, state: &mut ViewerState) {
+    // Combo boxes are named by their row's label (screen readers, the UI tests).
+    let label = ui.label("Transfer function");
+    ComboBox::from_id_salt("preset")
+        .selected_text(state.preset.as_str())
+        .show_ui(ui, |ui| {
+            for name in NAMES {
+                if ui.selectable_label(state.preset == name, name).clicked() {
+                    // Presets are built in: loading one cannot fail.
+                    let _ = state.choose_preset(name);
+                }
+            }
+        })
+        .response
+        .labelled_by(label.id);
+    ui.end_row();
+}
+
+/// Strategy, block size, statistics and the interaction level of detail.
+fn strategy_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
+    ui.label("Strategy");
+    let in_use = state.strategy_in_use();
+    let strategy = &mut state.render.strategy;
+    ui.horizontal(|ui| {
+        for (value, label, hint) in [
+            (Strategy::Rc, "RC", "Every sample from entry to exit"),
+            (
+                Strategy::RcT,
+                "RC-t",
+                "Stop once the ray is (nearly) opaque",
+            ),
+            (
+                Strategy::RcS,
+                "RC-s",
+                "RC-t plus leaping over empty octree nodes (the paper)",
+            ),
+            (
+                Strategy::RcSDistance,
+                "RC-s-df",
+                "RC-t plus leaping by a distance field over blocks",
+            ),
+        ] {
+            ui.selectable_value(strategy, value, label)
+                .on_hover_text(hint);
+        }
+        if in_use != *strategy {
+            ui.label("(RC-s in this mode)").on_hover_text(
+                "The distance field leaps by the transfer function or the window, which \
+                 isosurfaces, MIP and MinIP do not use",
+            );
+        }
+    });
+    ui.end_row();
+
+    ui.label("Block (voxels)");
+    let block = &mut state.render.block_vox;
+    ui.add_enabled_ui(state.render.strategy.leaps(), |ui| {
+        ComboBox::from_id_salt("block")
+            .selected_text(block.to_string())
+            .show_ui(ui, |ui| {
+                for b in crate::accel::pyramid::BLOCK_SIZES {
+                    ui.selectable_value(block, b, b.to_string());
+                }
+            })
+            .response
+            .on_hover_text("Edge of the blocks whose emptiness the rays test");
+    });
+    ui.end_row();
+
+    ui.label("Statistics");
+    ui.checkbox(&mut state.statistics, "count samples")
+        .on_hover_text("Samples taken, samples with non-zero opacity, regions leapt (slower)");
+    ui.end_row();
+
+    ui.label("Interaction");
+    ui.checkbox(&mut state.interaction_lod, "preview while dragging")
+        .on_hover_text(format!(
+            "While you drag, a frame that would take more than {} ms renders at a lower \
+             resolution; the full-quality frame follows once the pointer is still",
+            super::lod::BUDGET_MS
+        ));
+    ui.end_row();
+}
+
+/// The ray-loop path, and what `auto` chose.
+fn path_row(ui: &mut egui::Ui, state: &mut ViewerState, path_used: Option<ConcretePath>) {
+    let label = ui.label("Ray loop");
+    let path = &mut state.render.path;
+    ui.horizontal(|ui| {
+        ComboBox::from_id_salt("path")
+            .selected_text(path_label(*path))
+            .show_ui(ui, |ui| {
+                for p in [RenderPath::Auto, RenderPath::Fragment, RenderPath::Compute] {
+                    ui.selectable_value(path, p, path_label(p));
+                }
+            })
+            .response
+            .labelled_by(label.id);
+        if *path == RenderPath::Auto {
+            let chosen = match path_used {
+                Some(ConcretePath::Fragment) => "uses fragment",
+                Some(ConcretePath::Compute) => "uses compute",
+                None => "(decided at the first frame)",
+            };
+            ui.label(chosen)
+                .on_hover_text("Auto timed both paths once on this GPU and kept the faster");
+        }
+    });
+    ui.end_row();
+}
+
+/// The quality preset and the knobs it sets: step, refinement, jitter, pre-integration,
+/// termination.
+fn quality_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
+    ui.label("Quality");
+    let current = state.quality();
+    let render = &mut state.render;
+    ComboBox::from_id_salt("quality")
+        .selected_text(current.map_or("Custom", QualityPreset::label))
+        .show_ui(ui, |ui| {
+            for preset in QualityPreset::ALL {
+                if ui
+                    .selectable_label(current == Some(preset), preset.label())
+                    .on_hover_text(quality_hint(preset))
+                    .clicked()
+                {
+                    preset.apply(render);
+                }
+            }
+        })
+        .response
+        .on_hover_text(
+            "Step, termination, jitter, pre-integration, gradients and iso refinement chosen \
+             from the accuracy benchmark's Pareto front (docs/accuracy)",
+        );
+    ui.end_row();
+
+    ui.label("Step (voxels)");
+    ui.add(
+        Slider::new(&mut render.step_vox, STEP_RANGE_VOX)
+            .logarithmic(true)
+            .max_decimals(3)
+            .clamping(SliderClamping::Edits),
+    )
+    .on_hover_text("Distance between samples along a ray, in units of the smallest voxel spacing");
+    ui.end_row();
+
+    ui.label("Refine when still");
+    ui.add(
+        Slider::new(
+            &mut state.refine_frames,
+            1..=super::state::MAX_REFINE_FRAMES,
+        )
+        .logarithmic(true)
+        .suffix(" frames"),
+    )
+    .on_hover_text(
+        "Once the view is still, render it again with the samples shifted along the rays and \
+         show the mean: 8 frames sample each ray as densely as an 8× finer step, for 8 frames' \
+         time spent only while nothing changes (1: off). Saved images are refined the same way.",
+    );
+    ui.end_row();
+
+    let render = &mut state.render;
+    ui.label("Jitter");
+    ui.checkbox(&mut render.jitter, "jittered ray starts")
+        .on_hover_text(
+            "A per-pixel offset of the first sample: fine noise instead of wood-grain rings",
+        );
+    ui.end_row();
+
+    ui.label("Pre-integration");
+    ui.add_enabled(
+        render.mode == Mode::Dvr,
+        egui::Checkbox::new(&mut render.preintegrated, "pre-integrated classification"),
+    )
+    .on_hover_text(
+        "Classify each segment between samples by the transfer function integrated over its \
+         values: thin TF features survive large steps (slower; on smooth ramps plain sampling \
+         is as accurate)",
+    );
+    ui.end_row();
+    termination_row(ui, render);
+}
+
+/// The termination threshold of RC-t and the leaping strategies.
+fn termination_row(ui: &mut egui::Ui, render: &mut RenderSettings) {
+    ui.label("Termination");
+    let alpha = &mut render.termination_alpha;
+    ui.add_enabled_ui(render.strategy.terminates_early(), |ui| {
+        ui.horizontal(|ui| {
+            ui.add(
+                Slider::new(alpha, TERMINATION_RANGE)
+                    .max_decimals(4)
+                    .clamping(SliderClamping::Edits),
+            )
+            .on_hover_text("RC-t stops once accumulated opacity exceeds this");
+            if ui
+                .small_button("1−1/255")
+                .on_hover_text("The default: what is left is below one 8-bit level")
+                .clicked()
+            {
+                *alpha = DEFAULT_TERMINATION_ALPHA;
+            }
+        });
+    });
+    ui.end_row();
+}
+
+/// Background and projection; the projection is the app's to switch (it keeps the size).
+fn look_rows(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
+    ui.label("Background");
+    let mut rgb = state.background_rgb8();
+    if ui.color_edit_button_srgb(&mut rgb).changed() {
+        state.set_background_rgb8(rgb);
+    }
+    ui.end_row();
+
+    let mut action = None;
+    ui.label("Projection");
+    ui.horizontal(|ui| {
+        for (kind, label) in [
+            (ProjectionKind::Perspective, "Perspective"),
+            (ProjectionKind::Orthographic, "Orthographic"),
+        ] {
+            if ui
+                .selectable_label(state.projection == kind, label)
+                .clicked()
+            {
+                action = Some(Action::SetProjection(kind));
+            }
+        }
+    });
+    ui.end_row();
+    action
+}
+
+/// The anatomical and axis views, the file's orientation, and Reset.
+fn view_section(ui: &mut egui::Ui, volume: Option<&VolumeSummary>) -> Option<Action> {
+    let mut action = None;
     ui.horizontal(|ui| {
         for side in crate::volume::Direction::VIEWS {
             if ui
@@ -246,28 +317,8 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
                 action = Some(Action::ViewFrom(side));
             }
         }
-        if let Some(v) = info.volume {
-            let o = v.orientation_or_assumed();
-            let note = if v.orientation.is_some() {
-                format!("{} from the header", o.code())
-            } else {
-                "no orientation in the file: RAS assumed".to_string()
-            };
-            // Loading reverses a mirrored file along i (`Volume::unmirrored`), so what is shown
-            // is never a mirror image.
-            if v.reversed_i {
-                let file = o.with_axis_reversed(0).code();
-                ui.label(egui::RichText::new(format!("{} · i reversed", o.code())).weak())
-                    .on_hover_text(format!(
-                        "{file} from the header: a mirror image of the patient, so the samples \
-                         were reversed along i when loading and the 3D picture is not mirrored \
-                         (voxel i here is {} − i in the file)",
-                        v.dims[0].saturating_sub(1)
-                    ));
-            } else {
-                ui.label(egui::RichText::new(o.code()).weak())
-                    .on_hover_text(note);
-            }
+        if let Some(v) = volume {
+            orientation_label(ui, v);
         }
     });
     ui.horizontal_wrapped(|ui| {
@@ -281,16 +332,37 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
     if ui.button("Reset view (R)").clicked() {
         action = Some(Action::ResetView);
     }
+    action
+}
 
-    if let Some(volume) = info.volume {
-        ui.separator();
-        ui.heading("Cropping");
-        super::crop::crop_ui(ui, &mut state.crop, &mut state.show_crop_box, volume.dims);
+/// The volume's orientation code, and whether it was read reversed along i.
+fn orientation_label(ui: &mut egui::Ui, v: &VolumeSummary) {
+    let o = v.orientation_or_assumed();
+    // Loading reverses a mirrored file along i (`Volume::unmirrored`), so what is shown is never
+    // a mirror image.
+    if v.reversed_i {
+        let file = o.with_axis_reversed(0).code();
+        ui.label(egui::RichText::new(format!("{} · i reversed", o.code())).weak())
+            .on_hover_text(format!(
+                "{file} from the header: a mirror image of the patient, so the samples were \
+                 reversed along i when loading and the 3D picture is not mirrored (voxel i here \
+                 is {} − i in the file)",
+                v.dims[0].saturating_sub(1)
+            ));
+        return;
     }
+    let note = if v.orientation.is_some() {
+        format!("{} from the header", o.code())
+    } else {
+        "no orientation in the file: RAS assumed".to_string()
+    };
+    ui.label(egui::RichText::new(o.code()).weak())
+        .on_hover_text(note);
+}
 
-    ui.separator();
-    ui.heading("Volume");
-    match info.volume {
+/// What is loaded.
+fn volume_section(ui: &mut egui::Ui, volume: Option<&VolumeSummary>) {
+    match volume {
         Some(v) => {
             ui.label(v.name.as_str());
             ui.label(v.line());
@@ -302,7 +374,6 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
             ui.label("none yet");
         }
     }
-    action
 }
 
 /// A data value without trailing noise: integers as integers, others to four decimals.
@@ -364,11 +435,9 @@ mod tests {
         let state = ViewerState::default();
         assert_eq!(shown(state.clone()), state);
         // Values with more digits than the sliders show survive too.
-        let odd = ViewerState {
-            step_vox: 0.333_333_333,
-            termination_alpha: 0.987_654_321,
-            ..ViewerState::default()
-        };
+        let mut odd = ViewerState::default();
+        odd.render.step_vox = 0.333_333_333;
+        odd.render.termination_alpha = 0.987_654_321;
         assert_eq!(shown(odd.clone()), odd);
     }
 }

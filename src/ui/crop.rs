@@ -1,6 +1,6 @@
 //! Cropping in the window: six sliders (each face of the box, in voxels) in the side panel, and
 //! the box drawn over the view with a handle on each face that drags that face along its axis.
-//! Both edit the [`CropBox`] the renderer clips rays to (src/render/crop.rs).
+//! Both edit the [`CropBox`] the renderer clips rays to (src/settings/crop.rs).
 
 use egui::{Color32, Pos2, Rect, Sense, Stroke, Vec2, pos2, vec2};
 use glam::{DMat4, DVec3};

@@ -2,90 +2,14 @@
 //! value over the histogram, window, MIP colouring, X-ray attenuation).
 
 use egui::{ComboBox, DragValue, Sense, Slider, SliderClamping, Stroke, vec2};
-use serde::{Deserialize, Serialize};
 
-use crate::settings::effects::{
-    DEFAULT_XRAY_DENSITY_PER_MM, GradientScheme, IsoSettings, Light, MAX_ISO_REFINEMENT, MipColor,
-    Phong, Shading,
-};
-use crate::settings::{Mode, RenderSettings};
+use crate::settings::{GradientScheme, Light, MAX_ISO_REFINEMENT, MipColor, Mode, Shading};
 use crate::volume::ValueRange;
+
+use super::ViewerState;
 
 /// Height of the histogram under the iso slider, in points.
 const HISTOGRAM_HEIGHT: f32 = 56.0;
-
-/// The effect parameters the panel edits (a subset of [`RenderSettings`], with the light as two
-/// angles a slider can hold).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
-pub struct EffectState {
-    /// Lighting on or off (DVR and isosurface).
-    pub shading: Shading,
-    /// Phong coefficients.
-    pub phong: Phong,
-    /// Light at the eye (else from `light_angles`).
-    pub headlight: bool,
-    /// Azimuth and elevation in degrees of where a directional light comes from.
-    pub light_angles: [f64; 2],
-    /// Gradient estimator.
-    pub gradient: GradientScheme,
-    /// Isosurface value (data units) and refinement.
-    pub iso: IsoSettings,
-    /// MIP/MinIP/X-ray window in data units; `None` = the value range.
-    pub window: Option<[f64; 2]>,
-    /// MIP/MinIP colouring.
-    pub mip_color: MipColor,
-    /// X-ray attenuation per mm at the window's top.
-    pub xray_density_per_mm: f64,
-}
-
-impl Default for EffectState {
-    fn default() -> Self {
-        let s = RenderSettings::default();
-        Self {
-            shading: s.shading,
-            phong: s.phong,
-            headlight: true,
-            light_angles: [45.0, 30.0],
-            gradient: s.gradient,
-            iso: s.iso,
-            window: s.window,
-            mip_color: s.mip_color,
-            xray_density_per_mm: DEFAULT_XRAY_DENSITY_PER_MM,
-        }
-    }
-}
-
-impl EffectState {
-    /// Writes these parameters into `settings`.
-    pub fn apply(&self, settings: &mut RenderSettings) {
-        settings.shading = self.shading;
-        settings.phong = self.phong;
-        settings.light = self.light();
-        settings.gradient = self.gradient;
-        settings.iso = self.iso;
-        settings.window = self.window;
-        settings.mip_color = self.mip_color;
-        settings.xray_density_per_mm = self.xray_density_per_mm;
-    }
-
-    /// The light: a headlight, or shining from the direction the angles name towards the volume.
-    pub fn light(&self) -> Light {
-        if self.headlight {
-            return Light::Headlight;
-        }
-        let [az, el] = self.light_angles.map(f64::to_radians);
-        let from = [el.cos() * az.sin(), el.cos() * az.cos(), el.sin()];
-        Light::Direction(from.map(|c| -c))
-    }
-
-    /// Forgets the values in data units (iso value, window) when another volume opens: they
-    /// belong to the old volume's units.
-    pub fn forget_data_values(&mut self) {
-        self.iso.value = None;
-        self.window = None;
-    }
-}
 
 /// Mode names as the panel shows them.
 fn mode_label(mode: Mode) -> &'static str {
@@ -102,36 +26,37 @@ fn mode_label(mode: Mode) -> &'static str {
 /// Draws the section; `range` and `histogram` describe the volume on screen, if any.
 pub fn effects_ui(
     ui: &mut egui::Ui,
-    mode: &mut Mode,
-    fx: &mut EffectState,
+    state: &mut ViewerState,
     range: Option<ValueRange>,
     histogram: &[u64],
 ) {
     ui.heading("Effect");
+    let fx = &mut state.render;
     ComboBox::from_id_salt("mode")
-        .selected_text(mode_label(*mode))
+        .selected_text(mode_label(fx.mode))
         .show_ui(ui, |ui| {
             for m in Mode::ALL {
-                ui.selectable_value(mode, m, mode_label(m));
+                ui.selectable_value(&mut fx.mode, m, mode_label(m));
             }
         });
-    if *mode == Mode::Iso {
-        iso_ui(ui, fx, range, histogram);
+    let mode = fx.mode;
+    if mode == Mode::Iso {
+        iso_ui(ui, &mut fx.iso, range, histogram);
     }
     if matches!(
-        *mode,
+        mode,
         Mode::Mip | Mode::MinIp | Mode::Xray | Mode::XrayAttenuation
     ) {
-        window_ui(ui, fx, range);
+        window_ui(ui, &mut fx.window, range);
     }
-    if matches!(*mode, Mode::Mip | Mode::MinIp) {
+    if matches!(mode, Mode::Mip | Mode::MinIp) {
         ui.horizontal(|ui| {
             ui.label("Colour");
             ui.selectable_value(&mut fx.mip_color, MipColor::Window, "grey (window)");
             ui.selectable_value(&mut fx.mip_color, MipColor::Tf, "transfer function");
         });
     }
-    if *mode == Mode::XrayAttenuation {
+    if mode == Mode::XrayAttenuation {
         ui.horizontal(|ui| {
             ui.label("μ at window top (1/mm)");
             ui.add(
@@ -142,16 +67,21 @@ pub fn effects_ui(
         });
     }
     if mode.can_shade() {
-        lighting_ui(ui, fx);
+        lighting_ui(ui, state);
     }
 }
 
-fn iso_ui(ui: &mut egui::Ui, fx: &mut EffectState, range: Option<ValueRange>, histogram: &[u64]) {
+fn iso_ui(
+    ui: &mut egui::Ui,
+    iso: &mut crate::settings::IsoSettings,
+    range: Option<ValueRange>,
+    histogram: &[u64],
+) {
     let Some(range) = range.filter(|r| r.width() > 0.0) else {
         ui.label("Iso value: the volume is constant");
         return;
     };
-    let mut value = fx.iso.value.unwrap_or(range.denormalize(0.5));
+    let mut value = iso.value.unwrap_or(range.denormalize(0.5));
     ui.label("Iso value (click or drag on the histogram)");
     histogram_picker(ui, histogram, range, &mut value);
     ui.add(
@@ -159,13 +89,13 @@ fn iso_ui(ui: &mut egui::Ui, fx: &mut EffectState, range: Option<ValueRange>, hi
             .clamping(SliderClamping::Edits)
             .max_decimals(2),
     );
-    if fx.iso.value.is_some() || value != range.denormalize(0.5) {
-        fx.iso.value = Some(value);
+    if iso.value.is_some() || value != range.denormalize(0.5) {
+        iso.value = Some(value);
     }
     ui.horizontal(|ui| {
         ui.label("Refinement steps");
         ui.add(Slider::new(
-            &mut fx.iso.refine_iterations,
+            &mut iso.refine_iterations,
             0..=MAX_ISO_REFINEMENT,
         ))
         .on_hover_text("False-position steps between the two samples around a hit");
@@ -211,11 +141,11 @@ fn histogram_picker(ui: &mut egui::Ui, counts: &[u64], range: ValueRange, value:
     );
 }
 
-fn window_ui(ui: &mut egui::Ui, fx: &mut EffectState, range: Option<ValueRange>) {
+fn window_ui(ui: &mut egui::Ui, window: &mut Option<[f64; 2]>, range: Option<ValueRange>) {
     let Some(range) = range.filter(|r| r.width() > 0.0) else {
         return;
     };
-    let [mut lo, mut hi] = fx.window.unwrap_or([range.min, range.max]);
+    let [mut lo, mut hi] = window.unwrap_or([range.min, range.max]);
     let speed = range.width() / 500.0;
     let before = [lo, hi];
     ui.horizontal(|ui| {
@@ -227,7 +157,7 @@ fn window_ui(ui: &mut egui::Ui, fx: &mut EffectState, range: Option<ValueRange>)
             .on_hover_text("The volume's whole value range")
             .clicked()
         {
-            fx.window = None;
+            *window = None;
         }
     });
     if [lo, hi] != before {
@@ -240,18 +170,19 @@ fn window_ui(ui: &mut egui::Ui, fx: &mut EffectState, range: Option<ValueRange>)
                 hi = lo + gap;
             }
         }
-        fx.window = Some([lo, hi]);
+        *window = Some([lo, hi]);
     }
 }
 
-fn lighting_ui(ui: &mut egui::Ui, fx: &mut EffectState) {
+fn lighting_ui(ui: &mut egui::Ui, state: &mut ViewerState) {
+    let fx = &mut state.render;
     let mut lit = fx.shading == Shading::Phong;
     ui.checkbox(&mut lit, "Phong lighting")
         .on_hover_text("Per-sample lighting from on-the-fly gradients");
     fx.shading = if lit { Shading::Phong } else { Shading::Off };
     ui.add_enabled_ui(lit, |ui| {
         egui::Grid::new("phong").num_columns(2).show(ui, |ui| {
-            let p = &mut fx.phong;
+            let p = &mut state.render.phong;
             for (label, v, max) in [
                 ("Ambient Ka", &mut p.ambient, 1.0),
                 ("Diffuse Kd", &mut p.diffuse, 1.0),
@@ -262,51 +193,43 @@ fn lighting_ui(ui: &mut egui::Ui, fx: &mut EffectState) {
                 ui.add(Slider::new(v, 0.0..=max).clamping(SliderClamping::Edits));
                 ui.end_row();
             }
-            ui.label("Light");
-            ui.checkbox(&mut fx.headlight, "headlight");
-            ui.end_row();
-            if !fx.headlight {
-                ui.label("from azimuth");
-                ui.add(Slider::new(&mut fx.light_angles[0], -180.0..=180.0).suffix("°"));
-                ui.end_row();
-                ui.label("elevation");
-                ui.add(Slider::new(&mut fx.light_angles[1], -90.0..=90.0).suffix("°"));
-                ui.end_row();
-            }
+            light_rows(ui, state);
             ui.label("Gradients");
+            let gradient = &mut state.render.gradient;
             ui.horizontal(|ui| {
-                ui.selectable_value(&mut fx.gradient, GradientScheme::Central, "central");
-                ui.selectable_value(&mut fx.gradient, GradientScheme::FourthOrder, "4th order");
+                ui.selectable_value(gradient, GradientScheme::Central, "central");
+                ui.selectable_value(gradient, GradientScheme::FourthOrder, "4th order");
             });
             ui.end_row();
         });
     });
 }
 
+/// The light's rows of the lighting grid: headlight, or where a directional light comes from.
+fn light_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
+    ui.label("Light");
+    let mut headlight = state.render.light == Light::Headlight;
+    if ui.checkbox(&mut headlight, "headlight").changed() {
+        state.set_headlight(headlight);
+    }
+    ui.end_row();
+    if !headlight {
+        let mut angles = state.light_angles;
+        ui.label("from azimuth");
+        ui.add(Slider::new(&mut angles[0], -180.0..=180.0).suffix("°"));
+        ui.end_row();
+        ui.label("elevation");
+        ui.add(Slider::new(&mut angles[1], -90.0..=90.0).suffix("°"));
+        ui.end_row();
+        if angles != state.light_angles {
+            state.set_light_angles(angles);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_default_state_gives_the_default_settings() {
-        let mut settings = RenderSettings::default();
-        EffectState::default().apply(&mut settings);
-        assert_eq!(settings, RenderSettings::default());
-    }
-
-    #[test]
-    fn a_directional_light_shines_towards_the_volume() {
-        let fx = EffectState {
-            headlight: false,
-            light_angles: [0.0, 90.0],
-            ..EffectState::default()
-        };
-        // From straight above (elevation 90°): shining down −z.
-        let Light::Direction(d) = fx.light() else {
-            panic!("a direction")
-        };
-        assert!(d[0].abs() < 1e-12 && d[1].abs() < 1e-12 && (d[2] + 1.0).abs() < 1e-12);
-    }
 
     #[test]
     fn every_mode_shows_without_touching_the_state() {
@@ -317,23 +240,14 @@ mod tests {
         let counts: Vec<u64> = (0..256).map(|i| (i * 37 % 101) as u64).collect();
         for m in Mode::ALL {
             let ctx = egui::Context::default();
-            let (mut mode, mut fx) = (m, EffectState::default());
+            let mut state = ViewerState::default();
+            state.render.mode = m;
+            let before = state.clone();
             let mut out = ctx.run_ui(egui::RawInput::default(), |ui| {
-                effects_ui(ui, &mut mode, &mut fx, Some(range), &counts);
+                effects_ui(ui, &mut state, Some(range), &counts);
             });
             out.textures_delta.clear();
-            assert_eq!((mode, &fx), (m, &EffectState::default()), "{m:?}");
+            assert_eq!(state, before, "{m:?}");
         }
-    }
-
-    #[test]
-    fn new_volumes_drop_values_in_the_old_units() {
-        let mut fx = EffectState {
-            window: Some([0.0, 1.0]),
-            ..EffectState::default()
-        };
-        fx.iso.value = Some(300.0);
-        fx.forget_data_values();
-        assert_eq!((fx.window, fx.iso.value), (None, None));
     }
 }

@@ -3,7 +3,6 @@
 //! towards the target, and switching projection without a jump in size.
 
 use crate::camera::{Aabb, Camera, DEFAULT_FOV_Y_DEG, Projection, ProjectionKind, ViewPreset};
-use crate::volume::ValueRange;
 
 /// Orbit speed: degrees per point of pointer motion (a 450-point drag turns 180°).
 pub const ORBIT_DEG_PER_POINT: f64 = 0.4;
@@ -41,43 +40,6 @@ pub fn zoom_scroll(camera: &mut Camera, scrolled: f32, pinch: f32) {
     if factor != 1.0 {
         camera.zoom(factor);
     }
-}
-
-/// Window/level speed: points of drag per full value range.
-pub const WINDOW_POINTS_PER_RANGE: f64 = 500.0;
-
-/// Window/level for a right-drag of `delta` points (as in 3D Slicer): horizontal motion widens
-/// (right) or narrows the window, vertical motion moves its centre (down = higher level, so the
-/// image darkens). The width stays at least a thousandth of the range.
-pub fn window_level_drag(window: [f64; 2], range: ValueRange, delta: [f32; 2]) -> [f64; 2] {
-    let k = range.width() / WINDOW_POINTS_PER_RANGE;
-    let width = (window[1] - window[0] + f64::from(delta[0]) * k).max(range.width() / 1000.0);
-    let level = 0.5 * (window[0] + window[1]) + f64::from(delta[1]) * k;
-    [level - 0.5 * width, level + 0.5 * width]
-}
-
-/// The same drag applied to a transfer function's point coordinates (as `f(x)`), around the
-/// middle `centre` of its opacity points: the scale follows the width's change, the shift the
-/// level's. `unit` is one data unit in the function's coordinates.
-pub fn window_level_map(
-    centre: f64,
-    width: f64,
-    range: ValueRange,
-    unit: f64,
-    delta: [f32; 2],
-) -> impl Fn(f64) -> f64 {
-    let data_centre = 0.0;
-    let [lo, hi] = window_level_drag(
-        [
-            data_centre - 0.5 * width / unit,
-            data_centre + 0.5 * width / unit,
-        ],
-        range,
-        delta,
-    );
-    let scale = (hi - lo) * unit / width;
-    let shift = 0.5 * (lo + hi) * unit;
-    move |x| centre + shift + (x - centre) * scale
 }
 
 /// A camera looking along `preset` that frames the whole volume.
@@ -177,28 +139,6 @@ mod tests {
         zoom_scroll(&mut camera, 0.0, 0.5);
         let d2 = (camera.eye - camera.target).length();
         assert!((d2 / d1 - 2.0).abs() < 1e-9);
-    }
-
-    #[test]
-    fn right_drag_widens_with_x_and_moves_the_level_with_y() {
-        let range = ValueRange {
-            min: -1000.0,
-            max: 3000.0,
-        };
-        let w = window_level_drag([0.0, 400.0], range, [50.0, 0.0]);
-        // 50 points = 50/500 of 4000 = 400 wider, same centre.
-        assert_eq!(w, [-200.0, 600.0]);
-        let w = window_level_drag([0.0, 400.0], range, [0.0, 25.0]);
-        assert_eq!(w, [200.0, 600.0]);
-        let w = window_level_drag([0.0, 400.0], range, [-5000.0, 0.0]);
-        assert!(
-            (w[1] - w[0] - 4.0).abs() < 1e-9,
-            "the width stops at a thousandth"
-        );
-        // The TF map: a rightward drag scales points about the centre, a downward one shifts.
-        let f = window_level_map(100.0, 400.0, range, 1.0, [50.0, 25.0]);
-        assert!((f(100.0) - 300.0).abs() < 1e-9);
-        assert!((f(300.0) - (300.0 + 200.0 * 2.0)).abs() < 1e-9);
     }
 
     #[test]

@@ -268,6 +268,6 @@ mod tests {
         let volume = wait(&mut loader).expect("the phantom generates");
         assert_eq!(volume.dims(), [GENERATED_SIZE; 3]);
         // Air in HU: the phantom must be recognised as CT.
-        assert!(super::super::is_ct_like(volume.value_range()));
+        assert!(crate::transfer::presets::is_ct_like(volume.value_range()));
     }
 }

@@ -207,7 +207,7 @@ impl Scene {
     ) -> Result<crate::imaging::ImageF32, String> {
         let camera = self.camera.ok_or("no volume on screen")?;
         self.apply_transfer(state);
-        let settings = state.render_settings();
+        let settings = state.render;
         let image = auto_path::choose(&mut self.renderer, settings.path)
             .and_then(|_| {
                 self.renderer
@@ -245,7 +245,7 @@ impl Scene {
         let inputs = FrameInputs {
             camera,
             size_px,
-            settings: state.render_settings(),
+            settings: state.render,
             transfer_generation: self.renderer.transfer_generation(),
             volume_generation: self.volume_generation,
             stats: state.statistics,
@@ -397,10 +397,10 @@ impl Scene {
             has_timestamps: self.timestamps_reliable(),
             adapter: &self.adapter_label,
             path: self.path_used,
-            strategy: state.strategy.label(),
+            strategy: state.render.strategy.label(),
             volume: self.volume.as_ref(),
             counters: self.counters,
-            rebuild_ms: self.rebuild_ms.filter(|_| state.strategy.leaps()),
+            rebuild_ms: self.rebuild_ms.filter(|_| state.render.strategy.leaps()),
             tf_latency_ms: self.tf_latency_ms,
             preview_scale: self.preview_scale(),
             refined: Some(self.refined).filter(|(n, _)| *n > 0),

@@ -254,8 +254,33 @@ fn color_bar(ui: &mut egui::Ui, editor: &mut TfEditor, range: ValueRange) {
         range,
         space: editor.tf().space,
     };
-    let id = response.id.with("held");
     let selected_id = response.id.with("selected");
+    handle_color_input(ui, editor, &response, &axis, selected_id);
+    paint_color_bar(ui, editor.tf(), &axis, ui.data(|d| d.get_temp(selected_id)));
+    let selected = ui.data(|d| d.get_temp::<usize>(selected_id));
+    if let Some(i) = selected.filter(|&i| i < editor.tf().color.len()) {
+        let p = editor.tf().color[i];
+        let mut rgb_f32 = [p[1] as f32, p[2] as f32, p[3] as f32];
+        ui.horizontal(|ui| {
+            ui.label(format!("stop at {:.4}", p[0]));
+            if egui::color_picker::color_edit_button_rgb(ui, &mut rgb_f32).changed() {
+                let _ = editor.set_color(i, rgb_f32.map(f64::from));
+            }
+        });
+    }
+}
+
+/// The colour bar's gestures: right-click deletes a stop, a click selects one or adds one at the
+/// colour already there, a drag moves one (one undo step). The selected stop is kept under
+/// `selected_id`.
+fn handle_color_input(
+    ui: &egui::Ui,
+    editor: &mut TfEditor,
+    response: &egui::Response,
+    axis: &Axis,
+    selected_id: egui::Id,
+) {
+    let id = response.id.with("held");
     let nearest = |tf: &TransferFunction, x: f32| -> Option<usize> {
         tf.color
             .iter()
@@ -275,16 +300,12 @@ fn color_bar(ui: &mut egui::Ui, editor: &mut TfEditor, range: ValueRange) {
     } else if response.clicked()
         && let Some(pos) = pointer
     {
-        let index = match nearest(editor.tf(), pos.x) {
-            Some(i) => Some(i),
-            None => {
-                let value = axis.coordinate(pos.x);
-                let c = editor
-                    .tf()
-                    .color_at(editor.tf().to_data(value, range), range);
-                editor.add_color(value, c).ok()
-            }
-        };
+        let index = nearest(editor.tf(), pos.x).or_else(|| {
+            let value = axis.coordinate(pos.x);
+            let tf = editor.tf();
+            let c = tf.color_at(tf.to_data(value, axis.range), axis.range);
+            editor.add_color(value, c).ok()
+        });
         if let Some(i) = index {
             ui.data_mut(|d| d.insert_temp(selected_id, i));
         }
@@ -310,19 +331,21 @@ fn color_bar(ui: &mut egui::Ui, editor: &mut TfEditor, range: ValueRange) {
         editor.end_gesture();
         ui.data_mut(|d| d.remove::<Held>(id));
     }
-    // The bar: the colour at each column, then the stops as ticks.
+}
+
+/// The bar: the colour at each column, then the stops as ticks (the selected one thicker).
+fn paint_color_bar(ui: &egui::Ui, tf: &TransferFunction, axis: &Axis, selected: Option<usize>) {
+    let rect = axis.rect;
     let painter = ui.painter_at(rect);
     let columns = rect.width().max(1.0) as usize;
-    let tf = editor.tf();
     for c in 0..columns {
         let x = rect.left() + c as f32;
-        let value = tf.to_data(axis.coordinate(x + 0.5), range);
+        let value = tf.to_data(axis.coordinate(x + 0.5), axis.range);
         painter.line_segment(
             [pos2(x + 0.5, rect.top()), pos2(x + 0.5, rect.bottom())],
-            Stroke::new(1.0, rgb(tf.color_at(value, range))),
+            Stroke::new(1.0, rgb(tf.color_at(value, axis.range))),
         );
     }
-    let selected = ui.data(|d| d.get_temp::<usize>(selected_id));
     for (i, p) in tf.color.iter().enumerate() {
         let x = axis.x(p[0]);
         let width = if selected == Some(i) { 3.0 } else { 1.5 };
@@ -330,16 +353,6 @@ fn color_bar(ui: &mut egui::Ui, editor: &mut TfEditor, range: ValueRange) {
             [pos2(x, rect.top()), pos2(x, rect.bottom())],
             Stroke::new(width, Color32::WHITE),
         );
-    }
-    if let Some(i) = selected.filter(|&i| i < tf.color.len()) {
-        let p = tf.color[i];
-        let mut rgb_f32 = [p[1] as f32, p[2] as f32, p[3] as f32];
-        ui.horizontal(|ui| {
-            ui.label(format!("stop at {:.4}", p[0]));
-            if egui::color_picker::color_edit_button_rgb(ui, &mut rgb_f32).changed() {
-                let _ = editor.set_color(i, rgb_f32.map(f64::from));
-            }
-        });
     }
 }
 

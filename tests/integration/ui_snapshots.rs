@@ -235,7 +235,7 @@ fn side_panel_edits_the_viewer_state() {
     h.get_by_label("RC-t").click();
     h.get_by_label("count samples").click();
     h.run();
-    assert_eq!(h.state().state.strategy, Strategy::RcT);
+    assert_eq!(h.state().state.render.strategy, Strategy::RcT);
     assert!(h.state().state.statistics);
 
     // Projection and views need the camera: the panel hands them to the app.

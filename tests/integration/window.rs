@@ -116,7 +116,7 @@ fn window_renders_the_frames_asked_for_and_shows_the_renderers_pixels() {
     assert_eq!(frames, FRAMES, "{log}");
     // The first frame stays still until the screenshot, which waits for its refinement to the
     // default mean; frame 2 is turned away from at once, so it is never refined.
-    let full = leapview::ui::DEFAULT_REFINE_FRAMES;
+    let full = leapview::ui::state::DEFAULT_REFINE_FRAMES;
     assert_eq!(
         log.matches("refined volume frame 1 to").count() as u32,
         full - 1,

@@ -23,7 +23,7 @@ pub struct AccuracyArgs {
     pub datasets: Option<Vec<String>>,
     /// Image size `WxH` of the GPU datasets (the phantom renders at most 128×128: its reference
     /// runs on the CPU).
-    #[arg(long, value_parser = crate::cli::args::parse_size, default_value = "512x512")]
+    #[arg(long, value_parser = crate::cli::parse::parse_size, default_value = "512x512")]
     pub size: [u32; 2],
     /// Views around each volume; times and errors are over all of them.
     #[arg(long, default_value_t = 4)]

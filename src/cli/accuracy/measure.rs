@@ -11,7 +11,7 @@ use leapview::settings::{Mode, RenderSettings, TexturePrecision};
 use leapview::transfer::TransferFunction;
 use leapview::volume::Volume;
 
-use crate::cli::bench::run::timed_frame;
+use crate::cli::measuring::timed_frame;
 
 /// Warm-up frames after each change of variant (pipeline creation, structure rebuilds).
 const WARMUP_FRAMES: u32 = 3;

@@ -24,7 +24,8 @@ use serde::{Deserialize, Serialize};
 pub use args::AccuracyArgs;
 
 use super::Failure;
-use super::bench::{datasets, environment, run::orbit};
+use super::datasets;
+use super::measuring::{environment, orbit};
 use measure::{Dataset, Method, NotMeasured};
 
 /// Name of the generated phantom measured against the f64 CPU reference.

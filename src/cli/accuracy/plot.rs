@@ -8,7 +8,7 @@ use leapview::accuracy::results::pareto_front;
 use leapview::accuracy::{Knob, Measurement};
 use plotters::prelude::*;
 
-use crate::cli::bench::plots::{FONT, err, legend, register};
+use crate::cli::plotting::{FONT, err, legend, register};
 
 fn colour(knob: Knob) -> RGBColor {
     match knob {

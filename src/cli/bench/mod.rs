@@ -4,7 +4,6 @@
 
 pub mod args;
 mod checks;
-pub(crate) mod datasets;
 mod output;
 pub(crate) mod plots;
 mod progress;
@@ -21,7 +20,8 @@ use leapview::settings::RenderPath;
 
 pub use args::BenchArgs;
 
-use super::Failure;
+use super::measuring::environment;
+use super::{Failure, datasets};
 use progress::Progress;
 
 /// Warm-up frames of a dataset's first run, right after its upload.
@@ -108,7 +108,7 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
             continue;
         }
         let bounds = Aabb::of_volume(loaded.volume.dims(), loaded.volume.spacing_mm());
-        let cameras = run::orbit(&bounds, config.views, config.elevation_deg);
+        let cameras = super::measuring::orbit(&bounds, config.views, config.elevation_deg);
         results.datasets.push(loaded.info);
         for (index, planned) in runs.iter().enumerate() {
             let s = &planned.settings;
@@ -196,24 +196,6 @@ fn finish(out: &Path, summary: &leapview::bench::Summary) -> Result<(), Failure>
         summary.image_checks.len()
     );
     Ok(())
-}
-
-pub(crate) fn environment(ctx: &GpuContext, quick: bool) -> Environment {
-    let i = &ctx.adapter_info;
-    Environment {
-        adapter: i.name.clone(),
-        device_type: format!("{:?}", i.device_type),
-        backend: format!("{:?}", i.backend),
-        driver: i.driver.clone(),
-        driver_info: i.driver_info.clone(),
-        gpu_timestamps: ctx.has_timestamps(),
-        command_line: std::env::args().collect::<Vec<_>>().join(" "),
-        quick,
-        version: env!("CARGO_PKG_VERSION").to_string(),
-        started_unix_s: std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_secs()),
-    }
 }
 
 /// `docs/benchmarks/<adapter name as a slug>[-quick]`.

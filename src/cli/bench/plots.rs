@@ -3,29 +3,17 @@
 //! binary (the GPU machine has no system fonts).
 
 use std::path::{Path, PathBuf};
-use std::sync::Once;
 
-use anyhow::anyhow;
 use leapview::bench::stats::{TABLE1_STRATEGIES, table2};
 use leapview::bench::{BenchResults, Summary};
 use plotters::prelude::*;
-use plotters::style::{FontStyle, register_font};
 
-/// The family name the embedded font is registered under.
-pub(crate) const FONT: &str = "sans-serif";
+use crate::cli::plotting::{FONT, err, legend, register};
+
 /// Plot width in pixels.
 const WIDTH: u32 = 1600;
 /// Height of one panel in pixels.
 const PANEL: u32 = 520;
-
-pub(crate) fn register() {
-    static ONCE: Once = Once::new();
-    ONCE.call_once(|| {
-        if register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT).is_err() {
-            log::warn!("the embedded plot font did not load; plots will have no text");
-        }
-    });
-}
 
 fn colour(strategy: &str) -> RGBColor {
     match strategy {
@@ -34,29 +22,6 @@ fn colour(strategy: &str) -> RGBColor {
         "RC-s" => RGBColor(0xd6, 0x27, 0x28),
         _ => RGBColor(0x2c, 0xa0, 0x2c),
     }
-}
-
-/// Draws the series legend of `chart` at `position` (one style for every plot).
-pub(crate) fn legend<'a, DB, CT>(
-    chart: &mut ChartContext<'a, DB, CT>,
-    position: SeriesLabelPosition,
-) -> anyhow::Result<()>
-where
-    DB: DrawingBackend + 'a,
-    CT: plotters::coord::CoordTranslate,
-{
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .label_font((FONT, 16))
-        .position(position)
-        .draw()
-        .map_err(err)
-}
-
-pub(crate) fn err<E: std::fmt::Display>(e: E) -> anyhow::Error {
-    anyhow!("drawing a plot: {e}")
 }
 
 /// The mode the bar chart and scatter show: DVR (the paper's) when present.

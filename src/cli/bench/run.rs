@@ -2,14 +2,13 @@
 //! sweep) over an orbit of views, after a warm-up; a timing pass and a separate statistics pass
 //! (the counting variants are slower, so they are never timed as the frame time).
 
-use std::time::Instant;
-
-use glam::DVec3;
 use leapview::bench::BenchConfig;
 use leapview::bench::config::DatasetSpec;
 use leapview::bench::record::{FrameRecord, RunKey, RunRecord};
-use leapview::camera::{Aabb, Camera, ProjectionKind, orbit_direction};
-use leapview::render::{FrameRequest, FrameResults, RenderError, VolumeRenderer};
+use leapview::camera::Camera;
+use leapview::render::{FrameRequest, RenderError, VolumeRenderer};
+
+use crate::cli::measuring::timed_frame;
 use leapview::settings::effects::{IsoSettings, Shading};
 use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
 
@@ -91,34 +90,6 @@ pub fn plan(config: &BenchConfig, spec: &DatasetSpec) -> Vec<Planned> {
         }
     }
     runs
-}
-
-/// The orbit: `views` cameras around the volume at `elevation_deg`, each framing it, and their
-/// azimuths in degrees.
-pub fn orbit(bounds: &Aabb, views: u32, elevation_deg: f64) -> Vec<(Camera, f64)> {
-    (0..views)
-        .map(|v| {
-            let azimuth = 360.0 * v as f64 / views as f64;
-            let dir = orbit_direction(azimuth, elevation_deg);
-            let camera = Camera::framing(bounds, dir, DVec3::Z, ProjectionKind::Perspective);
-            (camera, azimuth)
-        })
-        .collect()
-}
-
-/// Renders one frame and waits; the time is the GPU's where the adapter has timestamp queries,
-/// else the CPU's wall clock around submission and wait. Also returns the path that ran.
-pub fn timed_frame(
-    renderer: &mut VolumeRenderer,
-    request: &FrameRequest,
-) -> Result<(f64, FrameResults, String), RenderError> {
-    let start = Instant::now();
-    let (submitted, results) = renderer.render_and_wait(request)?;
-    let ms = results
-        .gpu_ms
-        .unwrap_or_else(|| start.elapsed().as_secs_f64() * 1e3);
-    let path = format!("{:?}", submitted.key.path).to_lowercase();
-    Ok((ms, results, path))
 }
 
 /// Runs `planned` over `cameras` after `warmup` frames: the timing pass, then the statistics

@@ -11,12 +11,11 @@ use crate::render::gpu_data::{
     MAX_WORKGROUPS_PER_DIMENSION, NODE_WORKGROUP, RULE_AT_MOST, RULE_TRANSFER, TABLE_WORKGROUP,
 };
 use crate::render::probe::{ProbePool, ProbeSlot};
-use crate::render::shader::{ShaderError, compose};
+use crate::render::shader::{ShaderError, compose, shader_module};
 use crate::render::table_texture::TableTexture;
 use crate::settings::{Mode, RenderSettings, Strategy};
 
 use super::layouts::LeapResources;
-use super::pipelines::shader_module;
 use super::uniforms::LeapLevels;
 
 /// The builder pipelines, created once per renderer.

@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use crate::render::shader::{ShaderError, compose};
+use crate::render::shader::{ShaderError, compose, shader_module};
 use crate::render::texture::OUTPUT_FORMAT;
 use crate::settings::ConcretePath;
 
@@ -89,14 +89,6 @@ impl Pipelines {
     pub fn variant_count(&self) -> usize {
         self.raycast.len()
     }
-}
-
-/// A WGSL module from composed source.
-pub fn shader_module(device: &wgpu::Device, label: &str, source: String) -> wgpu::ShaderModule {
-    device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(label),
-        source: wgpu::ShaderSource::Wgsl(source.into()),
-    })
 }
 
 /// A pipeline that rasterises the proxy geometry (`vs_proxy`) with one fragment entry point

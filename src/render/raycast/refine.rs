@@ -7,10 +7,8 @@
 
 use crate::render::context::GpuContext;
 use crate::render::gpu_data::{AccumulateParams, WORKGROUP};
-use crate::render::shader::{ShaderError, compose};
+use crate::render::shader::{ShaderError, compose, shader_module};
 use crate::render::texture::{OUTPUT_FORMAT, full_view, texture_2d};
-
-use super::pipelines::shader_module;
 
 /// Sample offset (in steps, in `[0, 1)`) of refinement frame `k`: 0.5 for the first (the offset
 /// of an unrefined frame), then the van der Corput sequence rotated by ½, so that the first

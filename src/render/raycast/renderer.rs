@@ -6,7 +6,7 @@
 use crate::camera::Camera;
 use crate::imaging::ImageF32;
 use crate::render::context::GpuContext;
-use crate::render::probe::{FrameResults, ProbePool};
+use crate::render::probe::{FrameResults, ProbePool, ProbeSlot};
 use crate::render::readback::read_texture;
 use crate::render::shader::ShaderError;
 use crate::render::volume_texture::{VolumeTexture, VolumeTextureError};
@@ -16,12 +16,12 @@ use crate::settings::{
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
-use super::leap::{LeapRequest, LeapStructures};
+use super::leap::{Builds, LeapRequest, LeapStructures};
 use super::passes::RaycastPasses;
 use super::pipelines::Pipelines;
 use super::refine::{self, Accumulator};
 use super::targets::Targets;
-use super::uniforms::{FrameGeometry, LeapLevels, SampleDecoding, frame_uniforms};
+use super::uniforms::FrameGeometry;
 use super::variant::PipelineKey;
 use super::volume::{FrameShared, GpuVolume};
 use crate::render::gpu_data::FrameUniforms;
@@ -119,6 +119,42 @@ struct Measurements {
     stats_group: wgpu::BindGroup,
     frames_submitted: u64,
     work: WorkCounts,
+}
+
+impl Measurements {
+    /// Counts a new frame and takes a probe for it (none when all are in flight); clears the
+    /// counters of a statistics frame.
+    fn begin(&mut self, stats: bool, encoder: &mut wgpu::CommandEncoder) -> Option<ProbeSlot> {
+        self.frames_submitted += 1;
+        self.work.frames += 1;
+        if stats {
+            self.probes.clear_counters(encoder);
+        }
+        self.probes.acquire(self.frames_submitted, stats)
+    }
+
+    /// Counts what the leaping structures' preparation built.
+    fn count_builds(&mut self, builds: Builds) {
+        self.work.minmax_builds += u64::from(builds.minmax);
+        self.work.flag_builds += u64::from(builds.flags);
+        self.work.distance_builds += u64::from(builds.distance);
+    }
+
+    /// Resolves the frame's probe into its read-back buffer, submits, and starts the read-back.
+    fn submit(
+        &mut self,
+        ctx: &GpuContext,
+        mut encoder: wgpu::CommandEncoder,
+        slot: Option<ProbeSlot>,
+    ) {
+        if let Some(s) = &slot {
+            self.probes.finish(s, &mut encoder);
+        }
+        ctx.queue.submit([encoder.finish()]);
+        if let Some(s) = slot {
+            self.probes.submitted(s);
+        }
+    }
 }
 
 /// The renderer. See the module documentation.
@@ -305,38 +341,19 @@ impl VolumeRenderer {
         let volume = self.volume.as_mut().ok_or(RenderError::NoVolume)?;
         let geometry =
             FrameGeometry::new(request.camera, request.size, volume.dims, volume.spacing_mm);
-        let decoding = SampleDecoding {
-            texel_scale: volume.texture.encoding.scale,
-            texel_bias: volume.texture.encoding.bias,
-            lut_size: self.transfer.lut().entries(),
-            range: volume.range,
-        };
-        let mut uniforms = frame_uniforms(
-            &geometry,
-            request.size,
-            volume.dims,
-            volume.spacing_mm,
-            settings,
-            decoding,
-            LeapLevels::default(),
-        );
+        let mut uniforms = volume.uniforms(request, &geometry, self.transfer.lut().entries());
         let scope = self
             .ctx
             .device
             .push_error_scope(wgpu::ErrorFilter::Validation);
-        let m = &mut self.measurements;
-        m.frames_submitted += 1;
-        m.work.frames += 1;
-        let slot = m.probes.acquire(m.frames_submitted, request.stats);
         let mut encoder = self
             .ctx
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
-        if request.stats {
-            m.probes.clear_counters(&mut encoder);
-        }
+        let m = &mut self.measurements;
+        let slot = m.begin(request.stats, &mut encoder);
         if key.strategy.leaps() {
             let leap_request = LeapRequest {
                 settings,
@@ -353,9 +370,7 @@ impl VolumeRenderer {
                 &mut encoder,
                 probe,
             );
-            m.work.minmax_builds += u64::from(builds.minmax);
-            m.work.flag_builds += u64::from(builds.flags);
-            m.work.distance_builds += u64::from(builds.distance);
+            m.count_builds(builds);
             uniforms.leaf_level = levels.leaf_level;
             uniforms.level_count = levels.level_count;
         }
@@ -385,13 +400,7 @@ impl VolumeRenderer {
             ),
             _ => None,
         };
-        if let Some(s) = &slot {
-            m.probes.finish(s, &mut encoder);
-        }
-        self.ctx.queue.submit([encoder.finish()]);
-        if let Some(s) = slot {
-            m.probes.submitted(s);
-        }
+        m.submit(&self.ctx, encoder, slot);
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RenderError::Gpu(e.to_string()));
         }

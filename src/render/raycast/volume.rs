@@ -7,9 +7,13 @@ use crate::render::volume_texture::{VolumeTexture, VolumeTextureError};
 use crate::settings::TexturePrecision;
 use crate::volume::{ValueRange, Volume};
 
+use crate::render::gpu_data::FrameUniforms;
+
 use super::layouts::{FrameResources, Layouts};
 use super::leap::LeapStructures;
+use super::renderer::FrameRequest;
 use super::transfer::TransferTables;
+use super::uniforms::{FrameGeometry, LeapLevels, SampleDecoding, frame_uniforms};
 
 /// The resources group 0 binds that outlive any one volume.
 pub struct FrameShared<'a> {
@@ -75,5 +79,32 @@ impl GpuVolume {
             leap,
             leap_group,
         })
+    }
+}
+
+impl GpuVolume {
+    /// The uniforms of `request`'s frame of this volume, for a lookup table of `lut_entries`
+    /// (leaping levels still unset).
+    pub fn uniforms(
+        &self,
+        request: &FrameRequest<'_>,
+        geometry: &FrameGeometry,
+        lut_entries: u32,
+    ) -> FrameUniforms {
+        let decoding = SampleDecoding {
+            texel_scale: self.texture.encoding.scale,
+            texel_bias: self.texture.encoding.bias,
+            lut_size: lut_entries,
+            range: self.range,
+        };
+        frame_uniforms(
+            geometry,
+            request.size,
+            self.dims,
+            self.spacing_mm,
+            request.settings,
+            decoding,
+            LeapLevels::default(),
+        )
     }
 }

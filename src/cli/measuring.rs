@@ -1,0 +1,56 @@
+//! What the `bench` and `accuracy` commands share when they measure: the record of where they
+//! ran, the orbit of cameras around a volume, and one timed frame.
+
+use std::time::Instant;
+
+use glam::DVec3;
+use leapview::bench::record::Environment;
+use leapview::camera::{Aabb, Camera, ProjectionKind, orbit_direction};
+use leapview::render::{FrameRequest, FrameResults, GpuContext, RenderError, VolumeRenderer};
+
+/// Where a run happens: the adapter, driver, command line and version.
+pub fn environment(ctx: &GpuContext, quick: bool) -> Environment {
+    let i = &ctx.adapter_info;
+    Environment {
+        adapter: i.name.clone(),
+        device_type: format!("{:?}", i.device_type),
+        backend: format!("{:?}", i.backend),
+        driver: i.driver.clone(),
+        driver_info: i.driver_info.clone(),
+        gpu_timestamps: ctx.has_timestamps(),
+        command_line: std::env::args().collect::<Vec<_>>().join(" "),
+        quick,
+        version: env!("CARGO_PKG_VERSION").to_string(),
+        started_unix_s: std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs()),
+    }
+}
+
+/// The orbit: `views` cameras around the volume at `elevation_deg`, each framing it, and their
+/// azimuths in degrees.
+pub fn orbit(bounds: &Aabb, views: u32, elevation_deg: f64) -> Vec<(Camera, f64)> {
+    (0..views)
+        .map(|v| {
+            let azimuth = 360.0 * v as f64 / views as f64;
+            let dir = orbit_direction(azimuth, elevation_deg);
+            let camera = Camera::framing(bounds, dir, DVec3::Z, ProjectionKind::Perspective);
+            (camera, azimuth)
+        })
+        .collect()
+}
+
+/// Renders one frame and waits; the time is the GPU's where the adapter has timestamp queries,
+/// else the CPU's wall clock around submission and wait. Also returns the path that ran.
+pub fn timed_frame(
+    renderer: &mut VolumeRenderer,
+    request: &FrameRequest,
+) -> Result<(f64, FrameResults, String), RenderError> {
+    let start = Instant::now();
+    let (submitted, results) = renderer.render_and_wait(request)?;
+    let ms = results
+        .gpu_ms
+        .unwrap_or_else(|| start.elapsed().as_secs_f64() * 1e3);
+    let path = format!("{:?}", submitted.key.path).to_lowercase();
+    Ok((ms, results, path))
+}

@@ -1,0 +1,168 @@
+//! The central panel: the view's gestures (window/level included), its frame, the image and what
+//! is drawn over it.
+
+use std::time::{Duration, Instant};
+
+use egui::Color32;
+
+use crate::ui::Action;
+use crate::ui::crop::{crop_handles, hint as crop_hint};
+use crate::ui::lod::STILL_AFTER;
+use crate::ui::orientation_marker;
+use crate::ui::overlay::{draw_loading, draw_readout};
+use crate::ui::screenshot::TURN_DEG_PER_FRAME;
+use crate::ui::viewport::{ViewArea, view_ui};
+use crate::ui::window_level::{self, WindowLevelEdit};
+
+use super::LeapViewApp;
+
+impl LeapViewApp {
+    /// The central panel: gestures, the frame, the image and what is drawn over it.
+    pub(super) fn view(&mut self, ui: &mut egui::Ui) {
+        let ctx = ui.ctx().clone();
+        let area = view_ui(ui, self.scene.camera_mut());
+        self.view_gestures(&area, &ctx);
+        self.render_view(&area, &ctx);
+        self.view_rect = area.rect;
+        self.view_px = area.size_px;
+        let [r, g, b] = self.state.background_rgb8();
+        ui.painter()
+            .rect_filled(area.rect, 0.0, Color32::from_rgb(r, g, b));
+        self.scene.paint(ui, area.rect.min);
+        self.draw_over_view(ui, &area);
+        if let Some(status) = self.loader.busy()
+            && draw_loading(ui, area.rect, &status)
+        {
+            self.loader.cancel();
+            self.untitle_if_empty(&ctx);
+        }
+        draw_drop_hint(ui, area.rect);
+    }
+
+    /// What the view's gestures ask of the app: reset, window/level, the scripted turn.
+    fn view_gestures(&mut self, area: &ViewArea, ctx: &egui::Context) {
+        if area.reset_requested {
+            self.apply(Action::ResetView, ctx);
+        }
+        if let Some(delta) = area.window_drag {
+            self.window_level(delta);
+        }
+        if area.window_drag_ended {
+            self.state.editor.end_gesture();
+        }
+        if self
+            .automation
+            .wants_another_frame(self.scene.frames_rendered())
+        {
+            if let Some(camera) = self.scene.camera_mut() {
+                camera.orbit(TURN_DEG_PER_FRAME, 0.0);
+            }
+            ctx.request_repaint();
+        }
+    }
+
+    /// Renders the view's frame when its inputs changed, and asks for the passes that
+    /// refinement and the full-resolution frame after a preview need.
+    fn render_view(&mut self, area: &ViewArea, ctx: &egui::Context) {
+        let interacting = self.interacting(ctx);
+        if let Err(message) =
+            self.scene
+                .render_if_changed(&mut self.state, area.size_px, interacting)
+        {
+            self.dialogs.show_error(message);
+        }
+        if self.scene.refining() && !interacting {
+            // The next refinement frame comes in the next pass.
+            ctx.request_repaint();
+        }
+        if self.scene.preview_scale().is_some() {
+            // Refine once the pointer has been still long enough (or at once, if it is).
+            let still_in = self
+                .last_motion
+                .map_or(Duration::ZERO, |t| STILL_AFTER.saturating_sub(t.elapsed()));
+            ctx.request_repaint_after(still_in + Duration::from_millis(1));
+        }
+    }
+
+    /// The orientation marker, the cropping box and the readout, over the image.
+    fn draw_over_view(&mut self, ui: &mut egui::Ui, area: &ViewArea) {
+        self.marker_rect = None;
+        if self.state.show_orientation_marker
+            && let Some((camera, _)) = self.scene.camera_and_bounds()
+            && let Some(volume) = self.scene.volume()
+        {
+            self.marker_rect =
+                orientation_marker::draw(ui, area.rect, &camera, &volume.orientation_or_assumed());
+        }
+        if self.state.show_crop_box
+            && let Some((camera, bounds)) = self.scene.camera_and_bounds()
+        {
+            let crop = &mut self.state.render.crop;
+            // Moved faces render in the next pass.
+            if crop_handles(ui, area.rect, area.size_px, &camera, &bounds, crop) {
+                ui.ctx().request_repaint();
+            }
+            crop_hint(ui, area.rect);
+        }
+        self.readout_rect = None;
+        if self.state.show_readout {
+            let now = Instant::now();
+            let readout = self.scene.readout(&self.state, now);
+            self.readout_rect = Some(draw_readout(ui, area.rect, &readout));
+            // Refresh when the frame rate changes by itself (down to "idle"); no GPU work.
+            if let Some(wait) = self.scene.fps_next_change(now) {
+                ui.ctx()
+                    .request_repaint_after(wait + Duration::from_millis(1));
+            }
+        }
+    }
+
+    /// Whether the user is dragging or zooming: the pointer moved with a button held, or the
+    /// wheel turned, less than [`STILL_AFTER`] ago.
+    fn interacting(&mut self, ctx: &egui::Context) -> bool {
+        let moving = ctx.input(|i| {
+            (i.pointer.any_down() && i.pointer.delta() != egui::Vec2::ZERO)
+                || i.smooth_scroll_delta != egui::Vec2::ZERO
+                || i.zoom_delta() != 1.0
+        });
+        if moving {
+            self.last_motion = Some(Instant::now());
+        }
+        self.last_motion.is_some_and(|t| t.elapsed() < STILL_AFTER)
+    }
+
+    /// A right-drag in the view: the window of MIP, MinIP and X-ray, or the transfer function
+    /// shifted and scaled (DVR, isosurface), as 3D Slicer's window/level.
+    fn window_level(&mut self, delta: [f32; 2]) {
+        let Some(range) = self.scene.volume().and_then(|v| v.range) else {
+            return;
+        };
+        let render = &mut self.state.render;
+        let tf = self.state.editor.tf();
+        match window_level::drag(render.mode, render.window, tf, range, delta) {
+            Some(WindowLevelEdit::Window(window)) => render.window = Some(window),
+            Some(WindowLevelEdit::Transfer(map)) => self.state.editor.remap(|x| map.apply(x)),
+            None => {}
+        }
+    }
+}
+
+/// "Drop to open NAME" over the view while a file is dragged over the window.
+fn draw_drop_hint(ui: &egui::Ui, rect: egui::Rect) {
+    let hovered = ui
+        .ctx()
+        .input(|i| i.raw.hovered_files.first().and_then(|f| f.path.clone()));
+    let Some(path) = hovered else { return };
+    let name = path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into());
+    ui.painter()
+        .rect_filled(rect, 0.0, Color32::from_black_alpha(140));
+    ui.painter().text(
+        rect.center(),
+        egui::Align2::CENTER_CENTER,
+        format!("Drop to open {name}"),
+        egui::FontId::proportional(22.0),
+        Color32::WHITE,
+    );
+}

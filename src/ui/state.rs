@@ -1,0 +1,249 @@
+//! What the window's controls edit, as plain serialisable values: one [`RenderSettings`] (the
+//! renderer's own description of a frame, not copies of its fields) and what only the window
+//! has — the transfer-function editor, the view's toggles, the recent files.
+
+use serde::{Deserialize, Serialize};
+
+use crate::camera::ProjectionKind;
+use crate::settings::{Light, QualityPreset, RenderSettings, Strategy};
+use crate::transfer::editor::TfEditor;
+use crate::transfer::{TransferFunction, presets};
+
+/// Frames a still view is refined to by default: 8 shifted grids sample each ray as densely as
+/// a step 8 times finer.
+pub const DEFAULT_REFINE_FRAMES: u32 = 8;
+
+/// Most frames the refinement control offers.
+pub const MAX_REFINE_FRAMES: u32 = 64;
+
+/// Length of the File › Recent list.
+pub const RECENT_FILES: usize = 8;
+
+/// Where a directional light comes from by default: azimuth and elevation in degrees.
+pub const DEFAULT_LIGHT_ANGLES: [f64; 2] = [45.0, 30.0];
+
+/// Everything the controls edit. Persisted between runs (`src/ui/app/persistence.rs`); what a stored state
+/// lacks takes its default.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ViewerState {
+    /// What frames render: mode and its parameters, strategy, path, quality knobs, background,
+    /// cropping. The window edits these directly.
+    pub render: RenderSettings,
+    /// Transfer-function preset name (one of [`crate::transfer::presets::NAMES`]) last loaded
+    /// into the editor.
+    pub preset: String,
+    /// The transfer function being edited, with its undo history (the function itself is saved
+    /// between runs under its own key, see `src/ui/app/persistence.rs`; the history is not).
+    #[serde(skip)]
+    pub editor: TfEditor,
+    /// Whether the editor's histogram has a log scale.
+    pub log_histogram: bool,
+    /// Azimuth and elevation in degrees of where a directional light comes from: the sliders'
+    /// own values, kept while the headlight is on so that unticking it brings them back.
+    pub light_angles: [f64; 2],
+    /// Whether frames that would miss the frame budget while the user drags are rendered at a
+    /// lower resolution (refined once still).
+    pub interaction_lod: bool,
+    /// Whether frames count samples (slower statistics variant) for the readout.
+    pub statistics: bool,
+    /// Perspective or orthographic projection.
+    pub projection: ProjectionKind,
+    /// Whether the side panel is open.
+    pub show_controls: bool,
+    /// Whether the readout (FPS, GPU time, adapter, volume) is drawn over the view.
+    pub show_readout: bool,
+    /// Frames averaged, at shifted sample grids, once the view is still (1: no refinement).
+    pub refine_frames: u32,
+    /// Whether the orientation marker (R/A/S axes) is drawn in the view's corner.
+    pub show_orientation_marker: bool,
+    /// Whether the cropping box and its handles are drawn over the view.
+    pub show_crop_box: bool,
+    /// Files opened successfully, newest first (at most [`RECENT_FILES`]).
+    pub recent: Vec<std::path::PathBuf>,
+}
+
+impl Default for ViewerState {
+    fn default() -> Self {
+        let mut render = RenderSettings::default();
+        QualityPreset::Balanced.apply(&mut render);
+        Self {
+            render,
+            preset: presets::DEFAULT_CT_PRESET.to_string(),
+            editor: TfEditor::new(
+                presets::preset(presets::DEFAULT_CT_PRESET)
+                    .unwrap_or_else(|_| TransferFunction::grey_ramp()),
+            ),
+            log_histogram: true,
+            light_angles: DEFAULT_LIGHT_ANGLES,
+            statistics: false,
+            interaction_lod: true,
+            projection: ProjectionKind::Perspective,
+            show_controls: true,
+            show_readout: true,
+            show_orientation_marker: true,
+            refine_frames: DEFAULT_REFINE_FRAMES,
+            recent: Vec::new(),
+            show_crop_box: false,
+        }
+    }
+}
+
+impl ViewerState {
+    /// Loads preset `name` into the editor (one undo step); an unknown name changes nothing.
+    pub fn choose_preset(&mut self, name: &str) -> Result<(), String> {
+        self.editor.load_preset(name).map_err(|e| e.to_string())?;
+        self.preset = name.to_string();
+        Ok(())
+    }
+
+    /// Puts `path` first in the recent files (once), dropping the oldest beyond
+    /// [`RECENT_FILES`].
+    pub fn remember_file(&mut self, path: &std::path::Path) {
+        self.recent.retain(|p| p != path);
+        self.recent.insert(0, path.to_path_buf());
+        self.recent.truncate(RECENT_FILES);
+    }
+
+    /// The preset the current knobs match, `None` for custom settings.
+    pub fn quality(&self) -> Option<QualityPreset> {
+        QualityPreset::of(&self.render)
+    }
+
+    /// The strategy frames use: the chosen one, or RC-s where the mode cannot use the
+    /// distance field.
+    pub fn strategy_in_use(&self) -> Strategy {
+        self.render.strategy.for_mode(self.render.mode)
+    }
+
+    /// Forgets the values in data units (iso value, window) and the cropping box when another
+    /// volume opens: they belong to the old volume.
+    pub fn forget_volume_values(&mut self) {
+        self.render.iso.value = None;
+        self.render.window = None;
+        self.render.crop = crate::settings::CropBox::FULL;
+    }
+
+    /// Switches between the headlight and a directional light from [`Self::light_angles`].
+    pub fn set_headlight(&mut self, headlight: bool) {
+        self.render.light = if headlight {
+            Light::Headlight
+        } else {
+            light_from(self.light_angles)
+        };
+    }
+
+    /// Sets the directional light's angles (and the light, unless the headlight is on).
+    pub fn set_light_angles(&mut self, angles: [f64; 2]) {
+        self.light_angles = angles;
+        if self.render.light != Light::Headlight {
+            self.render.light = light_from(angles);
+        }
+    }
+
+    /// The background as 8-bit RGB (what the colour button edits; stored into the image as it
+    /// is, like the PNG output).
+    pub fn background_rgb8(&self) -> [u8; 3] {
+        self.render
+            .background
+            .map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8)
+    }
+
+    /// Sets the background from 8-bit RGB.
+    pub fn set_background_rgb8(&mut self, rgb: [u8; 3]) {
+        self.render.background = rgb.map(|c| f64::from(c) / 255.0);
+    }
+}
+
+/// A light shining from the direction azimuth/elevation `angles` (degrees) name, towards the
+/// volume.
+pub fn light_from(angles: [f64; 2]) -> Light {
+    let [az, el] = angles.map(f64::to_radians);
+    let from = [el.cos() * az.sin(), el.cos() * az.cos(), el.sin()];
+    Light::Direction(from.map(|c| -c))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::settings::Mode;
+
+    #[test]
+    fn recent_files_are_newest_first_unique_and_bounded() {
+        let mut state = ViewerState::default();
+        for i in 0..12 {
+            state.remember_file(std::path::Path::new(&format!("/data/{i}.nrrd")));
+        }
+        state.remember_file(std::path::Path::new("/data/9.nrrd"));
+        assert_eq!(state.recent.len(), RECENT_FILES);
+        assert_eq!(state.recent[0], std::path::PathBuf::from("/data/9.nrrd"));
+        assert_eq!(state.recent[1], std::path::PathBuf::from("/data/11.nrrd"));
+        assert_eq!(
+            state
+                .recent
+                .iter()
+                .filter(|p| p.ends_with("9.nrrd"))
+                .count(),
+            1
+        );
+    }
+
+    #[test]
+    fn state_gives_valid_settings() {
+        let mut state = ViewerState::default();
+        state.set_background_rgb8([255, 128, 0]);
+        assert_eq!(state.render.validate(), Ok(()));
+        for mode in Mode::ALL {
+            let mut df = ViewerState::default();
+            df.render.mode = mode;
+            df.render.strategy = Strategy::RcSDistance;
+            assert_eq!(df.render.validate(), Ok(()), "{mode:?}");
+        }
+        assert_eq!(state.render.background[0], 1.0);
+        assert_eq!(state.render.background[2], 0.0);
+        assert_eq!(state.background_rgb8(), [255, 128, 0]);
+        assert!(presets::NAMES.contains(&state.preset.as_str()));
+        assert_eq!(state.quality(), Some(QualityPreset::Balanced));
+    }
+
+    #[test]
+    fn a_directional_light_shines_towards_the_volume_and_comes_back_after_the_headlight() {
+        let mut state = ViewerState::default();
+        assert_eq!(state.render.light, Light::Headlight);
+        state.set_light_angles([0.0, 90.0]);
+        assert_eq!(
+            state.render.light,
+            Light::Headlight,
+            "the headlight stays on"
+        );
+        state.set_headlight(false);
+        // From straight above (elevation 90°): shining down −z.
+        let Light::Direction(d) = state.render.light else {
+            panic!("a direction")
+        };
+        assert!(d[0].abs() < 1e-12 && d[1].abs() < 1e-12 && (d[2] + 1.0).abs() < 1e-12);
+        state.set_headlight(true);
+        state.set_headlight(false);
+        assert_eq!(state.render.light, Light::Direction(d));
+    }
+
+    #[test]
+    fn new_volumes_drop_values_in_the_old_units_and_the_crop() {
+        let mut state = ViewerState::default();
+        state.render.window = Some([0.0, 1.0]);
+        state.render.iso.value = Some(300.0);
+        state.render.crop.min = [0.25; 3];
+        state.forget_volume_values();
+        assert_eq!((state.render.window, state.render.iso.value), (None, None));
+        assert!(state.render.crop.is_full());
+    }
+
+    #[test]
+    fn a_stored_state_missing_fields_takes_their_defaults() {
+        let stored = r#"{"preset": "mr-angio", "show_readout": false}"#;
+        let state: ViewerState = serde_json::from_str(stored).expect("parses");
+        assert_eq!(state.preset, "mr-angio");
+        assert!(!state.show_readout);
+        assert_eq!(state.render, ViewerState::default().render);
+    }
+}
