@@ -101,6 +101,12 @@ fn groups_for(count: u32, per_group: u32) -> (u32, u32) {
     }
 }
 
+/// Dispatches one invocation per node of a level of `nodes` (the 3D builders' workgroups).
+fn dispatch_over_nodes(pass: &mut wgpu::ComputePass<'_>, nodes: [u32; 3]) {
+    let [x, y, z] = nodes.map(|n| n.div_ceil(BUILD_WORKGROUP));
+    pass.dispatch_workgroups(x, y, z);
+}
+
 /// What makes a node empty, and the inputs that rule depends on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FlagRule {
@@ -247,12 +253,7 @@ impl LeapStructures {
             });
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &group, &[]);
-            let n = level.nodes;
-            pass.dispatch_workgroups(
-                n[0].div_ceil(BUILD_WORKGROUP),
-                n[1].div_ceil(BUILD_WORKGROUP),
-                n[2].div_ceil(BUILD_WORKGROUP),
-            );
+            dispatch_over_nodes(&mut pass, level.nodes);
         }
         drop(pass);
         self.minmax_ready = true;
@@ -370,12 +371,7 @@ impl LeapStructures {
             });
             pass.set_pipeline(&pipelines.distance);
             pass.set_bind_group(0, &group, &[]);
-            let n = level.nodes;
-            pass.dispatch_workgroups(
-                n[0].div_ceil(BUILD_WORKGROUP),
-                n[1].div_ceil(BUILD_WORKGROUP),
-                n[2].div_ceil(BUILD_WORKGROUP),
-            );
+            dispatch_over_nodes(&mut pass, level.nodes);
         }
         drop(pass);
         encoder.copy_buffer_to_buffer(

@@ -341,7 +341,8 @@ impl VolumeRenderer {
         let volume = self.volume.as_mut().ok_or(RenderError::NoVolume)?;
         let geometry =
             FrameGeometry::new(request.camera, request.size, volume.dims, volume.spacing_mm);
-        let mut uniforms = volume.uniforms(request, &geometry, self.transfer.lut().entries());
+        let frame = (request.size, settings);
+        let mut uniforms = volume.uniforms(frame, &geometry, self.transfer.lut().entries());
         let scope = self
             .ctx
             .device

@@ -4,14 +4,13 @@
 
 use crate::render::context::GpuContext;
 use crate::render::volume_texture::{VolumeTexture, VolumeTextureError};
-use crate::settings::TexturePrecision;
+use crate::settings::{RenderSettings, TexturePrecision};
 use crate::volume::{ValueRange, Volume};
 
 use crate::render::gpu_data::FrameUniforms;
 
 use super::layouts::{FrameResources, Layouts};
 use super::leap::LeapStructures;
-use super::renderer::FrameRequest;
 use super::transfer::TransferTables;
 use super::uniforms::{FrameGeometry, LeapLevels, SampleDecoding, frame_uniforms};
 
@@ -83,11 +82,11 @@ impl GpuVolume {
 }
 
 impl GpuVolume {
-    /// The uniforms of `request`'s frame of this volume, for a lookup table of `lut_entries`
-    /// (leaping levels still unset).
+    /// The uniforms of a frame of this volume of `size` pixels seen through `geometry`, for a
+    /// lookup table of `lut_entries` (leaping levels still unset).
     pub fn uniforms(
         &self,
-        request: &FrameRequest<'_>,
+        (size, settings): ([u32; 2], &RenderSettings),
         geometry: &FrameGeometry,
         lut_entries: u32,
     ) -> FrameUniforms {
@@ -99,10 +98,10 @@ impl GpuVolume {
         };
         frame_uniforms(
             geometry,
-            request.size,
+            size,
             self.dims,
             self.spacing_mm,
-            request.settings,
+            settings,
             decoding,
             LeapLevels::default(),
         )
