@@ -6,6 +6,7 @@ pub mod config;
 pub mod record;
 pub mod stats;
 pub mod tables;
+pub mod targets;
 
 pub use config::{BenchConfig, ConfigError, Filters};
 pub use record::{BenchResults, FrameRecord, RunKey, RunRecord};

@@ -82,6 +82,10 @@ pub struct FrameRecord {
     pub ms: f64,
     /// Frame time of the statistics variant (slower: atomics), milliseconds.
     pub stats_ms: Option<f64>,
+    /// Wall time of the timing pass's frame from submission until its image is read back to the
+    /// CPU, milliseconds: what tools that time `render + read-back` report.
+    #[serde(default)]
+    pub wall_ms: Option<f64>,
     /// Samples taken.
     pub samples: u64,
     /// Samples with non-zero opacity (what any leaping scheme must still take: the oracle).

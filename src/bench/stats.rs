@@ -43,6 +43,15 @@ pub struct RunSummary {
     pub fps: f64,
     /// Median frame time of the statistics variant, milliseconds.
     pub stats_median_ms: Option<f64>,
+    /// Median wall time of render + read-back, milliseconds (where it was measured).
+    #[serde(default)]
+    pub wall_median_ms: Option<f64>,
+    /// Samples taken per frame, averaged over the views.
+    #[serde(default)]
+    pub samples_per_frame: f64,
+    /// Samples with non-zero opacity (the oracle's samples) per frame, averaged over the views.
+    #[serde(default)]
+    pub visible_per_frame: f64,
     /// Samples per pixel, averaged over the views.
     pub samples_per_pixel: f64,
     /// Samples over the oracle's samples (non-zero opacity), over all views.
@@ -56,10 +65,16 @@ pub struct RunSummary {
 }
 
 impl RunSummary {
+    /// Samples taken per second of frame time, in billions (the loop's per-sample rate).
+    pub fn gsamples_per_s(&self) -> f64 {
+        self.samples_per_frame / (self.median_ms * 1e6)
+    }
+
     /// Summarises `run`; `None` when it has no frames.
     pub fn of(run: &RunRecord) -> Option<Self> {
         let times: Vec<f64> = run.frames.iter().map(|f| f.ms).collect();
         let stats: Vec<f64> = run.frames.iter().filter_map(|f| f.stats_ms).collect();
+        let walls: Vec<f64> = run.frames.iter().filter_map(|f| f.wall_ms).collect();
         let median_ms = median(&times)?;
         let mut total = FrameCounters::default();
         for f in &run.frames {
@@ -79,6 +94,9 @@ impl RunSummary {
             p95_ms: quantile(&times, 0.95).unwrap_or(median_ms),
             fps: 1000.0 / median_ms,
             stats_median_ms: median(&stats),
+            wall_median_ms: median(&walls),
+            samples_per_frame: total.samples as f64 / n as f64,
+            visible_per_frame: total.visible_samples as f64 / n as f64,
             samples_per_pixel: total.samples_per_pixel([run.key.width, run.key.height], n),
             oracle_ratio: total.oracle_ratio(),
             leaps_per_frame: total.leaps as f64 / n as f64,

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::record::{BenchResults, DatasetInfo, Environment, IMAGE_TOLERANCE, ImageCheck, Skipped};
 use super::stats::{RunSummary, TABLE1_STRATEGIES, Table1Row, median, table1, table2};
+use super::targets::{AgainstRcT, against_rc_t};
 
 /// A rebuild timing summarised.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -34,6 +35,9 @@ pub struct Summary {
     pub runs: Vec<RunSummary>,
     /// Table 1.
     pub table1: Vec<Table1Row>,
+    /// Every leaping run against RC-t.
+    #[serde(default)]
+    pub against_rc_t: Vec<AgainstRcT>,
     /// Rebuild times.
     pub rebuilds: Vec<RebuildSummary>,
     /// Image checks.
@@ -63,6 +67,7 @@ impl Summary {
             environment: results.environment.clone(),
             datasets: results.datasets.clone(),
             table1: table1(&runs),
+            against_rc_t: against_rc_t(&runs),
             runs,
             rebuilds,
             image_check_failures: results.image_checks.iter().filter(|c| !c.passed).count(),
@@ -117,6 +122,7 @@ pub fn markdown(summary: &Summary) -> String {
         let _ = writeln!(md, "- Dataset {} {what}: {}", s.dataset, s.reason);
     }
     write_table1(&mut md, &summary.table1);
+    md.push_str(&super::targets::markdown(&summary.against_rc_t));
     write_table2(&mut md, &summary.runs);
     write_rebuilds(&mut md, &summary.rebuilds);
     write_checks(&mut md, &summary.image_checks);

@@ -54,3 +54,15 @@ pub fn timed_frame(
     let path = format!("{:?}", submitted.key.path).to_lowercase();
     Ok((ms, results, path))
 }
+
+/// [`timed_frame`], then the image read back to the CPU: also returns the wall time from
+/// submission to the image in memory (what tools that time `render + read-back` report).
+pub fn timed_frame_read_back(
+    renderer: &mut VolumeRenderer,
+    request: &FrameRequest,
+) -> Result<(f64, f64, String), RenderError> {
+    let start = Instant::now();
+    let (ms, _, path) = timed_frame(renderer, request)?;
+    renderer.read_image()?;
+    Ok((ms, start.elapsed().as_secs_f64() * 1e3, path))
+}

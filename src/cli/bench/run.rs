@@ -8,7 +8,7 @@ use leapview::bench::record::{FrameRecord, RunKey, RunRecord};
 use leapview::camera::Camera;
 use leapview::render::{FrameRequest, RenderError, VolumeRenderer};
 
-use crate::cli::measuring::timed_frame;
+use crate::cli::measuring::{timed_frame, timed_frame_read_back};
 use leapview::settings::effects::{IsoSettings, Shading};
 use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
 
@@ -117,12 +117,13 @@ pub fn measure(
     }
     let mut frames = Vec::with_capacity(cameras.len());
     for (view, (camera, azimuth)) in cameras.iter().enumerate() {
-        let (ms, _, _) = timed_frame(renderer, &request(camera, false))?;
+        let (ms, wall_ms, _) = timed_frame_read_back(renderer, &request(camera, false))?;
         frames.push(FrameRecord {
             view: view as u32,
             azimuth_deg: *azimuth,
             ms,
             stats_ms: None,
+            wall_ms: Some(wall_ms),
             samples: 0,
             visible_samples: 0,
             rays: 0,
