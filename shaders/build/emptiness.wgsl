@@ -5,21 +5,11 @@
 
 #include "leap/pyramid.wgsl"
 #include "generated/constants.wgsl"
+#include "build/params.wgsl"
 
 // One workgroup scans the table.
 const SCAN_THREADS: u32 = 256u;
 
-// `EmptinessParams` in src/render/gpu_data.rs.
-struct EmptinessParams {
-    // Entries in the lookup table.
-    lut_size: u32,
-    // Nodes of all pyramid levels.
-    node_count: u32,
-    // 0: empty where the transfer function is zero (the table); 1: empty where max <= threshold
-    // (X-ray: nothing above the window's low end).
-    rule: u32,
-    threshold: f32,
-}
 
 @group(0) @binding(0) var<uniform> params: EmptinessParams;
 @group(0) @binding(1) var lut_tex: texture_2d<f32>;

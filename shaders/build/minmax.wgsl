@@ -4,16 +4,7 @@
 
 #include "leap/pyramid.wgsl"
 #include "generated/constants.wgsl"
-
-// `BuildParams` in src/render/gpu_data.rs.
-struct BuildParams {
-    // The level this pass builds.
-    level: u32,
-    // Normalised value = texel * texel_scale + texel_bias.
-    texel_scale: f32,
-    texel_bias: f32,
-    _pad0: u32,
-}
+#include "build/params.wgsl"
 
 @group(0) @binding(0) var<uniform> params: BuildParams;
 @group(0) @binding(1) var<storage, read> levels: array<LevelInfo>;

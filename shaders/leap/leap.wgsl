@@ -1,13 +1,12 @@
-// Empty-space leaping (RC-s), by block segments: the ray looks up the leaf block it stands in
-// once, and either takes that block's grid samples in a tight loop (no lookup per sample) or
-// leaps. Whether a block can matter is its mode's question (acc_skips, the mode's leap predicate:
-// for DVR whether the transfer function is zero over the block's values, for MIP whether its
-// maximum can raise the ray's maximum, and so on, see modes/). A block that cannot matter sends
-// the ray to the first sample of its grid past the largest such region known around it: the
-// coarsest such ancestor in the min/max octree (the paper's hierarchical leaping) or, with
-// LEAP_DISTANCE, the cube of blocks the distance field proves empty; the mode decides where
-// exactly it lands (acc_leap_target). Exits are exact ray/box exits, so the samples taken are
-// exactly the plain strategy's samples that can change the image.
+// Empty-space leaping (RC-s). When a sample enters a new leaf block, the ray asks its mode
+// whether the block can matter (acc_skips, the mode's leap predicate: for DVR whether the transfer
+// function is zero over the block's values, for MIP whether its maximum can raise the ray's
+// maximum, and so on, see modes/). A block that cannot matter sends the ray to the first sample of
+// its grid past the largest such region known around it: the coarsest such ancestor in the
+// min/max octree (the paper's hierarchical leaping) or, with LEAP_DISTANCE, the cube of blocks
+// the distance field proves empty; the mode decides where exactly it lands (acc_leap_target).
+// The exit is the exact ray/box exit, so the samples taken are exactly the plain strategy's
+// samples that can change the image.
 
 #include "leap/pyramid.wgsl"
 
@@ -23,9 +22,22 @@ fn holds_no_finite_voxel(m: vec2<f32>) -> bool {
     return m.x > m.y;
 }
 
+struct LeapRay {
+    entry: vec3<f32>,
+    box_per_mm: vec3<f32>,
+    // The leaf block of the last sample that was looked up.
+    block: vec3<u32>,
+    // The ray's first-sample offset (Ray.offset).
+    offset: f32,
+}
+
+fn leap_ray(entry: vec3<f32>, box_per_mm: vec3<f32>, offset: f32) -> LeapRay {
+    return LeapRay(entry, box_per_mm, vec3<u32>(0xffffffffu), offset);
+}
+
 // Distance (mm from the entry) at which the ray leaves the box [lo, hi), given in voxel units
 // (voxel-centre coordinate + 1/2, so the volume spans [0, dims]).
-fn exit_distance(ray: Ray, lo: vec3<f32>, hi: vec3<f32>) -> f32 {
+fn exit_distance(ray: LeapRay, lo: vec3<f32>, hi: vec3<f32>) -> f32 {
     let dims = frame.volume_dims;
     let d = ray.box_per_mm;
     let bound = select(lo, hi, d > vec3<f32>(0.0)) / dims;
@@ -41,39 +53,28 @@ fn first_sample_after(t: f32, k: u32, offset: f32) -> u32 {
     return max(u32(clamp(after, 0.0, 4.0e9)), k + 1u);
 }
 
-// Distance (mm from the entry) at which the ray leaves leaf block `block` of edge `brick` voxels.
-fn block_exit(ray: Ray, block: vec3<u32>, brick: f32) -> f32 {
-    let lo = vec3<f32>(block) * brick;
-    return exit_distance(ray, lo, min(lo + brick, frame.volume_dims));
-}
-
-// What the ray does from sample k: take samples k .. end − 1 without asking again (they lie in
-// the leaf block that holds sample k, which can change the pixel), or go on at `next` > k, past a
-// region that cannot.
-struct LeapStep {
-    next: u32,
-    end: u32,
-}
-
-// The step from sample k at box position p, for a ray holding `acc`: the block of sample k is
-// looked up once, and either sampled to its exit or leapt over with the largest region known
-// around it that cannot change the pixel (the mode decides where the leap lands).
-fn leap_step(ray: Ray, p: vec3<f32>, k: u32, acc: Acc) -> LeapStep {
+// Where the ray should go from sample k at box position p, holding `acc`: k itself (sample it), or
+// where its mode lands past a region that cannot change the pixel.
+fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32, acc: Acc) -> u32 {
     let leaf = levels[frame.leaf_level];
     let dims = frame.volume_dims;
     let v = max(p * dims, vec3<f32>(0.0));
     let block = min(vec3<u32>(v / f32(leaf.brick_vox)), leaf.nodes - 1u);
-    let leaf_brick = f32(leaf.brick_vox);
+    if all(block == (*ray).block) {
+        return k;
+    }
+    (*ray).block = block;
 #ifdef LEAP_DISTANCE
     let d = block_distance[block.x + leaf.nodes.x * (block.y + leaf.nodes.y * block.z)];
     if d == 0u {
-        return LeapStep(k, first_sample_after(block_exit(ray, block, leaf_brick), k, ray.offset));
+        return k;
     }
-    let lo = vec3<f32>(max(vec3<i32>(block) - i32(d - 1u), vec3<i32>(0))) * leaf_brick;
-    let hi = min(vec3<f32>(block + d) * leaf_brick, dims);
+    let brick = f32(leaf.brick_vox);
+    let lo = vec3<f32>(max(vec3<i32>(block) - i32(d - 1u), vec3<i32>(0))) * brick;
+    let hi = min(vec3<f32>(block + d) * brick, dims);
 #else
     if !acc_skips(acc, node_index(leaf, block)) {
-        return LeapStep(k, first_sample_after(block_exit(ray, block, leaf_brick), k, ray.offset));
+        return k;
     }
     var level = frame.leaf_level;
     var node = block;
@@ -92,8 +93,6 @@ fn leap_step(ray: Ray, p: vec3<f32>, k: u32, acc: Acc) -> LeapStep {
     let lo = vec3<f32>(node) * brick;
     let hi = min(vec3<f32>(node + 1u) * brick, dims);
 #endif
-    let after = first_sample_after(exit_distance(ray, lo, hi), k, ray.offset);
-    let next = acc_leap_target(k, after);
-    // A landing on k itself (the region's last sample is k): sample it, then look again.
-    return LeapStep(next, max(next, k + 1u));
+    let after = first_sample_after(exit_distance(*ray, lo, hi), k, (*ray).offset);
+    return acc_leap_target(k, after);
 }

@@ -19,7 +19,8 @@ fn classify(s: f32) -> vec4<f32> {
     }
     let n = frame.lut_size;
     let u = (clamp(s, 0.0, 1.0) * (n - 1.0) + 0.5) / n;
-    return textureSampleLevel(lut_tex, linear_clamp, vec2<f32>(u, 0.5), 0.0);
+    let c = textureSampleLevel(lut_tex, linear_clamp, vec2<f32>(u, 0.5), 0.0);
+    return vec4<f32>(c.rgb, c.a * frame.lut_depth_unit);
 }
 
 // Opacity 1 − exp(−d) of an optical depth d, accurate for small d too (1 − exp(−d) in f32 loses

@@ -70,7 +70,9 @@ struct Frame {
     // Pyramid level of the leaping blocks, and the number of levels.
     leaf_level: u32,
     level_count: u32,
-    _pad0: u32,
+    // What the lookup table's stored depths are multiplied by (they are stored scaled so that
+    // its 16-bit floats hold faint ones).
+    lut_depth_unit: f32,
     _pad1: u32,
 }
 

@@ -59,19 +59,60 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
     var acc = acc_init();
     var tally = tally_new();
     if ray.length_mm > 0.0 {
+        let step = frame.step_mm;
         ray.box_per_mm = segment / ray.length_mm;
         ray.dir_world = segment_mm / ray.length_mm;
-        ray.count = u32(ceil(ray.length_mm / frame.step_mm));
+        ray.count = u32(ceil(ray.length_mm / step));
 #ifdef PREINTEGRATED
         acc_start(&acc, ray);
 #endif
 #ifdef LEAP
-        let stopped = march_leaping(ray, &acc, &tally);
-#else
-        let stopped = march_every_sample(ray, &acc, &tally);
+        var leap = leap_ray(entry, ray.box_per_mm, ray.offset);
 #endif
+        var k = 0u;
+        loop {
+            if k >= ray.count {
+                break;
+            }
+            let t = min((f32(k) + ray.offset) * step, ray.length_mm);
+            let p = entry + ray.box_per_mm * t;
+#ifdef LEAP
+            let next = leap_from(&leap, p, k, acc);
+#ifndef PREINTEGRATED
+            if next != k {
+                tally_leap(&tally, min(next, ray.count) - k);
+                k = next;
+                continue;
+            }
+#endif
+#endif
+            let result = acc_sample(&acc, ray, k, t, p, sample_value(p));
+            tally_sample(&tally, result);
+            if (result & SAMPLE_STOP) != 0u {
+                break;
+            }
+#ifdef LEAP
 #ifdef PREINTEGRATED
-        if !stopped {
+            if next != k {
+                // Sample k closed the segment into the empty region; the segments inside it add
+                // nothing, and the region's last sample starts the segment out of it.
+                let last = min(next, ray.count) - 1u;
+                if last > k {
+                    let t_last = min((f32(last) + ray.offset) * step, ray.length_mm);
+                    acc_resume(&acc, t_last, sample_value(entry + ray.box_per_mm * t_last));
+                }
+                // Samples k + 1 .. next − 1 (sample k was taken; the resumed one is not counted
+                // as a sample, as it is only read, not classified).
+                tally_leap(&tally, min(next, ray.count) - k - 1u);
+                k = next;
+                continue;
+            }
+#endif
+#endif
+            k += 1u;
+        }
+#ifdef PREINTEGRATED
+        if k >= ray.count {
             acc_tail(&acc, ray);
         }
 #endif
@@ -79,76 +120,3 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
     tally_ray(tally);
     return acc_finish(acc, ray);
 }
-
-// Distance (mm) of grid sample k along the ray.
-fn sample_distance(ray: Ray, k: u32) -> f32 {
-    return min((f32(k) + ray.offset) * frame.step_mm, ray.length_mm);
-}
-
-// Takes sample k; returns whether the ray may stop there.
-fn take_sample(ray: Ray, acc: ptr<function, Acc>, tally: ptr<function, Tally>, k: u32) -> bool {
-    let t = sample_distance(ray, k);
-    let p = ray.entry + ray.box_per_mm * t;
-    let result = acc_sample(acc, ray, k, t, p, sample_value(p));
-    tally_sample(tally, result);
-    return (result & SAMPLE_STOP) != 0u;
-}
-
-#ifndef LEAP
-// RC and RC-t: every grid sample from the entry until the ray may stop; returns whether it
-// stopped early.
-fn march_every_sample(ray: Ray, acc: ptr<function, Acc>, tally: ptr<function, Tally>) -> bool {
-    for (var k = 0u; k < ray.count; k++) {
-        if take_sample(ray, acc, tally, k) {
-            return true;
-        }
-    }
-    return false;
-}
-#endif
-
-#ifdef LEAP
-// RC-s: block by block. The block of the next sample is looked up once; its samples are taken in
-// a tight loop up to its exit, or the ray leaps past the region it belongs to. Returns whether
-// the ray stopped early.
-fn march_leaping(ray: Ray, acc: ptr<function, Acc>, tally: ptr<function, Tally>) -> bool {
-    var k = 0u;
-    loop {
-        if k >= ray.count {
-            return false;
-        }
-        let step = leap_step(ray, ray.entry + ray.box_per_mm * sample_distance(ray, k), k, *acc);
-        if step.next != k {
-#ifdef PREINTEGRATED
-            // Sample k closes the segment into the region; the segments inside it add nothing,
-            // and the region's last sample starts the segment out of it.
-            if take_sample(ray, acc, tally, k) {
-                return true;
-            }
-            let last = min(step.next, ray.count) - 1u;
-            if last > k {
-                let t_last = sample_distance(ray, last);
-                acc_resume(acc, t_last, sample_value(ray.entry + ray.box_per_mm * t_last));
-            }
-            // Samples k + 1 .. next − 1 (the resumed one is only read, not classified).
-            tally_leap(tally, min(step.next, ray.count) - k - 1u);
-#else
-            tally_leap(tally, min(step.next, ray.count) - k);
-#endif
-            k = step.next;
-            continue;
-        }
-        let end = min(step.end, ray.count);
-        loop {
-            if take_sample(ray, acc, tally, k) {
-                return true;
-            }
-            k += 1u;
-            if k >= end {
-                break;
-            }
-        }
-    }
-    return false;
-}
-#endif

@@ -64,6 +64,11 @@ pub enum Source {
         /// Random seed.
         seed: u64,
     },
+    /// The scene of the comparison with the peers (`volume::synthetic::peer_scene`).
+    PeerScene {
+        /// Edge in voxels.
+        n: u32,
+    },
 }
 
 /// One dataset and the transfer function a user would pick for it.
@@ -268,7 +273,10 @@ impl BenchConfig {
             _ => !d.optional,
         });
         for d in &mut self.datasets {
-            if let Source::VesselTree { n, .. } | Source::DenseHead { n, .. } = &mut d.source {
+            if let Source::VesselTree { n, .. }
+            | Source::DenseHead { n, .. }
+            | Source::PeerScene { n } = &mut d.source
+            {
                 *n = (*n).min(QUICK_GENERATED_VOX);
             }
         }
@@ -338,7 +346,9 @@ mod tests {
         for d in &config.datasets {
             match d.source {
                 Source::File { .. } => assert!(config.block_sweep.datasets.contains(&d.name)),
-                Source::VesselTree { n, .. } | Source::DenseHead { n, .. } => {
+                Source::VesselTree { n, .. }
+                | Source::DenseHead { n, .. }
+                | Source::PeerScene { n } => {
                     assert!(n <= QUICK_GENERATED_VOX && !d.optional)
                 }
             }

@@ -8,7 +8,7 @@ use anyhow::Context;
 use leapview::bench::config::{DatasetSpec, Source};
 use leapview::bench::record::DatasetInfo;
 use leapview::transfer::TransferFunction;
-use leapview::volume::synthetic::{dense_head, vessel_tree};
+use leapview::volume::synthetic::{dense_head, peer_scene, vessel_tree};
 use leapview::volume::{Volume, load_volume};
 
 /// A dataset ready to be measured.
@@ -62,6 +62,12 @@ pub fn load(
             }
             let source = format!("generated vessel tree {n}³, seed {seed}");
             (vessel_tree(*n, *seed)?, source)
+        }
+        Source::PeerScene { n } => {
+            if *n > max_texture_3d {
+                return Err(too_big(*n));
+            }
+            (peer_scene(*n)?, format!("generated peer scene {n}³"))
         }
         Source::DenseHead { n, seed } => {
             if *n > max_texture_3d {

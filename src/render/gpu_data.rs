@@ -160,15 +160,15 @@ pub fn layouts() -> Vec<StructLayout> {
             sample_offset, light_dir, headlight, viewport, termination_alpha, jitter,
             phong_ambient, phong_diffuse, phong_specular, phong_shininess, window_lo, window_hi,
             saturation, xray_density_per_mm, iso_threshold, steps_per_d0, depth_units_per_mm,
-            iso_refine, leaf_level, level_count, _pad0, _pad1,
+            iso_refine, leaf_level, level_count, lut_depth_unit, _pad1,
         }),
         layout!(LevelInfo = "LevelInfo" in "leap/pyramid.wgsl" {
             nodes, offset, brick_vox, _pad0, _pad1, _pad2,
         }),
-        layout!(BuildParams = "BuildParams" in "build/minmax.wgsl" {
+        layout!(BuildParams = "BuildParams" in "build/params.wgsl" {
             level, texel_scale, texel_bias, _pad0,
         }),
-        layout!(EmptinessParams = "EmptinessParams" in "build/emptiness.wgsl" {
+        layout!(EmptinessParams = "EmptinessParams" in "build/params.wgsl" {
             lut_size, node_count, rule, threshold,
         }),
         layout!(DistanceParams = "DistanceParams" in "build/distance.wgsl" {
@@ -262,9 +262,10 @@ pub struct FrameUniforms {
     pub leaf_level: u32,
     /// Number of pyramid levels.
     pub level_count: u32,
+    /// What the lookup table's stored depths are multiplied by to give optical depths (they are
+    /// stored scaled so that 16-bit floats hold faint ones).
+    pub lut_depth_unit: f32,
     /// Padding to a multiple of 16 bytes.
-    pub _pad0: u32,
-    /// Padding.
     pub _pad1: u32,
 }
 

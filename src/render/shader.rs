@@ -31,6 +31,7 @@ const MODULES: &[(&str, &str)] = modules![
     "modes/xray.wgsl",
     "leap/pyramid.wgsl",
     "leap/leap.wgsl",
+    "build/params.wgsl",
     "build/minmax.wgsl",
     "build/emptiness.wgsl",
     "build/distance.wgsl",

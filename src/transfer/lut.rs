@@ -26,6 +26,23 @@ pub fn optical_depth(alpha: f64, step_over_d0: f64) -> f64 {
     (crate::sampling::extinction(alpha) * step_over_d0).min(MAX_OPTICAL_DEPTH)
 }
 
+/// Largest finite value of a 16-bit float, the format of the lookup table on the GPU.
+const F16_MAX: f64 = 65504.0;
+
+/// The power of two the table's depths are multiplied by before they are stored as 16-bit floats
+/// (the shader multiplies them back): the largest that keeps the deepest entry finite, so the
+/// smallest depths stay normal numbers (f16 is normal from 2⁻¹⁴ on: a 5·10⁻⁷ depth stored as
+/// it is would lose 5 % to the subnormal spacing of 6·10⁻⁸). 1 for a table without depth.
+pub fn f16_depth_scale(table: &[[f32; 4]]) -> f32 {
+    let deepest = table.iter().map(|e| f64::from(e[3])).fold(0.0, f64::max);
+    if deepest.is_nan() || deepest <= 0.0 {
+        return 1.0;
+    }
+    // 2^⌊log2(F16_MAX / deepest)⌋, within f32's exponents.
+    let exponent = (F16_MAX / deepest).log2().floor().clamp(-100.0, 100.0) as i32;
+    2f32.powi(exponent)
+}
+
 /// The table for `tf` over `range` with the optical depth of a step of `step_over_d0` (the ray
 /// step divided by the smallest voxel spacing).
 pub fn bake(tf: &TransferFunction, range: ValueRange, step_over_d0: f64) -> Vec<[f32; 4]> {
@@ -42,6 +59,19 @@ pub fn bake(tf: &TransferFunction, range: ValueRange, step_over_d0: f64) -> Vec<
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_depth_scale_keeps_the_deepest_entry_finite_and_faint_ones_normal() {
+        let faint = vec![[1.0, 1.0, 1.0, 5e-7]; 4];
+        let s = f16_depth_scale(&faint);
+        // A power of two, the deepest entry as large as f16 allows (above half its maximum).
+        assert_eq!(s.log2().fract(), 0.0);
+        let stored = 5e-7 * f64::from(s);
+        assert!(stored <= F16_MAX && stored > F16_MAX / 2.0, "{stored}");
+        let deep = vec![[0.0; 4], [1.0, 1.0, 1.0, MAX_OPTICAL_DEPTH as f32]];
+        assert_eq!(f16_depth_scale(&deep), 4.0);
+        assert_eq!(f16_depth_scale(&[[0.0; 4]]), 1.0);
+    }
 
     #[test]
     fn end_entries_hit_the_range_ends_and_depth_is_per_step() {

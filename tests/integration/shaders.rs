@@ -130,7 +130,7 @@ fn variants_carry_only_the_effects_their_scene_needs() {
                 texture_reads(&module)
             );
         }
-        let leaps = names.iter().any(|n| n == "leap_step");
+        let leaps = names.iter().any(|n| n == "leap_from");
         assert_eq!(
             leaps,
             key.strategy.leaps(),

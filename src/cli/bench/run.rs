@@ -2,15 +2,17 @@
 //! sweep) over an orbit of views, after a warm-up; a timing pass and a separate statistics pass
 //! (the counting variants are slower, so they are never timed as the frame time).
 
+use std::time::{Duration, Instant};
+
 use leapview::bench::BenchConfig;
 use leapview::bench::config::DatasetSpec;
 use leapview::bench::record::{FrameRecord, RunKey, RunRecord};
 use leapview::camera::Camera;
 use leapview::render::{FrameRequest, RenderError, VolumeRenderer};
-
-use crate::cli::measuring::{timed_frame, timed_frame_read_back};
 use leapview::settings::effects::{IsoSettings, Shading};
 use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
+
+use crate::cli::measuring::{timed_frame, timed_frame_read_back};
 
 /// One run to do.
 #[derive(Clone, Copy, Debug)]
@@ -92,8 +94,14 @@ pub fn plan(config: &BenchConfig, spec: &DatasetSpec) -> Vec<Planned> {
     runs
 }
 
-/// Runs `planned` over `cameras` after `warmup` frames: the timing pass, then the statistics
-/// pass (itself warmed up once so that building its pipeline is not in the first frame).
+/// The shortest warm-up before a run is timed.
+const WARMUP_TIME: Duration = Duration::from_millis(250);
+/// The most warm-up frames spent reaching [`WARMUP_TIME`].
+const WARMUP_MAX_FRAMES: u32 = 5000;
+
+/// Runs `planned` over `cameras` after `warmup` frames (and [`WARMUP_TIME`]): the timing pass, the render + read-back
+/// pass, then the statistics pass (itself warmed up once so that building its pipeline is not in
+/// the first frame).
 pub fn measure(
     renderer: &mut VolumeRenderer,
     dataset: &str,
@@ -112,23 +120,34 @@ pub fn measure(
         return Err(RenderError::NoVolume);
     };
     let mut path = String::new();
-    for _ in 0..warmup.max(1) {
+    // At least `warmup` frames and WARMUP_TIME: an idle GPU clocks down (the H200 idles at a sixth
+    // of its clock), and a few sub-millisecond frames do not bring it back up.
+    let started = Instant::now();
+    let mut warmed = 0u32;
+    while warmed < warmup.max(1) || (started.elapsed() < WARMUP_TIME && warmed < WARMUP_MAX_FRAMES)
+    {
         path = timed_frame(renderer, &request(first, false))?.2;
+        warmed += 1;
     }
     let mut frames = Vec::with_capacity(cameras.len());
     for (view, (camera, azimuth)) in cameras.iter().enumerate() {
-        let (ms, wall_ms, _) = timed_frame_read_back(renderer, &request(camera, false))?;
+        let (ms, _, _) = timed_frame(renderer, &request(camera, false))?;
         frames.push(FrameRecord {
             view: view as u32,
             azimuth_deg: *azimuth,
             ms,
             stats_ms: None,
-            wall_ms: Some(wall_ms),
+            wall_ms: None,
             samples: 0,
             visible_samples: 0,
             rays: 0,
             leaps: 0,
         });
+    }
+    // Render + read-back as peers time it, in a pass of its own: waiting for each image between
+    // frames lets the GPU clock down, which would slow the timing pass's frames.
+    for (frame, (camera, _)) in frames.iter_mut().zip(cameras) {
+        frame.wall_ms = Some(timed_frame_read_back(renderer, &request(camera, false))?.1);
     }
     timed_frame(renderer, &request(first, true))?;
     for (frame, (camera, _)) in frames.iter_mut().zip(cameras) {

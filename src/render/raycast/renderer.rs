@@ -342,7 +342,8 @@ impl VolumeRenderer {
         let geometry =
             FrameGeometry::new(request.camera, request.size, volume.dims, volume.spacing_mm);
         let frame = (request.size, settings);
-        let mut uniforms = volume.uniforms(frame, &geometry, self.transfer.lut().entries());
+        let lut = (self.transfer.lut().entries(), self.transfer.depth_unit());
+        let mut uniforms = volume.uniforms(frame, &geometry, lut);
         let scope = self
             .ctx
             .device

@@ -18,6 +18,9 @@ pub struct TransferTables {
     lut_baked_for: Option<(u64, u64)>,
     /// Generation the integral table was built for; `None` = stale.
     integrals_built_for: Option<u64>,
+    /// What the stored depths are multiplied by to give optical depths (the reciprocal of the
+    /// table's [`lut::f16_depth_scale`]).
+    depth_unit: f32,
 }
 
 impl TransferTables {
@@ -30,6 +33,7 @@ impl TransferTables {
             integrals: TableTexture::integrals(ctx, lut::LUT_SIZE as u32),
             lut_baked_for: None,
             integrals_built_for: None,
+            depth_unit: 1.0,
         }
     }
 
@@ -66,8 +70,11 @@ impl TransferTables {
         if self.lut_baked_for == Some(wanted) {
             return false;
         }
-        let table = lut::bake(&self.function, range, step_vox);
+        let mut table = lut::bake(&self.function, range, step_vox);
+        let scale = lut::f16_depth_scale(&table);
+        table.iter_mut().for_each(|e| e[3] *= scale);
         self.lut.write(&ctx.queue, &table);
+        self.depth_unit = 1.0 / scale;
         self.lut_baked_for = Some(wanted);
         true
     }
@@ -87,6 +94,11 @@ impl TransferTables {
     /// The lookup table.
     pub fn lut(&self) -> &TableTexture {
         &self.lut
+    }
+
+    /// What the lookup table's stored depths are multiplied by to give optical depths.
+    pub fn depth_unit(&self) -> f32 {
+        self.depth_unit
     }
 
     /// The pre-integration table.

@@ -69,6 +69,8 @@ pub struct SampleDecoding {
     pub texel_bias: f32,
     /// Entries in the lookup table.
     pub lut_size: u32,
+    /// What the table's stored depths are multiplied by to give optical depths.
+    pub lut_depth_unit: f32,
     /// The volume's normalisation range (data units ↔ normalised values).
     pub range: crate::volume::ValueRange,
 }
@@ -132,7 +134,7 @@ pub fn frame_uniforms(
         iso_refine: settings.iso.refine_iterations,
         leaf_level: leap.leaf_level,
         level_count: leap.level_count,
-        _pad0: 0,
+        lut_depth_unit: decoding.lut_depth_unit,
         _pad1: 0,
     }
 }

@@ -83,17 +83,19 @@ impl GpuVolume {
 
 impl GpuVolume {
     /// The uniforms of a frame of this volume of `size` pixels seen through `geometry`, for a
-    /// lookup table of `lut_entries` (leaping levels still unset).
+    /// lookup table of `lut_entries` whose stored depths are in units of `lut_depth_unit`
+    /// (leaping levels still unset).
     pub fn uniforms(
         &self,
         (size, settings): ([u32; 2], &RenderSettings),
         geometry: &FrameGeometry,
-        lut_entries: u32,
+        (lut_entries, lut_depth_unit): (u32, f32),
     ) -> FrameUniforms {
         let decoding = SampleDecoding {
             texel_scale: self.texture.encoding.scale,
             texel_bias: self.texture.encoding.bias,
             lut_size: lut_entries,
+            lut_depth_unit,
             range: self.range,
         };
         frame_uniforms(

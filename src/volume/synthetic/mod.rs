@@ -1,5 +1,6 @@
 //! Generated volumes: the realistic default (a 3D Shepp–Logan head phantom in Hounsfield
-//! units), a sparse CT-angiography-like vessel tree, a dense MR-like head for benchmarks, and
+//! units), a sparse CT-angiography-like vessel tree, a dense MR-like head for benchmarks, the
+//! scene LeapView is compared with its peers on, and
 //! tiny analytic volumes whose every voxel the renderer tests can predict.
 //!
 //! Everything here is deterministic: the same arguments (and seed) give bit-identical samples on
@@ -13,12 +14,14 @@
 
 pub mod analytic;
 pub mod dense_head;
+pub mod peer_scene;
 pub mod rng;
 pub mod shepp_logan;
 pub mod vessels;
 
 pub use analytic::{Axis, checkerboard, constant, ramp, slab_x, sphere};
 pub use dense_head::dense_head;
+pub use peer_scene::peer_scene;
 pub use shepp_logan::shepp_logan;
 pub use vessels::vessel_tree;
 
