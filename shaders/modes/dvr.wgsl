@@ -84,7 +84,13 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
 fn composite(acc: ptr<function, Acc>, ray: Ray, p: vec3<f32>, c_in: vec4<f32>) -> u32 {
     var c = c_in;
 #ifdef SHADING
-    c = vec4<f32>(phong(c.rgb, gradient(p), ray.dir_world), c.a);
+    // Only where it shows: a faint sample, or one behind nearly opaque ones, is composited as if
+    // it faced the light, without its six or twelve gradient reads.
+    if c.a * (1.0 - (*acc).color.a) >= frame.light_min_weight {
+        c = vec4<f32>(phong(c.rgb, gradient(p), ray.dir_world), c.a);
+    } else {
+        c = vec4<f32>(c.rgb * (frame.phong_ambient + frame.phong_diffuse), c.a);
+    }
 #endif
     (*acc).color += (1.0 - (*acc).color.a) * vec4<f32>(c.rgb * c.a, c.a);
 #ifdef EARLY_TERMINATION

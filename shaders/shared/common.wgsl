@@ -73,7 +73,8 @@ struct Frame {
     // What the lookup table's stored depths are multiplied by (they are stored scaled so that
     // its 16-bit floats hold faint ones).
     lut_depth_unit: f32,
-    _pad1: u32,
+    // DVR: samples whose weight in the pixel, alpha * (1 - A), is below this are composited unlit.
+    light_min_weight: f32,
 }
 
 // One ray inside the volume: entry (box coordinates), direction in box units per mm and in

@@ -24,6 +24,8 @@ pub enum Knob {
     Termination,
     /// Gradient estimator of the lighting.
     Gradient,
+    /// The weight below which DVR samples are composited unlit.
+    LightMinWeight,
     /// Secant refinement steps of the isosurface (isosurface mode).
     IsoRefinement,
     /// Texel precision of the volume texture.
@@ -34,13 +36,14 @@ pub enum Knob {
 
 impl Knob {
     /// All knobs, in table order.
-    pub const ALL: [Self; 9] = [
+    pub const ALL: [Self; 10] = [
         Self::Step,
         Self::StepPreintegrated,
         Self::StepJittered,
         Self::StepUncorrected,
         Self::Termination,
         Self::Gradient,
+        Self::LightMinWeight,
         Self::IsoRefinement,
         Self::Precision,
         Self::Preset,
@@ -55,6 +58,7 @@ impl Knob {
             Self::StepUncorrected => "step, no opacity correction",
             Self::Termination => "termination threshold",
             Self::Gradient => "gradient",
+            Self::LightMinWeight => "lighting threshold",
             Self::IsoRefinement => "iso refinement",
             Self::Precision => "texture precision",
             Self::Preset => "quality preset",
@@ -89,6 +93,9 @@ pub const STEPS: [f64; 6] = [0.125, 0.25, 0.5, 1.0, 2.0, 4.0];
 
 /// Termination thresholds swept (1 = never stop early).
 pub const TERMINATIONS: [f64; 5] = [0.9, 0.95, 0.99, DEFAULT_TERMINATION_ALPHA, 1.0];
+
+/// Lighting thresholds swept: the weight in the pixel below which a DVR sample is left unlit.
+pub const LIGHT_MIN_WEIGHTS: [f64; 6] = [0.0, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2];
 
 /// Iso refinement steps swept.
 pub const ISO_REFINEMENTS: [u32; 6] = [0, 1, 2, 4, 6, 8];
@@ -156,6 +163,16 @@ pub fn plan(base: &RenderSettings) -> Vec<Variant> {
             RenderSettings { gradient, ..dvr },
         ));
     }
+    for light_min_weight in LIGHT_MIN_WEIGHTS {
+        out.push(variant(
+            Knob::LightMinWeight,
+            format!("{light_min_weight}"),
+            RenderSettings {
+                light_min_weight,
+                ..dvr
+            },
+        ));
+    }
     for refine_iterations in ISO_REFINEMENTS {
         let mut settings = RenderSettings {
             mode: Mode::Iso,
@@ -195,6 +212,7 @@ pub fn reference(base: &RenderSettings, mode: Mode) -> (RenderSettings, TextureP
         strategy: Strategy::Rc,
         step_vox: REFERENCE_STEP_VOX,
         termination_alpha: 1.0,
+        light_min_weight: 0.0,
         jitter: false,
         opacity_correction: true,
         preintegrated: true,
@@ -219,7 +237,7 @@ mod tests {
         let variants = plan(&base);
         assert_eq!(
             variants.len(),
-            4 * STEPS.len() + 5 + 2 + ISO_REFINEMENTS.len() + 4 + 3
+            4 * STEPS.len() + 5 + 2 + LIGHT_MIN_WEIGHTS.len() + ISO_REFINEMENTS.len() + 4 + 3
         );
         for v in variants.iter().filter(|v| v.knob != Knob::Preset) {
             let mut undo = v.settings;
@@ -230,6 +248,7 @@ mod tests {
             undo.opacity_correction = true;
             undo.termination_alpha = base.termination_alpha;
             undo.gradient = base.gradient;
+            undo.light_min_weight = base.light_min_weight;
             undo.iso = base.iso;
             assert_eq!(undo, base, "{:?} {}", v.knob, v.value);
             assert_eq!(v.settings.mode, v.knob.mode());

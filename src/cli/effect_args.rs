@@ -32,6 +32,10 @@ pub struct EffectArgs {
     /// Gradient estimator for lighting.
     #[arg(long, value_enum)]
     pub gradient: Option<GradientScheme>,
+    /// DVR: composite samples whose weight in the pixel, α·(1 − opacity in front), is below
+    /// this unlit, skipping their gradients (0: light every sample).
+    #[arg(long)]
+    pub light_min_weight: Option<f64>,
     /// MIP and MinIP colour: grey through the window, or the transfer function's colour.
     #[arg(long, value_enum)]
     pub mip_color: Option<MipColor>,
@@ -53,6 +57,7 @@ impl EffectArgs {
         settings.light = self.light.unwrap_or(settings.light);
         settings.phong = self.phong.unwrap_or(settings.phong);
         settings.gradient = self.gradient.unwrap_or(settings.gradient);
+        settings.light_min_weight = self.light_min_weight.unwrap_or(settings.light_min_weight);
         settings.mip_color = self.mip_color.unwrap_or(settings.mip_color);
         settings.xray_density_per_mm = self.xray_density.unwrap_or(settings.xray_density_per_mm);
     }

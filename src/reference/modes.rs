@@ -68,6 +68,17 @@ impl RayInput<'_> {
         )
     }
 
+    /// DVR's colour of a sample of weight `weight` in the pixel: lit, or below the settings'
+    /// lighting threshold as if it faced the light, without highlight (the GPU's rule).
+    fn lit_if_seen(&self, color: DVec3, t: f64, weight: f64) -> DVec3 {
+        let shading = self.settings.mode.can_shade() && self.settings.shading == Shading::Phong;
+        if shading && weight < self.settings.light_min_weight {
+            let p = &self.settings.phong;
+            return color * (p.ambient + p.diffuse);
+        }
+        self.lit(color, t)
+    }
+
     fn tf_color(&self, normalized: f64) -> DVec3 {
         DVec3::from_array(
             self.tf
@@ -118,7 +129,11 @@ fn dvr(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
             continue;
         }
         counts.visible_samples += 1;
-        let c = ray.lit(DVec3::from_array(ray.tf.color_at(value, range)), s.t_mm);
+        let c = ray.lit_if_seen(
+            DVec3::from_array(ray.tf.color_at(value, range)),
+            s.t_mm,
+            (1.0 - alpha) * a,
+        );
         color += (1.0 - alpha) * a * c;
         alpha += (1.0 - alpha) * a;
         if stops_early(ray) && alpha > ray.settings.termination_alpha {
@@ -148,7 +163,7 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
             continue;
         }
         counts.visible_samples += 1;
-        let c = ray.lit(c, s.t_mm);
+        let c = ray.lit_if_seen(c, s.t_mm, (1.0 - alpha) * a);
         color += (1.0 - alpha) * a * c;
         alpha += (1.0 - alpha) * a;
         if stops_early(ray) && alpha > ray.settings.termination_alpha {
@@ -160,7 +175,7 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     if let (Some(v0), Some(v1)) = (v0, ray.value(ray.length_mm)) {
         let (c, a) = preintegration::segment(ray.tf, range, v0, v1, (ray.length_mm - t0) * per_mm);
         if a > 0.0 {
-            color += (1.0 - alpha) * a * ray.lit(c, ray.length_mm);
+            color += (1.0 - alpha) * a * ray.lit_if_seen(c, ray.length_mm, (1.0 - alpha) * a);
             alpha += (1.0 - alpha) * a;
         }
     }

@@ -160,7 +160,7 @@ pub fn layouts() -> Vec<StructLayout> {
             sample_offset, light_dir, headlight, viewport, termination_alpha, jitter,
             phong_ambient, phong_diffuse, phong_specular, phong_shininess, window_lo, window_hi,
             saturation, xray_density_per_mm, iso_threshold, steps_per_d0, depth_units_per_mm,
-            iso_refine, leaf_level, level_count, lut_depth_unit, _pad1,
+            iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight,
         }),
         layout!(LevelInfo = "LevelInfo" in "leap/pyramid.wgsl" {
             nodes, offset, brick_vox, _pad0, _pad1, _pad2,
@@ -265,8 +265,8 @@ pub struct FrameUniforms {
     /// What the lookup table's stored depths are multiplied by to give optical depths (they are
     /// stored scaled so that 16-bit floats hold faint ones).
     pub lut_depth_unit: f32,
-    /// Padding to a multiple of 16 bytes.
-    pub _pad1: u32,
+    /// DVR: samples whose weight in the pixel is below this are composited unlit.
+    pub light_min_weight: f32,
 }
 
 /// One pyramid level as the shaders read it (`LevelInfo`).

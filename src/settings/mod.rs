@@ -185,6 +185,10 @@ pub struct RenderSettings {
     pub light: Light,
     /// Gradient estimator for lighting.
     pub gradient: GradientScheme,
+    /// DVR: a sample whose weight in the pixel, `α·(1 − A)` with `A` the opacity gathered in
+    /// front of it, is below this is composited unlit (as if facing the light, without
+    /// highlight), so its gradient and lighting are never computed; 0 lights every sample.
+    pub light_min_weight: f64,
     /// Isosurface value and refinement.
     pub iso: IsoSettings,
     /// Data window `[lo, hi]` mapped to black..white by MIP, MinIP and X-ray; `None` = the whole
@@ -216,6 +220,7 @@ impl Default for RenderSettings {
             phong: Phong::default(),
             light: Light::Headlight,
             gradient: GradientScheme::Central,
+            light_min_weight: 0.0,
             iso: IsoSettings::default(),
             window: None,
             mip_color: MipColor::Window,
@@ -263,6 +268,9 @@ impl RenderSettings {
             || !(p.shininess.is_finite() && (0.0..=1024.0).contains(&p.shininess))
         {
             return Err(SettingsError::Phong);
+        }
+        if !(0.0..=1.0).contains(&self.light_min_weight) {
+            return Err(SettingsError::LightWeight(self.light_min_weight));
         }
         if let Light::Direction(d) = self.light
             && (d.iter().any(|c| !c.is_finite()) || d.iter().all(|c| *c == 0.0))
@@ -312,6 +320,9 @@ pub enum SettingsError {
     /// A Phong coefficient out of range.
     #[error("Phong coefficients must be between 0 and 4 and the exponent between 0 and 1024")]
     Phong,
+    /// A lighting weight threshold outside [0, 1] (or not a number).
+    #[error("the lighting threshold must be a weight from 0 to 1, got {0}")]
+    LightWeight(f64),
     /// A zero or non-finite light direction.
     #[error("the light direction must be a non-zero vector, got {0:?}")]
     Light([f64; 3]),

@@ -30,6 +30,16 @@ pub enum QualityPreset {
 /// 0…−11 % on the H100 (docs/accuracy).
 pub const FAST_TERMINATION_ALPHA: f64 = 0.99;
 
+/// Lighting threshold of Balanced: DVR samples weighing less than 10⁻³ of their pixel are left
+/// unlit. On the H200 (accuracy benchmark, 512², five datasets) it made lit DVR 22 % faster on
+/// the MR head (mr_head_t1) for 7 % more RMSE, and 0–3 % faster elsewhere with the RMSE changed
+/// by at most 1 %; 3·10⁻³ cost the MR head 54 % more RMSE (docs/accuracy/nvidia-h200-lighting).
+pub const BALANCED_LIGHT_MIN_WEIGHT: f64 = 1e-3;
+
+/// Lighting threshold of Fast: 3·10⁻³, 32 % faster on the MR head at its RMSE's cost (+54 %
+/// against Balanced's step; Fast's own error is 2.5–4× Balanced's already).
+pub const FAST_LIGHT_MIN_WEIGHT: f64 = 3e-3;
+
 impl QualityPreset {
     /// All presets, fastest first.
     pub const ALL: [Self; 3] = [Self::Fast, Self::Balanced, Self::Reference];
@@ -45,6 +55,11 @@ impl QualityPreset {
 
     /// Sets the knobs this preset decides, leaving the rest of `settings` alone.
     pub fn apply(self, settings: &mut RenderSettings) {
+        settings.light_min_weight = match self {
+            Self::Fast => FAST_LIGHT_MIN_WEIGHT,
+            Self::Balanced => BALANCED_LIGHT_MIN_WEIGHT,
+            Self::Reference => 0.0,
+        };
         let (step, termination, gradient, refine, jitter, preintegrated) = match self {
             Self::Fast => (
                 1.0,

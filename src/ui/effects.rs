@@ -194,6 +194,20 @@ fn lighting_ui(ui: &mut egui::Ui, state: &mut ViewerState) {
                 ui.end_row();
             }
             light_rows(ui, state);
+            ui.label("Light only above");
+            ui.add(
+                Slider::new(&mut state.render.light_min_weight, 0.0..=0.05)
+                    .logarithmic(true)
+                    .smallest_positive(1e-4)
+                    .max_decimals(4)
+                    .clamping(SliderClamping::Edits),
+            )
+            .on_hover_text(
+                "DVR samples weighing less than this in their pixel (opacity × what shows \
+                 through) are left unlit, without their gradient reads: faster where much is \
+                 faint or hidden (Quality presets set it; 0 lights every sample)",
+            );
+            ui.end_row();
             ui.label("Gradients");
             let gradient = &mut state.render.gradient;
             ui.horizontal(|ui| {

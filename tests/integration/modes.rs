@@ -43,6 +43,13 @@ fn cases() -> Vec<(&'static str, RenderSettings)> {
         ),
         ("dvr-phong", base),
         (
+            "dvr-phong-lit-only-where-it-shows",
+            RenderSettings {
+                light_min_weight: 0.02,
+                ..base
+            },
+        ),
+        (
             "dvr-phong-4th-order-side-light",
             RenderSettings {
                 gradient: GradientScheme::FourthOrder,
@@ -239,4 +246,34 @@ fn xray_mean_is_a_path_length_mean() {
             .iter()
             .fold((1.0f32, 0.0f32), |a, &g| (a.0.min(g), a.1.max(g)))
     );
+}
+
+#[test]
+fn lighting_only_where_it_shows_changes_the_image_by_less_than_its_threshold_allows() {
+    let volume = scene();
+    let tf = tf();
+    let mut r = common::renderer_for(&volume, &tf);
+    let camera = common::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
+    let lit = RenderSettings {
+        step_vox: 0.5,
+        path: RenderPath::Compute,
+        ..RenderSettings::default()
+    };
+    let all = render(&mut r, &camera, lit, [48, 48]);
+    for threshold in [0.005, 0.05] {
+        let some = RenderSettings {
+            light_min_weight: threshold,
+            ..lit
+        };
+        let image = render(&mut r, &camera, some, [48, 48]);
+        let diff = image.diff(&all).expect("same size");
+        // Each unlit sample's colour moves by at most |Ka + Kd − (Ka + Kd·cosθ + Ks·cosⁿα)| ≤
+        // Kd + Ks = 0.95 of its own colour, over a weight below the threshold per sample; the
+        // skipped weights of one pixel add up to at most the pixel's opacity, so this bounds
+        // the change only loosely: check that the threshold did something, and that the RMS
+        // change stays below it.
+        assert!(diff.max_abs > 0.0, "{threshold}: nothing was left unlit");
+        assert!(diff.rmse < threshold, "{threshold}: {diff:?}");
+        eprintln!("light_min_weight {threshold}: {diff:?}");
+    }
 }

@@ -18,6 +18,7 @@ fn colour(knob: Knob) -> RGBColor {
         Knob::StepUncorrected => RGBColor(0x8c, 0x8c, 0x8c),
         Knob::Termination => RGBColor(0x94, 0x67, 0xbd),
         Knob::Gradient => RGBColor(0xff, 0x7f, 0x0e),
+        Knob::LightMinWeight => RGBColor(0xe3, 0x77, 0xc2),
         Knob::IsoRefinement => RGBColor(0x17, 0xbe, 0xcf),
         Knob::Precision => RGBColor(0x8c, 0x56, 0x4b),
         Knob::Preset => RGBColor(0x00, 0x00, 0x00),

@@ -135,7 +135,7 @@ pub fn frame_uniforms(
         leaf_level: leap.leaf_level,
         level_count: leap.level_count,
         lut_depth_unit: decoding.lut_depth_unit,
-        _pad1: 0,
+        light_min_weight: settings.light_min_weight as f32,
     }
 }
 
