@@ -20,13 +20,16 @@ pub enum ImageError {
     /// Unknown extension.
     #[error("unsupported image format (use .png or .exr): {}", .0.display())]
     Format(std::path::PathBuf),
+    /// The folder to write into does not exist (or is not a folder).
+    #[error("the folder to write the image into does not exist: {}", .0.display())]
+    NoFolder(std::path::PathBuf),
     /// Encoder or file error.
-    #[error("cannot write or read the image ({source}): {}", path.display())]
+    #[error("cannot write or read the image ({error}): {}", path.display())]
     Io {
         /// The file.
         path: std::path::PathBuf,
-        /// What failed.
-        source: image::ImageError,
+        /// What failed (in the message, so not also a source to print twice).
+        error: image::ImageError,
     },
 }
 
@@ -73,7 +76,7 @@ impl ImageF32 {
     pub fn read_png(path: &Path) -> Result<Self, ImageError> {
         let img = image::open(path).map_err(|source| ImageError::Io {
             path: path.to_path_buf(),
-            source,
+            error: source,
         })?;
         let rgba = img.to_rgba8();
         Ok(Self {
@@ -88,13 +91,14 @@ impl ImageF32 {
 
     /// Writes `.png` (8-bit RGBA) or `.exr` (linear RGBA f32).
     pub fn save(&self, path: &Path) -> Result<(), ImageError> {
+        check_output_path(path)?;
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
         let io = |source| ImageError::Io {
             path: path.to_path_buf(),
-            source,
+            error: source,
         };
         match ext.as_deref() {
             Some("png") => self.to_rgba8().save(path).map_err(io),
@@ -161,6 +165,26 @@ impl ImageF32 {
     pub fn has_non_finite(&self) -> bool {
         self.pixels.iter().flatten().any(|c| !c.is_finite())
     }
+}
+
+/// Whether an image can be written to `path` as far as can be told before rendering it: a `.png`
+/// or `.exr` name in a folder that exists.
+pub fn check_output_path(path: &Path) -> Result<(), ImageError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !matches!(ext.as_deref(), Some("png" | "exr")) {
+        return Err(ImageError::Format(path.to_path_buf()));
+    }
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !folder.is_dir() {
+        return Err(ImageError::NoFolder(folder.to_path_buf()));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -1,4 +1,5 @@
-//! The `leapview` binary: the viewer window, or a command (`render`, `info`).
+//! The `leapview` binary: the viewer window, or a command (`render`, `info`, `bench`,
+//! `accuracy`).
 
 mod cli;
 
@@ -11,6 +12,9 @@ use leapview::ui::app::{AppError, AppOptions};
 fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let cli = Cli::parse();
+    if cli.command.is_some() {
+        quiet_device_selection();
+    }
     let result = match cli.command {
         Some(command) => cli::run(command, &cli.raw),
         None => cli::load_options(&cli.raw).and_then(|load_options| {
@@ -34,5 +38,16 @@ fn main() -> ExitCode {
             eprintln!("leapview: {e:#}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Headless commands pick their adapter themselves: Mesa's implicit device-selection layer would
+/// only connect to a Wayland display to rank them, and print "error: XDG_RUNTIME_DIR is invalid"
+/// twice where there is none (a server, CI). It stays off unless the user set it either way.
+fn quiet_device_selection() {
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        // SAFETY: called at the start of `main`, before any thread exists that could read the
+        // environment concurrently.
+        unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
     }
 }

@@ -13,20 +13,20 @@ use crate::settings::{Mode, RenderPath, Strategy};
 #[derive(Debug, thiserror::Error)]
 pub enum ConfigError {
     /// The file could not be read.
-    #[error("cannot read the benchmark configuration ({source}): {}", path.display())]
+    #[error("cannot read the benchmark configuration ({error}): {}", path.display())]
     Read {
         /// The file.
         path: PathBuf,
         /// What the system said.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The file is not a configuration.
-    #[error("the benchmark configuration does not parse ({source}): {}", path.display())]
+    #[error("the benchmark configuration does not parse ({error}): {}", path.display())]
     Parse {
         /// The file.
         path: PathBuf,
         /// What the parser said.
-        source: serde_json::Error,
+        error: serde_json::Error,
     },
     /// A filter or the block sweep names a dataset the configuration does not have.
     #[error("no dataset called {name:?} in the configuration (it has: {known})")]
@@ -172,13 +172,13 @@ pub const QUICK_SIZE: [u32; 2] = [128, 128];
 impl BenchConfig {
     /// Reads and validates `path`.
     pub fn load(path: &Path) -> Result<Self, ConfigError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ConfigError::Read {
+        let text = std::fs::read_to_string(path).map_err(|error| ConfigError::Read {
             path: path.to_path_buf(),
-            source,
+            error,
         })?;
-        let config: Self = serde_json::from_str(&text).map_err(|source| ConfigError::Parse {
+        let config: Self = serde_json::from_str(&text).map_err(|error| ConfigError::Parse {
             path: path.to_path_buf(),
-            source,
+            error,
         })?;
         config.validate()?;
         Ok(config)

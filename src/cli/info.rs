@@ -5,6 +5,7 @@ use leapview::volume::stats::quantile;
 use leapview::volume::{ValueMapping, Volume};
 
 use super::args::{InfoArgs, RawArgs};
+use super::text::{number, outln, print_stdout};
 use super::{Failure, load};
 
 /// The share of voxels whose stored value is below `min + 0.1 * (P99.9 - min)` (the "air"
@@ -62,56 +63,72 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
             "orientation_in_file": volume.file_orientation().map(|o| o.code()),
             "reversed_i": volume.reversed_i(),
         });
-        println!("{value:#}");
-        return Ok(());
+        return print_stdout(&format!("{value:#}\n")).map_err(|e| Failure::Other(e.into()));
     }
+    let mut out = String::new();
     let [x, y, z] = volume.dims();
     let [sx, sy, sz] = volume.spacing_mm();
-    println!("file:        {}", args.file.display());
-    println!(
+    outln!(out, "file:        {}", args.file.display());
+    outln!(
+        out,
         "dims:        {x} x {y} x {z} ({} voxels, {:.1} MB stored)",
         volume.sample_count(),
         volume.sample_count() as f64 * volume.scalar_type().size_bytes() as f64 / 1e6
     );
-    println!(
-        "spacing:     {sx} x {sy} x {sz} mm (extent {:.1} x {:.1} x {:.1} mm)",
+    outln!(
+        out,
+        "spacing:     {} x {} x {} mm (extent {:.1} x {:.1} x {:.1} mm)",
+        number(sx),
+        number(sy),
+        number(sz),
         x as f64 * sx,
         y as f64 * sy,
         z as f64 * sz
     );
-    println!("type:        {}", volume.scalar_type());
+    outln!(out, "type:        {}", volume.scalar_type());
     match volume.orientation() {
-        Some(o) if volume.reversed_i() => println!(
+        Some(o) if volume.reversed_i() => outln!(
+            out,
             "orientation: {} in the header, a mirror image of the patient: read reversed along i, \
              so renders show {} (voxel i is {} - i in the file)",
             o.with_axis_reversed(0).code(),
             o.code(),
             x.saturating_sub(1)
         ),
-        Some(o) => println!(
+        Some(o) => outln!(
+            out,
             "orientation: {} (index axes i, j, k point to these)",
             o.code()
         ),
-        None => println!("orientation: not in the header (views assume RAS)"),
+        None => outln!(out, "orientation: not in the header (views assume RAS)"),
     }
     if m != ValueMapping::IDENTITY {
-        println!(
+        outln!(
+            out,
             "scaling:     value = stored x {} + {}",
-            m.slope, m.intercept
+            number(m.slope),
+            number(m.intercept)
         );
     }
     match range {
-        Some(r) => println!("range:       {} .. {} (data units)", r.min, r.max),
-        None => println!("range:       no finite value"),
+        Some(r) => outln!(
+            out,
+            "range:       {} .. {} (data units)",
+            number(r.min),
+            number(r.max)
+        ),
+        None => outln!(out, "range:       no finite value"),
     }
     if volume.non_finite_count() > 0 {
-        println!(
+        outln!(
+            out,
             "non-finite:  {} voxels (NaN or infinite; rendered transparent)",
             volume.non_finite_count()
         );
     }
-    let fmt = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v}"));
-    println!(
+    let fmt = |v: Option<f64>| v.map_or("-".to_string(), number);
+    outln!(
+        out,
         "percentiles: P1 {}  P50 {}  P99 {}  P99.9 {}",
         fmt(q(0.01)),
         fmt(q(0.5)),
@@ -119,16 +136,19 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
         fmt(q(0.999))
     );
     if let Some((t, share)) = air {
-        println!(
-            "empty:       {:.1} % of voxels below {t} (stored min + 0.1 x (P99.9 - min))",
-            100.0 * share
+        outln!(
+            out,
+            "empty:       {:.1} % of voxels below {} (stored min + 0.1 x (P99.9 - min))",
+            100.0 * share,
+            number(t)
         );
     }
     if let (Some(share), Some(name)) = (transparent, &args.tf) {
-        println!(
+        outln!(
+            out,
             "transparent: {:.1} % of voxels have zero opacity under {name}",
             100.0 * share
         );
     }
-    Ok(())
+    print_stdout(&out).map_err(|e| Failure::Other(e.into()))
 }

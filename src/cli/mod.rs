@@ -12,6 +12,7 @@ mod measuring;
 pub mod parse;
 mod plotting;
 mod render;
+mod text;
 
 use std::path::Path;
 

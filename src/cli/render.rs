@@ -9,6 +9,7 @@ use leapview::settings::RenderSettings;
 use leapview::transfer::TransferFunction;
 
 use super::args::{RawArgs, RenderArgs};
+use super::text::{outln, print_stdout};
 use super::{Failure, camera_from_args, load};
 
 /// Frames timed for `--stats`, after one warm-up frame; the median is reported.
@@ -17,15 +18,35 @@ const TIMED_FRAMES: usize = 5;
 /// Maps a renderer error to a failure: volumes or images past the GPU's limits are bad input.
 fn render_failure(e: RenderError) -> Failure {
     match e {
-        RenderError::Volume(_) | RenderError::ImageSize { .. } | RenderError::Settings(_) => {
-            Failure::BadInput(e.into())
-        }
+        RenderError::Volume(_)
+        | RenderError::ImageSize { .. }
+        | RenderError::TargetsRefused { .. }
+        | RenderError::Settings(_) => Failure::BadInput(e.into()),
         other => Failure::Other(other.into()),
+    }
+}
+
+/// Reports a refinement's frames on standard error: on one rewritten line at a terminal, else a
+/// line per tenth of the frames.
+fn refine_progress() -> impl FnMut(u32, u32) {
+    use std::io::IsTerminal;
+    let terminal = std::io::stderr().is_terminal();
+    move |done, frames| {
+        if terminal {
+            eprint!("\rrefining: {done}/{frames} frames");
+            if done == frames {
+                eprintln!();
+            }
+        } else if done == frames || done % frames.div_ceil(10) == 0 {
+            eprintln!("refining: {done}/{frames} frames");
+        }
     }
 }
 
 /// Runs the command.
 pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
+    // Refused before anything is loaded or rendered.
+    leapview::imaging::check_output_path(&args.out).map_err(|e| Failure::BadInput(e.into()))?;
     let volume = load(&args.file, raw)?;
     let tf =
         TransferFunction::from_preset_or_file(&args.tf).map_err(|e| Failure::BadInput(e.into()))?;
@@ -74,7 +95,13 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     let (submitted, first) = renderer.render_and_wait(&request).map_err(render_failure)?;
     let image = if args.refine > 1 {
         renderer
-            .render_refined(&camera, args.size, &settings, args.refine)
+            .render_refined_reporting(
+                &camera,
+                args.size,
+                &settings,
+                args.refine,
+                Some(&mut refine_progress()),
+            )
             .map_err(render_failure)?
     } else {
         renderer.read_image().map_err(render_failure)?
@@ -98,14 +125,17 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
             .map_err(render_failure)?;
         let c = counted.counters.unwrap_or_default();
         let pixels = (args.size[0] as u64 * args.size[1] as u64) as f64;
-        println!("adapter: {adapter}");
-        println!(
+        let mut out = String::new();
+        outln!(out, "adapter: {adapter}");
+        outln!(
+            out,
             "volume: {} {:?} {}",
             volume.name(),
             volume.dims(),
             volume.scalar_type()
         );
-        println!(
+        outln!(
+            out,
             "image: {}x{}  mode: {}  strategy: {}  path: {:?}  step: {} voxel",
             args.size[0],
             args.size[1],
@@ -115,38 +145,55 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
             settings.step_vox
         );
         match times.get(times.len() / 2) {
-            Some(ms) => println!(
+            Some(ms) => outln!(
+                out,
                 "gpu_ms: {ms:.3} (median of {} frames after a warm-up)",
                 times.len()
             ),
-            None => println!("gpu_ms: unavailable (the adapter has no timestamp queries)"),
+            None => outln!(
+                out,
+                "gpu_ms: unavailable (the adapter has no timestamp queries)"
+            ),
         }
-        println!("rays: {}", c.rays);
-        println!(
+        outln!(out, "rays: {}", c.rays);
+        outln!(
+            out,
             "samples: {} ({:.1} per pixel)",
             c.samples,
             c.samples as f64 / pixels
         );
-        println!(
+        outln!(
+            out,
             "visible_samples: {} (non-zero opacity; {:.1} % of samples)",
             c.visible_samples,
             100.0 * c.visible_samples as f64 / c.samples.max(1) as f64
         );
-        println!(
+        outln!(
+            out,
             "samples_over_oracle: {:.2} (samples taken / samples with non-zero opacity)",
             c.samples as f64 / c.visible_samples.max(1) as f64
         );
         if settings.strategy.leaps() {
-            println!("leaps: {} (block {} voxels)", c.leaps, settings.block_vox);
-            println!(
+            outln!(
+                out,
+                "leaps: {} (block {} voxels)",
+                c.leaps,
+                settings.block_vox
+            );
+            outln!(
+                out,
                 "samples leapt: {} ({:.1} % of the grid samples before each ray's end)",
                 c.leapt_samples,
                 100.0 * c.share_leapt().unwrap_or(0.0)
             );
             if let Some(ms) = first.rebuild_ms {
-                println!("rebuild_ms: {ms:.3} (leaping structures for this transfer function)");
+                outln!(
+                    out,
+                    "rebuild_ms: {ms:.3} (leaping structures for this transfer function)"
+                );
             }
         }
+        print_stdout(&out).map_err(|e| Failure::Other(e.into()))?;
     } else if let Some(ms) = first.gpu_ms {
         eprintln!(
             "rendered {}x{} in {ms:.2} ms GPU ({:?} path, first frame) on {adapter}",

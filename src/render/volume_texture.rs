@@ -202,9 +202,11 @@ pub enum VolumeTextureError {
     /// A dimension is larger than the adapter's 3D texture limit.
     #[error(
         "the volume is {dims:?} voxels but this GPU ({adapter}) takes at most {max} per axis in a \
-         3D texture; crop or downsample it"
+         3D texture; crop or downsample it: {name}"
     )]
     TooLarge {
+        /// The volume's name (its file name).
+        name: String,
         /// Volume dimensions.
         dims: [u32; 3],
         /// The adapter's `max_texture_dimension_3d`.
@@ -213,8 +215,12 @@ pub enum VolumeTextureError {
         adapter: String,
     },
     /// The GPU ran out of memory creating the texture.
-    #[error("the GPU ({adapter}) has not enough memory for a {megabytes:.0} MB volume texture")]
+    #[error(
+        "the GPU ({adapter}) has not enough memory for a {megabytes:.0} MB volume texture: {name}"
+    )]
     OutOfMemory {
+        /// The volume's name (its file name).
+        name: String,
         /// Texture size.
         megabytes: f64,
         /// Adapter name.
@@ -260,6 +266,7 @@ impl VolumeTexture {
         let max = ctx.limits.max_texture_dimension_3d;
         if dims.iter().any(|&d| d > max) {
             return Err(VolumeTextureError::TooLarge {
+                name: volume.name().to_string(),
                 dims,
                 max,
                 adapter: ctx.adapter_info.name.clone(),
@@ -308,53 +315,21 @@ impl VolumeTexture {
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
-        let slice_texels = dims[0] as usize * dims[1] as usize;
-        let slices_per_slab = (SLAB_BYTES / (slice_texels * bpt)).max(1);
-        let mut bytes = Vec::new();
-        let mut z = 0usize;
-        while z < dims[2] as usize {
-            let z_end = (z + slices_per_slab).min(dims[2] as usize);
-            bytes.clear();
-            encode_texels(
-                volume,
-                &encoding,
-                z * slice_texels..z_end * slice_texels,
-                &mut bytes,
-            );
-            ctx.queue.write_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &texture,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d {
-                        x: 0,
-                        y: 0,
-                        z: z as u32,
-                    },
-                    aspect: wgpu::TextureAspect::All,
-                },
-                &bytes,
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(dims[0] * bpt as u32),
-                    rows_per_image: Some(dims[1]),
-                },
-                wgpu::Extent3d {
-                    width: dims[0],
-                    height: dims[1],
-                    depth_or_array_layers: (z_end - z) as u32,
-                },
-            );
-            z = z_end;
-        }
-        let validation = pollster::block_on(validation.pop());
-        let oom = pollster::block_on(oom.pop());
-        if oom.is_some() {
+        // Refused at once, before any sample is encoded and sent.
+        let refused = pollster::block_on(validation.pop());
+        if pollster::block_on(oom.pop()).is_some() {
             return Err(VolumeTextureError::OutOfMemory {
+                name: volume.name().to_string(),
                 megabytes: volume.sample_count() as f64 * bpt as f64 / 1e6,
                 adapter: ctx.adapter_info.name.clone(),
             });
         }
-        if let Some(e) = validation {
+        if let Some(e) = refused {
+            return Err(VolumeTextureError::Gpu(e.to_string()));
+        }
+        let uploaded = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        upload_slabs(ctx, &texture, volume, &encoding);
+        if let Some(e) = pollster::block_on(uploaded.pop()) {
             return Err(VolumeTextureError::Gpu(e.to_string()));
         }
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
@@ -363,6 +338,56 @@ impl VolumeTexture {
             view,
             encoding,
         })
+    }
+}
+
+/// Encodes `volume`'s samples in `encoding` and writes them into `texture`, a slab of slices at a
+/// time (at most [`SLAB_BYTES`] in memory at once).
+fn upload_slabs(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    volume: &Volume,
+    encoding: &TexelEncoding,
+) {
+    let dims = volume.dims();
+    let bpt = bytes_per_texel(encoding.format);
+    let slice_texels = dims[0] as usize * dims[1] as usize;
+    let slices_per_slab = (SLAB_BYTES / (slice_texels * bpt)).max(1);
+    let mut bytes = Vec::new();
+    let mut z = 0usize;
+    while z < dims[2] as usize {
+        let z_end = (z + slices_per_slab).min(dims[2] as usize);
+        bytes.clear();
+        encode_texels(
+            volume,
+            encoding,
+            z * slice_texels..z_end * slice_texels,
+            &mut bytes,
+        );
+        ctx.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d {
+                    x: 0,
+                    y: 0,
+                    z: z as u32,
+                },
+                aspect: wgpu::TextureAspect::All,
+            },
+            &bytes,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(dims[0] * bpt as u32),
+                rows_per_image: Some(dims[1]),
+            },
+            wgpu::Extent3d {
+                width: dims[0],
+                height: dims[1],
+                depth_or_array_layers: (z_end - z) as u32,
+            },
+        );
+        z = z_end;
     }
 }
 

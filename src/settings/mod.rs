@@ -277,10 +277,11 @@ impl RenderSettings {
         {
             return Err(SettingsError::Light(d));
         }
-        if self.iso.refine_iterations > MAX_ISO_REFINEMENT
-            || self.iso.value.is_some_and(|v| !v.is_finite())
-        {
-            return Err(SettingsError::Iso);
+        if let Some(v) = self.iso.value.filter(|v| !v.is_finite()) {
+            return Err(SettingsError::IsoValue(v));
+        }
+        if self.iso.refine_iterations > MAX_ISO_REFINEMENT {
+            return Err(SettingsError::IsoRefinement(self.iso.refine_iterations));
         }
         if let Some([lo, hi]) = self.window
             && !(lo.is_finite() && hi.is_finite() && hi > lo)
@@ -326,9 +327,12 @@ pub enum SettingsError {
     /// A zero or non-finite light direction.
     #[error("the light direction must be a non-zero vector, got {0:?}")]
     Light([f64; 3]),
-    /// Iso value not finite or too many refinement steps.
-    #[error("the iso value must be finite and refinement at most 16 steps")]
-    Iso,
+    /// An iso value that is not a finite number.
+    #[error("the iso value must be a finite number, got {0}")]
+    IsoValue(f64),
+    /// More isosurface refinement steps than [`MAX_ISO_REFINEMENT`].
+    #[error("isosurface refinement takes at most {MAX_ISO_REFINEMENT} steps, got {0}")]
+    IsoRefinement(u32),
     /// A window with hi ≤ lo.
     #[error("the window must have lo < hi, got {0}, {1}")]
     Window(f64, f64),

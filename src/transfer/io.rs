@@ -39,13 +39,16 @@ pub enum TransferError {
         known: String,
     },
     /// The file could not be read or written.
-    #[error("cannot access the transfer-function file ({source}): {}", path.display())]
+    #[error("cannot access the transfer-function file ({error}): {}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
+        /// The I/O error (in the message, so not also a source to print twice).
+        error: std::io::Error,
     },
+    /// The path names a pipe, a device or a socket (reading one can block forever).
+    #[error("this is not a regular file; only files are read: {}", .0.display())]
+    NotRegularFile(PathBuf),
     /// The file was read but is not valid; the path is added last.
     #[error("{problem}: {}", path.display())]
     InFile {
@@ -72,9 +75,13 @@ impl TransferFunction {
 
     /// Reads and validates a transfer-function file.
     pub fn load(path: &Path) -> Result<Self, TransferError> {
+        // Asked before opening: opening a named pipe blocks until someone writes to it.
+        if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+            return Err(TransferError::NotRegularFile(path.to_path_buf()));
+        }
         let text = std::fs::read_to_string(path).map_err(|source| TransferError::Io {
             path: path.to_path_buf(),
-            source,
+            error: source,
         })?;
         Self::from_json_str(&text).map_err(|problem| TransferError::InFile {
             path: path.to_path_buf(),
@@ -86,7 +93,7 @@ impl TransferFunction {
     pub fn save(&self, path: &Path) -> Result<(), TransferError> {
         std::fs::write(path, self.to_json_string()).map_err(|source| TransferError::Io {
             path: path.to_path_buf(),
-            source,
+            error: source,
         })
     }
 

@@ -130,65 +130,116 @@ fn read_typed<T: Stored>(
         declared_bytes,
         found_bytes,
     };
-    let count = usize::try_from(layout.sample_count()).map_err(|_| VolumeError::OutOfMemory {
+    let out_of_memory = || VolumeError::OutOfMemory {
         bytes: declared_bytes,
-    })?;
+    };
+    if let Some(available) = super::limits::available_memory_bytes()
+        && declared_bytes > available
+    {
+        return Err(VolumeError::NotEnoughMemory {
+            bytes: declared_bytes,
+            available,
+        });
+    }
+    let count = usize::try_from(layout.sample_count()).map_err(|_| out_of_memory())?;
+    // Reserved, not touched: memory is taken only as samples arrive, so a stream that stops
+    // short (or is cancelled) never held more than it delivered.
     let mut values: Vec<T> = Vec::new();
     values
         .try_reserve_exact(count)
-        .map_err(|_| VolumeError::OutOfMemory {
-            bytes: declared_bytes,
-        })?;
-    values.resize(count, T::zeroed());
-
-    let bytes: &mut [u8] = bytemuck::cast_slice_mut(&mut values);
-    let mut filled = 0usize;
+        .map_err(|_| out_of_memory())?;
+    let chunk_len = (CHUNK_BYTES / size_of::<T>()).max(1);
+    let mut chunk: Vec<T> = vec![T::zeroed(); chunk_len.min(count)];
     if let Some(p) = progress {
-        p.start(bytes.len() as u64);
+        p.start(declared_bytes);
     }
-    while filled < bytes.len() {
+    let mut read = 0u64;
+    while values.len() < count {
         if progress.is_some_and(LoadProgress::is_cancelled) {
             return Err(VolumeError::Cancelled);
         }
-        let end = bytes.len().min(filled + CHUNK_BYTES);
-        match reader.read(&mut bytes[filled..end]) {
-            Ok(0) => return Err(too_short(filled as u64)),
-            Ok(n) => {
-                filled += n;
-                if let Some(p) = progress {
-                    p.advance(n as u64);
-                }
-            }
-            Err(e) if e.kind() == ErrorKind::Interrupted => {}
-            Err(e) if encoding == Encoding::Gzip && e.kind() == ErrorKind::UnexpectedEof => {
-                return Err(too_short(filled as u64));
-            }
-            Err(e) => return Err(read_error(e, encoding)),
+        let want = chunk_len.min(count - values.len());
+        let bytes: &mut [u8] = bytemuck::cast_slice_mut(&mut chunk[..want]);
+        let filled = fill(reader, bytes, encoding).map_err(|e| match e {
+            Short(n) => too_short(read + n as u64),
+            Failed(e) => e,
+        })?;
+        debug_assert_eq!(filled, bytes.len());
+        read += filled as u64;
+        values.extend_from_slice(&chunk[..want]);
+        if let Some(p) = progress {
+            p.advance(filled as u64);
         }
     }
-    let mut one = [0u8; 1];
-    loop {
-        match reader.read(&mut one) {
-            Ok(0) => break,
-            Ok(_) => {
-                return Err(VolumeError::DataTooLong {
-                    dims: layout.dims,
-                    scalar_type: layout.scalar_type,
-                    declared_bytes,
-                    found_bytes: declared_bytes + 1,
-                    exact: false,
-                });
-            }
-            Err(e) if e.kind() == ErrorKind::Interrupted => {}
-            Err(e) => return Err(read_error(e, encoding)),
-        }
-    }
-
+    check_nothing_follows(reader, layout, encoding)?;
     if layout.big_endian != cfg!(target_endian = "big") && size_of::<T>() > 1 {
         values.iter_mut().for_each(|v| *v = v.swap_bytes());
     }
     Ok(T::into_samples(values))
 }
+
+/// Why [`fill`] stopped short.
+enum FillError {
+    /// The stream ended after this many bytes.
+    Short(usize),
+    /// The stream failed.
+    Failed(VolumeError),
+}
+use FillError::{Failed, Short};
+
+/// Reads exactly `bytes.len()` bytes.
+fn fill(reader: &mut impl Read, bytes: &mut [u8], encoding: Encoding) -> Result<usize, FillError> {
+    let mut filled = 0;
+    while filled < bytes.len() {
+        match reader.read(&mut bytes[filled..]) {
+            Ok(0) => return Err(Short(filled)),
+            Ok(n) => filled += n,
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            Err(e) if encoding == Encoding::Gzip && e.kind() == ErrorKind::UnexpectedEof => {
+                return Err(Short(filled));
+            }
+            Err(e) => return Err(Failed(read_error(e, encoding))),
+        }
+    }
+    Ok(filled)
+}
+
+/// After the declared samples: the data must end. Gzip data that goes on is decoded to its end
+/// (at most [`TRAILING_GZIP_CHECK_BYTES`]) first: a corrupt stream is reported as corrupt, not as
+/// a header whose sizes are wrong.
+fn check_nothing_follows(
+    reader: &mut impl Read,
+    layout: SampleLayout,
+    encoding: Encoding,
+) -> Result<(), VolumeError> {
+    let too_long = || VolumeError::DataTooLong {
+        dims: layout.dims,
+        scalar_type: layout.scalar_type,
+        declared_bytes: layout.byte_len(),
+        found_bytes: layout.byte_len() + 1,
+        exact: false,
+    };
+    let mut one = [0u8; 1];
+    loop {
+        match reader.read(&mut one) {
+            Ok(0) => return Ok(()),
+            Ok(_) => break,
+            Err(e) if e.kind() == ErrorKind::Interrupted => {}
+            Err(e) => return Err(read_error(e, encoding)),
+        }
+    }
+    if encoding == Encoding::Gzip {
+        let mut rest = reader.take(TRAILING_GZIP_CHECK_BYTES);
+        if let Err(e) = std::io::copy(&mut rest, &mut std::io::sink()) {
+            return Err(read_error(e, encoding));
+        }
+    }
+    Err(too_long())
+}
+
+/// How much of the decoded data past the declared samples is decoded to tell a corrupt gzip
+/// stream from a header whose sizes are too small.
+const TRAILING_GZIP_CHECK_BYTES: u64 = 64 << 20;
 
 /// A read error in the user's terms: a decompressor error means corrupt data.
 pub fn read_error(e: std::io::Error, encoding: Encoding) -> VolumeError {
@@ -212,9 +263,13 @@ pub fn open_file(path: &Path) -> Result<(File, u64), VolumeError> {
         ErrorKind::NotFound => VolumeError::NotFound,
         _ => VolumeError::Io { source: e },
     };
+    // Asked before opening: opening a named pipe blocks until someone writes to it.
     let metadata = std::fs::metadata(path).map_err(open_error)?;
     if metadata.is_dir() {
         return Err(VolumeError::IsDirectory);
+    }
+    if let Some(kind) = special_kind(&metadata) {
+        return Err(VolumeError::NotRegularFile { kind });
     }
     let file = File::open(path).map_err(open_error)?;
     let len = file.metadata()?.len();
@@ -222,6 +277,28 @@ pub fn open_file(path: &Path) -> Result<(File, u64), VolumeError> {
         return Err(VolumeError::EmptyFile);
     }
     Ok((file, len))
+}
+
+/// What a file that is neither a regular file nor a folder is (`None` for those two).
+pub fn special_kind(metadata: &std::fs::Metadata) -> Option<&'static str> {
+    let kind = metadata.file_type();
+    if kind.is_file() || kind.is_dir() {
+        return None;
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            return Some("named pipe");
+        }
+        if kind.is_char_device() || kind.is_block_device() {
+            return Some("device");
+        }
+        if kind.is_socket() {
+            return Some("socket");
+        }
+    }
+    Some("special file")
 }
 
 /// Skips `count` bytes of `reader` (decompressed bytes for gzip), reporting a short stream.

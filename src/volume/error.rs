@@ -48,12 +48,26 @@ pub enum VolumeError {
     /// The file holds no bytes at all.
     #[error("the file is empty")]
     EmptyFile,
+    /// The path names a pipe, a device or a socket: reading one can block forever or never end.
+    #[error("this is a {kind}, not a regular file; only files are opened")]
+    NotRegularFile {
+        /// What it is (`named pipe`, `device`, `socket`, `special file`).
+        kind: &'static str,
+    },
     /// The operating system refused or failed a read.
     #[error("could not read the file ({source})")]
     Io {
         /// The underlying error.
         #[from]
         source: std::io::Error,
+    },
+    /// A detached header names a data file that is a pipe, a device or a socket.
+    #[error("the data file '{name}' that the header names is a {kind}, not a regular file")]
+    DataFileNotRegular {
+        /// The data file as the header names it.
+        name: String,
+        /// What it is.
+        kind: &'static str,
     },
     /// A detached header names a data file that cannot be read.
     #[error("cannot read the data file '{name}' that the header names ({source})")]
@@ -230,6 +244,18 @@ pub enum VolumeError {
     /// The user cancelled the load.
     #[error("loading was cancelled")]
     Cancelled,
+    /// The samples would take more memory than this machine has available.
+    #[error(
+        "the volume's samples need {} but this machine has {} of memory available",
+        fmt_bytes(*.bytes),
+        fmt_bytes(*.available)
+    )]
+    NotEnoughMemory {
+        /// Bytes the samples take.
+        bytes: u64,
+        /// Bytes the system reports as available.
+        available: u64,
+    },
     /// The samples passed every limit but this machine could not provide the memory.
     #[error("not enough memory to hold the volume's samples ({})", fmt_bytes(*.bytes))]
     OutOfMemory {

@@ -21,6 +21,20 @@ pub const MAX_DIMENSION: u32 = 65536;
 /// only adds compressed bytes, so the bound holds for whole gzip files too.
 pub const MAX_DEFLATE_RATIO: u64 = 1032;
 
+/// The memory the system can give without swapping (Linux `MemAvailable`), or `None` where it
+/// does not say. A loader refuses samples larger than this before reading any.
+pub fn available_memory_bytes() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    mem_available(&text)
+}
+
+/// `MemAvailable` of a `/proc/meminfo` text, in bytes.
+fn mem_available(meminfo: &str) -> Option<u64> {
+    let line = meminfo.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
 /// Where the sample bytes come from, as far as bounding their size goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DataSource {
@@ -127,6 +141,13 @@ pub fn check_declared_size(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn available_memory_is_read_from_meminfo() {
+        let text = "MemTotal:       24000000 kB\nMemFree:  1000 kB\nMemAvailable:   22000000 kB\n";
+        assert_eq!(mem_available(text), Some(22_000_000 * 1024));
+        assert_eq!(mem_available("MemTotal: 5 kB\n"), None);
+    }
 
     const PLENTY: DataSource = DataSource::Uncompressed {
         available_bytes: u64::MAX,

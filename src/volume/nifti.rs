@@ -62,6 +62,7 @@ fn read_stream(
         )));
     }
     let header = parse_header(&bytes)?;
+    check_dimension_count(&header, &bytes)?;
     let (dims, scalar_type) = (dims_of(&header)?, scalar_type_of(&header)?);
     let vox_offset = vox_offset_of(&header)?;
     let (dims, declared_bytes) = limits::check_dims(dims, scalar_type)?;
@@ -191,6 +192,25 @@ fn parse_header(bytes: &[u8; HEADER_BYTES]) -> Result<NiftiHeader, VolumeError> 
         ));
     }
     Ok(header)
+}
+
+/// `dim[0]`, the number of dimensions, is 1 to 7 in a valid header in one byte order or the
+/// other (that is how readers tell the order). A value valid in neither is reported as written
+/// (little-endian), not as the byte-swapped number a reader then assumes.
+fn check_dimension_count(header: &NiftiHeader, bytes: &[u8]) -> Result<(), VolumeError> {
+    if (1..=7).contains(&(header.dim[0] as i16)) {
+        return Ok(());
+    }
+    // Offset 40 holds dim[0] (the header's length was checked before).
+    let written = bytes
+        .get(40..42)
+        .map_or(0, |b| i16::from_le_bytes([b[0], b[1]]));
+    Err(VolumeError::BadField {
+        format: NIFTI,
+        field: "dim[0]".to_string(),
+        value: written.to_string(),
+        expected: "it must be the number of dimensions, 1 to 7".to_string(),
+    })
 }
 
 /// `dim[1..=3]`, for `dim[0]` 3 (or 4 with `dim[4] == 1`). `dim` is signed in the standard.

@@ -135,10 +135,17 @@ fn open_data_file(header_path: &Path, name: &str) -> Result<(File, u64), VolumeE
             .map_or_else(PathBuf::new, Path::to_path_buf)
             .join(p),
     };
-    let file = File::open(&path).map_err(unreadable)?;
-    let metadata = file.metadata().map_err(unreadable)?;
+    // Asked before opening: opening a named pipe blocks until someone writes to it.
+    let metadata = std::fs::metadata(&path).map_err(unreadable)?;
     if metadata.is_dir() {
         return Err(unreadable(ErrorKind::IsADirectory.into()));
     }
+    if let Some(kind) = decode::special_kind(&metadata) {
+        return Err(VolumeError::DataFileNotRegular {
+            name: name.to_string(),
+            kind,
+        });
+    }
+    let file = File::open(&path).map_err(unreadable)?;
     Ok((file, metadata.len()))
 }

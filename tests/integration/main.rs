@@ -25,6 +25,7 @@ mod leaping;
 mod leaping_real;
 mod loaders;
 mod modes;
+mod newcomer_faults;
 mod opacity;
 mod preintegration;
 mod recompute;

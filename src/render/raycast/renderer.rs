@@ -53,6 +53,23 @@ pub enum RenderError {
         /// Adapter name.
         adapter: String,
     },
+    /// The GPU refused the textures of an image this size (out of memory, or past a limit).
+    #[error(
+        "this GPU ({adapter}) cannot hold the textures of a {width}×{height} image (about \
+         {megabytes:.0} MB): {reason}; render a smaller image"
+    )]
+    TargetsRefused {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+        /// What the image's textures take.
+        megabytes: f64,
+        /// Adapter name.
+        adapter: String,
+        /// What wgpu said, first line.
+        reason: String,
+    },
     /// The volume could not be put on the GPU.
     #[error(transparent)]
     Volume(#[from] VolumeTextureError),
@@ -290,13 +307,19 @@ impl VolumeRenderer {
             return Ok(());
         }
         let device = &self.ctx.device;
-        let scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let targets = Targets::new(device, &self.pipelines.layouts, size);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(RenderError::Gpu(format!(
-                "out of GPU memory for a {}×{} image: {e}",
-                size[0], size[1]
-            )));
+        let refused = pollster::block_on(validation.pop());
+        let out_of_memory = pollster::block_on(oom.pop());
+        if let Some(e) = out_of_memory.or(refused) {
+            return Err(RenderError::TargetsRefused {
+                width: size[0],
+                height: size[1],
+                megabytes: Targets::bytes(size) as f64 / 1e6,
+                adapter: self.ctx.adapter_info.name.clone(),
+                reason: e.to_string().lines().next().unwrap_or_default().to_string(),
+            });
         }
         self.targets = Some(targets);
         Ok(())
@@ -552,6 +575,19 @@ impl VolumeRenderer {
         settings: &RenderSettings,
         frames: u32,
     ) -> Result<ImageF32, RenderError> {
+        self.render_refined_reporting(camera, size, settings, frames, None)
+    }
+
+    /// [`Self::render_refined`], waiting for each frame and telling `done` how many of the
+    /// `frames` are finished, where given (a long refinement's progress).
+    pub fn render_refined_reporting(
+        &mut self,
+        camera: &Camera,
+        size: [u32; 2],
+        settings: &RenderSettings,
+        frames: u32,
+        mut done: Option<&mut dyn FnMut(u32, u32)>,
+    ) -> Result<ImageF32, RenderError> {
         if frames <= 1 {
             return self.render_image(camera, size, settings);
         }
@@ -573,6 +609,10 @@ impl VolumeRenderer {
                     size[1]
                 );
                 return self.render_image(camera, size, settings);
+            }
+            if let Some(report) = done.as_mut() {
+                self.collect_results(true);
+                report(k + 1, frames);
             }
         }
         // The frames' timings are nobody's: free their probes for the frames that follow.

@@ -26,6 +26,12 @@ pub struct Targets {
 }
 
 impl Targets {
+    /// Bytes of the textures of an image of `size` pixels: the output (RGBA16F) and the exit
+    /// points (RGBA32F).
+    pub fn bytes(size: [u32; 2]) -> u64 {
+        u64::from(size[0]) * u64::from(size[1]) * (8 + 16)
+    }
+
     /// Creates the textures for `size` pixels and their groups (the caller has checked the size
     /// against the device's limits).
     pub fn new(device: &wgpu::Device, layouts: &Layouts, size: [u32; 2]) -> Self {

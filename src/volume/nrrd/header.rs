@@ -60,6 +60,10 @@ pub fn read_header_text(
         if trimmed.is_empty() {
             return Ok((text, HeaderEnd::BlankLine, consumed));
         }
+        // A comment may hold any bytes (a Latin-1 name, say): nothing in it is read.
+        if trimmed.starts_with(b"#") {
+            continue;
+        }
         let Ok(line_text) = std::str::from_utf8(trimmed) else {
             return Err(bad_header(format!(
                 "header line {line_number} holds bytes that are not text; a blank line must \
@@ -67,6 +71,16 @@ pub fn read_header_text(
             )));
         };
         parse_line(line_text, line_number, &mut text)?;
+        // `data file: LIST`: the rest of a detached header names files, one per line, not
+        // fields; the field's reader says the form is not supported.
+        let list = ["data file:", "datafile:"].iter().any(|field| {
+            line_text
+                .strip_prefix(field)
+                .is_some_and(|v| v.trim() == "LIST" || v.trim().starts_with("LIST "))
+        });
+        if list {
+            return Ok((text, HeaderEnd::EndOfFile, consumed));
+        }
     }
 }
 
