@@ -2,18 +2,11 @@
 //! input.
 
 use crate::common;
+use crate::common::leapview;
 
-use std::process::{Command, Output};
+use std::process::Output;
 
 use leapview::imaging::ImageF32;
-
-fn leapview(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_leapview"))
-        .args(args)
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("run the binary")
-}
 
 fn stderr_lines(out: &Output) -> Vec<String> {
     String::from_utf8_lossy(&out.stderr)

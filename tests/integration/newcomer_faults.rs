@@ -4,25 +4,13 @@
 
 use std::io::Read;
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use leapview::volume::error::VolumeError;
 use leapview::volume::{LoadOptions, ScalarType, load_volume};
 
-use crate::common::{NiftiSpec, TempDir, fails, gzip, nrrd_file};
-
-fn leapview(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_leapview"))
-        .args(args)
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("run the binary")
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+use crate::common::{NiftiSpec, TempDir, fails, gzip, leapview, nrrd_file, stderr};
 
 /// A small valid NRRD volume.
 fn small_volume(dir: &TempDir) -> std::path::PathBuf {

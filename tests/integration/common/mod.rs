@@ -3,10 +3,12 @@
 #![allow(dead_code, unused_imports)]
 
 mod analytic;
+mod binary;
 mod files;
 mod hard;
 pub mod scene;
 pub use analytic::*;
+pub use binary::*;
 pub use files::*;
 pub use hard::*;
 
