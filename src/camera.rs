@@ -290,6 +290,19 @@ impl Camera {
         self.eye = self.target + offset;
     }
 
+    /// Turns the view about its viewing direction by `deg` degrees, clockwise on screen for
+    /// positive angles (the picture turns, the eye stays): a rolled patient is put upright.
+    pub fn roll(&mut self, deg: f64) {
+        let forward = self.forward();
+        let up = self.up.normalize_or(DVec3::Z);
+        // Up rotated anticlockwise about the line of sight (as seen from the eye) turns the
+        // picture clockwise.
+        let turned = glam::DQuat::from_axis_angle(forward, -deg.to_radians()) * up;
+        // Keep it exactly across the line of sight, whatever rounding did.
+        let right = forward.cross(turned);
+        self.up = right.cross(forward).normalize_or(up);
+    }
+
     /// Moves eye and target together by a fraction of the view's size: `dx` to the right, `dy` up.
     pub fn pan(&mut self, dx: f64, dy: f64, view_height_mm: f64) {
         let forward = self.forward();
@@ -411,5 +424,28 @@ mod tests {
         cam.orbit(0.0, 500.0);
         // Clamped 1° short of the pole: the eye never reaches the up axis.
         assert!((cam.eye - cam.target).angle_between(cam.up).to_degrees() >= 0.99);
+    }
+
+    #[test]
+    fn roll_turns_the_picture_about_the_line_of_sight() {
+        let b = unit_box();
+        let (dir, up) = ViewPreset::MinusY.direction_and_up();
+        let mut cam = Camera::framing(&b, dir, up, ProjectionKind::Perspective);
+        let (eye, target) = (cam.eye, cam.target);
+        let screen_right = |c: &Camera| c.forward().cross(c.up).normalize();
+        // Clockwise by 90°: what was at the top of the picture is now on the right.
+        let top = cam.up;
+        cam.roll(90.0);
+        assert!((screen_right(&cam) - top).length() < 1e-12, "{:?}", cam.up);
+        assert_eq!((cam.eye, cam.target), (eye, target), "the eye stays");
+        assert!(cam.up.dot(cam.forward()).abs() < 1e-12);
+        // Four quarter turns, or one turn and its reverse, bring the view back.
+        for _ in 0..3 {
+            cam.roll(90.0);
+        }
+        assert!((cam.up - top).length() < 1e-12);
+        cam.roll(37.0);
+        cam.roll(-37.0);
+        assert!((cam.up - top).length() < 1e-12);
     }
 }

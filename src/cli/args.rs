@@ -36,9 +36,43 @@ pub enum Command {
     /// jitter, pre-integration, texel precision) costs in GPU time and buys in error against a
     /// reference; tables and Pareto plots.
     Accuracy(Box<super::accuracy::AccuracyArgs>),
+    /// Write one of the generated volumes (the window's phantom and vessel tree, the benchmark's
+    /// scenes) to a gzip NRRD file, to try every command without data of your own.
+    Generate(GenerateArgs),
 }
 
-/// How to read a headerless raw file.
+/// The volumes `leapview generate` writes.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Generated {
+    /// The 3D Shepp–Logan head phantom in Hounsfield units (int16, CT), the window's default.
+    Phantom,
+    /// A sparse vessel tree on a black background (uint8, like an MR angiogram).
+    Vessels,
+    /// A head-sized volume that fills its box: skull, brain folds, noise (uint8).
+    DenseHead,
+    /// The scene the peers were benchmarked on (uint8): soft shells and a noisy core.
+    PeerScene,
+}
+
+/// `leapview generate`.
+#[derive(Args, Debug)]
+pub struct GenerateArgs {
+    /// Which volume.
+    #[arg(value_enum)]
+    pub what: Generated,
+    /// Output file (`.nrrd`).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Samples along each axis (8 to 1024).
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(8..=1024))]
+    pub size: u32,
+    /// Seed of the vessel tree and the dense head (the same seed, the same volume).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// How to read a file beyond what its header says: the layout of a headerless raw file, and the
+/// patient's orientation where the header has none or states it wrong.
 #[derive(Args, Debug, Clone, Default)]
 pub struct RawArgs {
     /// Raw files: samples along x, y, z (e.g. `256,256,128`).
@@ -53,6 +87,10 @@ pub struct RawArgs {
     /// Raw files: samples are big-endian (default little).
     #[arg(long, global = true)]
     pub big_endian: bool,
+    /// Where index axes i, j, k point in the patient, in place of the header's orientation: three
+    /// letters, one each of R/L, A/P and S/I (`RAI`: slices run from the top of the head down).
+    #[arg(long, global = true, value_name = "CODE")]
+    pub orientation: Option<String>,
 }
 
 /// `leapview render`.
@@ -81,8 +119,9 @@ pub struct RenderArgs {
     /// Effect parameters.
     #[command(flatten)]
     pub effects: super::effect_args::EffectArgs,
-    /// Transfer function: a preset name or a JSON file.
-    #[arg(long, default_value = "grey-ramp")]
+    /// Transfer function: `auto` (chosen from the data: a CT preset for CT, mapped onto scanner
+    /// units where the file is not in HU; the MR default for MR), a preset name, or a JSON file.
+    #[arg(long, default_value = "auto")]
     pub tf: String,
     /// Sample step in units of the smallest voxel spacing.
     #[arg(long, default_value_t = 0.5)]

@@ -1,8 +1,9 @@
 //! `leapview info`: what a volume holds.
 
 use leapview::transfer::TransferFunction;
+use leapview::transfer::fit::{self, DataKind};
 use leapview::volume::stats::quantile;
-use leapview::volume::{ValueMapping, Volume};
+use leapview::volume::{OrientationSource, ValueMapping, Volume};
 
 use super::args::{InfoArgs, RawArgs};
 use super::text::{number, outln, print_stdout};
@@ -34,9 +35,12 @@ fn transparent_fraction(volume: &Volume, tf: &TransferFunction) -> f64 {
 /// Runs the command.
 pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
     let volume = load(&args.file, raw)?;
+    let kind = DataKind::of(&volume);
     let tf = match &args.tf {
         Some(name) => Some(
-            TransferFunction::from_preset_or_file(name).map_err(|e| Failure::BadInput(e.into()))?,
+            fit::resolve(name, &kind)
+                .map_err(|e| Failure::BadInput(e.into()))?
+                .tf,
         ),
         None => None,
     };
@@ -61,7 +65,20 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
             "tf_transparent_fraction": transparent,
             "orientation": volume.orientation().map(|o| o.code()),
             "orientation_in_file": volume.file_orientation().map(|o| o.code()),
+            "orientation_source": volume.orientation().map(|o| match o.source {
+                OrientationSource::Header => "header",
+                OrientationSource::User => "user",
+                OrientationSource::Assumed => "assumed",
+            }),
+            "orientation_in_header": volume.header_orientation().map(|o| o.code()),
             "reversed_i": volume.reversed_i(),
+            "modality": volume.modality().map(|m| m.label()),
+            "values": kind.describe(volume.modality()),
+            "hu_calibration": match &kind {
+                DataKind::CtCalibrated { to_hu, .. } => Some([to_hu.scale, to_hu.offset]),
+                _ => None,
+            },
+            "default_tf": kind.default_preset(),
         });
         return print_stdout(&format!("{value:#}\n")).map_err(|e| Failure::Other(e.into()));
     }
@@ -86,22 +103,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
         z as f64 * sz
     );
     outln!(out, "type:        {}", volume.scalar_type());
-    match volume.orientation() {
-        Some(o) if volume.reversed_i() => outln!(
-            out,
-            "orientation: {} in the header, a mirror image of the patient: read reversed along i, \
-             so renders show {} (voxel i is {} - i in the file)",
-            o.with_axis_reversed(0).code(),
-            o.code(),
-            x.saturating_sub(1)
-        ),
-        Some(o) => outln!(
-            out,
-            "orientation: {} (index axes i, j, k point to these)",
-            o.code()
-        ),
-        None => outln!(out, "orientation: not in the header (views assume RAS)"),
-    }
+    outln!(out, "orientation: {}", orientation_text(&volume));
     if m != ValueMapping::IDENTITY {
         outln!(
             out,
@@ -143,6 +145,8 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
             number(t)
         );
     }
+    outln!(out, "values:      {}", kind.describe(volume.modality()));
+    outln!(out, "default tf:  {}", kind.default_preset());
     if let (Some(share), Some(name)) = (transparent, &args.tf) {
         outln!(
             out,
@@ -151,4 +155,34 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
         );
     }
     print_stdout(&out).map_err(|e| Failure::Other(e.into()))
+}
+
+/// Where the index axes point, who said so, and whether the samples were reversed along i.
+fn orientation_text(volume: &Volume) -> String {
+    let Some(o) = volume.orientation() else {
+        return "not in the header (views assume RAS; set it with --orientation CODE)".into();
+    };
+    let in_file = volume.file_orientation().unwrap_or(o).code();
+    let said = match (o.source, volume.header_orientation()) {
+        (OrientationSource::User, Some(h)) => {
+            format!(
+                "{in_file} as given with --orientation (the header says {})",
+                h.code()
+            )
+        }
+        (OrientationSource::User, None) => {
+            format!("{in_file} as given with --orientation (the header has none)")
+        }
+        _ => format!("{in_file} in the header"),
+    };
+    if volume.reversed_i() {
+        format!(
+            "{said}, a mirror image of the patient: read reversed along i, so renders show {} \
+             (voxel i is {} - i in the file)",
+            o.code(),
+            volume.dims()[0].saturating_sub(1)
+        )
+    } else {
+        format!("{said} (index axes i, j, k point to these)")
+    }
 }

@@ -1,4 +1,5 @@
-//! The command line: `render`, `info`, `bench` and `accuracy` (the window is opened from `main`).
+//! The command line: `render`, `info`, `bench`, `accuracy` and `generate` (the window is opened from
+//! `main`).
 //! Input problems (a bad volume or transfer-function file, a bad flag) are [`Failure::BadInput`]
 //! and exit with status 2.
 
@@ -7,6 +8,7 @@ pub mod args;
 mod bench;
 mod datasets;
 pub mod effect_args;
+mod generate;
 mod info;
 mod measuring;
 pub mod parse;
@@ -45,13 +47,24 @@ pub fn run(command: Command, raw: &args::RawArgs) -> Result<(), Failure> {
         Command::Info(args) => info::run(args, raw),
         Command::Bench(args) => bench::run(*args),
         Command::Accuracy(args) => accuracy::run(*args),
+        Command::Generate(args) => generate::run(&args),
     }
 }
 
-/// Load options from the raw-file flags (`None` raw layout when `--dims` is absent).
+/// Load options from the raw-file flags (`None` raw layout when `--dims` is absent) and
+/// `--orientation`.
 pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
+    let orientation = raw
+        .orientation
+        .as_deref()
+        .map(leapview::volume::Orientation::parse_code)
+        .transpose()
+        .map_err(|e| Failure::BadInput(e.into()))?;
     let Some(dims) = raw.dims else {
-        return Ok(LoadOptions::default());
+        return Ok(LoadOptions {
+            orientation,
+            ..LoadOptions::default()
+        });
     };
     let name = raw.scalar_type.as_deref().ok_or_else(|| {
         Failure::BadInput(anyhow::anyhow!(
@@ -67,6 +80,7 @@ pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
             spacing_mm: raw.spacing.unwrap_or([1.0; 3]),
             big_endian: raw.big_endian,
         }),
+        orientation,
         ..LoadOptions::default()
     })
 }

@@ -6,7 +6,8 @@ use leapview::render::RenderError;
 use leapview::render::raycast::auto_path;
 use leapview::render::{FrameRequest, GpuContext, VolumeRenderer};
 use leapview::settings::RenderSettings;
-use leapview::transfer::TransferFunction;
+use leapview::transfer::blank::why_blank;
+use leapview::transfer::fit::{self, DataKind};
 
 use super::args::{RawArgs, RenderArgs};
 use super::text::{outln, print_stdout};
@@ -48,8 +49,15 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     // Refused before anything is loaded or rendered.
     leapview::imaging::check_output_path(&args.out).map_err(|e| Failure::BadInput(e.into()))?;
     let volume = load(&args.file, raw)?;
-    let tf =
-        TransferFunction::from_preset_or_file(&args.tf).map_err(|e| Failure::BadInput(e.into()))?;
+    let kind = DataKind::of(&volume);
+    let resolved = fit::resolve(&args.tf, &kind).map_err(|e| Failure::BadInput(e.into()))?;
+    if let Some(note) = &resolved.note {
+        eprintln!(
+            "leapview: note: {note} ({})",
+            kind.describe(volume.modality())
+        );
+    }
+    let tf = resolved.tf;
     let mut settings = RenderSettings {
         mode: args.mode,
         strategy: args.strategy,
@@ -110,6 +118,9 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         .save(&args.out)
         .context("writing the image")
         .map_err(Failure::Other)?;
+    if let Some(why) = why_blank(&volume, &tf, &settings) {
+        eprintln!("leapview: note: the image shows nothing: {why}");
+    }
     if args.stats {
         let mut times = Vec::new();
         for _ in 0..TIMED_FRAMES {

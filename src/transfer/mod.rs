@@ -4,7 +4,9 @@
 //! Opacity is that of a slab one `d0` thick (`d0` = the smallest voxel spacing); colours are
 //! linear RGB in 0..1. Both curves are clamped beyond their end points.
 
+pub mod blank;
 pub mod editor;
+pub mod fit;
 pub mod io;
 pub mod lut;
 pub mod preintegration;

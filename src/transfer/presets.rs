@@ -2,7 +2,6 @@
 //! file is needed at run time.
 
 use super::{TransferError, TransferFunction};
-use crate::volume::ValueRange;
 
 /// Preset names and their JSON text, in the order menus show them.
 const PRESETS: &[(&str, &str)] = &[
@@ -13,22 +12,26 @@ const PRESETS: &[(&str, &str)] = &[
         include_str!("../../assets/tf/ct-soft-tissue.json"),
     ),
     ("ct-angio", include_str!("../../assets/tf/ct-angio.json")),
+    ("ct-brain", include_str!("../../assets/tf/ct-brain.json")),
     (
         "mr-default",
         include_str!("../../assets/tf/mr-default.json"),
     ),
     ("mr-angio", include_str!("../../assets/tf/mr-angio.json")),
+    ("object", include_str!("../../assets/tf/object.json")),
     ("grey-ramp", include_str!("../../assets/tf/grey-ramp.json")),
 ];
 
 /// Names of all presets.
-pub const NAMES: [&str; 7] = [
+pub const NAMES: [&str; 9] = [
     "ct-bone",
     "ct-skin",
     "ct-soft-tissue",
     "ct-angio",
+    "ct-brain",
     "mr-default",
     "mr-angio",
+    "object",
     "grey-ramp",
 ];
 
@@ -47,67 +50,14 @@ pub fn preset(name: &str) -> Result<TransferFunction, TransferError> {
 
 /// Preset chosen for volumes that look like CT (values in Hounsfield units).
 pub const DEFAULT_CT_PRESET: &str = "ct-bone";
-/// Preset chosen for every other volume (MRI and unitless data).
+/// Preset chosen for MR volumes.
 pub const DEFAULT_OTHER_PRESET: &str = "mr-default";
-
-/// Below this minimum (data units) a volume is taken for CT: air is −1000 HU, and no MRI or
-/// unitless volume has values this negative.
-pub const CT_MINIMUM_BELOW: f64 = -500.0;
-
-/// Whether a volume with this value range looks like CT (see [`CT_MINIMUM_BELOW`]).
-pub fn is_ct_like(range: Option<ValueRange>) -> bool {
-    range.is_some_and(|r| r.min < CT_MINIMUM_BELOW)
-}
-
-/// The preset to use after opening a volume: the current one when it suits the volume's kind
-/// (a `ct-*` preset for CT, an `mr-*` preset otherwise, the grey ramp for either), else the
-/// default for that kind.
-pub fn preset_for_volume(current: &str, ct_like: bool) -> String {
-    let fits = current == "grey-ramp"
-        || (ct_like && current.starts_with("ct-"))
-        || (!ct_like && current.starts_with("mr-"));
-    if fits {
-        current.to_string()
-    } else if ct_like {
-        DEFAULT_CT_PRESET.to_string()
-    } else {
-        DEFAULT_OTHER_PRESET.to_string()
-    }
-}
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::transfer::ValueSpace;
-
-    #[test]
-    fn ct_is_recognised_by_air() {
-        let ct = ValueRange {
-            min: -1024.0,
-            max: 3071.0,
-        };
-        let mr = ValueRange {
-            min: 0.0,
-            max: 4095.0,
-        };
-        assert!(is_ct_like(Some(ct)));
-        assert!(!is_ct_like(Some(mr)));
-        assert!(!is_ct_like(None));
-    }
-
-    #[test]
-    fn preset_follows_the_kind_of_volume() {
-        assert_eq!(preset_for_volume("ct-skin", true), "ct-skin");
-        assert_eq!(preset_for_volume("ct-skin", false), DEFAULT_OTHER_PRESET);
-        assert_eq!(preset_for_volume("mr-angio", true), DEFAULT_CT_PRESET);
-        assert_eq!(preset_for_volume("grey-ramp", false), "grey-ramp");
-        // Whatever is chosen is a preset that exists.
-        for name in NAMES {
-            for ct in [false, true] {
-                assert!(NAMES.contains(&preset_for_volume(name, ct).as_str()));
-            }
-        }
-    }
+    use crate::volume::ValueRange;
 
     #[test]
     fn every_preset_parses_and_names_match() {

@@ -317,9 +317,6 @@ fn view_section(ui: &mut egui::Ui, volume: Option<&VolumeSummary>) -> Option<Act
                 action = Some(Action::ViewFrom(side));
             }
         }
-        if let Some(v) = volume {
-            orientation_label(ui, v);
-        }
     });
     ui.horizontal_wrapped(|ui| {
         for (preset, label) in VIEWS {
@@ -329,35 +326,31 @@ fn view_section(ui: &mut egui::Ui, volume: Option<&VolumeSummary>) -> Option<Act
             }
         }
     });
-    if ui.button("Reset view (R)").clicked() {
-        action = Some(Action::ResetView);
+    ui.horizontal(|ui| {
+        if ui.button("Reset view (R)").clicked() {
+            action = Some(Action::ResetView);
+        }
+        if ui
+            .button("Roll −90°")
+            .on_hover_text("Turn the view 90° anticlockwise ([)")
+            .clicked()
+        {
+            action = Some(Action::Roll(-90.0));
+        }
+        if ui
+            .button("Roll +90°")
+            .on_hover_text("Turn the view 90° clockwise (])")
+            .clicked()
+        {
+            action = Some(Action::Roll(90.0));
+        }
+    });
+    if let Some(v) = volume
+        && let Some(a) = super::orientation_controls::orientation_ui(ui, v)
+    {
+        action = Some(a);
     }
     action
-}
-
-/// The volume's orientation code, and whether it was read reversed along i.
-fn orientation_label(ui: &mut egui::Ui, v: &VolumeSummary) {
-    let o = v.orientation_or_assumed();
-    // Loading reverses a mirrored file along i (`Volume::unmirrored`), so what is shown is never
-    // a mirror image.
-    if v.reversed_i {
-        let file = o.with_axis_reversed(0).code();
-        ui.label(egui::RichText::new(format!("{} · i reversed", o.code())).weak())
-            .on_hover_text(format!(
-                "{file} from the header: a mirror image of the patient, so the samples were \
-                 reversed along i when loading and the 3D picture is not mirrored (voxel i here \
-                 is {} − i in the file)",
-                v.dims[0].saturating_sub(1)
-            ));
-        return;
-    }
-    let note = if v.orientation.is_some() {
-        format!("{} from the header", o.code())
-    } else {
-        "no orientation in the file: RAS assumed".to_string()
-    };
-    ui.label(egui::RichText::new(o.code()).weak())
-        .on_hover_text(note);
 }
 
 /// What is loaded.
@@ -369,6 +362,8 @@ fn volume_section(ui: &mut egui::Ui, volume: Option<&VolumeSummary>) {
             if let Some(r) = v.range {
                 ui.label(format!("values {} … {}", short(r.min), short(r.max)));
             }
+            ui.label(egui::RichText::new(v.kind.short_label()).weak())
+                .on_hover_text(&v.kind_text);
         }
         None => {
             ui.label("none yet");

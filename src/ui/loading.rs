@@ -50,7 +50,9 @@ impl VolumeSource {
     pub fn preferred_preset(&self) -> Option<&'static str> {
         match self {
             Self::VesselTree => Some("mr-angio"),
-            Self::File { .. } | Self::SheppLogan => None,
+            // Its inside: ventricles, lesions, the skull translucent.
+            Self::SheppLogan => Some("ct-brain"),
+            Self::File { .. } => None,
         }
     }
 
@@ -268,6 +270,6 @@ mod tests {
         let volume = wait(&mut loader).expect("the phantom generates");
         assert_eq!(volume.dims(), [GENERATED_SIZE; 3]);
         // Air in HU: the phantom must be recognised as CT.
-        assert!(crate::transfer::presets::is_ct_like(volume.value_range()));
+        assert!(crate::transfer::fit::DataKind::of(&volume).is_ct());
     }
 }

@@ -25,7 +25,7 @@ pub fn view_label(side: Direction) -> String {
 }
 
 /// The controls, one `(gesture, effect)` pair a line, for the Help menu and the view's tooltip.
-pub const CONTROLS: [(&str, &str); 10] = [
+pub const CONTROLS: [(&str, &str); 12] = [
     (
         "Left drag",
         "orbit about the centre (horizontal: azimuth, vertical: elevation)",
@@ -41,7 +41,18 @@ pub const CONTROLS: [(&str, &str); 10] = [
         "Ctrl + Z, Ctrl + Shift + Z",
         "undo, redo a transfer-function edit",
     ),
-    ("R, or View menu: Reset view", "reset the view"),
+    (
+        "R, or View menu: Reset view",
+        "reset the view (the patient from the front, head up)",
+    ),
+    (
+        "[ and ], or View menu: Roll",
+        "turn the view 90° anticlockwise, clockwise",
+    ),
+    (
+        "Side panel: Correct the orientation",
+        "a file shown upside down or back to front: flip its axes (kept for the file)",
+    ),
     (
         "View menu or panel: A, P, L, R, S, I",
         "look from the patient's front, back, left, right, top, bottom (the file's orientation, \
@@ -102,6 +113,12 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
             });
             if ui.button("Reset view (R)").clicked() {
                 action = Some(Action::ResetView);
+            }
+            if ui.button("Roll 90° anticlockwise ([)").clicked() {
+                action = Some(Action::Roll(-90.0));
+            }
+            if ui.button("Roll 90° clockwise (])").clicked() {
+                action = Some(Action::Roll(90.0));
             }
             ui.separator();
             for (kind, label) in [

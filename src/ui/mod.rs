@@ -17,6 +17,7 @@ pub mod interaction;
 pub mod loading;
 pub mod lod;
 pub mod menu;
+pub mod orientation_controls;
 pub mod orientation_marker;
 pub mod overlay;
 pub mod redraw;
@@ -55,11 +56,20 @@ pub struct VolumeSummary {
     pub orientation: Option<crate::volume::Orientation>,
     /// Whether the samples were reversed along i because the file's orientation is mirrored.
     pub reversed_i: bool,
+    /// The orientation the header gave, whatever the user said.
+    pub header_orientation: Option<crate::volume::Orientation>,
+    /// Whether the volume is a file (whose orientation the user may set), not generated.
+    pub from_file: bool,
+    /// What the values were taken for (CT in HU, CT in scanner units, MR, other).
+    pub kind: crate::transfer::fit::DataKind,
+    /// [`crate::transfer::fit::DataKind::describe`], for the side panel.
+    pub kind_text: String,
 }
 
 impl VolumeSummary {
     /// Summarises `volume`.
     pub fn of(volume: &Volume) -> Self {
+        let kind = crate::transfer::fit::DataKind::of(volume);
         Self {
             name: volume.name().to_string(),
             dims: volume.dims(),
@@ -69,6 +79,10 @@ impl VolumeSummary {
             histogram: volume.histogram().counts.clone(),
             orientation: volume.orientation(),
             reversed_i: volume.reversed_i(),
+            header_orientation: volume.header_orientation(),
+            from_file: false,
+            kind_text: kind.describe(volume.modality()),
+            kind,
         }
     }
 
@@ -76,6 +90,17 @@ impl VolumeSummary {
     pub fn orientation_or_assumed(&self) -> crate::volume::Orientation {
         self.orientation
             .unwrap_or(crate::volume::Orientation::ASSUMED)
+    }
+
+    /// The orientation in the file's own index frame (before the reversal along i that loading
+    /// does for a mirrored one): what the user's flips start from.
+    pub fn file_orientation_or_assumed(&self) -> crate::volume::Orientation {
+        let o = self.orientation_or_assumed();
+        if self.reversed_i {
+            o.with_axis_reversed(0)
+        } else {
+            o
+        }
     }
 
     /// One line: dims, type and spacing, e.g. `256×256×256 int16, 0.8×0.8×1 mm`.
@@ -106,8 +131,14 @@ pub enum Action {
     SetView(ViewPreset),
     /// Look at the patient from one side (the A, P, L, R, S, I views), framing the whole volume.
     ViewFrom(crate::volume::Direction),
-    /// Back to the default (oblique) view, framing the whole volume.
+    /// Back to the view a volume opens in (the patient from the front, superior up), framing
+    /// the whole volume.
     ResetView,
+    /// Turn the view about its line of sight by this many degrees (clockwise on screen).
+    Roll(f64),
+    /// Take the file's index axes to point this way (in the file's index frame) and open it
+    /// again; `None`: back to the header's orientation.
+    Reorient(Option<crate::volume::Orientation>),
     /// Switch projection, keeping the size of what is at the orbit centre.
     SetProjection(ProjectionKind),
     /// Show the "Save image" window (path and size).

@@ -80,6 +80,8 @@ pub struct Readout<'a> {
     pub preview_scale: Option<f64>,
     /// Frames in the refined mean on screen and the number aimed at, while refining or refined.
     pub refined: Option<(u32, u32)>,
+    /// Why the picture shows nothing, when it cannot ([`crate::transfer::blank::why_blank`]).
+    pub blank: Option<String>,
 }
 
 /// `1234567` as `1.23 M`.
@@ -146,6 +148,9 @@ impl Readout<'_> {
         }
         if let Some(v) = self.volume {
             lines.push(format!("{} · {}", v.name, v.line()));
+        }
+        if let Some(why) = &self.blank {
+            lines.push(format!("nothing shows: {why}"));
         }
         lines
     }
@@ -263,6 +268,7 @@ mod tests {
             tf_latency_ms: Some(3.5),
             preview_scale: None,
             refined: None,
+            blank: None,
         };
         let lines = readout.lines();
         assert_eq!(
@@ -288,6 +294,7 @@ mod tests {
             tf_latency_ms: None,
             preview_scale: None,
             refined: None,
+            blank: None,
         };
         let nothing_yet = Readout {
             path: None,

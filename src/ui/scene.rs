@@ -98,11 +98,13 @@ impl Scene {
         })
     }
 
-    /// Uploads `volume` and frames it in the default view. On error the old volume stays.
+    /// Uploads `volume` (`from_file`: read from a file, not generated) and frames it in the
+    /// default view. On error the old volume stays.
     pub fn show_volume(
         &mut self,
         volume: &Volume,
         projection: ProjectionKind,
+        from_file: bool,
     ) -> Result<&VolumeSummary, RenderError> {
         let started = std::time::Instant::now();
         self.renderer.set_volume(volume)?;
@@ -111,14 +113,25 @@ impl Scene {
             volume.name(),
             started.elapsed().as_secs_f64() * 1e3
         );
-        let summary = VolumeSummary::of(volume);
+        let summary = VolumeSummary {
+            from_file,
+            ..VolumeSummary::of(volume)
+        };
         let bounds = Aabb::of_volume(summary.dims, summary.spacing_mm);
-        self.camera = Some(framed(&bounds, ViewPreset::Oblique, projection));
         self.bounds = Some(bounds);
+        self.volume = Some(summary);
+        self.reset_view(projection);
         self.volume_generation += 1;
         self.lod.forget();
+        let summary = self.volume.as_ref().ok_or(RenderError::NoVolume)?;
         log::info!("showing {}: {}", summary.name, summary.line());
-        Ok(self.volume.insert(summary))
+        Ok(summary)
+    }
+
+    /// The view a volume opens in: the patient from the front, superior up (by the file's
+    /// orientation, RAS where it has none), as a radiologist looks at a 3D rendering.
+    pub fn reset_view(&mut self, projection: ProjectionKind) {
+        self.view_from(crate::volume::Direction::Anterior, projection);
     }
 
     /// The volume on screen.
@@ -404,6 +417,9 @@ impl Scene {
             tf_latency_ms: self.tf_latency_ms,
             preview_scale: self.preview_scale(),
             refined: Some(self.refined).filter(|(n, _)| *n > 0),
+            blank: self.volume.as_ref().and_then(|v| {
+                crate::transfer::blank::why_blank_in(v.range, state.editor.tf(), &state.render)
+            }),
         }
     }
 

@@ -7,7 +7,18 @@ use serde::{Deserialize, Serialize};
 use crate::camera::ProjectionKind;
 use crate::settings::{Light, QualityPreset, RenderSettings, Strategy};
 use crate::transfer::editor::TfEditor;
+use crate::transfer::fit::{DataKind, fitted_preset};
 use crate::transfer::{TransferFunction, presets};
+use crate::volume::Orientation;
+
+/// The key a file's orientation is kept under: its absolute path, so that the same file opened
+/// from another folder finds it.
+fn orientation_key(path: &std::path::Path) -> String {
+    std::fs::canonicalize(path)
+        .unwrap_or_else(|_| path.to_path_buf())
+        .display()
+        .to_string()
+}
 
 /// Frames a still view is refined to by default: 8 shifted grids sample each ray as densely as
 /// a step 8 times finer.
@@ -37,6 +48,9 @@ pub struct ViewerState {
     /// between runs under its own key, see `src/ui/app/persistence.rs`; the history is not).
     #[serde(skip)]
     pub editor: TfEditor,
+    /// The kind of data the transfer function was fitted to (CT presets are mapped onto CT in
+    /// scanner units): a volume of another kind gets its own fit.
+    pub fitted_to: Option<DataKind>,
     /// Whether the editor's histogram has a log scale.
     pub log_histogram: bool,
     /// Azimuth and elevation in degrees of where a directional light comes from: the sliders'
@@ -61,6 +75,9 @@ pub struct ViewerState {
     pub show_crop_box: bool,
     /// Files opened successfully, newest first (at most [`RECENT_FILES`]).
     pub recent: Vec<std::path::PathBuf>,
+    /// The orientation the user gave for a file (its absolute path → a code such as `RAI`, in
+    /// the file's index frame), used in place of the header's whenever that file opens.
+    pub orientations: std::collections::BTreeMap<String, String>,
 }
 
 impl Default for ViewerState {
@@ -74,6 +91,7 @@ impl Default for ViewerState {
                 presets::preset(presets::DEFAULT_CT_PRESET)
                     .unwrap_or_else(|_| TransferFunction::grey_ramp()),
             ),
+            fitted_to: None,
             log_histogram: true,
             light_angles: DEFAULT_LIGHT_ANGLES,
             statistics: false,
@@ -85,6 +103,7 @@ impl Default for ViewerState {
             refine_frames: DEFAULT_REFINE_FRAMES,
             recent: Vec::new(),
             show_crop_box: false,
+            orientations: std::collections::BTreeMap::new(),
         }
     }
 }
@@ -92,8 +111,16 @@ impl Default for ViewerState {
 impl ViewerState {
     /// Loads preset `name` into the editor (one undo step); an unknown name changes nothing.
     pub fn choose_preset(&mut self, name: &str) -> Result<(), String> {
-        self.editor.load_preset(name).map_err(|e| e.to_string())?;
+        let kind = self.fitted_to.clone().unwrap_or(DataKind::Other);
+        self.choose_preset_for(name, kind)
+    }
+
+    /// Loads preset `name` fitted to data of `kind` (one undo step), and remembers the kind.
+    pub fn choose_preset_for(&mut self, name: &str, kind: DataKind) -> Result<(), String> {
+        let tf = fitted_preset(name, &kind).map_err(|e| e.to_string())?;
+        self.editor.set(tf);
         self.preset = name.to_string();
+        self.fitted_to = Some(kind);
         Ok(())
     }
 
@@ -103,6 +130,30 @@ impl ViewerState {
         self.recent.retain(|p| p != path);
         self.recent.insert(0, path.to_path_buf());
         self.recent.truncate(RECENT_FILES);
+    }
+
+    /// The orientation the user gave for the file at `path`, if any (a stored code that no
+    /// longer parses is ignored).
+    pub fn orientation_for(&self, path: &std::path::Path) -> Option<Orientation> {
+        let code = self.orientations.get(&orientation_key(path))?;
+        Orientation::parse_code(code).ok()
+    }
+
+    /// Remembers `orientation` for the file at `path` (`None`: back to the header's).
+    pub fn set_orientation_for(
+        &mut self,
+        path: &std::path::Path,
+        orientation: Option<Orientation>,
+    ) {
+        let key = orientation_key(path);
+        match orientation {
+            Some(o) => {
+                self.orientations.insert(key, o.code());
+            }
+            None => {
+                self.orientations.remove(&key);
+            }
+        }
     }
 
     /// The preset the current knobs match, `None` for custom settings.
@@ -186,6 +237,39 @@ mod tests {
                 .count(),
             1
         );
+    }
+
+    #[test]
+    fn a_files_orientation_is_kept_by_its_absolute_path_until_reset() {
+        let dir = std::env::temp_dir().join(format!("leapview-orient-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let file = dir.join("head.nrrd");
+        std::fs::write(&file, b"x").expect("file");
+        let mut state = ViewerState::default();
+        assert_eq!(state.orientation_for(&file), None);
+        let rai = Orientation::parse_code("RAI").expect("valid");
+        state.set_orientation_for(&file, Some(rai));
+        // The same file by another spelling of its path.
+        let other = dir.join(".").join("head.nrrd");
+        assert_eq!(
+            state.orientation_for(&other).map(|o| o.code()),
+            Some("RAI".into())
+        );
+        // It survives a round trip through the stored state.
+        let stored = serde_json::to_string(&state).expect("serialises");
+        let back: ViewerState = serde_json::from_str(&stored).expect("parses");
+        assert_eq!(back.orientation_for(&file), Some(rai));
+        state.set_orientation_for(&file, None);
+        assert_eq!(state.orientation_for(&file), None);
+        // Another file is not affected, and a stored code that is no longer valid is ignored.
+        state
+            .orientations
+            .insert("/elsewhere.nii".into(), "XYZ".into());
+        assert_eq!(
+            state.orientation_for(std::path::Path::new("/elsewhere.nii")),
+            None
+        );
+        std::fs::remove_dir_all(&dir).expect("clean up");
     }
 
     #[test]

@@ -17,6 +17,8 @@ pub struct ViewArea {
     pub size_px: [u32; 2],
     /// Whether R was pressed (reset view) while the view had the keyboard.
     pub reset_requested: bool,
+    /// Degrees to roll the view by ([ and ]: 90° anticlockwise and clockwise), when asked.
+    pub roll_deg: Option<f64>,
     /// Pointer motion of a right-drag this pass (window/level), in points.
     pub window_drag: Option<[f32; 2]>,
     /// Whether a right-drag ended this pass.
@@ -39,8 +41,16 @@ pub fn view_ui(ui: &mut egui::Ui, camera: Option<&mut Camera>) -> ViewArea {
     let rect = Rect::from_min_size(min, vec2(size_px[0] as f32 / ppp, size_px[1] as f32 / ppp));
     let response = ui.allocate_rect(rect, Sense::click_and_drag());
     // Clicking the view gives it egui's focus, so only a text field blocks the shortcut.
-    let reset_requested = !ui.ctx().text_edit_focused()
-        && ui.input(|i| i.key_pressed(egui::Key::R) && i.modifiers.is_none());
+    let keys = !ui.ctx().text_edit_focused();
+    let pressed = |key| keys && ui.input(|i| i.key_pressed(key) && i.modifiers.is_none());
+    let reset_requested = pressed(egui::Key::R);
+    let roll_deg = if pressed(egui::Key::OpenBracket) {
+        Some(-90.0)
+    } else if pressed(egui::Key::CloseBracket) {
+        Some(90.0)
+    } else {
+        None
+    };
     if let Some(camera) = camera {
         let shift = ui.input(|i| i.modifiers.shift);
         let delta = response.drag_delta();
@@ -70,6 +80,7 @@ pub fn view_ui(ui: &mut egui::Ui, camera: Option<&mut Camera>) -> ViewArea {
         rect,
         size_px,
         reset_requested,
+        roll_deg,
         window_drag,
         window_drag_ended: response.drag_stopped_by(PointerButton::Secondary),
     }

@@ -13,6 +13,8 @@ pub struct LoadOptions {
     pub raw: Option<RawParams>,
     /// Where to report how much of the samples was read, and to look for a cancellation.
     pub progress: Option<std::sync::Arc<super::LoadProgress>>,
+    /// The user's orientation, in place of the header's (or of none), in the file's index frame.
+    pub orientation: Option<super::Orientation>,
 }
 
 /// The readers, as chosen from a file name and the options.
@@ -26,13 +28,18 @@ enum Format {
 /// Loads a NRRD (`.nrrd`, `.nhdr`), NIfTI-1 (`.nii`, `.nii.gz`) or raw volume. Raw layout
 /// parameters in `options` make any file read as raw. The volume is named after the file.
 ///
-/// A file whose orientation is mirrored comes back [`Volume::unmirrored`]: reversed along i, so
-/// that no render shows the patient's mirror image.
+/// The orientation in `options` replaces the header's. A file whose orientation is mirrored comes
+/// back [`Volume::unmirrored`]: reversed along i, so that no render shows the patient's mirror
+/// image.
 ///
 /// Errors name the file last; no header, however corrupt, makes this allocate more than the file
 /// can hold or than [`super::limits::MAX_VOLUME_BYTES`].
 pub fn load_volume(path: &Path, options: &LoadOptions) -> Result<Volume, LoadError> {
     load(path, options)
+        .map(|v| match options.orientation {
+            Some(o) => v.with_user_orientation(o),
+            None => v,
+        })
         .map(Volume::unmirrored)
         .map_err(|problem| LoadError {
             path: path.to_path_buf(),

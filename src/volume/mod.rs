@@ -15,6 +15,7 @@ pub mod decode;
 pub mod error;
 pub mod limits;
 pub mod load;
+pub mod modality;
 pub mod nifti;
 pub mod nrrd;
 pub mod orientation;
@@ -26,7 +27,8 @@ pub mod synthetic;
 
 pub use error::VolumeError;
 pub use load::{LoadOptions, load_volume};
-pub use orientation::{Direction, Orientation};
+pub use modality::Modality;
+pub use orientation::{BadOrientationCode, Direction, Orientation, OrientationSource};
 pub use progress::LoadProgress;
 pub use samples::{Samples, ScalarType};
 pub use stats::{Histogram, ValueRange};
@@ -71,7 +73,10 @@ pub struct Volume {
     histogram: Histogram,
     non_finite_count: u64,
     orientation: Option<Orientation>,
+    /// What the header said, kept when the user overrides it.
+    header_orientation: Option<Orientation>,
     reversed_i: bool,
+    modality: Option<Modality>,
 }
 
 impl Volume {
@@ -115,14 +120,30 @@ impl Volume {
             histogram,
             non_finite_count,
             orientation: None,
+            header_orientation: None,
             reversed_i: false,
+            modality: None,
         })
     }
 
     /// The volume with the anatomical orientation its file gave.
     pub fn with_orientation(mut self, orientation: Option<Orientation>) -> Self {
         self.orientation = orientation;
+        self.header_orientation = orientation;
         self
+    }
+
+    /// The volume with the orientation the user gave (`--orientation`, the window's orientation
+    /// controls) in place of the header's, or of none: for files that lack one or state it wrong.
+    /// Call before [`Volume::unmirrored`]; the header's stays in [`Volume::header_orientation`].
+    pub fn with_user_orientation(mut self, orientation: Orientation) -> Self {
+        self.orientation = Some(orientation.said_by(OrientationSource::User));
+        self
+    }
+
+    /// The orientation the file's header gave, whatever the user said.
+    pub fn header_orientation(&self) -> Option<Orientation> {
+        self.header_orientation
     }
 
     /// The volume as a right-handed picture of the patient: when its orientation is mirrored (an
@@ -138,13 +159,25 @@ impl Volume {
         self
     }
 
+    /// The volume with the modality its file declared.
+    pub fn with_modality(mut self, modality: Option<Modality>) -> Self {
+        self.modality = modality;
+        self
+    }
+
+    /// The modality the file declared (`None` where it says nothing).
+    pub fn modality(&self) -> Option<&Modality> {
+        self.modality.as_ref()
+    }
+
     /// The anatomical orientation of the index axes as stored here: the header's, except along
     /// i when [`Volume::unmirrored`] reversed it.
     pub fn orientation(&self) -> Option<Orientation> {
         self.orientation
     }
 
-    /// The orientation the file's header gave (before any reversal).
+    /// The orientation in the file's index frame (before any reversal): the header's, or the
+    /// user's where they gave one.
     pub fn file_orientation(&self) -> Option<Orientation> {
         self.orientation.map(|o| {
             if self.reversed_i {
@@ -218,14 +251,7 @@ impl Volume {
     /// range, widened to a unit interval when the volume is constant (or has no finite sample) so
     /// that normalising never divides by zero.
     pub fn normalization_range(&self) -> ValueRange {
-        match self.range {
-            Some(r) if r.max > r.min => r,
-            Some(r) => ValueRange {
-                min: r.min,
-                max: r.min + 1.0,
-            },
-            None => ValueRange { min: 0.0, max: 1.0 },
-        }
+        ValueRange::normalization(self.range)
     }
 
     /// Histogram of the finite values in data units.

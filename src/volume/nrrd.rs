@@ -5,6 +5,7 @@
 mod fields;
 mod header;
 mod names;
+pub mod write;
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, ErrorKind};
@@ -53,7 +54,8 @@ pub fn read_nrrd(
     };
     Ok(
         Volume::new(name, dims, nrrd.spacing_mm, samples, nrrd.mapping)?
-            .with_orientation(nrrd.orientation),
+            .with_orientation(nrrd.orientation)
+            .with_modality(nrrd.modality),
     )
 }
 

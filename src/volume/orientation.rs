@@ -79,6 +79,30 @@ impl Direction {
         }
     }
 
+    /// The direction a letter names (R, L, A, P, S, I, any case).
+    pub fn from_letter(letter: char) -> Option<Self> {
+        let upper = letter.to_ascii_uppercase();
+        [
+            Self::Right,
+            Self::Left,
+            Self::Anterior,
+            Self::Posterior,
+            Self::Superior,
+            Self::Inferior,
+        ]
+        .into_iter()
+        .find(|d| d.letter() == upper)
+    }
+
+    /// The RAS axis this direction lies on: 0 for R/L, 1 for A/P, 2 for S/I.
+    pub fn ras_axis(self) -> usize {
+        match self {
+            Self::Right | Self::Left => 0,
+            Self::Anterior | Self::Posterior => 1,
+            Self::Superior | Self::Inferior => 2,
+        }
+    }
+
     /// The positive direction of RAS axis `a` (0 = R, 1 = A, 2 = S) or its negative.
     fn of_ras_axis(a: usize, positive: bool) -> Self {
         let d = [Self::Right, Self::Anterior, Self::Superior][a];
@@ -86,22 +110,89 @@ impl Direction {
     }
 }
 
-/// The anatomical direction of each index axis, and whether the file said so.
+/// Who said which way the index axes point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OrientationSource {
+    /// The file's header.
+    Header,
+    /// The user, overriding the header or filling in for a file without one
+    /// (`--orientation`, the window's orientation controls).
+    User,
+    /// Nobody: [`Orientation::ASSUMED`], for files without one.
+    Assumed,
+}
+
+/// The anatomical direction of each index axis, and who said so.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Orientation {
     /// Direction in which index i, j, k increase.
     pub axes: [Direction; 3],
-    /// Whether the header gave it (false: [`Orientation::ASSUMED`], for files without one).
-    pub from_header: bool,
+    /// Where it comes from.
+    pub source: OrientationSource,
 }
+
+/// Why an orientation code was refused.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "orientation {0:?} is not a code of three letters, one each of R/L, A/P and S/I, saying where \
+     index axes i, j, k point (e.g. RAS, LPS, or RAI for slices that run from the top of the \
+     head down)"
+)]
+pub struct BadOrientationCode(pub String);
 
 impl Orientation {
     /// What files without orientation are taken to be: RAS, NIfTI's world convention (index
     /// i to the patient's right, j to the front, k to the head).
     pub const ASSUMED: Self = Self {
         axes: [Direction::Right, Direction::Anterior, Direction::Superior],
-        from_header: false,
+        source: OrientationSource::Assumed,
     };
+
+    /// Reads a three-letter code (`RAS`, `lpi`, …: any case) as the user's orientation: one
+    /// letter of each pair R/L, A/P, S/I, for index axes i, j, k in turn.
+    pub fn parse_code(code: &str) -> Result<Self, BadOrientationCode> {
+        let bad = || BadOrientationCode(code.to_string());
+        let letters: Vec<char> = code.trim().chars().collect();
+        if letters.len() != 3 {
+            return Err(bad());
+        }
+        let mut axes = [Direction::Right; 3];
+        let mut taken = [false; 3];
+        for (a, letter) in letters.iter().enumerate() {
+            let d = Direction::from_letter(*letter).ok_or_else(bad)?;
+            let pair = d.ras_axis();
+            if taken[pair] {
+                return Err(bad());
+            }
+            taken[pair] = true;
+            axes[a] = d;
+        }
+        Ok(Self {
+            axes,
+            source: OrientationSource::User,
+        })
+    }
+
+    /// The same axes, as said by `source`.
+    pub fn said_by(mut self, source: OrientationSource) -> Self {
+        self.source = source;
+        self
+    }
+
+    /// The same orientation with the index axis that points along `direction`'s pair (R/L, A/P
+    /// or S/I) pointing the other way: "this file's k axis points inferior, not superior". The
+    /// result is the user's word.
+    pub fn flipped(self, direction: Direction) -> Self {
+        let flipped = match self
+            .axes
+            .iter()
+            .position(|d| d.ras_axis() == direction.ras_axis())
+        {
+            Some(axis) => self.with_axis_reversed(axis),
+            None => self,
+        };
+        flipped.said_by(OrientationSource::User)
+    }
 
     /// From the world (RAS) direction of each index axis, `columns[a]` for axis a: each axis
     /// takes the RAS axis it is closest to. `None` when the columns are degenerate (zero, not
@@ -124,7 +215,7 @@ impl Orientation {
         }
         Some(Self {
             axes,
-            from_header: true,
+            source: OrientationSource::Header,
         })
     }
 
@@ -225,6 +316,39 @@ mod tests {
         assert!(Orientation::from_ras_columns(twice).is_none());
         let nan = [[f64::NAN, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
         assert!(Orientation::from_ras_columns(nan).is_none());
+    }
+
+    #[test]
+    fn codes_parse_one_letter_of_each_pair() {
+        let rai = Orientation::parse_code("rai").expect("valid");
+        assert_eq!(rai.code(), "RAI");
+        assert_eq!(rai.source, OrientationSource::User);
+        assert!(rai.is_mirrored(), "RAI is RAS with k reversed");
+        assert_eq!(
+            Orientation::parse_code(" LPS ").expect("valid").code(),
+            "LPS"
+        );
+        assert_eq!(Orientation::parse_code("SAR").expect("valid").code(), "SAR");
+        for bad in ["", "RA", "RASR", "RRS", "RLA", "RAX", "R A", "ÄAS"] {
+            let e = Orientation::parse_code(bad).expect_err(bad);
+            assert!(e.to_string().contains("R/L, A/P and S/I"), "{e}");
+        }
+    }
+
+    #[test]
+    fn flipping_a_direction_reverses_the_axis_along_it() {
+        let ras = Orientation::ASSUMED;
+        assert_eq!(ras.flipped(Direction::Superior).code(), "RAI");
+        assert_eq!(ras.flipped(Direction::Inferior).code(), "RAI");
+        assert_eq!(ras.flipped(Direction::Anterior).code(), "RPS");
+        assert_eq!(ras.flipped(Direction::Left).code(), "LAS");
+        let sar = Orientation::parse_code("SAR").expect("valid");
+        assert_eq!(sar.flipped(Direction::Superior).code(), "IAR");
+        assert_eq!(ras.flipped(Direction::Left).source, OrientationSource::User);
+        // Twice is the identity.
+        for d in Direction::VIEWS {
+            assert_eq!(ras.flipped(d).flipped(d).axes, ras.axes);
+        }
     }
 
     #[test]

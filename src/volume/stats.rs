@@ -25,6 +25,20 @@ impl ValueRange {
         (value - self.min) / (self.max - self.min)
     }
 
+    /// The range used to normalise values of a volume whose finite values span `range`: the range
+    /// itself, widened to a unit interval when it is a single value (or there is none), so that
+    /// normalising never divides by zero.
+    pub fn normalization(range: Option<ValueRange>) -> ValueRange {
+        match range {
+            Some(r) if r.max > r.min => r,
+            Some(r) => ValueRange {
+                min: r.min,
+                max: r.min + 1.0,
+            },
+            None => ValueRange { min: 0.0, max: 1.0 },
+        }
+    }
+
     /// Maps a normalised coordinate back to data units.
     pub fn denormalize(&self, t: f64) -> f64 {
         self.min + t * (self.max - self.min)

@@ -429,3 +429,88 @@ fn a_mirrored_file_renders_as_the_patient_not_their_mirror_image() {
         "bright pixels: {left} left, {right} right"
     );
 }
+
+#[test]
+fn orientation_given_on_the_command_line_puts_the_head_up() {
+    // A file without orientation whose slices run from the top of the head down (as the shared
+    // CT head's): the bright "skull cap" is at k = 1, the dim body below it. RAS is assumed, so
+    // from the front the cap shows at the bottom; `--orientation RAI` says k points inferior and
+    // puts it on top.
+    const DIMS: [u32; 3] = [10, 10, 12];
+    let [nx, ny, nz] = DIMS.map(|d| d as usize);
+    let samples: Vec<u8> = (0..nx * ny * nz)
+        .map(|i| if i / (nx * ny) <= 2 { 250 } else { 40 })
+        .collect();
+    let dir = common::TempDir::new("cli-orientation");
+    let mut lines = common::nrrd_lines(leapview::volume::ScalarType::U8, DIMS, "raw", false);
+    lines.push("spacings: 1 1 1".into());
+    let refs: Vec<&str> = lines.iter().map(String::as_str).collect();
+    let path = dir.write("head.nrrd", &common::nrrd_file(&refs, &samples));
+    let path = path.to_str().expect("utf-8");
+
+    let info = |extra: &[&str]| {
+        let mut args = vec!["info", path, "--json"];
+        args.extend_from_slice(extra);
+        let o = leapview(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).expect("json")
+    };
+    let plain = info(&[]);
+    assert_eq!(plain["orientation"], serde_json::Value::Null);
+    let given = info(&["--orientation", "rai"]);
+    // RAI is a mirror image of RAS: read reversed along i, shown as LAI.
+    assert_eq!(given["orientation_in_file"], "RAI");
+    assert_eq!(given["orientation"], "LAI");
+    assert_eq!(given["orientation_source"], "user");
+    assert_eq!(given["orientation_in_header"], serde_json::Value::Null);
+    let text = leapview(&["info", path, "--orientation", "RAI"]);
+    let text = String::from_utf8_lossy(&text.stdout).into_owned();
+    assert!(
+        text.contains("RAI as given with --orientation (the header has none)"),
+        "{text}"
+    );
+
+    // Where the cap shows from the front: the share of its bright pixels in the top half.
+    let cap_on_top = |extra: &[&str]| {
+        let out = dir.path().join(format!("front{}.png", extra.len()));
+        let mut args = vec![
+            "render",
+            path,
+            "--out",
+            out.to_str().expect("utf-8"),
+            "--size",
+            "40x40",
+            "--mode",
+            "mip",
+            "--projection",
+            "orthographic",
+            "--view",
+            "A",
+        ];
+        args.extend_from_slice(extra);
+        let o = leapview(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let image = ImageF32::read_png(&out).expect("png");
+        let w = image.width as usize;
+        let bright: Vec<usize> = (0..image.pixels.len())
+            .filter(|&i| image.pixels[i][0] > 0.9)
+            .map(|i| i / w)
+            .collect();
+        assert!(!bright.is_empty(), "the cap shows");
+        let top = bright
+            .iter()
+            .filter(|&&row| row < image.height as usize / 2);
+        top.count() as f64 / bright.len() as f64
+    };
+    assert_eq!(cap_on_top(&[]), 0.0, "RAS assumed: the cap at the bottom");
+    assert_eq!(cap_on_top(&["--orientation", "RAI"]), 1.0, "RAI: on top");
+
+    let bad = leapview(&["info", path, "--orientation", "RAX"]);
+    assert_eq!(bad.status.code(), Some(2));
+    let lines = stderr_lines(&bad);
+    assert_eq!(lines.len(), 1, "{lines:?}");
+    assert!(
+        lines[0].contains("one each of R/L, A/P and S/I"),
+        "{lines:?}"
+    );
+}

@@ -256,6 +256,55 @@ fn side_panel_edits_the_viewer_state() {
     assert_eq!(h.state().state.projection, ProjectionKind::Perspective);
 }
 
+#[test]
+fn orientation_controls_flip_a_file_without_orientation_and_check_typed_codes() {
+    // A file without orientation (like the shared CT head): RAS is assumed, and the user says
+    // its slices run from the top of the head down.
+    let unoriented =
+        leapview::volume::synthetic::constant([4, 4, 4], [1.0; 3], 1.0).expect("volume");
+    let panel = SidePanel {
+        state: ViewerState::default(),
+        volume: VolumeSummary {
+            from_file: true,
+            ..VolumeSummary::of(&unoriented)
+        },
+        actions: Vec::new(),
+    };
+    let mut h = harness([400.0, 900.0]).build_ui_state(
+        |ui, p: &mut SidePanel| {
+            let info = PanelInfo {
+                path_used: None,
+                volume: Some(&p.volume),
+            };
+            p.actions.extend(controls_ui(ui, &mut p.state, &info));
+        },
+        panel,
+    );
+    h.get_by_label("Correct the orientation").click();
+    h.run();
+    h.get_by_label("Flip S/I").click();
+    h.get_by_label("Roll +90°").click();
+    h.run();
+    let rai = leapview::volume::Orientation::parse_code("RAI").expect("valid");
+    assert_eq!(
+        h.state().actions,
+        [Action::Reorient(Some(rai)), Action::Roll(90.0)]
+    );
+    // A code that is not one is refused with the reason, and Apply stays disabled.
+    h.get_by_label("i, j, k point to").click();
+    h.run();
+    h.key_press_modifiers(Modifiers::COMMAND, Key::A);
+    h.get_by_label("i, j, k point to").type_text("RRS");
+    h.run();
+    assert!(
+        h.query_by_label_contains("one each of R/L, A/P and S/I")
+            .is_some()
+    );
+    h.get_by_label("Apply").click();
+    h.run();
+    assert_eq!(h.state().actions.len(), 2, "an invalid code is not applied");
+}
+
 /// The menu bar's state and the actions it returned.
 struct MenuBar {
     state: ViewerState,
@@ -268,7 +317,8 @@ fn menu_bar_opens_menus_and_returns_actions() {
         state: ViewerState::default(),
         actions: Vec::new(),
     };
-    let mut h = harness([420.0, 350.0]).build_ui_state(
+    // Tall enough for the whole View menu: a clipped item cannot be clicked.
+    let mut h = harness([420.0, 420.0]).build_ui_state(
         |ui, b: &mut MenuBar| b.actions.extend(menu_bar(ui, &mut b.state)),
         bar,
     );

@@ -6,94 +6,24 @@
 
 use crate::common;
 
-use std::os::unix::fs::PermissionsExt;
-use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::Stdio;
 use std::time::{Duration, Instant};
-
-/// A virtual X server on a free display, stopped when dropped.
-struct Xvfb {
-    child: Child,
-    display: String,
-}
-
-impl Xvfb {
-    fn start() -> Self {
-        // Far from the :99 that scripts/screenshot.sh starts with.
-        let number = (150..250)
-            .find(|n| !Path::new(&format!("/tmp/.X{n}-lock")).exists())
-            .expect("a free X display number");
-        let display = format!(":{number}");
-        let child = Command::new("Xvfb")
-            .args([
-                display.as_str(),
-                "-screen",
-                "0",
-                "1280x800x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap_or_else(|e| {
-                panic!("cannot start Xvfb ({e}); install it: apt-get install xvfb")
-            });
-        let socket = format!("/tmp/.X11-unix/X{number}");
-        let deadline = Instant::now() + Duration::from_secs(10);
-        while !Path::new(&socket).exists() {
-            assert!(Instant::now() < deadline, "Xvfb did not start on {display}");
-            std::thread::sleep(Duration::from_millis(50));
-        }
-        Self { child, display }
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// Mesa's Vulkan CPU driver, where installed: real GPU drivers may not present to Xvfb.
-fn lavapipe_icd() -> Option<String> {
-    std::fs::read_dir("/usr/share/vulkan/icd.d")
-        .ok()?
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .find(|p| {
-            p.file_name()
-                .is_some_and(|n| n.to_string_lossy().starts_with("lvp_icd"))
-        })
-        .map(|p| p.display().to_string())
-}
 
 #[test]
 fn window_renders_the_frames_asked_for_and_shows_the_renderers_pixels() {
     const FRAMES: usize = 3;
-    let x = Xvfb::start();
+    let x = common::Xvfb::start();
     let dir = common::TempDir::new("window");
-    // Mesa wants a private runtime folder.
-    std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o700))
-        .expect("chmod the runtime folder");
     let shot = dir.path().join("window.png");
     let log_path = dir.path().join("log.txt");
     let log_file = std::fs::File::create(&log_path).expect("create the log");
-    let mut command = Command::new(env!("CARGO_BIN_EXE_leapview"));
+    let mut command = x.window_command(dir.path());
     command
-        .env("DISPLAY", &x.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env("XDG_RUNTIME_DIR", dir.path())
-        .env("LEAPVIEW_BACKEND", "vulkan")
         .env("RUST_LOG", "warn,leapview=trace")
         .env("LEAPVIEW_EXIT_AFTER_FRAMES", FRAMES.to_string())
         .env("LEAPVIEW_SCREENSHOT", &shot)
         .stdout(Stdio::null())
         .stderr(log_file);
-    if let Some(icd) = lavapipe_icd() {
-        command.env("VK_ICD_FILENAMES", icd);
-    }
     let mut app = command.spawn().expect("start the window");
     // Generating the phantom, timing both paths and three frames take about 10 s on lavapipe in
     // a debug build; 300 s leaves room for a loaded machine.

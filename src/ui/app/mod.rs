@@ -13,9 +13,8 @@ use std::time::{Duration, Instant};
 
 use egui::{CentralPanel, Key, KeyboardShortcut, Modifiers, Panel, ViewportCommand};
 
-use crate::camera::ViewPreset;
 use crate::render::RenderError;
-use crate::transfer::presets::{is_ct_like, preset_for_volume};
+use crate::transfer::fit::preset_for_kind;
 use crate::ui::controls::{PanelInfo, controls_ui};
 use crate::ui::dialogs::Dialogs;
 use crate::ui::effects::effects_ui;
@@ -110,6 +109,8 @@ struct LeapViewApp {
     view_px: [u32; 2],
     /// When the pointer last moved with a button held, or the wheel turned.
     last_motion: Option<Instant>,
+    /// Where the volume on screen came from.
+    shown_source: Option<VolumeSource>,
 }
 
 impl LeapViewApp {
@@ -142,6 +143,17 @@ impl LeapViewApp {
             save_image: None,
             view_px: [1, 1],
             last_motion: None,
+            shown_source: None,
+        };
+        // A file's orientation as corrected before, unless the command line gives one.
+        let first = match first {
+            VolumeSource::File { path, mut options } => {
+                if options.orientation.is_none() {
+                    options.orientation = app.state.orientation_for(&path);
+                }
+                VolumeSource::File { path, options }
+            }
+            other => other,
         };
         app.start_loading(first, &cc.egui_ctx);
         Ok(app)
@@ -174,19 +186,25 @@ impl LeapViewApp {
     }
 
     fn show_volume(&mut self, volume: &Volume, source: &VolumeSource, ctx: &egui::Context) {
-        match self.scene.show_volume(volume, self.state.projection) {
+        let from_file = matches!(source, VolumeSource::File { .. });
+        match self
+            .scene
+            .show_volume(volume, self.state.projection, from_file)
+        {
             Ok(summary) => {
+                self.shown_source = Some(source.clone());
                 self.state.forget_volume_values();
                 if let VolumeSource::File { path, .. } = source {
                     self.state.remember_file(path);
                 }
-                let name = match source.preferred_preset() {
-                    Some(name) => name.to_string(),
-                    None => preset_for_volume(&self.state.preset, is_ct_like(summary.range)),
-                };
-                // The same preset kind keeps the function as edited (and as restored).
-                if name != self.state.preset
-                    && let Err(e) = self.state.choose_preset(&name)
+                let name = source
+                    .preferred_preset()
+                    .unwrap_or_else(|| preset_for_kind(&self.state.preset, &summary.kind));
+                // The same preset on the same kind of data keeps the function as edited (and as
+                // restored); a CT in other scanner units gets the preset fitted anew.
+                let refit = self.state.fitted_to.as_ref() != Some(&summary.kind);
+                if (name != self.state.preset || refit)
+                    && let Err(e) = self.state.choose_preset_for(name, summary.kind.clone())
                 {
                     self.dialogs.show_error(e);
                 }
@@ -214,9 +232,13 @@ impl LeapViewApp {
             Action::Quit => ctx.send_viewport_cmd(ViewportCommand::Close),
             Action::SetView(preset) => self.scene.set_view(preset, self.state.projection),
             Action::ViewFrom(side) => self.scene.view_from(side, self.state.projection),
-            Action::ResetView => self
-                .scene
-                .set_view(ViewPreset::Oblique, self.state.projection),
+            Action::ResetView => self.scene.reset_view(self.state.projection),
+            Action::Roll(deg) => {
+                if let Some(camera) = self.scene.camera_mut() {
+                    camera.roll(deg);
+                }
+            }
+            Action::Reorient(orientation) => self.reorient(orientation, ctx),
             Action::SetProjection(kind) => {
                 self.state.projection = kind;
                 self.scene.set_projection(kind);
@@ -232,8 +254,21 @@ impl LeapViewApp {
     }
 
     fn open_file(&mut self, path: PathBuf, ctx: &egui::Context) {
-        let options = self.load_options.clone();
+        let mut options = self.load_options.clone();
+        // The orientation given on the command line is for the file named there.
+        options.orientation = self.state.orientation_for(&path);
         self.start_loading(VolumeSource::File { path, options }, ctx);
+    }
+
+    /// Takes the file on screen to be oriented as `orientation` (`None`: as its header says),
+    /// remembers that for the file, and opens it again so that the views, the marker and a
+    /// reversal along i follow.
+    fn reorient(&mut self, orientation: Option<crate::volume::Orientation>, ctx: &egui::Context) {
+        let Some(VolumeSource::File { path, .. }) = self.shown_source.clone() else {
+            return;
+        };
+        self.state.set_orientation_for(&path, orientation);
+        self.open_file(path, ctx);
     }
 
     /// Keyboard shortcuts and dropped files.

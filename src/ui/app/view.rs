@@ -44,6 +44,9 @@ impl LeapViewApp {
         if area.reset_requested {
             self.apply(Action::ResetView, ctx);
         }
+        if let Some(deg) = area.roll_deg {
+            self.apply(Action::Roll(deg), ctx);
+        }
         if let Some(delta) = area.window_drag {
             self.window_level(delta);
         }

@@ -8,7 +8,7 @@ use crate::volume::{ScalarType, ValueMapping};
 use super::header::HeaderText;
 use super::names::{parse_encoding, parse_type};
 
-use crate::volume::Orientation;
+use crate::volume::{Modality, Orientation};
 
 const NRRD: &str = "NRRD";
 
@@ -29,6 +29,8 @@ pub struct NrrdHeader {
     pub orientation: Option<Orientation>,
     /// Stored values to data units.
     pub mapping: ValueMapping,
+    /// The `modality:=…` key/value, where there is one.
+    pub modality: Option<Modality>,
     /// The detached data file as written, if any.
     pub data_file: Option<String>,
     /// Lines to skip at the start of the data file (as stored).
@@ -130,6 +132,10 @@ pub fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
         spacing_mm,
         orientation,
         mapping: parse_mapping(text)?,
+        modality: text
+            .key_values
+            .get("modality")
+            .and_then(|m| Modality::parse(m)),
         data_file,
         line_skip,
         byte_skip,

@@ -31,7 +31,10 @@
 //! at `(i + ½)·2/n − 1` over a [`FIELD_OF_VIEW_MM`] field of view, so the head measures
 //! 159 × 212 × 186 mm (left–right × front–back × height) at every `n`.
 //!
-//! Realism touches: partial-volume edges (see the parent module) and mild CT noise of
+//! Realism touches, as a scanner sees a head: every edge is the voxel's partial volume of the
+//! ellipsoid seen through a Gaussian point-spread function of [`PSF_SIGMA_MM`] (2.4 mm full width
+//! at half maximum, a soft-tissue head kernel at 1 mm slices), so that surfaces span two to three
+//! voxels instead of one and gradient lighting does not terrace them into rings; and mild CT noise of
 //! [`NOISE_SIGMA_HU`] on tissue, none in air, so the background stays exactly −1000 HU.
 
 use glam::DVec3;
@@ -50,6 +53,11 @@ pub const BONE_HU: f64 = 1000.0;
 pub const BRAIN_HU: f64 = 35.0;
 /// Cerebrospinal fluid in the ventricles.
 pub const CSF_HU: f64 = 5.0;
+/// Standard deviation of the scanner's point-spread function, millimetres.
+pub const PSF_SIGMA_MM: f64 = 1.0;
+/// How many standard deviations of the point-spread function an edge reaches; beyond it the
+/// coverage is exactly 0 or 1 (the Gaussian tail there is below 10⁻⁸).
+const PSF_REACH: f64 = 6.0;
 /// Standard deviation of the noise on tissue; 3 HU is a low-noise head CT.
 pub const NOISE_SIGMA_HU: f64 = 3.0;
 /// The largest deviation the noise can cause (it is bounded, see [`super::rng::unit_noise`]).
@@ -105,10 +113,15 @@ struct Prepared {
     q_empty: f64,
     /// Additive contribution, HU.
     hu: f64,
+    /// Width of the edge profile: the voxel's box and the point-spread function together, as one
+    /// Gaussian's standard deviation (normalised units); 0 for the bare partial-volume ramp.
+    edge_sigma: f64,
 }
 
 impl Prepared {
-    fn new(index: usize, voxel: f64) -> Self {
+    /// The ellipsoid `index` at voxel size `voxel` seen through a point-spread function of
+    /// standard deviation `psf_sigma` (both normalised units).
+    fn new(index: usize, voxel: f64, psf_sigma: f64) -> Self {
         let (semi, centre, euler) = TABLE[index];
         let [phi, theta, psi] = euler.map(f64::to_radians);
         let (sp, cp, st, ct, ss, cs) = (
@@ -130,7 +143,15 @@ impl Prepared {
         let rows = std::array::from_fn(|i| alpha[i] * flip / semi[i]);
         // The approximate distance is at least (√q − 1)·min semi-axis (see `coverage_at`), so
         // coverage is exactly 1 or 0 once √q is that far below or above 1.
-        let margin = 0.5 * voxel / semi.iter().copied().fold(f64::INFINITY, f64::min);
+        // A box of one voxel has the variance voxel²/12 of a Gaussian; with the PSF's, one
+        // Gaussian of the summed variance describes the edge to within a few HU.
+        let edge_sigma = if psf_sigma > 0.0 {
+            (psf_sigma * psf_sigma + voxel * voxel / 12.0).sqrt()
+        } else {
+            0.0
+        };
+        let reach = (0.5 * voxel).max(PSF_REACH * edge_sigma);
+        let margin = reach / semi.iter().copied().fold(f64::INFINITY, f64::min);
         let grow = 1.0 + margin;
         let half_extent = DVec3::from_array(std::array::from_fn(|axis| {
             (0..3)
@@ -146,6 +167,7 @@ impl Prepared {
             q_full: (1.0 - margin).max(0.0).powi(2),
             q_empty: grow * grow,
             hu: 0.0,
+            edge_sigma,
         }
     }
 
@@ -167,8 +189,40 @@ impl Prepared {
         // Signed distance ≈ (√q − 1) / |∇√q|, exact for spheres; ∇√q = rowsᵀ·l / √q.
         let s = q.sqrt();
         let grad = (self.rows[0] * l.x + self.rows[1] * l.y + self.rows[2] * l.z).length() / s;
-        coverage((s - 1.0) / grad, voxel)
+        let d = (s - 1.0) / grad;
+        if self.edge_sigma > 0.0 {
+            blurred_coverage(d, self.edge_sigma)
+        } else {
+            coverage(d, voxel)
+        }
     }
+}
+
+/// Share of a voxel at signed distance `d` from a surface (negative inside) that a Gaussian edge
+/// profile of standard deviation `sigma` gives: `½ erfc(d / (σ √2))`.
+fn blurred_coverage(d: f64, sigma: f64) -> f64 {
+    let x = d / (sigma * std::f64::consts::SQRT_2);
+    if x.abs() * std::f64::consts::SQRT_2 >= PSF_REACH {
+        return if x > 0.0 { 0.0 } else { 1.0 };
+    }
+    0.5 * erfc(x)
+}
+
+/// The complementary error function, to 1.2·10⁻⁷ everywhere (Numerical Recipes' `erfcc`,
+/// a Chebyshev fit).
+fn erfc(x: f64) -> f64 {
+    let z = x.abs();
+    let t = 1.0 / (1.0 + 0.5 * z);
+    let poly = -z * z - 1.265_512_23
+        + t * (1.000_023_68
+            + t * (0.374_091_96
+                + t * (0.096_784_18
+                    + t * (-0.186_288_06
+                        + t * (0.278_868_07
+                            + t * (-1.135_203_98
+                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
+    let r = t * poly.exp();
+    if x >= 0.0 { r } else { 2.0 - r }
 }
 
 /// The 3D Shepp–Logan head phantom on an `n³` grid, in Hounsfield units (`i16`, identity
@@ -184,10 +238,11 @@ pub(crate) fn generate(n: u32, noise_sigma_hu: f64) -> Result<Volume, VolumeErro
     let len = cube_len(n, crate::volume::ScalarType::I16)?;
     let nu = n as usize;
     let voxel = 2.0 / n as f64;
+    let psf_sigma = PSF_SIGMA_MM * 2.0 / FIELD_OF_VIEW_MM;
     let ellipsoids: Vec<Prepared> = (0..TABLE.len())
         .map(|i| Prepared {
             hu: CONTRIBUTIONS_HU[i],
-            ..Prepared::new(i, voxel)
+            ..Prepared::new(i, voxel, psf_sigma)
         })
         .collect();
     let centre_of = |i: usize| (i as f64 + 0.5) * voxel - 1.0;
@@ -240,7 +295,22 @@ pub(crate) fn generate(n: u32, noise_sigma_hu: f64) -> Result<Volume, VolumeErro
         Samples::I16(samples),
         ValueMapping::IDENTITY,
     )
+    .map(|v| {
+        v.with_modality(Some(crate::volume::Modality::Ct { angio: false }))
+            .with_orientation(Some(ORIENTATION))
+    })
 }
+
+/// The phantom's anatomical orientation: DICOM's LPS (i to the patient's left, j to the back,
+/// k to the head), as the axes above say.
+pub const ORIENTATION: crate::volume::Orientation = crate::volume::Orientation {
+    axes: [
+        crate::volume::Direction::Left,
+        crate::volume::Direction::Posterior,
+        crate::volume::Direction::Superior,
+    ],
+    source: crate::volume::OrientationSource::Header,
+};
 
 #[cfg(test)]
 mod tests;

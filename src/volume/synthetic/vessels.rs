@@ -233,6 +233,7 @@ pub fn vessel_tree(n: u32, seed: u64) -> Result<Volume, VolumeError> {
         Samples::U8(samples),
         ValueMapping::IDENTITY,
     )
+    .map(|v| v.with_modality(Some(crate::volume::Modality::Mr { angio: true })))
 }
 
 #[cfg(test)]

@@ -36,13 +36,32 @@ fn regions_have_their_hounsfield_values() {
     for (name, point, expected) in PROBES {
         let [x, y, z] = voxel_at(point, n);
         let v = clean.value(x, y, z);
+        if name.starts_with("skull") {
+            // The skull at the vertex is 3.45 mm thick (semi-axes 0.81 and 0.78 of 115 mm); its
+            // edges are Gaussians of σ = √(1² + 1.8²/12) = 1.13 mm (the PSF and the voxel's box).
+            // The nearest voxel centre lies up to 0.9 mm off the slab's middle, where the profile
+            // keeps ½(erf(2.63/1.59) + erf(0.83/1.59)) = 76 % of the step: at least 75 %.
+            assert!(
+                v - AIR_HU >= 0.75 * (BONE_HU - AIR_HU) && v <= BONE_HU + 0.5,
+                "{name}: {v} HU, expected nearly {expected}"
+            );
+            continue;
+        }
+        // Features 8–10 are 4.6–5.3 mm across in two axes; through edges of σ 1.13 mm, at a
+        // voxel centre up to 0.9 mm off theirs, each of those axes keeps
+        // ½(erf(3.2/1.6) + erf(1.4/1.6)) = 89 % of the contrast: at most a quarter is lost.
+        let blur = if name.starts_with("feature") {
+            0.25 * (expected - BRAIN_HU).abs()
+        } else {
+            0.0
+        };
         assert!(
-            (v - expected).abs() <= 0.5,
+            (v - expected).abs() <= 0.5 + blur,
             "{name}: {v} HU, expected {expected}"
         );
         let v = noisy.value(x, y, z);
         assert!(
-            (v - expected).abs() <= NOISE_BOUND_HU + 0.5,
+            (v - expected).abs() <= NOISE_BOUND_HU + 0.5 + blur,
             "{name} (noisy): {v} HU, expected {expected}"
         );
     }
@@ -56,7 +75,7 @@ fn mirror_symmetric_where_the_table_is() {
     let n = 64;
     let v = generate(n, 0.0).expect("valid size");
     let voxel = 2.0 / n as f64;
-    let asymmetric: Vec<Prepared> = [2, 3, 7, 9].map(|i| Prepared::new(i, voxel)).into();
+    let asymmetric: Vec<Prepared> = [2, 3, 7, 9].map(|i| Prepared::new(i, voxel, 0.0)).into();
     let near_asymmetric = |x: u32, y: u32, z: u32| {
         let p = DVec3::new(x as f64 + 0.5, y as f64 + 0.5, z as f64 + 0.5) * voxel - 1.0;
         asymmetric.iter().any(|e| {
@@ -91,13 +110,22 @@ fn values_stay_in_range_and_air_is_exact() {
         "max {}",
         range.max
     );
-    assert!(range.max >= BONE_HU - NOISE_BOUND_HU, "max {}", range.max);
+    // At n = 64 (3.6 mm voxels, edge σ = √(1² + 3.6²/12) = 1.44 mm) each edge of the 7.4 mm
+    // forehead takes ½ erfc(3.7 / (1.44·√2)) = 1.1 % of its step (air to bone outside, bone to
+    // brain inside) off the middle.
+    let blur = 0.011 * ((BONE_HU - AIR_HU) + (BONE_HU - BRAIN_HU));
+    assert!(
+        range.max >= BONE_HU - blur - NOISE_BOUND_HU,
+        "max {}",
+        range.max
+    );
     // The head is about 0.69·0.92·0.81·π/6 ≈ 27 % of the box; the rest is exact air.
     let Samples::I16(s) = v.samples() else {
         panic!("the phantom is stored as i16")
     };
     let air = s.iter().filter(|&&x| x == -1000).count() as f64 / s.len() as f64;
-    assert!((0.70..0.76).contains(&air), "air fraction {air}");
+    // (The point-spread function's tail takes a voxel's width off the exact air at n = 64.)
+    assert!((0.68..0.76).contains(&air), "air fraction {air}");
 }
 
 #[test]
@@ -107,7 +135,8 @@ fn edges_are_anti_aliased_not_staircased() {
     // Walk out from the centre along ±x, ±y, ±z. A staircased phantom would jump from bone
     // (or brain, where the skull is thinner than a voxel) straight to −1000; here the last
     // voxel before the air is partial (the surface almost never falls exactly on a voxel
-    // face), and the skull's peak lies within two voxels of the air: the edge is not blurred.
+    // face), and the skull's peak lies within two voxels of the air: the point-spread
+    // function (σ 1 mm against 3.6 mm voxels here) does not blur the edge away.
     let c = n / 2;
     let rays: [(i32, i32, i32); 6] = [
         (1, 0, 0),
@@ -124,7 +153,7 @@ fn edges_are_anti_aliased_not_staircased() {
                 v.value(at(c, dx), at(c, dy), at(c, dz))
             })
             .collect();
-        let Some(air) = values.iter().position(|&x| x == AIR_HU) else {
+        let Some(air) = values.iter().position(|&x| x < AIR_HU + 20.0) else {
             panic!("ray {dx},{dy},{dz} never reaches air: {values:?}")
         };
         let edge = values[air - 1];
@@ -190,4 +219,57 @@ fn zero_size_is_an_error() {
     ));
     let v = shepp_logan(1).expect("a single voxel is a valid volume");
     assert_eq!(v.dims(), [1; 3]);
+}
+
+#[test]
+fn the_error_function_matches_tabulated_values() {
+    // erfc at 0, ±0.5, ±1, 2, 3 (Abramowitz & Stegun, Table 7.1).
+    for (x, want) in [
+        (0.0, 1.0),
+        (0.5, 0.479_500_122),
+        (-0.5, 1.520_499_878),
+        (1.0, 0.157_299_207),
+        (-1.0, 1.842_700_793),
+        (2.0, 0.004_677_735),
+        (3.0, 0.000_022_090),
+    ] {
+        let got = super::erfc(x);
+        assert!(
+            (got - want).abs() < 2e-7 * want.max(1e-3) + 1e-9,
+            "erfc({x}) = {got}"
+        );
+    }
+}
+
+#[test]
+fn surfaces_span_the_point_spread_function_not_one_voxel() {
+    // At n = 256 (0.9 mm voxels) the PSF (σ 1 mm) spreads the head's outer surface over
+    // 2–3 voxels: along a ray from the centre outwards, the values between 10 % and 90 % of the
+    // air-to-bone step take at least two voxels, and the air beyond stays exactly −1000 HU.
+    let n = 256;
+    let v = generate(n, 0.0).expect("phantom");
+    let (y, z) = (n / 2, n / 2);
+    let values: Vec<f64> = (0..n).map(|x| v.value(x, y, z)).collect();
+    let x_out = (n / 2..n)
+        .find(|&x| values[x as usize] <= AIR_HU)
+        .expect("air") as usize;
+    let step = BONE_HU - AIR_HU;
+    let peak = (n as usize / 2..x_out)
+        .max_by(|&a, &b| values[a].total_cmp(&values[b]))
+        .expect("the skull");
+    let between = values[peak..x_out]
+        .iter()
+        .filter(|&&h| h > AIR_HU + 0.1 * step && h < AIR_HU + 0.9 * step)
+        .count();
+    assert!(
+        between >= 2,
+        "edge over {between} voxels: {:?}",
+        &values[x_out - 6..x_out]
+    );
+    assert!(
+        between <= 4,
+        "edge over {between} voxels: {:?}",
+        &values[x_out - 6..x_out]
+    );
+    assert!(values[x_out..].iter().all(|&h| h == AIR_HU));
 }

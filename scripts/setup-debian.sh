@@ -1,0 +1,49 @@
+#!/bin/sh
+# Installs what LeapView needs on Debian 12 that is not there yet: a Vulkan driver (Mesa's CPU
+# driver lavapipe, only where no Vulkan driver is installed) and, with --tests, the virtual X
+# server the window test starts. Uses sudo unless run as root. Installs nothing when all is there.
+#
+#   scripts/setup-debian.sh            for the app
+#   scripts/setup-debian.sh --tests    for the app and the tests
+#   scripts/setup-debian.sh --check    says what is missing, installs nothing (exit 1 if anything)
+set -eu
+
+tests=no
+check=no
+for arg in "$@"; do
+  case "$arg" in
+    --tests) tests=yes ;;
+    --check) check=yes ;;
+    *) echo "usage: $0 [--tests] [--check]" >&2; exit 2 ;;
+  esac
+done
+
+missing=""
+if ! ls /usr/share/vulkan/icd.d/*.json >/dev/null 2>&1; then
+  missing="$missing mesa-vulkan-drivers"
+fi
+if [ "$tests" = yes ] && ! command -v Xvfb >/dev/null 2>&1; then
+  missing="$missing xvfb"
+fi
+
+if [ -z "$missing" ]; then
+  echo "setup: nothing to install (Vulkan driver$( [ "$tests" = yes ] && echo ', Xvfb') present)"
+  exit 0
+fi
+if [ "$check" = yes ]; then
+  echo "setup: missing:$missing" >&2
+  exit 1
+fi
+
+if [ "$(id -u)" -eq 0 ]; then
+  run=""
+elif command -v sudo >/dev/null 2>&1; then
+  run="sudo"
+else
+  echo "setup: need root to install$missing (run as root, or install sudo)" >&2
+  exit 1
+fi
+echo "setup: installing$missing"
+$run env DEBIAN_FRONTEND=noninteractive apt-get update -qq
+# shellcheck disable=SC2086
+$run env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $missing

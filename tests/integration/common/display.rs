@@ -1,0 +1,86 @@
+//! A virtual X server (Xvfb) for the tests that open the real window.
+
+use std::os::unix::fs::PermissionsExt;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A virtual X server on a free display, stopped when dropped.
+pub struct Xvfb {
+    child: Child,
+    /// The display, e.g. `:150`.
+    pub display: String,
+}
+
+impl Xvfb {
+    /// Starts one on the first free display from :150; panics without `Xvfb`.
+    pub fn start() -> Self {
+        // Far from the :99 that scripts/screenshot.sh starts with.
+        let number = (150..250)
+            .find(|n| !Path::new(&format!("/tmp/.X{n}-lock")).exists())
+            .expect("a free X display number");
+        let display = format!(":{number}");
+        let child = Command::new("Xvfb")
+            .args([
+                display.as_str(),
+                "-screen",
+                "0",
+                "1280x800x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap_or_else(|e| {
+                panic!("cannot start Xvfb ({e}); install it: apt-get install xvfb")
+            });
+        let socket = format!("/tmp/.X11-unix/X{number}");
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while !Path::new(&socket).exists() {
+            assert!(Instant::now() < deadline, "Xvfb did not start on {display}");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        Self { child, display }
+    }
+}
+
+impl Xvfb {
+    /// The `leapview` binary set up to open its window here: Vulkan (lavapipe where installed,
+    /// since real GPU drivers may not present to Xvfb), `runtime_dir` as the private runtime
+    /// folder Mesa wants (made private here).
+    pub fn window_command(&self, runtime_dir: &Path) -> Command {
+        std::fs::set_permissions(runtime_dir, std::fs::Permissions::from_mode(0o700))
+            .expect("chmod the runtime folder");
+        let mut command = Command::new(env!("CARGO_BIN_EXE_leapview"));
+        command
+            .env("DISPLAY", &self.display)
+            .env_remove("WAYLAND_DISPLAY")
+            .env("XDG_RUNTIME_DIR", runtime_dir)
+            .env("LEAPVIEW_BACKEND", "vulkan");
+        if let Some(icd) = lavapipe_icd() {
+            command.env("VK_ICD_FILENAMES", icd);
+        }
+        command
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Mesa's Vulkan CPU driver, where installed: real GPU drivers may not present to Xvfb.
+pub fn lavapipe_icd() -> Option<String> {
+    std::fs::read_dir("/usr/share/vulkan/icd.d")
+        .ok()?
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .find(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("lvp_icd"))
+        })
+        .map(|p| p.display().to_string())
+}
