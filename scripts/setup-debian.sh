@@ -1,7 +1,8 @@
 #!/bin/sh
 # Installs what LeapView needs on Debian 12 that is not there yet: a Vulkan driver (Mesa's CPU
 # driver lavapipe, only where no Vulkan driver is installed) and, with --tests, the virtual X
-# server the window test starts. Uses sudo unless run as root. Installs nothing when all is there.
+# server the window tests start and xdotool, with which they click in the window. Uses sudo
+# unless run as root. Installs nothing when all is there.
 #
 #   scripts/setup-debian.sh            for the app
 #   scripts/setup-debian.sh --tests    for the app and the tests
@@ -25,9 +26,12 @@ fi
 if [ "$tests" = yes ] && ! command -v Xvfb >/dev/null 2>&1; then
   missing="$missing xvfb"
 fi
+if [ "$tests" = yes ] && ! command -v xdotool >/dev/null 2>&1; then
+  missing="$missing xdotool"
+fi
 
 if [ -z "$missing" ]; then
-  echo "setup: nothing to install (Vulkan driver$( [ "$tests" = yes ] && echo ', Xvfb') present)"
+  echo "setup: nothing to install (Vulkan driver$( [ "$tests" = yes ] && echo ', Xvfb, xdotool') present)"
   exit 0
 fi
 if [ "$check" = yes ]; then

@@ -10,7 +10,9 @@ use cli::{Cli, Failure};
 use leapview::ui::app::{AppError, AppOptions};
 
 fn main() -> ExitCode {
-    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
+        .format_timestamp_millis()
+        .init();
     let cli = Cli::parse();
     if cli.command.is_some() {
         quiet_device_selection();

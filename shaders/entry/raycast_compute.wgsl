@@ -43,16 +43,19 @@ fn box_segment(px: vec2<u32>) -> array<vec4<f32>, 2> {
     return array<vec4<f32>, 2>(vec4<f32>(entry, hit), vec4<f32>(exit, hit));
 }
 
+// One invocation per pixel of the rows dispatched: the whole image, or one band of rows starting
+// at `frame.row_offset` (a long frame is rendered in bands so that the window stays responsive).
 @compute @workgroup_size(WORKGROUP, WORKGROUP)
 fn cs_raycast(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(frame.viewport);
-    if any(id.xy >= size) {
+    let px = vec2<u32>(id.x, id.y + frame.row_offset);
+    if any(px >= size) || px.y >= frame.row_end {
         return;
     }
-    let segment = box_segment(id.xy);
+    let segment = box_segment(px);
     var color = frame.background;
     if segment[0].w > 0.0 {
-        color = march(segment[0].xyz, segment[1].xyz, id.xy);
+        color = march(segment[0].xyz, segment[1].xyz, px);
     }
-    textureStore(out_tex, id.xy, color);
+    textureStore(out_tex, px, color);
 }

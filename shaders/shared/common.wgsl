@@ -75,6 +75,12 @@ struct Frame {
     lut_depth_unit: f32,
     // DVR: samples whose weight in the pixel, alpha * (1 - A), is below this are composited unlit.
     light_min_weight: f32,
+    // The compute path's rows [row_offset, row_end): one band of a frame rendered in bands of
+    // rows, or the whole image.
+    row_offset: u32,
+    row_end: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 // One ray inside the volume: entry (box coordinates), direction in box units per mm and in

@@ -172,8 +172,9 @@ pub struct CameraArgs {
     pub projection: ProjectionKind,
     /// Look at the patient from a side (`A`, `P`, `L`, `R`, `S`, `I`, by the file's orientation,
     /// RAS where it has none), along an axis of the volume (`+x`, `-x`, `+y`, `-y`, `+z`, `-z`),
-    /// or `oblique`.
-    #[arg(long, allow_hyphen_values = true, default_value = "oblique")]
+    /// or `oblique`. The default, `A`, is the patient from the front, superior up, as the window
+    /// opens.
+    #[arg(long, allow_hyphen_values = true, default_value = "A")]
     pub view: String,
     /// Orbit azimuth in degrees (0 looks along +y; overrides --view).
     #[arg(long, allow_hyphen_values = true)]

@@ -160,7 +160,8 @@ pub fn layouts() -> Vec<StructLayout> {
             sample_offset, light_dir, headlight, viewport, termination_alpha, jitter,
             phong_ambient, phong_diffuse, phong_specular, phong_shininess, window_lo, window_hi,
             saturation, xray_density_per_mm, iso_threshold, steps_per_d0, depth_units_per_mm,
-            iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight,
+            iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight, row_offset,
+            row_end, _pad0, _pad1,
         }),
         layout!(LevelInfo = "LevelInfo" in "leap/pyramid.wgsl" {
             nodes, offset, brick_vox, _pad0, _pad1, _pad2,
@@ -267,6 +268,15 @@ pub struct FrameUniforms {
     pub lut_depth_unit: f32,
     /// DVR: samples whose weight in the pixel is below this are composited unlit.
     pub light_min_weight: f32,
+    /// The compute path's first image row: a frame rendered in bands of rows dispatches one
+    /// band at a time (0 for a whole frame).
+    pub row_offset: u32,
+    /// The end of the compute path's rows (exclusive): the band's last row + 1, or the height.
+    pub row_end: u32,
+    /// Padding to 16 bytes.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
 }
 
 /// One pyramid level as the shaders read it (`LevelInfo`).

@@ -9,10 +9,12 @@
 //! every GPU object live in the scene, never in a widget.
 
 pub mod app;
+pub mod band_pump;
 pub mod controls;
 pub mod crop;
 pub mod dialogs;
 pub mod effects;
+pub mod frame_job;
 pub mod interaction;
 pub mod loading;
 pub mod lod;

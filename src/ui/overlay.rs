@@ -82,6 +82,10 @@ pub struct Readout<'a> {
     pub refined: Option<(u32, u32)>,
     /// Why the picture shows nothing, when it cannot ([`crate::transfer::blank::why_blank`]).
     pub blank: Option<String>,
+    /// Share of the next frame's rows rendered, while a frame takes more than one band.
+    pub rendering: Option<f64>,
+    /// Slow work before the next frame can start (compiling a shader, timing the ray loops).
+    pub preparing: Option<&'static str>,
 }
 
 /// `1234567` as `1.23 M`.
@@ -120,6 +124,12 @@ impl Readout<'_> {
                 "preview at {:.0} % resolution (full quality once still)",
                 100.0 * scale
             ));
+        }
+        if let Some(what) = self.preparing {
+            lines.push(format!("preparing: {what}…"));
+        }
+        if let Some(done) = self.rendering {
+            lines.push(format!("rendering the next frame: {:.0} %", 100.0 * done));
         }
         if let Some((n, target)) = self.refined {
             lines.push(if n < target {
@@ -221,6 +231,35 @@ pub fn draw_loading(ui: &mut egui::Ui, view: Rect, status: &LoadStatus) -> bool 
     cancel
 }
 
+/// Centred over the view until its first frame is on screen: what the renderer is doing
+/// (`preparing`, or rendering with `progress` of the frame's rows done), so that a slow first
+/// frame (a shader compiling, the ray loops being timed, a second of work on a CPU driver) is
+/// never a blank, seemingly frozen window.
+pub fn draw_first_frame_status(
+    ui: &mut egui::Ui,
+    view: Rect,
+    preparing: Option<&str>,
+    progress: Option<f64>,
+) {
+    let text = match (preparing, progress) {
+        (Some(what), _) => format!("Preparing the renderer: {what}…"),
+        (None, Some(p)) => format!("Rendering the first frame… {:.0} %", 100.0 * p),
+        (None, None) => return,
+    };
+    let painter = ui.painter();
+    let galley = painter.layout(
+        text,
+        egui::FontId::proportional(16.0),
+        Color32::from_gray(230),
+        (view.width() - 32.0).max(100.0),
+    );
+    let rect = Align2::CENTER_CENTER
+        .align_size_within_rect(galley.size(), view)
+        .expand(10.0);
+    painter.rect_filled(rect, 4.0, Color32::from_black_alpha(170));
+    painter.galley(rect.min + egui::vec2(10.0, 10.0), galley, Color32::WHITE);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -269,6 +308,8 @@ mod tests {
             preview_scale: None,
             refined: None,
             blank: None,
+            rendering: None,
+            preparing: None,
         };
         let lines = readout.lines();
         assert_eq!(
@@ -295,6 +336,8 @@ mod tests {
             preview_scale: None,
             refined: None,
             blank: None,
+            rendering: None,
+            preparing: None,
         };
         let nothing_yet = Readout {
             path: None,

@@ -1,6 +1,8 @@
-//! The volume on screen: the one [`VolumeRenderer`] of the window, the camera, the egui texture
-//! the image is shown through, and the frame bookkeeping — render only when the inputs changed,
-//! frames per second, GPU time of the last frame.
+//! The volume on screen: the window's one [`VolumeRenderer`] (run by the band pump,
+//! [`super::band_pump`]), the camera, the egui texture the image is shown through, and the frame
+//! bookkeeping — render only when the inputs changed, in bands that never keep the GPU (and so
+//! the window) busy for long ([`super::frame_job`]), refine a still view, frames per second, GPU
+//! time of the last frame.
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -11,12 +13,14 @@ use crate::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use crate::counters::FrameCounters;
 use crate::imaging::ImageF32;
 use crate::render::raycast::auto_path;
-use crate::render::{FrameRequest, GpuContext, RenderError, VolumeRenderer};
+use crate::render::{GpuContext, RenderError, VolumeRenderer};
 use crate::settings::ConcretePath;
 use crate::volume::Volume;
 
+use super::band_pump::{BandPump, Finished, Shared, lock, try_lock};
+use super::frame_job::{FrameJob, JobKind};
 use super::interaction::{framed, with_projection};
-use super::lod::{Lod, scaled_size};
+use super::lod::{STILL_AFTER, scaled_size};
 use super::overlay::{FpsCounter, Readout};
 use super::redraw::{FrameInputs, RedrawTracker};
 use super::viewport::ViewTexture;
@@ -24,10 +28,15 @@ use super::{ViewerState, VolumeSummary};
 
 /// The renderer and everything about the frame on screen.
 pub struct Scene {
-    renderer: VolumeRenderer,
+    pump: BandPump,
     device: wgpu::Device,
+    queue: wgpu::Queue,
     egui_renderer: Arc<RwLock<egui_wgpu::Renderer>>,
     adapter_label: String,
+    /// Whether the adapter's GPU timestamps can be shown at all (it has timestamp queries).
+    has_timestamps: bool,
+    /// Whether the adapter is a CPU driver (whose timestamps go wrong after a refinement).
+    cpu_adapter: bool,
     texture: ViewTexture,
     camera: Option<Camera>,
     bounds: Option<Aabb>,
@@ -50,30 +59,66 @@ pub struct Scene {
     quiet_passes: u32,
     /// Pixels of the last frame (for samples per pixel).
     last_pixels: u64,
-    /// Interaction level of detail: the cost per pixel and the scale it picks.
-    lod: Lod,
     /// The view's size when the frame on screen is a reduced preview of it.
     preview_of: Option<[u32; 2]>,
     /// Frames in the refinement mean on screen (0: the plain frame is on screen) and the number
     /// aimed at.
     refined: (u32, u32),
-    /// Renderer frame number of the last plain (not refinement) frame: the readout and the
-    /// cost model take timings of plain frames only.
-    last_plain_frame: u64,
+    /// Whether a refinement frame has ever run (lavapipe's timestamps go wrong after one).
+    accumulated: bool,
+    /// The last complete plain frame, copied out of the renderer's output (which the next
+    /// frame's bands overwrite while this one stays on screen): texture, view, size.
+    shown: Option<(wgpu::Texture, wgpu::TextureView, [u32; 2])>,
+    /// Renderer frame numbers of the last complete plain frame's bands, and the GPU time they
+    /// add up to as their results arrive.
+    plain_bands: Vec<u64>,
+    plain_gpu_ms: (f64, usize),
+    /// When the user last did anything (pointer, keys, wheel): refinement waits for quiet.
+    last_input: Option<Instant>,
+    /// What the renderer is doing while the window cannot reach it (the pump holds it), and
+    /// the frame in progress, as seen in the last pass that could look.
+    busy: Busy,
+    /// A frame that failed, for the next pass to report.
+    error: Option<String>,
+}
+
+/// What the window knows of the pump's work, from the last pass that could look.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Busy {
+    /// Share of the frame in progress submitted, while one is.
+    frame: Option<f64>,
+    /// Whether the frame in progress has sent out a band yet.
+    started: bool,
+    /// Whether a band is on the GPU.
+    in_flight: bool,
+    /// Slow CPU work before the next band.
+    preparing: Option<&'static str>,
+    /// Whether a refinement frame is in progress.
+    refining: bool,
+    /// Whether a plain frame (for new inputs) is in progress.
+    plain: bool,
 }
 
 impl Scene {
-    /// Creates the renderer on eframe's device.
-    pub fn new(rs: &egui_wgpu::RenderState) -> Result<Self, RenderError> {
-        let ctx = GpuContext::new(&rs.adapter, rs.device.clone(), rs.queue.clone());
-        let info = &ctx.adapter_info;
+    /// Creates the renderer on eframe's device and starts its band pump (which asks `ctx` to
+    /// draw when a frame is finished).
+    pub fn new(rs: &egui_wgpu::RenderState, ctx: &egui::Context) -> Result<Self, RenderError> {
+        let gpu = GpuContext::new(&rs.adapter, rs.device.clone(), rs.queue.clone());
+        let info = &gpu.adapter_info;
         let adapter_label = format!("{} ({:?})", info.name, info.backend);
-        log::info!("window GPU: {}", ctx.adapter_summary());
+        let cpu_adapter = info.device_type == wgpu::DeviceType::Cpu;
+        let has_timestamps = gpu.has_timestamps();
+        log::info!("window GPU: {}", gpu.adapter_summary());
+        let pump = BandPump::start(VolumeRenderer::new(gpu)?, ctx.clone())
+            .map_err(|e| RenderError::Gpu(format!("cannot start the render thread: {e}")))?;
         Ok(Self {
-            renderer: VolumeRenderer::new(ctx)?,
+            pump,
             device: rs.device.clone(),
+            queue: rs.queue.clone(),
             egui_renderer: rs.renderer.clone(),
             adapter_label,
+            has_timestamps,
+            cpu_adapter,
             texture: ViewTexture::default(),
             camera: None,
             bounds: None,
@@ -91,15 +136,21 @@ impl Scene {
             frames_rendered: 0,
             quiet_passes: 0,
             last_pixels: 0,
-            lod: Lod::default(),
             preview_of: None,
             refined: (0, 0),
-            last_plain_frame: 0,
+            accumulated: false,
+            shown: None,
+            plain_bands: Vec::new(),
+            plain_gpu_ms: (0.0, 0),
+            last_input: None,
+            busy: Busy::default(),
+            error: None,
         })
     }
 
     /// Uploads `volume` (`from_file`: read from a file, not generated) and frames it in the
-    /// default view. On error the old volume stays.
+    /// default view. On error the old volume stays. Waits for the pump if it is preparing a
+    /// frame.
     pub fn show_volume(
         &mut self,
         volume: &Volume,
@@ -107,7 +158,13 @@ impl Scene {
         from_file: bool,
     ) -> Result<&VolumeSummary, RenderError> {
         let started = std::time::Instant::now();
-        self.renderer.set_volume(volume)?;
+        {
+            let handle = self.pump.handle();
+            let mut shared = lock(&handle);
+            shared.job = None;
+            shared.renderer.set_volume(volume)?;
+            shared.lod.forget();
+        }
         log::info!(
             "uploaded {} in {:.0} ms",
             volume.name(),
@@ -122,7 +179,6 @@ impl Scene {
         self.volume = Some(summary);
         self.reset_view(projection);
         self.volume_generation += 1;
-        self.lod.forget();
         let summary = self.volume.as_ref().ok_or(RenderError::NoVolume)?;
         log::info!("showing {}: {}", summary.name, summary.line());
         Ok(summary)
@@ -170,25 +226,52 @@ impl Scene {
         self.camera = self.camera.map(|c| with_projection(&c, kind));
     }
 
-    /// Takes the GPU timings that have arrived; returns whether more are on their way.
+    /// Takes what the pump finished and the GPU measurements that arrived; returns whether more
+    /// are on their way. Looks only when the pump is not preparing a frame (no pass waits).
     pub fn collect_measurements(&mut self) -> bool {
-        for result in self.renderer.collect_results(false) {
-            // A refinement frame costs what its plain frame cost; lavapipe (Mesa 22.3) also
-            // misreports the timestamps of frames after an accumulation (~0.1 ms).
-            if result.frame > self.last_plain_frame {
-                continue;
-            }
-            if let Some(ms) = result.gpu_ms {
-                self.gpu_ms = Some(ms);
-                if self.timestamps_reliable() {
-                    self.lod.measured(result.frame, ms);
-                }
-            }
-            if let Some(c) = result.counters {
+        let handle = self.pump.handle();
+        let Some(mut shared) = try_lock(&handle) else {
+            return true;
+        };
+        self.take_results(&mut shared);
+        self.take_finished(&mut shared);
+        // While the GPU works on a frame the pump asks for a pass when it is done; after that the
+        // last timings are polled for (their read-back is all that is left).
+        shared.renderer.results_pending() && shared.job.is_none() && shared.in_flight.is_none()
+    }
+
+    /// Shows the frames the pump finished, notes its error and its state.
+    fn take_finished(&mut self, shared: &mut Shared) {
+        for f in std::mem::take(&mut shared.finished) {
+            self.complete(f, shared);
+        }
+        if let Some(e) = shared.error.take() {
+            log::error!("{e}");
+            self.error = Some(e);
+        }
+        self.busy = busy_of(shared);
+    }
+
+    /// GPU timings of finished bands: the last plain frame's time adds up over its bands.
+    fn take_results(&mut self, shared: &mut Shared) {
+        for result in shared.renderer.collect_results(false) {
+            if let Some(c) = result.counters
+                && self.plain_bands.last() == Some(&result.frame)
+            {
+                // The counters add up over a frame's bands: the last band's are the frame's.
                 self.counters = Some((c, self.last_pixels));
             }
             if result.rebuild_ms.is_some() {
                 self.rebuild_ms = result.rebuild_ms;
+            }
+            if self.plain_bands.contains(&result.frame) {
+                if let Some(ms) = result.gpu_ms {
+                    self.plain_gpu_ms.0 += ms;
+                }
+                self.plain_gpu_ms.1 += 1;
+                if self.plain_gpu_ms.1 == self.plain_bands.len() {
+                    self.gpu_ms = Some(self.plain_gpu_ms.0);
+                }
             }
             // The first frame back after a transfer-function change carries it (frames complete
             // in order): from the change to that frame's completion on the GPU.
@@ -196,193 +279,284 @@ impl Scene {
                 self.tf_latency_ms = Some(at.elapsed().as_secs_f64() * 1e3);
             }
         }
-        self.renderer.results_pending()
     }
 
-    /// Gives the renderer the editor's transfer function; when it changed, the renderer's
-    /// generation moves on (the one change signal: frames are rendered again for it) and the
-    /// table and the leaping structures are rebuilt in the next frame.
-    fn apply_transfer(&mut self, state: &ViewerState) {
-        let changed = self.renderer.set_transfer_function(state.editor.tf());
-        // Latency is measured for edits, not for the first function (pipelines still compile).
-        if changed && self.transfer_given {
-            self.tf_edit_at = Some(Instant::now());
-        }
-        self.transfer_given = true;
-    }
-
-    /// Renders the current view at `size` pixels at full quality, for saving; the window
-    /// renders its own frame again on the next pass (the output texture was replaced).
+    /// Renders the current view at `size` pixels at full quality, for saving (waits for the
+    /// GPU, and for the pump if it is preparing a frame); the window's frame in progress starts
+    /// again.
     pub fn render_still(
         &mut self,
         state: &ViewerState,
         size: [u32; 2],
     ) -> Result<crate::imaging::ImageF32, String> {
         let camera = self.camera.ok_or("no volume on screen")?;
-        self.apply_transfer(state);
+        let handle = self.pump.handle();
+        let mut shared = lock(&handle);
+        // The still uses the renderer's uniforms and output: a frame in progress starts again.
+        shared.job = None;
+        let changed = shared.renderer.set_transfer_function(state.editor.tf());
+        self.transfer_given |= changed;
         let settings = state.render;
-        let image = auto_path::choose(&mut self.renderer, settings.path)
-            .and_then(|_| {
-                self.renderer
-                    .render_refined(&camera, size, &settings, state.refine_frames)
-            })
+        let renderer = &mut shared.renderer;
+        let image = auto_path::choose(renderer, settings.path)
+            .and_then(|_| renderer.render_refined(&camera, size, &settings, state.refine_frames))
             .map_err(|e| format!("Cannot render a {}×{} image: {e}", size[0], size[1]));
+        drop(shared);
         self.redraw.invalidate();
         image
     }
 
-    /// Renders a frame for a view of `size_px` when anything it depends on changed since the
-    /// last one: at a reduced resolution while `interacting` if a full frame would miss the
-    /// budget (and the state allows it), else at full resolution — so a preview left on screen
-    /// is replaced as soon as the user stops. Returns whether a frame was rendered; an error is a
-    /// one-line message for the user.
+    /// Notes that the user did something this pass (pointer, keys, wheel): a refinement frame
+    /// in progress is dropped, and refinement waits until the user has been quiet for
+    /// [`STILL_AFTER`].
+    pub fn note_input(&mut self) {
+        self.last_input = Some(Instant::now());
+        if !self.busy.refining {
+            return;
+        }
+        let handle = self.pump.handle();
+        if let Some(mut shared) = try_lock(&handle)
+            && matches!(
+                shared.job.as_ref().map(|j| j.kind),
+                Some(JobKind::Refinement { .. })
+            )
+        {
+            log::debug!("refinement frame dropped on input");
+            shared.job = None;
+            self.busy = busy_of(&shared);
+        }
+    }
+
+    /// Moves the view's frame on: starts a frame when anything it depends on changed since the
+    /// last one (at a reduced resolution while `interacting` if a full frame would miss the
+    /// budget, and the state allows it; else at full resolution, so a preview left on screen is
+    /// replaced as soon as the user stops), or the next refinement frame once the user is quiet;
+    /// submits its first band at once where that needs no slow CPU work, and leaves the rest to
+    /// the pump. Returns whether a frame was started; an error is a one-line message for the
+    /// user. When the pump is preparing a frame, nothing happens this pass.
     pub fn render_if_changed(
         &mut self,
         state: &mut ViewerState,
         view_px: [u32; 2],
         interacting: bool,
     ) -> Result<bool, String> {
+        let Some(camera) = self.camera else {
+            return Ok(false);
+        };
+        if let Some(e) = self.error.take() {
+            return Err(e);
+        }
+        let handle = self.pump.handle();
+        let Some(mut shared) = try_lock(&handle) else {
+            return Ok(false);
+        };
+        shared.last_input = self.last_input;
         let scale = if state.interaction_lod {
-            self.lod.scale(view_px, interacting)
+            shared.lod.scale(view_px, interacting)
         } else {
             1.0
         };
         let size_px = scaled_size(view_px, scale);
-        let Some(camera) = self.camera else {
-            return Ok(false);
-        };
-        if !self.renderer.has_volume() || size_px.contains(&0) {
+        if !shared.renderer.has_volume() || size_px.contains(&0) {
             return Ok(false);
         }
-        self.apply_transfer(state);
+        let changed = shared.renderer.set_transfer_function(state.editor.tf());
+        if changed && self.transfer_given {
+            self.tf_edit_at = Some(Instant::now());
+        }
+        self.transfer_given = true;
         let inputs = FrameInputs {
             camera,
             size_px,
             settings: state.render,
-            transfer_generation: self.renderer.transfer_generation(),
+            transfer_generation: shared.renderer.transfer_generation(),
             volume_generation: self.volume_generation,
             stats: state.statistics,
         };
-        if !self.redraw.needs_render(&inputs) {
-            return self.refine_step(&inputs, interacting);
-        }
-        let request = FrameRequest {
-            camera: &inputs.camera,
-            size: size_px,
-            settings: &inputs.settings,
-            stats: inputs.stats,
-        };
-        if !inputs.stats {
-            self.counters = None;
-        }
-        self.last_pixels = u64::from(size_px[0]) * u64::from(size_px[1]);
-        let submit_started = Instant::now();
-        // A full frame of a view that may be refined starts the mean (a cheap pass in the same
-        // submission) and is shown from it; previews and statistics frames are shown as they
-        // are.
-        let refine = scale == 1.0 && !state.statistics && state.refine_frames > 1;
-        self.refined = (0, state.refine_frames);
-        // `auto` is timed on the first frame that asks for it (a few frames, once).
-        let result = auto_path::choose(&mut self.renderer, inputs.settings.path).and_then(|_| {
-            if refine {
-                self.renderer
-                    .render_accumulated(&request, true)
-                    .map(|(frame, n)| {
-                        self.refined.0 = n.unwrap_or(0);
-                        frame
-                    })
-            } else {
-                self.renderer.render(&request)
+        let preview_of = (size_px != view_px).then_some(view_px);
+        // While the user drags, a frame in progress finishes and the newest inputs follow it:
+        // dropping it for every pointer move would leave nothing new on screen until the user
+        // stops. Only a full-resolution frame gives way at once to the first preview.
+        let finish_first = interacting
+            && shared.job.as_ref().is_some_and(|j| {
+                matches!(j.kind, JobKind::Plain { .. })
+                    && !j.bands.is_empty()
+                    && (j.preview_of.is_some() || preview_of.is_none())
+            });
+        let started = if self.redraw.needs_render(&inputs) && !finish_first {
+            // Marked even if the frame fails, so a failing frame is not retried on every pass.
+            self.redraw.mark_rendered(inputs.clone());
+            // A full frame of a view that may be refined starts the mean; previews and
+            // statistics frames are shown as they are.
+            let refine = scale == 1.0 && !state.statistics && state.refine_frames > 1;
+            if shared.job.is_some() {
+                log::debug!("frame in progress dropped for new inputs");
             }
-        });
-        let submit_ms = submit_started.elapsed().as_secs_f64() * 1e3;
-        // Marked even on failure, so a failing frame is not retried on every pass.
-        self.redraw.mark_rendered(inputs);
-        let submitted = result.map_err(render_error)?;
-        self.lod.submitted(submitted.frame, self.last_pixels);
-        self.last_plain_frame = submitted.frame;
-        self.preview_of = (size_px != view_px).then_some(view_px);
-        self.frames_rendered += 1;
-        self.quiet_passes = 0;
-        self.fps.record(Instant::now());
-        self.path_used = Some(submitted.key.path);
-        self.show_frame(size_px);
-        log::debug!(
-            "rendered volume frame {} at {size_px:?} ({submit_ms:.0} ms to submit)",
-            self.frames_rendered
-        );
-        Ok(true)
+            let settings = inputs.settings;
+            shared.job = Some(FrameJob::new(
+                inputs,
+                settings,
+                JobKind::Plain { refine },
+                preview_of,
+            ));
+            self.refined.1 = state.refine_frames;
+            true
+        } else if shared.job.is_none() && self.wants_refinement() {
+            let index = self.refined.0;
+            let settings = crate::settings::RenderSettings {
+                sample_offset: crate::render::raycast::refine::offset(index),
+                ..inputs.settings
+            };
+            shared.job = Some(FrameJob::new(
+                inputs,
+                settings,
+                JobKind::Refinement { index },
+                None,
+            ));
+            self.accumulated = true;
+            true
+        } else {
+            false
+        };
+        if started {
+            // A fast GPU finishes the frame before this pass draws: no frame of latency.
+            shared.step(false);
+            self.pump.wake();
+        }
+        self.take_finished(&mut shared);
+        match self.error.take() {
+            Some(e) => Err(e),
+            None => Ok(started),
+        }
     }
 
-    /// Points the view at the refinement mean when it holds frames, else at the plain frame.
-    fn show_frame(&mut self, size_px: [u32; 2]) {
-        let view = if self.refined.0 > 0 {
-            self.renderer.refined_view()
+    /// Whether the next refinement frame is due: the frame on screen is a full-resolution one
+    /// being refined, and the user has been quiet for [`STILL_AFTER`].
+    fn wants_refinement(&self) -> bool {
+        let (done, target) = self.refined;
+        let quiet = self.last_input.is_none_or(|t| t.elapsed() >= STILL_AFTER);
+        done > 0 && done < target && self.preview_of.is_none() && quiet
+    }
+
+    /// A frame's last band is on the GPU: what it rendered is what the view shows from now on
+    /// (the window draws after it in the same queue).
+    fn complete(&mut self, finished: Finished, shared: &Shared) {
+        let Finished { job, mean, path } = finished;
+        let size = job.inputs.size_px;
+        self.path_used = Some(path);
+        self.quiet_passes = 0;
+        match job.kind {
+            JobKind::Plain { refine } => {
+                self.copy_to_shown(size, shared);
+                self.refined = (if refine { mean.unwrap_or(0) } else { 0 }, self.refined.1);
+                self.preview_of = job.preview_of;
+                self.frames_rendered += 1;
+                self.fps.record(Instant::now());
+                self.last_pixels = u64::from(size[0]) * u64::from(size[1]);
+                self.plain_bands = job.bands;
+                self.plain_gpu_ms = (0.0, 0);
+                if !job.inputs.stats {
+                    self.counters = None;
+                }
+                let ms = job.started.map_or(0.0, |t| t.elapsed().as_secs_f64() * 1e3);
+                log::debug!(
+                    "rendered volume frame {} at {size:?} ({} bands, {ms:.0} ms)",
+                    self.frames_rendered,
+                    self.plain_bands.len()
+                );
+            }
+            JobKind::Refinement { .. } => match mean {
+                Some(n) => {
+                    self.refined.0 = n;
+                    log::debug!(
+                        "refined volume frame {} to a mean of {n}/{}",
+                        self.frames_rendered,
+                        self.refined.1
+                    );
+                }
+                None => self.refined = (0, 0),
+            },
+        }
+        self.show_frame(size, shared);
+    }
+
+    /// Copies the renderer's output (the plain frame just finished) to the texture the view
+    /// shows, so that the next frame's bands do not show before it is complete.
+    fn copy_to_shown(&mut self, size: [u32; 2], shared: &Shared) {
+        if self.shown.as_ref().is_none_or(|(_, _, s)| *s != size) {
+            use wgpu::TextureUsages as U;
+            let texture = crate::render::texture::texture_2d(
+                &self.device,
+                size,
+                crate::render::texture::OUTPUT_FORMAT,
+                U::TEXTURE_BINDING | U::COPY_DST | U::COPY_SRC,
+                "view",
+            );
+            let view = crate::render::texture::full_view(&texture);
+            self.shown = Some((texture, view, size));
+        }
+        let (Some(output), Some((texture, _, _))) = (shared.renderer.output_texture(), &self.shown)
+        else {
+            return;
+        };
+        let mut encoder = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("show frame"),
+            });
+        encoder.copy_texture_to_texture(
+            output.as_image_copy(),
+            texture.as_image_copy(),
+            crate::render::texture::extent(size),
+        );
+        // Under the lock: no band of the next frame can go out before this copy.
+        self.queue.submit([encoder.finish()]);
+    }
+
+    /// Points the view at the refinement mean when it holds more than the plain frame, else at
+    /// the plain frame.
+    fn show_frame(&mut self, size_px: [u32; 2], shared: &Shared) {
+        let view = if self.refined.0 > 1 {
+            shared.renderer.refined_view().cloned()
         } else {
-            self.renderer.output_view()
+            self.shown.as_ref().map(|(_, view, _)| view.clone())
         };
         if let Some(view) = view {
             self.texture.sync(
                 &self.egui_renderer,
                 &self.device,
-                view,
+                &view,
                 size_px,
                 self.preview_of.is_some(),
             );
         }
     }
 
-    /// With the view unchanged (`inputs` already on screen) and still: renders the next frame of
-    /// the refinement at its shifted sample grid and adds it to the mean on screen. Returns
-    /// whether a frame was rendered.
-    fn refine_step(&mut self, inputs: &FrameInputs, interacting: bool) -> Result<bool, String> {
-        let (done, target) = self.refined;
-        if interacting || done == 0 || done >= target || self.preview_of.is_some() {
-            return Ok(false);
+    /// Whether a frame is being rendered (bands still to come or on the GPU), and how far.
+    pub fn rendering(&self) -> Option<f64> {
+        match (self.busy.frame, self.busy.in_flight) {
+            (Some(done), _) => Some(done),
+            (None, true) => Some(1.0),
+            (None, false) => None,
         }
-        let settings = crate::settings::RenderSettings {
-            sample_offset: crate::render::raycast::refine::offset(done),
-            ..inputs.settings
-        };
-        let request = FrameRequest {
-            camera: &inputs.camera,
-            size: inputs.size_px,
-            settings: &settings,
-            stats: false,
-        };
-        let added = self
-            .renderer
-            .render_accumulated(&request, false)
-            .map_err(render_error)
-            .map(|(_, n)| n);
-        match added {
-            Ok(Some(n)) => self.refined.0 = n,
-            Ok(None) => self.refined = (0, 0),
-            Err(e) => {
-                // Not retried: the plain frame stays on screen.
-                self.refined = (0, 0);
-                self.show_frame(inputs.size_px);
-                return Err(e);
-            }
-        }
-        self.show_frame(inputs.size_px);
-        self.quiet_passes = 0;
-        log::debug!(
-            "refined volume frame {} to a mean of {}/{target}",
-            self.frames_rendered,
-            self.refined.0
-        );
-        Ok(true)
+    }
+
+    /// Whether a frame for new inputs is in progress (not a refinement frame).
+    pub fn rendering_new_frame(&self) -> bool {
+        self.busy.plain
+    }
+
+    /// The slow CPU work the renderer is doing before it can render (compiling a shader,
+    /// timing the ray loops), while it does.
+    pub fn preparing(&self) -> Option<&'static str> {
+        self.busy.preparing
     }
 
     /// Whether the GPU timings can be shown: the adapter has timestamp queries, and it is not a
     /// CPU driver that has run a refinement (lavapipe, Mesa 22.3, reports ~0.1 ms for every frame
     /// from the first accumulation on; the H100 reports the same times with and without).
     fn timestamps_reliable(&self) -> bool {
-        let ctx = self.renderer.context();
-        ctx.has_timestamps()
-            && !(ctx.adapter_info.device_type == wgpu::DeviceType::Cpu
-                && self.renderer.has_accumulated())
+        self.has_timestamps && !(self.cpu_adapter && self.accumulated)
     }
 
     /// Whether the view is being refined (another refinement frame will come when still).
@@ -417,6 +591,8 @@ impl Scene {
             tf_latency_ms: self.tf_latency_ms,
             preview_scale: self.preview_scale(),
             refined: Some(self.refined).filter(|(n, _)| *n > 0),
+            rendering: self.busy.frame.filter(|_| self.busy.started),
+            preparing: self.busy.preparing,
             blank: self.volume.as_ref().and_then(|v| {
                 crate::transfer::blank::why_blank_in(v.range, state.editor.tf(), &state.render)
             }),
@@ -449,22 +625,38 @@ impl Scene {
         self.redraw.last()
     }
 
-    /// The frame on screen, read back from the GPU (waits for it).
+    /// The frame on screen, read back from the GPU (waits for it, and for the pump).
     pub fn read_image(&self) -> Result<ImageF32, RenderError> {
-        if self.refined.0 > 0 {
-            self.renderer.read_refined()
-        } else {
-            self.renderer.read_image()
+        let handle = self.pump.handle();
+        let shared = lock(&handle);
+        if self.refined.0 > 1 {
+            return shared.renderer.read_refined();
         }
+        let (texture, _, size) = self.shown.as_ref().ok_or(RenderError::NoVolume)?;
+        crate::render::readback::read_texture(shared.renderer.context(), texture, *size)
+            .map_err(RenderError::Gpu)
     }
 
-    /// Whether GPU timings are still on their way.
+    /// Whether GPU timings, or a band, are still on their way.
     pub fn results_pending(&self) -> bool {
-        self.renderer.results_pending()
+        self.busy.in_flight || self.busy.frame.is_some()
     }
 }
 
-/// A render error as the one-line message the window shows.
-fn render_error(e: RenderError) -> String {
-    format!("Cannot render the volume: {e}")
+/// What the window needs to know of the pump's state.
+fn busy_of(shared: &Shared) -> Busy {
+    Busy {
+        frame: shared.job.as_ref().map(FrameJob::progress),
+        started: shared.job.as_ref().is_some_and(|j| !j.bands.is_empty()),
+        in_flight: shared.in_flight.is_some(),
+        preparing: shared.preparing,
+        refining: matches!(
+            shared.job.as_ref().map(|j| j.kind),
+            Some(JobKind::Refinement { .. })
+        ),
+        plain: matches!(
+            shared.job.as_ref().map(|j| j.kind),
+            Some(JobKind::Plain { .. })
+        ),
+    }
 }

@@ -120,6 +120,7 @@ impl ViewerState {
         let tf = fitted_preset(name, &kind).map_err(|e| e.to_string())?;
         self.editor.set(tf);
         self.preset = name.to_string();
+        log::info!("transfer function preset {name}");
         self.fitted_to = Some(kind);
         Ok(())
     }

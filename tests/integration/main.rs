@@ -10,6 +10,7 @@
 mod common;
 
 mod accuracy;
+mod bands;
 mod bench;
 mod cli;
 mod cropping;

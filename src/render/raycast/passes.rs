@@ -29,6 +29,9 @@ pub struct RaycastPasses<'a> {
     pub near_cap: bool,
     /// Linear RGB behind the volume.
     pub background: [f64; 3],
+    /// The image rows to render, `[first, end)`: all of them, or one band of a frame rendered
+    /// in bands (the compute path's uniforms carry the first row).
+    pub rows: [u32; 2],
 }
 
 impl RaycastPasses<'_> {
@@ -49,13 +52,16 @@ impl RaycastPasses<'_> {
                 pass.set_bind_group(0, self.frame_group, &[]);
                 pass.set_bind_group(1, &self.targets.compute_io, &[]);
                 self.set_optional_groups(|index, group| pass.set_bind_group(index, group, &[]));
-                let [width, height] = self.targets.size;
+                let width = self.targets.size[0];
+                let height = self.rows[1] - self.rows[0];
                 pass.dispatch_workgroups(width.div_ceil(WORKGROUP), height.div_ceil(WORKGROUP), 1);
             }
         }
     }
 
-    /// Pass 1 (back faces → exit points), then pass 2 (front faces and cap run the ray loop).
+    /// Pass 1 (back faces → exit points), then pass 2 (front faces and cap run the ray loop),
+    /// both cut to the band's rows. The output is cleared to the background by the first band
+    /// only, so that later bands add to it; exit points are drawn anew for each band.
     fn record_fragment(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -63,14 +69,17 @@ impl RaycastPasses<'_> {
         probe: Option<(&ProbePool, &ProbeSlot)>,
     ) {
         let timestamps = |first, last| probe.and_then(|(p, s)| p.render_timestamps(s, first, last));
+        let [width, _] = self.targets.size;
+        let [first, end] = self.rows;
         {
             let mut pass = begin_pass(
                 encoder,
                 &self.targets.exit,
-                wgpu::Color::TRANSPARENT,
+                Some(wgpu::Color::TRANSPARENT),
                 timestamps(true, false),
                 "exit points",
             );
+            pass.set_scissor_rect(0, first, width, end - first);
             pass.set_pipeline(self.pipelines.exit);
             pass.set_bind_group(0, self.frame_group, &[]);
             pass.draw(0..CUBE_VERTICES, 0..1);
@@ -80,10 +89,11 @@ impl RaycastPasses<'_> {
         let mut pass = begin_pass(
             encoder,
             &self.targets.output_view,
-            background,
+            (first == 0).then_some(background),
             timestamps(false, true),
             "ray cast",
         );
+        pass.set_scissor_rect(0, first, width, end - first);
         pass.set_pipeline(raycast);
         pass.set_bind_group(0, self.frame_group, &[]);
         pass.set_bind_group(1, &self.targets.fragment_io, &[]);
@@ -107,10 +117,11 @@ impl RaycastPasses<'_> {
     }
 }
 
+/// A render pass into `view`, cleared to `clear` first (kept as it is for `None`).
 fn begin_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
     view: &wgpu::TextureView,
-    clear: wgpu::Color,
+    clear: Option<wgpu::Color>,
     timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     label: &str,
 ) -> wgpu::RenderPass<'e> {
@@ -121,7 +132,7 @@ fn begin_pass<'e>(
             depth_slice: None,
             resolve_target: None,
             ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(clear),
+                load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
                 store: wgpu::StoreOp::Store,
             },
         })],

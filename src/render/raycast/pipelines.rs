@@ -89,6 +89,11 @@ impl Pipelines {
     pub fn variant_count(&self) -> usize {
         self.raycast.len()
     }
+
+    /// Whether the variant `key` is built (a frame that needs it does not compile a shader).
+    pub fn has(&self, key: &PipelineKey) -> bool {
+        self.raycast.contains_key(key)
+    }
 }
 
 /// A pipeline that rasterises the proxy geometry (`vs_proxy`) with one fragment entry point

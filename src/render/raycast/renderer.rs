@@ -139,12 +139,18 @@ struct Measurements {
 }
 
 impl Measurements {
-    /// Counts a new frame and takes a probe for it (none when all are in flight); clears the
-    /// counters of a statistics frame.
-    fn begin(&mut self, stats: bool, encoder: &mut wgpu::CommandEncoder) -> Option<ProbeSlot> {
+    /// Counts a new submission and takes a probe for it (none when all are in flight); clears
+    /// the counters of a statistics frame when `first` (the first band of a frame rendered in
+    /// bands: the counters add up over its bands).
+    fn begin(
+        &mut self,
+        stats: bool,
+        first: bool,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Option<ProbeSlot> {
         self.frames_submitted += 1;
         self.work.frames += 1;
-        if stats {
+        if stats && first {
             self.probes.clear_counters(encoder);
         }
         self.probes.acquire(self.frames_submitted, stats)
@@ -345,21 +351,51 @@ impl VolumeRenderer {
 
     /// Records and submits one frame. Its measurements arrive through [`Self::collect_results`].
     pub fn render(&mut self, request: &FrameRequest) -> Result<SubmittedFrame, RenderError> {
-        self.render_frame(request, None).map(|(frame, _)| frame)
+        let rows = [0, request.size[1]];
+        self.render_frame(request, None, rows)
+            .map(|(frame, _)| frame)
     }
 
-    /// Records and submits `request`'s frame, adding it to the refinement mean in the same
-    /// submission when `accumulate` says so; returns the frames the mean then holds (`None`:
-    /// not added).
+    /// Records and submits rows `rows` (`[first, end)`) of `request`'s frame: a frame rendered
+    /// in bands, one submission each, so that no submission keeps the GPU busy for long (whatever
+    /// else shares the queue, such as the window's own drawing, waits behind it). Bands must come
+    /// in order, from row 0 to the last row, with the same request. The first band clears the
+    /// image; the last one adds it to the refinement mean when `accumulate` is `Some(restart)`
+    /// (returning the frames the mean then holds). Each band has its own measurements (GPU time;
+    /// a statistics frame's counters add up over its bands, complete in the last band's).
+    pub fn render_band(
+        &mut self,
+        request: &FrameRequest,
+        rows: [u32; 2],
+        accumulate: Option<bool>,
+    ) -> Result<(SubmittedFrame, Option<u32>), RenderError> {
+        if rows[0] >= rows[1] || rows[1] > request.size[1] {
+            return Err(RenderError::Gpu(format!(
+                "rows {}..{} are not a band of a {}-row image",
+                rows[0], rows[1], request.size[1]
+            )));
+        }
+        if accumulate.is_some() && self.refine.is_none() {
+            self.refine = Some(Accumulator::new(&self.ctx.device)?);
+        }
+        let accumulate = accumulate.map(|restart| Accumulate { restart });
+        self.render_frame(request, accumulate, rows)
+    }
+
+    /// Records and submits rows `rows` of `request`'s frame (all of them for a whole frame),
+    /// adding the image to the refinement mean in the submission of its last row when
+    /// `accumulate` says so; returns the frames the mean then holds (`None`: not added).
     fn render_frame(
         &mut self,
         request: &FrameRequest,
         accumulate: Option<Accumulate>,
+        rows: [u32; 2],
     ) -> Result<(SubmittedFrame, Option<u32>), RenderError> {
         let settings = request.settings;
         settings.validate()?;
         let key = PipelineKey::new(settings, self.resolve_path(settings.path)?, request.stats);
         self.ensure_targets(request.size)?;
+        let (first, last) = (rows[0] == 0, rows[1] >= request.size[1]);
         self.refresh_tables(settings);
         let volume = self.volume.as_mut().ok_or(RenderError::NoVolume)?;
         let geometry =
@@ -367,6 +403,8 @@ impl VolumeRenderer {
         let frame = (request.size, settings);
         let lut = (self.transfer.lut().entries(), self.transfer.depth_unit());
         let mut uniforms = volume.uniforms(frame, &geometry, lut);
+        uniforms.row_offset = rows[0];
+        uniforms.row_end = rows[1];
         let scope = self
             .ctx
             .device
@@ -378,7 +416,7 @@ impl VolumeRenderer {
                 label: Some("frame"),
             });
         let m = &mut self.measurements;
-        let slot = m.begin(request.stats, &mut encoder);
+        let slot = m.begin(request.stats, first, &mut encoder);
         if key.strategy.leaps() {
             let leap_request = LeapRequest {
                 settings,
@@ -411,11 +449,12 @@ impl VolumeRenderer {
             leap_group: key.strategy.leaps().then_some(&volume.leap_group),
             near_cap: geometry.needs_near_cap,
             background: settings.background,
+            rows,
         };
         passes.record(&mut encoder, slot.as_ref().map(|s| (&m.probes, s)));
         // In the frame's own submission: a separate one upsets lavapipe's timestamps of every
         // later frame (they read ~0.1 ms; seen with Mesa 22.3, not on the H100).
-        let accumulated = match (accumulate, self.refine.as_mut()) {
+        let accumulated = match (accumulate.filter(|_| last), self.refine.as_mut()) {
             (Some(a), Some(acc)) => acc.add(
                 &self.ctx,
                 &mut encoder,
@@ -461,6 +500,11 @@ impl VolumeRenderer {
         Ok((submitted, mine))
     }
 
+    /// The rendered image (to copy it for display), once a frame was rendered.
+    pub fn output_texture(&self) -> Option<&wgpu::Texture> {
+        self.targets.as_ref().map(|t| &t.output)
+    }
+
     /// The rendered image's view (for display in the window), once a frame was rendered.
     pub fn output_view(&self) -> Option<&wgpu::TextureView> {
         self.targets.as_ref().map(|t| &t.output_view)
@@ -490,6 +534,26 @@ impl VolumeRenderer {
     /// Sets the path `auto` stands for (what [`super::auto_path::choose`] measured).
     pub fn set_auto_path(&mut self, path: ConcretePath) {
         self.auto_path = Some(path);
+    }
+
+    /// Whether a frame with `settings` (and statistics when `stats`) can be submitted without
+    /// slow work on the CPU first: its path is known (`auto` was timed) and its shader variant is
+    /// compiled. A window keeps such work off its own thread.
+    pub fn ready_for(&self, settings: &RenderSettings, stats: bool) -> bool {
+        self.resolve_path(settings.path)
+            .is_ok_and(|path| self.pipelines.has(&PipelineKey::new(settings, path, stats)))
+    }
+
+    /// Compiles the shader variant a frame with `settings` (and statistics when `stats`) needs,
+    /// if it is not built yet (slow on a CPU driver: a second or so).
+    pub fn prepare_pipeline(
+        &mut self,
+        settings: &RenderSettings,
+        stats: bool,
+    ) -> Result<(), RenderError> {
+        let key = PipelineKey::new(settings, self.resolve_path(settings.path)?, stats);
+        self.pipelines.for_frame(&self.ctx.device, key)?;
+        Ok(())
     }
 
     /// Number of pipeline variants built so far.
@@ -542,7 +606,8 @@ impl VolumeRenderer {
         if self.refine.is_none() {
             self.refine = Some(Accumulator::new(&self.ctx.device)?);
         }
-        self.render_frame(request, Some(Accumulate { restart }))
+        let rows = [0, request.size[1]];
+        self.render_frame(request, Some(Accumulate { restart }), rows)
     }
 
     /// Whether any frame was ever added to a refinement mean.

@@ -136,6 +136,10 @@ pub fn frame_uniforms(
         level_count: leap.level_count,
         lut_depth_unit: decoding.lut_depth_unit,
         light_min_weight: settings.light_min_weight as f32,
+        row_offset: 0,
+        row_end: size[1],
+        _pad0: 0,
+        _pad1: 0,
     }
 }
 

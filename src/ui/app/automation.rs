@@ -21,6 +21,7 @@ impl LeapViewApp {
             && !self.scene.results_pending()
             && self.scene.preview_scale().is_none()
             && !self.scene.refining()
+            && self.scene.rendering().is_none()
             && self.loader.busy().is_none();
         match self.automation.poll_screenshot(ctx, ready) {
             ShotEvent::Requested => self.shot_inputs = self.scene.last_inputs().cloned(),
@@ -33,8 +34,9 @@ impl LeapViewApp {
             }
             ShotEvent::None => {}
         }
-        if frames >= 1 && self.automation.screenshot_waiting() {
-            // Keep passes coming until the view has settled.
+        if frames >= 1 && self.automation.screenshot_waiting() && self.scene.rendering().is_none() {
+            // Keep passes coming until the view has settled (while a frame renders, the band
+            // pump asks for the pass that follows it).
             ctx.request_repaint();
         }
         if self.automation.should_close(frames) {

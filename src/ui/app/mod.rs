@@ -124,7 +124,7 @@ impl LeapViewApp {
             .wgpu_render_state
             .as_ref()
             .ok_or_else(|| AppError::Renderer("eframe did not start its wgpu renderer".into()))?;
-        let scene = Scene::new(rs).map_err(|e| AppError::Renderer(e.to_string()))?;
+        let scene = Scene::new(rs, &cc.egui_ctx).map_err(|e| AppError::Renderer(e.to_string()))?;
         let state = match cc.storage {
             Some(storage) if !automation.is_active() => restored_state(storage),
             _ => ViewerState::default(),
@@ -382,6 +382,16 @@ impl eframe::App for LeapViewApp {
 
     fn persist_egui_memory(&self) -> bool {
         false
+    }
+
+    /// Logs what the window was left at (scripts and the window tests read it).
+    fn on_exit(&mut self) {
+        log::info!(
+            "closing with preset {}, strategy {}, mode {:?}",
+            self.state.preset,
+            self.state.render.strategy.label(),
+            self.state.render.mode
+        );
     }
 
     /// Keeps the settings and the transfer function being edited for the next run.

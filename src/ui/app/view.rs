@@ -9,7 +9,7 @@ use crate::ui::Action;
 use crate::ui::crop::{crop_handles, hint as crop_hint};
 use crate::ui::lod::STILL_AFTER;
 use crate::ui::orientation_marker;
-use crate::ui::overlay::{draw_loading, draw_readout};
+use crate::ui::overlay::{draw_first_frame_status, draw_loading, draw_readout};
 use crate::ui::screenshot::TURN_DEG_PER_FRAME;
 use crate::ui::viewport::{ViewArea, view_ui};
 use crate::ui::window_level::{self, WindowLevelEdit};
@@ -29,6 +29,14 @@ impl LeapViewApp {
         ui.painter()
             .rect_filled(area.rect, 0.0, Color32::from_rgb(r, g, b));
         self.scene.paint(ui, area.rect.min);
+        if self.scene.frames_rendered() == 0 && self.scene.volume().is_some() {
+            draw_first_frame_status(
+                ui,
+                area.rect,
+                self.scene.preparing(),
+                self.scene.rendering(),
+            );
+        }
         self.draw_over_view(ui, &area);
         if let Some(status) = self.loader.busy()
             && draw_loading(ui, area.rect, &status)
@@ -53,9 +61,11 @@ impl LeapViewApp {
         if area.window_drag_ended {
             self.state.editor.end_gesture();
         }
+        // The next turn once the last frame is done (a turn drops a frame in progress).
         if self
             .automation
             .wants_another_frame(self.scene.frames_rendered())
+            && !self.scene.rendering_new_frame()
         {
             if let Some(camera) = self.scene.camera_mut() {
                 camera.orbit(TURN_DEG_PER_FRAME, 0.0);
@@ -68,17 +78,22 @@ impl LeapViewApp {
     /// refinement and the full-resolution frame after a preview need.
     fn render_view(&mut self, area: &ViewArea, ctx: &egui::Context) {
         let interacting = self.interacting(ctx);
+        if user_input(ctx) {
+            self.scene.note_input();
+        }
         if let Err(message) =
             self.scene
                 .render_if_changed(&mut self.state, area.size_px, interacting)
         {
             self.dialogs.show_error(message);
         }
-        if self.scene.refining() && !interacting {
-            // The next refinement frame comes in the next pass.
-            ctx.request_repaint();
+        if self.scene.refining() && self.scene.rendering().is_none() {
+            // Refinement paused for input: it goes on once the user has been quiet for a
+            // moment. (While a refinement frame renders, the pump asks for the pass that starts
+            // the next one.)
+            ctx.request_repaint_after(STILL_AFTER);
         }
-        if self.scene.preview_scale().is_some() {
+        if self.scene.preview_scale().is_some() && self.scene.rendering().is_none() {
             // Refine once the pointer has been still long enough (or at once, if it is).
             let still_in = self
                 .last_motion
@@ -148,6 +163,26 @@ impl LeapViewApp {
             None => {}
         }
     }
+}
+
+/// Whether the user did anything this pass: moved the pointer, pressed a button or a key, typed,
+/// turned the wheel or pinched.
+fn user_input(ctx: &egui::Context) -> bool {
+    ctx.input(|i| {
+        i.events.iter().any(|e| {
+            matches!(
+                e,
+                egui::Event::PointerMoved(_)
+                    | egui::Event::MouseMoved(_)
+                    | egui::Event::PointerButton { .. }
+                    | egui::Event::Key { .. }
+                    | egui::Event::Text(_)
+                    | egui::Event::MouseWheel { .. }
+                    | egui::Event::Zoom(_)
+                    | egui::Event::Touch { .. }
+            )
+        })
+    })
 }
 
 /// "Drop to open NAME" over the view while a file is dragged over the window.

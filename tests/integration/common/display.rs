@@ -5,16 +5,24 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// A virtual X server on a free display, stopped when dropped.
+/// One window test at a time: two would pick the same free display number before either
+/// server had taken it, and two windows on a CPU driver would slow each other down.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// A virtual X server on a free display, stopped when dropped; while it runs, no other window
+/// test does.
 pub struct Xvfb {
     child: Child,
     /// The display, e.g. `:150`.
     pub display: String,
+    _turn: std::sync::MutexGuard<'static, ()>,
 }
 
 impl Xvfb {
-    /// Starts one on the first free display from :150; panics without `Xvfb`.
+    /// Starts one on the first free display from :150 (waiting for any other window test to
+    /// finish); panics without `Xvfb`.
     pub fn start() -> Self {
+        let turn = ONE_AT_A_TIME.lock().unwrap_or_else(|p| p.into_inner());
         // Far from the :99 that scripts/screenshot.sh starts with.
         let number = (150..250)
             .find(|n| !Path::new(&format!("/tmp/.X{n}-lock")).exists())
@@ -41,7 +49,11 @@ impl Xvfb {
             assert!(Instant::now() < deadline, "Xvfb did not start on {display}");
             std::thread::sleep(Duration::from_millis(50));
         }
-        Self { child, display }
+        Self {
+            child,
+            display,
+            _turn: turn,
+        }
     }
 }
 

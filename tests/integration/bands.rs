@@ -1,0 +1,115 @@
+//! Frames rendered in bands of rows (what the window does when a frame would keep the GPU busy
+//! for long) equal frames rendered whole, bit for bit, on both paths and with every leaping
+//! strategy; statistics add up over the bands; the refinement mean takes the banded frame.
+
+use crate::common;
+
+use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
+use leapview::render::{FrameRequest, VolumeRenderer};
+use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
+use leapview::transfer::presets::preset;
+use leapview::volume::synthetic;
+
+/// Renders `request` in bands of `band` rows and returns the last band's results, waiting for
+/// each band.
+fn banded(
+    r: &mut VolumeRenderer,
+    request: &FrameRequest,
+    band: u32,
+    accumulate: Option<bool>,
+) -> (Option<u32>, leapview::render::FrameResults) {
+    let height = request.size[1];
+    let mut first = 0;
+    let mut last = (None, Default::default());
+    while first < height {
+        let end = (first + band).min(height);
+        let (submitted, mean) = r
+            .render_band(request, [first, end], accumulate)
+            .expect("band");
+        let results = r.collect_results(true);
+        let mine = results
+            .into_iter()
+            .find(|x| x.frame == submitted.frame)
+            .unwrap_or_default();
+        last = (mean, mine);
+        first = end;
+    }
+    last
+}
+
+#[test]
+fn a_frame_in_bands_equals_the_whole_frame_on_both_paths() {
+    let volume = synthetic::vessel_tree(48, 3).expect("volume");
+    let mut r = common::renderer();
+    r.set_volume(&volume).expect("upload");
+    r.set_transfer_function(&preset("mr-angio").expect("preset"));
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let (dir, up) = ViewPreset::Oblique.direction_and_up();
+    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    // 61 rows: neither a multiple of the compute path's 8-row workgroups nor of the bands.
+    let size = [53, 61];
+    for path in [RenderPath::Compute, RenderPath::Fragment] {
+        for (mode, strategy) in [
+            (Mode::Dvr, Strategy::RcT),
+            (Mode::Dvr, Strategy::RcSDistance),
+            (Mode::Mip, Strategy::RcS),
+        ] {
+            let settings = RenderSettings {
+                path,
+                mode,
+                strategy,
+                ..RenderSettings::default()
+            };
+            let request = FrameRequest {
+                camera: &camera,
+                size,
+                settings: &settings,
+                stats: true,
+            };
+            let (_, whole) = r.render_and_wait(&request).expect("render");
+            let whole_image = r.read_image().expect("read");
+            for band in [1, 13, 16, 61] {
+                let (_, last) = banded(&mut r, &request, band, None);
+                let image = r.read_image().expect("read");
+                let case = format!("{path:?} {mode:?} {strategy:?}, bands of {band} rows");
+                assert_eq!(image, whole_image, "{case}");
+                assert_eq!(last.counters, whole.counters, "{case}: counters add up");
+                assert!(whole.counters.is_some_and(|c| c.samples > 0), "{case}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_banded_frame_starts_and_joins_the_refinement_mean() {
+    let volume = synthetic::shepp_logan(32).expect("volume");
+    let mut r = common::renderer();
+    r.set_volume(&volume).expect("upload");
+    r.set_transfer_function(&preset("ct-bone").expect("preset"));
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let (dir, up) = ViewPreset::Oblique.direction_and_up();
+    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    let size = [40, 37];
+    let mut settings = RenderSettings {
+        path: RenderPath::Compute,
+        ..RenderSettings::default()
+    };
+    let whole = r
+        .render_refined(&camera, size, &settings, 2)
+        .expect("whole");
+    fn request<'a>(camera: &'a Camera, size: [u32; 2], s: &'a RenderSettings) -> FrameRequest<'a> {
+        FrameRequest {
+            camera,
+            size,
+            settings: s,
+            stats: false,
+        }
+    }
+    settings.sample_offset = leapview::render::raycast::refine::offset(0);
+    let (mean, _) = banded(&mut r, &request(&camera, size, &settings), 10, Some(true));
+    assert_eq!(mean, Some(1), "the last band restarts the mean");
+    settings.sample_offset = leapview::render::raycast::refine::offset(1);
+    let (mean, _) = banded(&mut r, &request(&camera, size, &settings), 10, Some(false));
+    assert_eq!(mean, Some(2), "and adds to it");
+    assert_eq!(r.read_refined().expect("mean"), whole);
+}
