@@ -37,7 +37,7 @@ pub enum Command {
     /// reference; tables and Pareto plots.
     Accuracy(Box<super::accuracy::AccuracyArgs>),
     /// Write one of the generated volumes (the window's phantom and vessel tree, the benchmark's
-    /// scenes) to a gzip NRRD file, to try every command without data of your own.
+    /// scenes) to a NRRD file, to try every command without data of your own.
     Generate(GenerateArgs),
 }
 
@@ -60,7 +60,8 @@ pub struct GenerateArgs {
     /// Which volume.
     #[arg(value_enum)]
     pub what: Generated,
-    /// Output file (`.nrrd`).
+    /// Output file: `.nrrd` (gzip, one file), or `.nhdr` (a header, and the samples raw and
+    /// little-endian in a `.raw` file of the same name).
     #[arg(long)]
     pub out: PathBuf,
     /// Samples along each axis (8 to 1024).

@@ -1,4 +1,5 @@
-//! `leapview generate`: a generated volume written as a gzip NRRD file.
+//! `leapview generate`: a generated volume written as a gzip NRRD file, or as a detached NRRD
+//! header with the raw samples beside it.
 
 use anyhow::Context;
 use leapview::volume::nrrd::write::write_nrrd;
@@ -9,9 +10,12 @@ use super::args::{GenerateArgs, Generated};
 
 /// Runs the command.
 pub fn run(args: &GenerateArgs) -> Result<(), Failure> {
-    if args.out.extension().and_then(|e| e.to_str()) != Some("nrrd") {
+    if !matches!(
+        args.out.extension().and_then(|e| e.to_str()),
+        Some("nrrd" | "nhdr")
+    ) {
         return Err(Failure::BadInput(anyhow::anyhow!(
-            "{}: the output must be a .nrrd file",
+            "{}: the output must be a .nrrd file (or .nhdr, for a header and a .raw file)",
             args.out.display()
         )));
     }

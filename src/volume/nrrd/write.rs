@@ -10,18 +10,43 @@ use flate2::write::GzEncoder;
 
 use crate::volume::{Direction, Samples, ValueMapping, Volume};
 
-/// Writes `volume` to `path`; `comment` becomes a `#` line (provenance).
+/// Writes `volume` to `path`; `comment` becomes a `#` line (provenance). A `.nhdr` path gets a
+/// detached header and the samples raw, little-endian, in a file of the same name ending in
+/// `.raw` beside it (which also opens as a headerless raw file); any other, one gzip NRRD.
 pub fn write_nrrd(volume: &Volume, path: &Path, comment: &str) -> std::io::Result<()> {
+    let detached = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("nhdr"));
+    if detached {
+        let raw = path.with_extension("raw");
+        let name = raw
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let mut out = std::io::BufWriter::new(std::fs::File::create(&raw)?);
+        write_samples(volume.samples(), &mut out)?;
+        out.flush()?;
+        let text = header(volume, comment, &Encoding::RawIn(&name));
+        return std::fs::write(path, text);
+    }
     let file = std::fs::File::create(path)?;
     let mut out = std::io::BufWriter::new(file);
-    out.write_all(header(volume, comment).as_bytes())?;
+    out.write_all(header(volume, comment, &Encoding::Gzip).as_bytes())?;
     let mut gz = GzEncoder::new(out, Compression::new(6));
     write_samples(volume.samples(), &mut gz)?;
     gz.finish()?.flush()
 }
 
+/// Where and how the samples are stored.
+pub enum Encoding<'a> {
+    /// Gzip, after the header in the same file.
+    Gzip,
+    /// Raw, in the named file beside the header.
+    RawIn(&'a str),
+}
+
 /// The header text, up to and including the blank line that ends it.
-pub fn header(volume: &Volume, comment: &str) -> String {
+pub fn header(volume: &Volume, comment: &str, encoding: &Encoding) -> String {
     let [x, y, z] = volume.dims();
     let [sx, sy, sz] = volume.spacing_mm();
     let mut h = String::from("NRRD0004\n");
@@ -50,7 +75,10 @@ pub fn header(volume: &Volume, comment: &str) -> String {
     if volume.scalar_type().size_bytes() > 1 {
         h += "endian: little\n";
     }
-    h += "encoding: gzip\n";
+    match encoding {
+        Encoding::Gzip => h += "encoding: gzip\n",
+        Encoding::RawIn(name) => h += &format!("encoding: raw\ndata file: {name}\n"),
+    }
     let m = volume.mapping();
     if m != ValueMapping::IDENTITY {
         h += &format!(
@@ -117,6 +145,32 @@ mod tests {
         let back = load_volume(&path, &LoadOptions::default()).expect("read back");
         let _ = std::fs::remove_file(&path);
         back
+    }
+
+    #[test]
+    fn a_detached_header_and_its_raw_samples_read_back_unchanged() {
+        let dir = std::env::temp_dir().join(format!("leapview-nhdr-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let phantom = shepp_logan(20).expect("phantom");
+        let path = dir.join("phantom.nhdr");
+        write_nrrd(&phantom, &path, "detached").expect("write");
+        let back = load_volume(&path, &LoadOptions::default()).expect("read back");
+        assert_eq!(back.samples(), phantom.samples());
+        assert_eq!(back.spacing_mm(), phantom.spacing_mm());
+        assert_eq!(back.orientation(), phantom.orientation());
+        // The samples alone open as a raw file with the layout on the command line.
+        let raw = LoadOptions {
+            raw: Some(crate::volume::raw::RawParams {
+                dims: [20; 3],
+                scalar_type: crate::volume::ScalarType::I16,
+                spacing_mm: phantom.spacing_mm(),
+                big_endian: false,
+            }),
+            ..LoadOptions::default()
+        };
+        let samples = load_volume(&dir.join("phantom.raw"), &raw).expect("raw");
+        assert_eq!(samples.samples(), phantom.samples());
+        std::fs::remove_dir_all(&dir).expect("clean up");
     }
 
     #[test]
