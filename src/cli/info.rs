@@ -79,6 +79,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
                 _ => None,
             },
             "default_tf": kind.default_preset(),
+            "default_window": fit::default_window(volume.histogram()),
         });
         return print_stdout(&format!("{value:#}\n")).map_err(|e| Failure::Other(e.into()));
     }
@@ -147,6 +148,14 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
     }
     outln!(out, "values:      {}", kind.describe(volume.modality()));
     outln!(out, "default tf:  {}", kind.default_preset());
+    if let Some([lo, hi]) = fit::default_window(volume.histogram()) {
+        outln!(
+            out,
+            "window:      {} .. {} (MIP, MinIP, X-ray by default: 0.1 to 99.9 percentile)",
+            number(lo),
+            number(hi)
+        );
+    }
     if let (Some(share), Some(name)) = (transparent, &args.tf) {
         outln!(
             out,

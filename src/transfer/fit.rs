@@ -272,6 +272,28 @@ fn argmax(values: &[f64], from: usize, to: usize) -> usize {
     )
 }
 
+/// Share of the voxels a default window leaves below its bottom and above its top: a few bright
+/// outliers (metal, a vessel's flow artefact) must not take the whole grey scale.
+pub const WINDOW_TAIL: f64 = 0.001;
+
+/// The window MIP, MinIP and X-ray use when none is given: the values between the 0.1 and 99.9
+/// percentiles ([`WINDOW_TAIL`]), to a bin of the histogram (bin edges outwards); `None` when the
+/// histogram has no width (a constant volume: its value range is all there is).
+pub fn default_window(histogram: &Histogram) -> Option<[f64; 2]> {
+    let n = histogram.counts.len();
+    let total = histogram.total();
+    let range = histogram.range;
+    if n == 0 || total == 0 || range.width() <= 0.0 {
+        return None;
+    }
+    let width = range.width() / n as f64;
+    let lo_bin = percentile_bin(&histogram.counts, WINDOW_TAIL);
+    let hi_bin = percentile_bin(&histogram.counts, 1.0 - WINDOW_TAIL);
+    let lo = range.min + lo_bin as f64 * width;
+    let hi = (range.min + (hi_bin + 1) as f64 * width).min(range.max);
+    (hi > lo).then_some([lo, hi])
+}
+
 /// The preset `name` fitted to data of `kind`: a CT preset (in HU) on calibrated CT is mapped
 /// onto the data's values; anything else is the preset as written.
 pub fn fitted_preset(name: &str, kind: &DataKind) -> Result<TransferFunction, TransferError> {
@@ -421,6 +443,41 @@ mod tests {
             .rfind(|p| p[1] == 0.0)
             .expect("a zero point");
         assert!((at[0] - 1174.0).abs() < 30.0, "{:?}", tf.opacity);
+    }
+
+    #[test]
+    fn the_default_window_leaves_out_a_thousandth_at_each_end() {
+        // 10 000 voxels over 0..256 in 256 bins: 9 000 background at 0, 980 tissue at 100, 20
+        // bright voxels at 250: 0.2 % is more than the tail, so they are in the window.
+        let range = ValueRange {
+            min: 0.0,
+            max: 256.0,
+        };
+        let mut counts = vec![0; 256];
+        counts[0] = 9000;
+        counts[100] = 980;
+        counts[250] = 20;
+        let h = Histogram { range, counts };
+        assert_eq!(default_window(&h), Some([0.0, 251.0]));
+        // Outliers of 0.05 % are left out: the top is the tissue bin's upper edge.
+        let mut counts = vec![0; 256];
+        counts[0] = 9000;
+        counts[100] = 995;
+        counts[250] = 5;
+        let h = Histogram { range, counts };
+        assert_eq!(default_window(&h), Some([0.0, 101.0]));
+        let mut counts = vec![0; 256];
+        counts[10] = 5000;
+        counts[200] = 5000;
+        assert_eq!(
+            default_window(&Histogram { range, counts }),
+            Some([10.0, 201.0])
+        );
+        let empty = Histogram {
+            range,
+            counts: vec![0; 256],
+        };
+        assert_eq!(default_window(&empty), None);
     }
 
     #[test]

@@ -194,6 +194,13 @@ impl LeapViewApp {
             Ok(summary) => {
                 self.shown_source = Some(source.clone());
                 self.state.forget_volume_values();
+                // MIP, MinIP and X-ray start from the data's window, as `leapview render` does.
+                self.state.render.window = summary.range.and_then(|range| {
+                    crate::transfer::fit::default_window(&crate::volume::Histogram {
+                        range,
+                        counts: summary.histogram.clone(),
+                    })
+                });
                 if let VolumeSource::File { path, .. } = source {
                     self.state.remember_file(path);
                 }
