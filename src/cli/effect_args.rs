@@ -16,8 +16,8 @@ pub struct EffectArgs {
     /// Isosurface refinement steps (false position) between the samples around a hit, 0 to 16.
     #[arg(long)]
     pub iso_refine: Option<u32>,
-    /// Data window `LO,HI` mapped to black..white by MIP, MinIP and X-ray (default: the value
-    /// range).
+    /// Data window `LO,HI` mapped to black..white by MIP, MinIP and X-ray (default: the data's,
+    /// from the 0.1 to the 99.9 percentile of its values).
     #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
     pub window: Option<[f64; 2]>,
     /// Per-sample Phong lighting in DVR and isosurface modes.
