@@ -65,7 +65,8 @@ pub fn orientation_ui(ui: &mut egui::Ui, v: &VolumeSummary) -> Option<Action> {
 
 /// A code field (`RAI`, …) with Apply; a code that does not parse says why instead.
 fn code_row(ui: &mut egui::Ui, file: &Orientation) -> Option<Action> {
-    let id = ui.make_persistent_id(CODE_FIELD);
+    // Keyed by the code in force: after a flip or a new file the field starts from it again.
+    let id = ui.make_persistent_id((CODE_FIELD, file.code()));
     let mut text = ui
         .data(|d| d.get_temp::<String>(id))
         .unwrap_or_else(|| file.code());
