@@ -302,3 +302,114 @@ fn run(shared: &Mutex<Shared>, stop: &AtomicBool, ctx: &egui::Context) {
         }
     }
 }
+
+/// An image to render at full quality for saving (File › Save image…).
+pub struct Still {
+    /// The camera.
+    pub camera: crate::camera::Camera,
+    /// Image size in pixels.
+    pub size: [u32; 2],
+    /// What the frame renders with.
+    pub settings: crate::settings::RenderSettings,
+    /// The transfer function.
+    pub transfer: crate::transfer::TransferFunction,
+    /// Frames of the refinement mean (1: one plain frame).
+    pub frames: u32,
+    /// Where to write it (`.png`, `.exr`).
+    pub path: std::path::PathBuf,
+}
+
+/// Renders `still` on a thread of its own, in bands, waiting for each, and writes it: the window
+/// keeps drawing (its passes find the renderer busy and leave it alone) and its own drawing waits
+/// for at most one band. The outcome arrives on the returned channel as a line for the user, and
+/// `ctx` is asked to draw when it does.
+pub fn save_still(
+    shared: Arc<Mutex<Shared>>,
+    still: Still,
+    ctx: egui::Context,
+) -> Result<std::sync::mpsc::Receiver<Result<String, String>>, String> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::Builder::new()
+        .name("save image".into())
+        .spawn(move || {
+            let [w, h] = still.size;
+            let started = Instant::now();
+            let outcome = {
+                let mut s = lock(&shared);
+                render_still(&mut s, &still)
+                    .map_err(|e| format!("Cannot render a {w}×{h} image: {e}"))
+            }
+            .and_then(|image| image.save(&still.path).map_err(|e| e.to_string()))
+            .map(|()| {
+                format!(
+                    "saved {w}×{h} to {} ({:.1} s)",
+                    still.path.display(),
+                    started.elapsed().as_secs_f64()
+                )
+            });
+            match &outcome {
+                Ok(line) => log::info!("{line}"),
+                Err(e) => log::error!("{e}"),
+            }
+            let _ = tx.send(outcome);
+            ctx.request_repaint();
+        })
+        .map_err(|e| format!("cannot start saving: {e}"))?;
+    Ok(rx)
+}
+
+/// The frames of `still`, band by band, added to the refinement mean; the mean (or the one frame
+/// where refining is off, or the image too large for the sums) read back.
+fn render_still(s: &mut Shared, still: &Still) -> Result<crate::imaging::ImageF32, RenderError> {
+    s.job = None;
+    s.renderer.set_transfer_function(&still.transfer);
+    auto_path::choose(&mut s.renderer, still.settings.path)?;
+    let size = still.size;
+    let mut refine = still.frames > 1;
+    for k in 0..still.frames.max(1) {
+        let settings = crate::settings::RenderSettings {
+            sample_offset: if refine {
+                crate::render::raycast::refine::offset(k)
+            } else {
+                still.settings.sample_offset
+            },
+            ..still.settings
+        };
+        let request = FrameRequest {
+            camera: &still.camera,
+            size,
+            settings: &settings,
+            stats: false,
+        };
+        let mut first = 0;
+        let mut mean = None;
+        while first < size[1] {
+            let end = s.lod.band_end(size, first, band_budget_ms(None), WORKGROUP);
+            let rows = [first, end.max(first + 1).min(size[1])];
+            mean = s
+                .renderer
+                .render_band(&request, rows, refine.then_some(k == 0))?
+                .1;
+            // The band done before the next goes out: the window's drawing never queues behind
+            // more than one.
+            s.renderer.collect_results(true);
+            first = rows[1];
+        }
+        if refine && mean.is_none() {
+            log::warn!(
+                "a {}×{} image is too large to refine; rendered once",
+                size[0],
+                size[1]
+            );
+            refine = false;
+        }
+        if !refine {
+            break;
+        }
+    }
+    if refine {
+        s.renderer.read_refined()
+    } else {
+        s.renderer.read_image()
+    }
+}

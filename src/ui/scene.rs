@@ -12,7 +12,6 @@ use egui::mutex::RwLock;
 use crate::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use crate::counters::FrameCounters;
 use crate::imaging::ImageF32;
-use crate::render::raycast::auto_path;
 use crate::render::{GpuContext, RenderError, VolumeRenderer};
 use crate::settings::ConcretePath;
 use crate::volume::Volume;
@@ -231,7 +230,9 @@ impl Scene {
     pub fn collect_measurements(&mut self) -> bool {
         let handle = self.pump.handle();
         let Some(mut shared) = try_lock(&handle) else {
-            return true;
+            // Whoever holds the renderer (the pump preparing a frame, an image being saved) asks
+            // for a pass when done: no polling meanwhile, each pass would cost the GPU's time.
+            return false;
         };
         self.take_results(&mut shared);
         self.take_finished(&mut shared);
@@ -281,29 +282,29 @@ impl Scene {
         }
     }
 
-    /// Renders the current view at `size` pixels at full quality, for saving (waits for the
-    /// GPU, and for the pump if it is preparing a frame); the window's frame in progress starts
-    /// again.
-    pub fn render_still(
+    /// Starts rendering the current view at `size` pixels at full quality and writing it to
+    /// `path`, on a thread of its own ([`super::band_pump::save_still`]); the outcome, a line
+    /// for the user, arrives on the returned channel. The window's frame in progress starts
+    /// again afterwards.
+    pub fn save_still(
         &mut self,
         state: &ViewerState,
         size: [u32; 2],
-    ) -> Result<crate::imaging::ImageF32, String> {
+        path: std::path::PathBuf,
+        ctx: &egui::Context,
+    ) -> Result<std::sync::mpsc::Receiver<Result<String, String>>, String> {
         let camera = self.camera.ok_or("no volume on screen")?;
-        let handle = self.pump.handle();
-        let mut shared = lock(&handle);
-        // The still uses the renderer's uniforms and output: a frame in progress starts again.
-        shared.job = None;
-        let changed = shared.renderer.set_transfer_function(state.editor.tf());
-        self.transfer_given |= changed;
-        let settings = state.render;
-        let renderer = &mut shared.renderer;
-        let image = auto_path::choose(renderer, settings.path)
-            .and_then(|_| renderer.render_refined(&camera, size, &settings, state.refine_frames))
-            .map_err(|e| format!("Cannot render a {}×{} image: {e}", size[0], size[1]));
-        drop(shared);
+        let still = super::band_pump::Still {
+            camera,
+            size,
+            settings: state.render,
+            transfer: state.editor.tf().clone(),
+            frames: state.refine_frames,
+            path,
+        };
+        // The still leaves the renderer's output at its size: the view renders again after it.
         self.redraw.invalidate();
-        image
+        super::band_pump::save_still(self.pump.handle(), still, ctx.clone())
     }
 
     /// Notes that the user did something this pass (pointer, keys, wheel): a refinement frame

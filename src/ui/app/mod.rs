@@ -111,6 +111,8 @@ struct LeapViewApp {
     last_motion: Option<Instant>,
     /// Where the volume on screen came from.
     shown_source: Option<VolumeSource>,
+    /// The outcome of an image being saved, while it is.
+    saving: Option<std::sync::mpsc::Receiver<Result<String, String>>>,
 }
 
 impl LeapViewApp {
@@ -144,6 +146,7 @@ impl LeapViewApp {
             view_px: [1, 1],
             last_motion: None,
             shown_source: None,
+            saving: None,
         };
         // A file's orientation as corrected before, unless the command line gives one.
         let first = match first {
@@ -300,29 +303,35 @@ impl LeapViewApp {
         }
     }
 
-    /// The "Save image" window: renders the view again at the chosen size and writes it.
+    /// The "Save image" window: renders the view again at the chosen size and writes it, on a
+    /// thread of its own (the window stays responsive; the status says when it is written).
     fn save_image_ui(&mut self, ctx: &egui::Context) {
+        if let Some(rx) = &self.saving
+            && let Ok(outcome) = rx.try_recv()
+        {
+            self.saving = None;
+            if let Some(form) = &mut self.save_image {
+                form.status = Some(outcome.unwrap_or_else(|e| e));
+            }
+        }
         let Some(form) = &mut self.save_image else {
             return;
         };
         match save_image_window(ctx, form, self.view_px) {
             Some(SaveImageEvent::Close) => self.save_image = None,
-            Some(SaveImageEvent::Save) => {
+            Some(SaveImageEvent::Save) if self.saving.is_none() => {
                 let size = form.size;
                 let path = PathBuf::from(&form.path);
-                form.status = Some(
-                    match self
-                        .scene
-                        .render_still(&self.state, size)
-                        .and_then(|image| image.save(&path).map_err(|e| e.to_string()))
-                    {
-                        Ok(()) => format!("saved {}×{} to {}", size[0], size[1], path.display()),
-                        Err(e) => e,
-                    },
-                );
+                match self.scene.save_still(&self.state, size, path, ctx) {
+                    Ok(rx) => {
+                        form.status = Some(format!("rendering {}×{}…", size[0], size[1]));
+                        self.saving = Some(rx);
+                    }
+                    Err(e) => form.status = Some(e),
+                }
                 ctx.request_repaint();
             }
-            None => {}
+            Some(SaveImageEvent::Save) | None => {}
         }
     }
 }
