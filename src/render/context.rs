@@ -29,9 +29,21 @@ pub enum GpuError {
     /// No adapter was found at all.
     #[error(
         "no GPU adapter found (Vulkan, GL). Install a Vulkan driver; without a GPU, Mesa's CPU \
-         driver works: `sudo apt-get install mesa-vulkan-drivers`"
+         driver works (scripts/setup-debian.sh installs it: mesa-vulkan-drivers)"
     )]
     NoAdapter,
+    /// The only adapters lack something the renderer needs.
+    #[error(
+        "the GPU adapter {adapter} cannot run LeapView: {reason}. Install a Vulkan driver; \
+         without a GPU, Mesa's CPU driver works (scripts/setup-debian.sh installs it: \
+         mesa-vulkan-drivers)"
+    )]
+    Unsuitable {
+        /// Adapter name and backend.
+        adapter: String,
+        /// What it lacks.
+        reason: String,
+    },
     /// The adapter refused to create a device.
     #[error("the GPU adapter {adapter} could not create a device: {reason}")]
     NoDevice {
@@ -68,6 +80,34 @@ const CHECKED_FORMATS: [wgpu::TextureFormat; 5] = [
     wgpu::TextureFormat::Rgba16Float,
 ];
 
+/// What `adapter` lacks of what the renderer needs, if anything: the fragment path renders exit
+/// points to RGBA32F, the compute path stores its image as RGBA16F (Mesa's GL drivers, for one,
+/// cannot render to RGBA32F).
+pub fn unsuitable(adapter: &wgpu::Adapter) -> Option<String> {
+    use wgpu::TextureUsages as U;
+    let needs = [
+        (
+            wgpu::TextureFormat::Rgba32Float,
+            U::RENDER_ATTACHMENT,
+            "it cannot render to 32-bit float textures",
+        ),
+        (
+            wgpu::TextureFormat::Rgba16Float,
+            U::STORAGE_BINDING,
+            "it cannot write 16-bit float images from compute shaders",
+        ),
+    ];
+    needs
+        .iter()
+        .find(|(format, usage, _)| {
+            !adapter
+                .get_texture_format_features(*format)
+                .allowed_usages
+                .contains(*usage)
+        })
+        .map(|(_, _, why)| (*why).to_string())
+}
+
 impl GpuContext {
     /// Creates a device without a window. Prefers Vulkan (on data-centre GPUs the GL backend
     /// fails or renders nothing, see GPU.md); falls back to GL where there is no Vulkan driver.
@@ -80,6 +120,7 @@ impl GpuContext {
             Ok("vulkan") => &[wgpu::Backends::VULKAN],
             _ => &[wgpu::Backends::VULKAN, wgpu::Backends::GL],
         };
+        let mut refused = None;
         let adapter = order
             .iter()
             .find_map(|&backends| {
@@ -87,9 +128,20 @@ impl GpuContext {
                 desc.backends = backends;
                 let instance = wgpu::Instance::new(desc);
                 let adapters = pollster::block_on(instance.enumerate_adapters(backends));
-                // Discrete before integrated before virtual before CPU.
+                // Discrete before integrated before virtual before CPU, of those that can.
                 adapters
                     .into_iter()
+                    .filter(|a| match unsuitable(a) {
+                        Some(reason) => {
+                            let info = a.get_info();
+                            refused.get_or_insert(GpuError::Unsuitable {
+                                adapter: format!("{} ({:?})", info.name, info.backend),
+                                reason,
+                            });
+                            false
+                        }
+                        None => true,
+                    })
                     .min_by_key(|a| match a.get_info().device_type {
                         wgpu::DeviceType::DiscreteGpu => 0,
                         wgpu::DeviceType::IntegratedGpu => 1,
@@ -98,7 +150,7 @@ impl GpuContext {
                         wgpu::DeviceType::Other => 4,
                     })
             })
-            .ok_or(GpuError::NoAdapter)?;
+            .ok_or_else(|| refused.unwrap_or(GpuError::NoAdapter))?;
         let info = adapter.get_info();
         let (device, queue) = pollster::block_on(
             adapter.request_device(&device_descriptor(&adapter)),

@@ -37,10 +37,18 @@ fn select_adapter(
     let best = adapters
         .iter()
         .filter(|a| surface.is_none_or(|s| a.is_surface_supported(s)))
+        .filter(|a| crate::render::context::unsuitable(a).is_none())
         .min_by_key(rank)
         .cloned();
     best.ok_or_else(|| {
-        if adapters.is_empty() {
+        let lacking = adapters.iter().find_map(|a| {
+            let info = a.get_info();
+            crate::render::context::unsuitable(a)
+                .map(|why| format!("{} ({:?}): {why}", info.name, info.backend))
+        });
+        if let Some(lacking) = lacking {
+            format!("{lacking}; install a Vulkan driver (scripts/setup-debian.sh)")
+        } else if adapters.is_empty() {
             "no GPU adapter found (Vulkan, GL)".to_string()
         } else {
             let names: Vec<String> = adapters

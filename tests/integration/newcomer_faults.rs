@@ -255,3 +255,41 @@ fn messages_blame_what_is_wrong() {
         );
     }
 }
+
+#[test]
+fn an_adapter_that_cannot_run_the_renderer_is_refused_with_what_to_do() {
+    // Mesa's GL driver (what wgpu falls back to without a Vulkan driver) cannot render to RGBA32F:
+    // that used to surface as "cannot hold the textures of a 192×192 image … Validation Error".
+    // Now such an adapter is passed over, and when it is the only one the message says what is
+    // missing and what to install. (Where GL can do it, the render succeeds.)
+    let dir = TempDir::new("gl-adapter");
+    let out = dir.path().join("gl.png");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_leapview"))
+        .args(["generate", "phantom", "--size", "32", "--out"])
+        .arg(dir.path().join("p.nrrd"))
+        .output()
+        .expect("run");
+    assert!(o.status.success());
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_leapview"))
+        .arg("render")
+        .arg(dir.path().join("p.nrrd"))
+        .arg("--out")
+        .arg(&out)
+        .args(["--size", "32x32"])
+        .env("LEAPVIEW_BACKEND", "gl")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .expect("run");
+    let err = stderr(&o);
+    if o.status.success() {
+        assert!(out.exists(), "{err}");
+        return;
+    }
+    let lines: Vec<&str> = err.lines().filter(|l| l.starts_with("leapview:")).collect();
+    assert_eq!(lines.len(), 1, "{err}");
+    assert!(
+        lines[0].contains("Install a Vulkan driver") || lines[0].contains("no GPU adapter"),
+        "{err}"
+    );
+    assert!(!err.contains("Validation Error"), "{err}");
+}

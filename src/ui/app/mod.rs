@@ -51,7 +51,7 @@ pub enum AppError {
     /// No GPU adapter or device for the window.
     #[error(
         "no usable GPU for the window ({0}). Install a Vulkan driver; without a GPU, Mesa's CPU \
-         driver works: `sudo apt-get install mesa-vulkan-drivers`"
+         driver works (scripts/setup-debian.sh installs it: mesa-vulkan-drivers)"
     )]
     NoGpu(String),
     /// The window system refused (no display, …).
