@@ -169,17 +169,11 @@ fn run_window(args: &[String], dir: &Path) {
         .stderr(Stdio::null())
         .spawn()
         .expect("start the window");
-    let deadline = Instant::now() + Duration::from_secs(300);
-    let status = loop {
-        if let Some(status) = app.try_wait().expect("wait for the window") {
-            break status;
-        }
-        if Instant::now() > deadline {
-            let _ = app.kill();
-            panic!("the window of `cargo run --release` did not close within 300 s");
-        }
-        std::thread::sleep(Duration::from_millis(100));
-    };
+    let status = common::wait_for_exit(
+        &mut app,
+        Duration::from_secs(300),
+        "the window of `cargo run --release`",
+    );
     assert!(status.success(), "the window failed: {status}");
 }
 

@@ -197,6 +197,23 @@ struct SidePanel {
     actions: Vec<Action>,
 }
 
+/// The side panel over `panel`'s state and volume, in a harness built from `builder`.
+fn side_panel(
+    builder: egui_kittest::HarnessBuilder<SidePanel>,
+    panel: SidePanel,
+) -> egui_kittest::Harness<'static, SidePanel> {
+    builder.build_ui_state(
+        |ui, p: &mut SidePanel| {
+            let info = PanelInfo {
+                path_used: None,
+                volume: Some(&p.volume),
+            };
+            p.actions.extend(controls_ui(ui, &mut p.state, &info));
+        },
+        panel,
+    )
+}
+
 #[test]
 fn side_panel_edits_the_viewer_state() {
     let panel = SidePanel {
@@ -206,16 +223,7 @@ fn side_panel_edits_the_viewer_state() {
     };
     // Sized to the panel, so that the snapshot shows all of it as rows are added (and changes
     // size then: regenerate it).
-    let mut h = harness([400.0, 800.0]).with_fit_contents().build_ui_state(
-        |ui, p: &mut SidePanel| {
-            let info = PanelInfo {
-                path_used: None,
-                volume: Some(&p.volume),
-            };
-            p.actions.extend(controls_ui(ui, &mut p.state, &info));
-        },
-        panel,
-    );
+    let mut h = side_panel(harness([400.0, 800.0]).with_fit_contents(), panel);
     h.snapshot("side_panel");
 
     h.get_by_label("Transfer function").click();
@@ -270,16 +278,7 @@ fn orientation_controls_flip_a_file_without_orientation_and_check_typed_codes() 
         },
         actions: Vec::new(),
     };
-    let mut h = harness([400.0, 900.0]).build_ui_state(
-        |ui, p: &mut SidePanel| {
-            let info = PanelInfo {
-                path_used: None,
-                volume: Some(&p.volume),
-            };
-            p.actions.extend(controls_ui(ui, &mut p.state, &info));
-        },
-        panel,
-    );
+    let mut h = side_panel(harness([400.0, 900.0]), panel);
     h.get_by_label("Correct the orientation").click();
     h.run();
     h.get_by_label("Flip S/I").click();

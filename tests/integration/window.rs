@@ -27,17 +27,7 @@ fn window_renders_the_frames_asked_for_and_shows_the_renderers_pixels() {
     let mut app = command.spawn().expect("start the window");
     // Generating the phantom, timing both paths and three frames take about 10 s on lavapipe in
     // a debug build; 300 s leaves room for a loaded machine.
-    let deadline = Instant::now() + Duration::from_secs(300);
-    let status = loop {
-        if let Some(status) = app.try_wait().expect("wait for the window") {
-            break status;
-        }
-        if Instant::now() > deadline {
-            let _ = app.kill();
-            panic!("the window did not close itself within 300 s");
-        }
-        std::thread::sleep(Duration::from_millis(100));
-    };
+    let status = common::wait_for_exit(&mut app, Duration::from_secs(300), "the window");
     let log = std::fs::read_to_string(&log_path).expect("read the log");
     assert!(status.success(), "the window failed ({status}):\n{log}");
 

@@ -77,6 +77,21 @@ impl Xvfb {
     }
 }
 
+/// Waits until `app` exits, at most `timeout` (then kills it and fails, naming `what`).
+pub fn wait_for_exit(app: &mut Child, timeout: Duration, what: &str) -> std::process::ExitStatus {
+    let deadline = Instant::now() + timeout;
+    loop {
+        if let Some(status) = app.try_wait().expect("wait for the window") {
+            return status;
+        }
+        if Instant::now() > deadline {
+            let _ = app.kill();
+            panic!("{what} did not close within {} s", timeout.as_secs());
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
 impl Drop for Xvfb {
     fn drop(&mut self) {
         let _ = self.child.kill();
