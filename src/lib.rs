@@ -1,7 +1,7 @@
 //! LeapView: GPU volume ray casting for CT and MRI with empty-space leaping.
 //!
 //! Layers, bottom up (docs/ARCHITECTURE.md): the pure core — `volume`, `transfer`, `accel`,
-//! `camera`, `sampling`, `imaging`, `settings`, `counters` — and what is built on it without a
+//! `camera`, `sampling`, `imaging`, `settings`, `counters`, `text` — and what is built on it without a
 //! GPU — the CPU `reference` ray caster, the `bench` and `accuracy` records and tables; `render`,
 //! the wgpu renderer that the window, the command line and the tests share; `ui`, the window. A
 //! module imports only from its own layer or below.
@@ -16,6 +16,7 @@ pub mod reference;
 pub mod render;
 pub mod sampling;
 pub mod settings;
+pub mod text;
 pub mod transfer;
 pub mod ui;
 pub mod volume;

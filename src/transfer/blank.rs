@@ -4,6 +4,7 @@
 
 use super::TransferFunction;
 use crate::settings::{Mode, RenderSettings};
+use crate::text::number;
 use crate::volume::{ValueRange, Volume};
 
 /// One sentence saying why `settings` render `volume` with `tf` as an empty (or black) picture,
@@ -80,13 +81,6 @@ fn transparent_over(tf: &TransferFunction, normalization: ValueRange, values: Va
         .chain(std::iter::once(values.max))
         .chain(inside)
         .all(|v| tf.opacity_at(v, normalization) <= 0.0)
-}
-
-/// A value as a person writes it: up to four decimals, no float noise.
-fn number(v: f64) -> String {
-    let s = format!("{v:.4}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" { "0".into() } else { s.to_string() }
 }
 
 #[cfg(test)]

@@ -10,6 +10,7 @@
 
 use super::presets::{self, preset};
 use super::{TransferError, TransferFunction, ValueSpace};
+use crate::text::number_to;
 use crate::volume::{Histogram, Modality, ValueRange, Volume};
 
 /// Below this minimum (data units) values are taken for Hounsfield units: air is −1000 HU, and no
@@ -138,11 +139,11 @@ impl DataKind {
             Self::CtCalibrated { to_hu, .. } => format!(
                 "CT in scanner units ({declared}): air at {} and soft tissue at {} give \
                  HU = {} × value {} {}",
-                round_for_text(to_hu.air),
-                round_for_text(to_hu.tissue),
-                round_for_text(to_hu.scale),
+                number_to(to_hu.air, 3),
+                number_to(to_hu.tissue, 3),
+                number_to(to_hu.scale, 3),
                 if to_hu.offset < 0.0 { "−" } else { "+" },
-                round_for_text(to_hu.offset.abs()),
+                number_to(to_hu.offset.abs(), 3),
             ),
             Self::Mr { .. } => format!("MR, values relative to their range ({declared})"),
             Self::Other => {
@@ -150,15 +151,6 @@ impl DataKind {
             }
         }
     }
-}
-
-/// Three significant digits, without float noise.
-fn round_for_text(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() {
-        return format!("{v}");
-    }
-    let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
-    format!("{v:.digits$}")
 }
 
 /// The classification behind [`DataKind::of`]; `eight_bit_unscaled` says the values are 8-bit
@@ -297,11 +289,17 @@ pub fn default_window(histogram: &Histogram) -> Option<[f64; 2]> {
 /// The preset `name` fitted to data of `kind`: a CT preset (in HU) on calibrated CT is mapped
 /// onto the data's values; anything else is the preset as written.
 pub fn fitted_preset(name: &str, kind: &DataKind) -> Result<TransferFunction, TransferError> {
-    let tf = preset(name)?;
-    Ok(match kind {
-        DataKind::CtCalibrated { to_hu, .. } if tf.space == ValueSpace::Data => mapped(&tf, to_hu),
-        _ => tf,
-    })
+    Ok(fit(preset(name)?, kind).0)
+}
+
+/// `tf` fitted to data of `kind` (see [`fitted_preset`]), and whether it was mapped.
+fn fit(tf: TransferFunction, kind: &DataKind) -> (TransferFunction, bool) {
+    match kind {
+        DataKind::CtCalibrated { to_hu, .. } if tf.space == ValueSpace::Data => {
+            (mapped(&tf, to_hu), true)
+        }
+        _ => (tf, false),
+    }
 }
 
 /// `tf`, written in HU, moved onto data values through `to_hu`.
@@ -356,20 +354,19 @@ pub const AUTO: &str = "auto";
 
 /// Resolves `arg` (`auto`, a preset name or a JSON file) for data of `kind`.
 pub fn resolve(arg: &str, kind: &DataKind) -> Result<Resolved, TransferError> {
-    let preset = if arg == AUTO {
+    let named = if arg == AUTO {
         Some(kind.default_preset())
     } else {
         presets::NAMES.iter().copied().find(|&n| n == arg)
     };
-    let Some(name) = preset else {
+    let Some(name) = named else {
         return Ok(Resolved {
             tf: TransferFunction::from_preset_or_file(arg)?,
             preset: None,
             note: None,
         });
     };
-    let tf = fitted_preset(name, kind)?;
-    let mapped = matches!(kind, DataKind::CtCalibrated { .. }) && tf != preset_or_default(name);
+    let (tf, mapped) = fit(preset(name)?, kind);
     let note = match (arg == AUTO, mapped) {
         (true, true) => Some(format!(
             "transfer function {name}, mapped onto scanner units"
@@ -382,10 +379,6 @@ pub fn resolve(arg: &str, kind: &DataKind) -> Result<Resolved, TransferError> {
         preset: Some(name),
         note,
     })
-}
-
-fn preset_or_default(name: &str) -> TransferFunction {
-    preset(name).unwrap_or_else(|_| TransferFunction::grey_ramp())
 }
 
 #[cfg(test)]

@@ -86,7 +86,7 @@ impl Shared {
             return false;
         };
         let (settings, stats) = (job.settings, job.inputs.stats);
-        if !self.renderer.ready_for(&settings, stats) {
+        if !self.ready() {
             if !may_prepare {
                 return false;
             }
@@ -132,7 +132,7 @@ impl Shared {
         } else {
             self.lod.band_end(size, job.next_row, budget, WORKGROUP)
         };
-        let Some(band) = job.next_band(end.saturating_sub(job.next_row)) else {
+        let Some(band) = job.next_band(end) else {
             self.job = None;
             return false;
         };
@@ -144,7 +144,7 @@ impl Shared {
         };
         let accumulate = match job.kind {
             JobKind::Plain { refine } => refine.then_some(true),
-            JobKind::Refinement { .. } => Some(false),
+            JobKind::Refinement => Some(false),
         };
         let submitted_at = Instant::now();
         let (submitted, mean) = match self.renderer.render_band(&request, band, accumulate) {
@@ -358,58 +358,19 @@ pub fn save_still(
     Ok(rx)
 }
 
-/// The frames of `still`, band by band, added to the refinement mean; the mean (or the one frame
-/// where refining is off, or the image too large for the sums) read back.
+/// The frames of `still` in bands sized by the learnt cost of their rows, each waited for.
 fn render_still(s: &mut Shared, still: &Still) -> Result<crate::imaging::ImageF32, RenderError> {
     s.job = None;
-    s.renderer.set_transfer_function(&still.transfer);
-    auto_path::choose(&mut s.renderer, still.settings.path)?;
+    let Shared { renderer, lod, .. } = s;
+    renderer.set_transfer_function(&still.transfer);
+    auto_path::choose(renderer, still.settings.path)?;
     let size = still.size;
-    let mut refine = still.frames > 1;
-    for k in 0..still.frames.max(1) {
-        let settings = crate::settings::RenderSettings {
-            sample_offset: if refine {
-                crate::render::raycast::refine::offset(k)
-            } else {
-                still.settings.sample_offset
-            },
-            ..still.settings
-        };
-        let request = FrameRequest {
-            camera: &still.camera,
-            size,
-            settings: &settings,
-            stats: false,
-        };
-        let mut first = 0;
-        let mut mean = None;
-        while first < size[1] {
-            let end = s.lod.band_end(size, first, band_budget_ms(None), WORKGROUP);
-            let rows = [first, end.max(first + 1).min(size[1])];
-            mean = s
-                .renderer
-                .render_band(&request, rows, refine.then_some(k == 0))?
-                .1;
-            // The band done before the next goes out: the window's drawing never queues behind
-            // more than one.
-            s.renderer.collect_results(true);
-            first = rows[1];
-        }
-        if refine && mean.is_none() {
-            log::warn!(
-                "a {}×{} image is too large to refine; rendered once",
-                size[0],
-                size[1]
-            );
-            refine = false;
-        }
-        if !refine {
-            break;
-        }
-    }
-    if refine {
-        s.renderer.read_refined()
-    } else {
-        s.renderer.read_image()
-    }
+    renderer.render_refined_in_bands(
+        &still.camera,
+        size,
+        &still.settings,
+        still.frames,
+        &mut |first| lod.band_end(size, first, band_budget_ms(None), WORKGROUP),
+        None,
+    )
 }

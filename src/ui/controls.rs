@@ -8,6 +8,7 @@ use crate::settings::{
     ConcretePath, DEFAULT_TERMINATION_ALPHA, Mode, QualityPreset, RenderPath, RenderSettings,
     Strategy,
 };
+use crate::text::number;
 use crate::transfer::presets::NAMES;
 
 use super::menu::VIEWS;
@@ -360,7 +361,7 @@ fn volume_section(ui: &mut egui::Ui, volume: Option<&VolumeSummary>) {
             ui.label(v.name.as_str());
             ui.label(v.line());
             if let Some(r) = v.range {
-                ui.label(format!("values {} … {}", short(r.min), short(r.max)));
+                ui.label(format!("values {} … {}", number(r.min), number(r.max)));
             }
             ui.label(egui::RichText::new(v.kind.short_label()).weak())
                 .on_hover_text(&v.kind_text);
@@ -368,15 +369,6 @@ fn volume_section(ui: &mut egui::Ui, volume: Option<&VolumeSummary>) {
         None => {
             ui.label("none yet");
         }
-    }
-}
-
-/// A data value without trailing noise: integers as integers, others to four decimals.
-fn short(v: f64) -> String {
-    if v.fract() == 0.0 {
-        format!("{v:.0}")
-    } else {
-        format!("{v:.4}")
     }
 }
 

@@ -47,11 +47,8 @@ pub enum JobKind {
         /// Whether the frame starts the refinement mean.
         refine: bool,
     },
-    /// The next frame of the refinement mean, at the `index`-th shifted sample grid.
-    Refinement {
-        /// Which shifted grid ([`crate::render::raycast::refine::offset`]).
-        index: u32,
-    },
+    /// The next frame of the refinement mean, at its shifted sample grid (in the job's settings).
+    Refinement,
 }
 
 /// Set when the GPU has finished a submission (wgpu calls back from its poll).
@@ -121,10 +118,11 @@ impl FrameJob {
         }
     }
 
-    /// The rows of the next band of at most `rows` rows, `None` once all are submitted.
-    pub fn next_band(&self, rows: u32) -> Option<[u32; 2]> {
+    /// The rows of the next band, up to row `end` (at least one row, at most the image's);
+    /// `None` once all are submitted.
+    pub fn next_band(&self, end: u32) -> Option<[u32; 2]> {
         let height = self.inputs.size_px[1];
-        (self.next_row < height).then(|| [self.next_row, (self.next_row + rows.max(1)).min(height)])
+        (self.next_row < height).then(|| [self.next_row, end.clamp(self.next_row + 1, height)])
     }
 
     /// Records that `rows` went to the GPU as renderer frame `frame`.
@@ -183,7 +181,7 @@ mod tests {
         );
         let mut seen = Vec::new();
         let mut frame = 10;
-        while let Some(rows) = job.next_band(8) {
+        while let Some(rows) = job.next_band(job.next_row + 8) {
             assert!(!job.is_complete());
             job.submitted(rows, frame);
             seen.push(rows);

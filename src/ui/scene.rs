@@ -63,8 +63,6 @@ pub struct Scene {
     /// Frames in the refinement mean on screen (0: the plain frame is on screen) and the number
     /// aimed at.
     refined: (u32, u32),
-    /// Whether a refinement frame has ever run (lavapipe's timestamps go wrong after one).
-    accumulated: bool,
     /// The last complete plain frame, copied out of the renderer's output (which the next
     /// frame's bands overwrite while this one stays on screen): texture, view, size.
     shown: Option<(wgpu::Texture, wgpu::TextureView, [u32; 2])>,
@@ -84,18 +82,16 @@ pub struct Scene {
 /// What the window knows of the pump's work, from the last pass that could look.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Busy {
-    /// Share of the frame in progress submitted, while one is.
-    frame: Option<f64>,
-    /// Whether the frame in progress has sent out a band yet.
-    started: bool,
+    /// The frame in progress: what it is for, the share of its rows submitted, and whether it
+    /// has sent out a band yet.
+    frame: Option<(JobKind, f64, bool)>,
     /// Whether a band is on the GPU.
     in_flight: bool,
     /// Slow CPU work before the next band.
     preparing: Option<&'static str>,
-    /// Whether a refinement frame is in progress.
-    refining: bool,
-    /// Whether a plain frame (for new inputs) is in progress.
-    plain: bool,
+    /// Whether a frame was ever added to a refinement mean (lavapipe's timestamps go wrong
+    /// after one).
+    accumulated: bool,
 }
 
 impl Scene {
@@ -137,7 +133,6 @@ impl Scene {
             last_pixels: 0,
             preview_of: None,
             refined: (0, 0),
-            accumulated: false,
             shown: None,
             plain_bands: Vec::new(),
             plain_gpu_ms: (0.0, 0),
@@ -234,8 +229,9 @@ impl Scene {
             // for a pass when done: no polling meanwhile, each pass would cost the GPU's time.
             return false;
         };
-        self.take_results(&mut shared);
+        // Finished frames first: the timings that follow may be of their bands.
         self.take_finished(&mut shared);
+        self.take_results(&mut shared);
         // While the GPU works on a frame the pump asks for a pass when it is done; after that the
         // last timings are polled for (their read-back is all that is left).
         shared.renderer.results_pending() && shared.job.is_none() && shared.in_flight.is_none()
@@ -312,14 +308,14 @@ impl Scene {
     /// [`STILL_AFTER`].
     pub fn note_input(&mut self) {
         self.last_input = Some(Instant::now());
-        if !self.busy.refining {
+        if !matches!(self.busy.frame, Some((JobKind::Refinement, _, _))) {
             return;
         }
         let handle = self.pump.handle();
         if let Some(mut shared) = try_lock(&handle)
             && matches!(
                 shared.job.as_ref().map(|j| j.kind),
-                Some(JobKind::Refinement { .. })
+                Some(JobKind::Refinement)
             )
         {
             log::debug!("refinement frame dropped on input");
@@ -408,13 +404,7 @@ impl Scene {
                 sample_offset: crate::render::raycast::refine::offset(index),
                 ..inputs.settings
             };
-            shared.job = Some(FrameJob::new(
-                inputs,
-                settings,
-                JobKind::Refinement { index },
-                None,
-            ));
-            self.accumulated = true;
+            shared.job = Some(FrameJob::new(inputs, settings, JobKind::Refinement, None));
             true
         } else {
             false
@@ -466,7 +456,7 @@ impl Scene {
                     self.plain_bands.len()
                 );
             }
-            JobKind::Refinement { .. } => match mean {
+            JobKind::Refinement => match mean {
                 Some(n) => {
                     self.refined.0 = n;
                     log::debug!(
@@ -536,7 +526,7 @@ impl Scene {
     /// Whether a frame is being rendered (bands still to come or on the GPU), and how far.
     pub fn rendering(&self) -> Option<f64> {
         match (self.busy.frame, self.busy.in_flight) {
-            (Some(done), _) => Some(done),
+            (Some((_, done, _)), _) => Some(done),
             (None, true) => Some(1.0),
             (None, false) => None,
         }
@@ -544,7 +534,7 @@ impl Scene {
 
     /// Whether a frame for new inputs is in progress (not a refinement frame).
     pub fn rendering_new_frame(&self) -> bool {
-        self.busy.plain
+        matches!(self.busy.frame, Some((JobKind::Plain { .. }, _, _)))
     }
 
     /// The slow CPU work the renderer is doing before it can render (compiling a shader,
@@ -557,7 +547,7 @@ impl Scene {
     /// CPU driver that has run a refinement (lavapipe, Mesa 22.3, reports ~0.1 ms for every frame
     /// from the first accumulation on; the H100 reports the same times with and without).
     fn timestamps_reliable(&self) -> bool {
-        self.has_timestamps && !(self.cpu_adapter && self.accumulated)
+        self.has_timestamps && !(self.cpu_adapter && self.busy.accumulated)
     }
 
     /// Whether the view is being refined (another refinement frame will come when still).
@@ -592,7 +582,11 @@ impl Scene {
             tf_latency_ms: self.tf_latency_ms,
             preview_scale: self.preview_scale(),
             refined: Some(self.refined).filter(|(n, _)| *n > 0),
-            rendering: self.busy.frame.filter(|_| self.busy.started),
+            rendering: self
+                .busy
+                .frame
+                .filter(|&(_, _, started)| started)
+                .map(|(_, done, _)| done),
             preparing: self.busy.preparing,
             blank: self.volume.as_ref().and_then(|v| {
                 crate::transfer::blank::why_blank_in(v.range, state.editor.tf(), &state.render)
@@ -647,17 +641,12 @@ impl Scene {
 /// What the window needs to know of the pump's state.
 fn busy_of(shared: &Shared) -> Busy {
     Busy {
-        frame: shared.job.as_ref().map(FrameJob::progress),
-        started: shared.job.as_ref().is_some_and(|j| !j.bands.is_empty()),
+        frame: shared
+            .job
+            .as_ref()
+            .map(|j| (j.kind, j.progress(), !j.bands.is_empty())),
         in_flight: shared.in_flight.is_some(),
         preparing: shared.preparing,
-        refining: matches!(
-            shared.job.as_ref().map(|j| j.kind),
-            Some(JobKind::Refinement { .. })
-        ),
-        plain: matches!(
-            shared.job.as_ref().map(|j| j.kind),
-            Some(JobKind::Plain { .. })
-        ),
+        accumulated: shared.renderer.has_accumulated(),
     }
 }

@@ -505,11 +505,6 @@ impl VolumeRenderer {
         self.targets.as_ref().map(|t| &t.output)
     }
 
-    /// The rendered image's view (for display in the window), once a frame was rendered.
-    pub fn output_view(&self) -> Option<&wgpu::TextureView> {
-        self.targets.as_ref().map(|t| &t.output_view)
-    }
-
     /// Copies the last rendered image to the CPU (waits for the GPU).
     pub fn read_image(&self) -> Result<ImageF32, RenderError> {
         let targets = self.targets.as_ref().ok_or(RenderError::NoVolume)?;
@@ -651,14 +646,33 @@ impl VolumeRenderer {
         size: [u32; 2],
         settings: &RenderSettings,
         frames: u32,
+        done: Option<&mut dyn FnMut(u32, u32)>,
+    ) -> Result<ImageF32, RenderError> {
+        let height = size[1];
+        self.render_refined_in_bands(camera, size, settings, frames, &mut |_| height, done)
+    }
+
+    /// [`Self::render_refined_reporting`] with each frame rendered in bands of rows
+    /// `[first, band_end(first))`; when a frame takes more than one band, each is waited for
+    /// before the next goes out, so that whatever else shares the queue (a window's drawing)
+    /// waits for at most one band.
+    pub fn render_refined_in_bands(
+        &mut self,
+        camera: &Camera,
+        size: [u32; 2],
+        settings: &RenderSettings,
+        frames: u32,
+        band_end: &mut dyn FnMut(u32) -> u32,
         mut done: Option<&mut dyn FnMut(u32, u32)>,
     ) -> Result<ImageF32, RenderError> {
-        if frames <= 1 {
-            return self.render_image(camera, size, settings);
-        }
-        for k in 0..frames {
+        let refine = frames > 1;
+        for k in 0..frames.max(1) {
             let shifted = RenderSettings {
-                sample_offset: refine::offset(k),
+                sample_offset: if refine {
+                    refine::offset(k)
+                } else {
+                    settings.sample_offset
+                },
                 ..*settings
             };
             let request = FrameRequest {
@@ -667,13 +681,14 @@ impl VolumeRenderer {
                 settings: &shifted,
                 stats: false,
             };
-            if self.render_accumulated(&request, k == 0)?.1.is_none() {
+            let mean = self.render_bands(&request, refine.then_some(k == 0), band_end)?;
+            if refine && mean.is_none() {
                 log::warn!(
                     "a {}×{} image is too large to refine; rendered once",
                     size[0],
                     size[1]
                 );
-                return self.render_image(camera, size, settings);
+                return self.render_refined_in_bands(camera, size, settings, 1, band_end, None);
             }
             if let Some(report) = done.as_mut() {
                 self.collect_results(true);
@@ -682,6 +697,32 @@ impl VolumeRenderer {
         }
         // The frames' timings are nobody's: free their probes for the frames that follow.
         self.collect_results(true);
-        self.read_refined()
+        if refine {
+            self.read_refined()
+        } else {
+            self.read_image()
+        }
+    }
+
+    /// Renders `request`'s frame in bands `[first, band_end(first))` (see
+    /// [`Self::render_band`]), waiting for each but the last; returns the frames the
+    /// refinement mean then holds.
+    fn render_bands(
+        &mut self,
+        request: &FrameRequest,
+        accumulate: Option<bool>,
+        band_end: &mut dyn FnMut(u32) -> u32,
+    ) -> Result<Option<u32>, RenderError> {
+        let height = request.size[1];
+        let (mut first, mut mean) = (0, None);
+        while first < height {
+            let end = band_end(first).clamp(first + 1, height);
+            mean = self.render_band(request, [first, end], accumulate)?.1;
+            if end < height {
+                self.collect_results(true);
+            }
+            first = end;
+        }
+        Ok(mean)
     }
 }
