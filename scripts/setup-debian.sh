@@ -1,5 +1,6 @@
 #!/bin/sh
-# Installs what LeapView needs on Debian 12 that is not there yet: a Vulkan driver (Mesa's CPU
+# Installs what LeapView needs on Debian 12 that is not there yet: cmake and a C++ compiler (the
+# build compiles CharLS, the JPEG-LS codec DICOM files use), a Vulkan driver (Mesa's CPU
 # driver lavapipe, only where no Vulkan driver is installed) and, with --tests, the virtual X
 # server the window tests start and xdotool, with which they click in the window. Uses sudo
 # unless run as root. Installs nothing when all is there.
@@ -20,6 +21,12 @@ for arg in "$@"; do
 done
 
 missing=""
+if ! command -v cmake >/dev/null 2>&1; then
+  missing="$missing cmake"
+fi
+if ! command -v c++ >/dev/null 2>&1; then
+  missing="$missing g++"
+fi
 if ! ls /usr/share/vulkan/icd.d/*.json >/dev/null 2>&1; then
   missing="$missing mesa-vulkan-drivers"
 fi
@@ -31,7 +38,7 @@ if [ "$tests" = yes ] && ! command -v xdotool >/dev/null 2>&1; then
 fi
 
 if [ -z "$missing" ]; then
-  echo "setup: nothing to install (Vulkan driver$( [ "$tests" = yes ] && echo ', Xvfb, xdotool') present)"
+  echo "setup: nothing to install (cmake, C++ compiler, Vulkan driver$( [ "$tests" = yes ] && echo ', Xvfb, xdotool') present)"
   exit 0
 fi
 if [ "$check" = yes ]; then

@@ -61,9 +61,14 @@ pub struct GenerateArgs {
     #[arg(value_enum)]
     pub what: Generated,
     /// Output file: `.nrrd` (gzip, one file), or `.nhdr` (a header, and the samples raw and
-    /// little-endian in a `.raw` file of the same name).
+    /// little-endian in a `.raw` file of the same name), or a folder (created if missing, empty
+    /// otherwise) to receive a DICOM series, one uncompressed file per slice.
     #[arg(long)]
     pub out: PathBuf,
+    /// DICOM series only: this many slices (the volume's z axis resampled to them, its extent
+    /// kept), e.g. `--size 512 --slices 1000` for a long CT series.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub slices: Option<u32>,
     /// Samples along each axis (8 to 1024).
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(8..=1024))]
     pub size: u32,
@@ -92,6 +97,11 @@ pub struct RawArgs {
     /// letters, one each of R/L, A/P and S/I (`RAI`: slices run from the top of the head down).
     #[arg(long, global = true, value_name = "CODE")]
     pub orientation: Option<String>,
+    /// DICOM: which series of a folder to open, by its number in `leapview info`'s listing or by
+    /// its SeriesInstanceUID (default: the image series with the most slices, or the series of the
+    /// file named).
+    #[arg(long, global = true, value_name = "N|UID")]
+    pub series: Option<String>,
 }
 
 /// `leapview render`.

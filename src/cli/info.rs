@@ -79,7 +79,21 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
                 _ => None,
             },
             "default_tf": kind.default_preset(),
-            "default_window": fit::default_window(volume.histogram()),
+            "default_window": fit::default_window_of(&volume),
+            "header_window": volume.provenance().window,
+            "notes": volume.provenance().notes,
+            "series": volume.provenance().series.as_ref().map(|s| serde_json::json!({
+                "uid": s.uid,
+                "number": s.number,
+                "modality": s.modality,
+                "description": s.description,
+                "date": s.date,
+                "frame_of_reference": s.frame_of_reference,
+            })),
+            "series_found": volume.provenance().listing,
+            "series_opened": volume.provenance().chosen.map(|i| i + 1),
+            "skipped": volume.provenance().skipped,
+            "origin_lps_mm": volume.provenance().origin_lps,
         });
         return print_stdout(&format!("{value:#}\n")).map_err(|e| Failure::Other(e.into()));
     }
@@ -87,6 +101,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
     let [x, y, z] = volume.dims();
     let [sx, sy, sz] = volume.spacing_mm();
     outln!(out, "file:        {}", args.file.display());
+    series_text(&mut out, &volume);
     outln!(
         out,
         "dims:        {x} x {y} x {z} ({} voxels, {:.1} MB stored)",
@@ -148,13 +163,23 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
     }
     outln!(out, "values:      {}", kind.describe(volume.modality()));
     outln!(out, "default tf:  {}", kind.default_preset());
-    if let Some([lo, hi]) = fit::default_window(volume.histogram()) {
+    if let Some([lo, hi]) = volume.provenance().window {
+        outln!(
+            out,
+            "window:      {} .. {} (MIP, MinIP, X-ray by default: the header's window)",
+            number(lo),
+            number(hi)
+        );
+    } else if let Some([lo, hi]) = fit::default_window(volume.histogram()) {
         outln!(
             out,
             "window:      {} .. {} (MIP, MinIP, X-ray by default: 0.1 to 99.9 percentile)",
             number(lo),
             number(hi)
         );
+    }
+    for note in &volume.provenance().notes {
+        outln!(out, "note:        {note}");
     }
     if let (Some(share), Some(name)) = (transparent, &args.tf) {
         outln!(
@@ -164,6 +189,58 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
         );
     }
     print_stdout(&out).map_err(|e| Failure::Other(e.into()))
+}
+
+/// A DICOM series' facts, and the other series found beside it.
+fn series_text(out: &mut String, volume: &Volume) {
+    let p = volume.provenance();
+    if let Some(s) = &p.series {
+        let mut what = s.modality_or_unknown().to_string();
+        if let Some(n) = s.number {
+            what.push_str(&format!(", series #{n}"));
+        }
+        if !s.description.is_empty() {
+            what.push_str(&format!(", \"{}\"", s.description));
+        }
+        if s.date.len() == 8 && s.date.bytes().all(|b| b.is_ascii_digit()) {
+            what.push_str(&format!(
+                ", {}-{}-{}",
+                &s.date[..4],
+                &s.date[4..6],
+                &s.date[6..]
+            ));
+        } else if !s.date.is_empty() {
+            what.push_str(&format!(", {}", s.date));
+        }
+        outln!(out, "series:      {what}");
+        outln!(out, "series uid:  {}", s.uid);
+    }
+    if p.listing.len() > 1 {
+        outln!(
+            out,
+            "found:       {} series (pick one with --series N or --series UID):",
+            p.listing.len()
+        );
+        for (i, line) in p.listing.iter().enumerate() {
+            let mark = if p.chosen == Some(i) { "*" } else { " " };
+            outln!(out, "           {mark} {line}");
+        }
+        if let Some(i) = p.chosen {
+            outln!(out, "opened:      series {} (marked *)", i + 1);
+        }
+    }
+    if let Some(skipped) = &p.skipped {
+        outln!(out, "skipped:     {skipped}");
+    }
+    if let Some([x, y, z]) = p.origin_lps {
+        outln!(
+            out,
+            "origin:      {}, {}, {} mm (LPS, centre of the first voxel)",
+            number(x),
+            number(y),
+            number(z)
+        );
+    }
 }
 
 /// Where the index axes point, who said so, and whether the samples were reversed along i.

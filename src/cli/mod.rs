@@ -60,9 +60,14 @@ pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
         .map(leapview::volume::Orientation::parse_code)
         .transpose()
         .map_err(|e| Failure::BadInput(e.into()))?;
+    let series = raw
+        .series
+        .as_deref()
+        .map(leapview::volume::dicom::SeriesChoice::parse);
     let Some(dims) = raw.dims else {
         return Ok(LoadOptions {
             orientation,
+            series,
             ..LoadOptions::default()
         });
     };
@@ -81,6 +86,7 @@ pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
             big_endian: raw.big_endian,
         }),
         orientation,
+        series,
         ..LoadOptions::default()
     })
 }

@@ -74,10 +74,9 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         quality.apply(&mut settings);
     }
     args.effects.apply(&mut settings);
-    // MIP, MinIP and X-ray without a window: the data's, a few outliers left out.
-    settings.window = settings
-        .window
-        .or_else(|| fit::default_window(volume.histogram()));
+    // MIP, MinIP and X-ray without a window: the header's, else the data's, a few outliers left
+    // out.
+    settings.window = settings.window.or_else(|| fit::default_window_of(&volume));
     if let Some(crop) = &args.crop {
         settings.crop = leapview::settings::CropBox::parse_voxels(crop, volume.dims())
             .map_err(|e| Failure::BadInput(e.into()))?;

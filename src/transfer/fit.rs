@@ -286,6 +286,15 @@ pub fn default_window(histogram: &Histogram) -> Option<[f64; 2]> {
     (hi > lo).then_some([lo, hi])
 }
 
+/// The window MIP, MinIP and X-ray use for `volume` when none is given: its header's (DICOM
+/// `WindowCenter`/`WindowWidth`), else [`default_window`] of its histogram.
+pub fn default_window_of(volume: &crate::volume::Volume) -> Option<[f64; 2]> {
+    volume
+        .provenance()
+        .window
+        .or_else(|| default_window(volume.histogram()))
+}
+
 /// The preset `name` fitted to data of `kind`: a CT preset (in HU) on calibrated CT is mapped
 /// onto the data's values; anything else is the preset as written.
 pub fn fitted_preset(name: &str, kind: &DataKind) -> Result<TransferFunction, TransferError> {

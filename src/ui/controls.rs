@@ -37,6 +37,15 @@ pub struct PanelInfo<'a> {
 /// silently become 0.9961, giving other images than `leapview render`.
 pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo) -> Option<Action> {
     let mut action = None;
+    // Where the volume came from, first: the series chooser of a DICOM folder and what loading
+    // had to say (a resampled gap, an assumption) must not hide below the fold.
+    if let Some(v) = info.volume
+        && (v.provenance.series.is_some() || !v.provenance.notes.is_empty())
+    {
+        ui.heading("Series");
+        series_rows(ui, v, &mut action);
+        ui.separator();
+    }
     ui.heading("Rendering");
     egui::Grid::new("render controls")
         .num_columns(2)
@@ -352,6 +361,58 @@ fn view_section(ui: &mut egui::Ui, volume: Option<&VolumeSummary>) -> Option<Act
         action = Some(a);
     }
     action
+}
+
+/// A DICOM series' facts, the notes from loading it, and the other series of its folder to
+/// choose from.
+fn series_rows(ui: &mut egui::Ui, v: &VolumeSummary, action: &mut Option<Action>) {
+    let p = &v.provenance;
+    if let Some(s) = &p.series {
+        let mut line = s.modality_or_unknown().to_string();
+        if !s.description.is_empty() {
+            line.push_str(&format!(" · {}", s.description));
+        }
+        if s.date.len() == 8 {
+            line.push_str(&format!(
+                " · {}-{}-{}",
+                &s.date[..4],
+                &s.date[4..6],
+                &s.date[6..]
+            ));
+        }
+        ui.label(line)
+            .on_hover_text(format!("SeriesInstanceUID {}", s.uid));
+    }
+    for note in &p.notes {
+        ui.label(egui::RichText::new(format!("⚠ {note}")).small())
+            .on_hover_text("How the file was read");
+    }
+    if p.listing.len() > 1 {
+        let chosen = p.chosen.unwrap_or(0);
+        let shown = |i: usize| p.listing.get(i).cloned().unwrap_or_default();
+        egui::ComboBox::from_id_salt("series")
+            .width(ui.available_width() - 8.0)
+            .selected_text(shown(chosen))
+            .show_ui(ui, |ui| {
+                for i in 0..p.listing.len() {
+                    if ui.selectable_label(i == chosen, shown(i)).clicked() && i != chosen {
+                        *action = Some(Action::OpenSeries(i + 1));
+                    }
+                }
+            })
+            .response
+            .on_hover_text(format!(
+                "{} series in this folder; choose one to open it",
+                p.listing.len()
+            ));
+    }
+    if let Some(skipped) = &p.skipped {
+        ui.label(
+            egui::RichText::new(format!("skipped: {skipped}"))
+                .weak()
+                .small(),
+        );
+    }
 }
 
 /// What is loaded.

@@ -13,7 +13,9 @@ use egui::{Id, Modal};
 const DIALOG_FAILED_WITHIN: Duration = Duration::from_millis(500);
 
 /// File extensions offered in the file dialog.
-const VOLUME_EXTENSIONS: [&str; 5] = ["nrrd", "nhdr", "nii", "gz", "raw"];
+const VOLUME_EXTENSIONS: [&str; 9] = [
+    "nrrd", "nhdr", "nii", "gz", "raw", "mha", "mhd", "dcm", "DICOMDIR",
+];
 
 /// The window's dialogs.
 #[derive(Default)]
@@ -49,6 +51,15 @@ impl Dialogs {
 
     /// Opens the system file dialog, or the path prompt where there can be none.
     pub fn open_file_dialog(&mut self, ctx: &egui::Context) {
+        self.open_dialog(ctx, false);
+    }
+
+    /// Opens the system folder dialog (for a DICOM series), or the path prompt.
+    pub fn open_folder_dialog(&mut self, ctx: &egui::Context) {
+        self.open_dialog(ctx, true);
+    }
+
+    fn open_dialog(&mut self, ctx: &egui::Context, folder: bool) {
         if self.picker.is_some() {
             return;
         }
@@ -62,11 +73,20 @@ impl Dialogs {
         let spawned = std::thread::Builder::new()
             .name("file dialog".into())
             .spawn(move || {
-                let picked = rfd::FileDialog::new()
-                    .set_title("Open a volume")
-                    .add_filter("Volumes (NRRD, NIfTI, raw)", &VOLUME_EXTENSIONS)
-                    .add_filter("All files", &["*"])
-                    .pick_file();
+                let picked = if folder {
+                    rfd::FileDialog::new()
+                        .set_title("Open a folder of DICOM files")
+                        .pick_folder()
+                } else {
+                    rfd::FileDialog::new()
+                        .set_title("Open a volume")
+                        .add_filter(
+                            "Volumes (NRRD, NIfTI, MetaImage, DICOM, raw)",
+                            &VOLUME_EXTENSIONS,
+                        )
+                        .add_filter("All files", &["*"])
+                        .pick_file()
+                };
                 let _ = tx.send(picked);
                 ctx.request_repaint();
             });
@@ -124,7 +144,10 @@ impl Dialogs {
         let response = Modal::new(Id::unique("leapview open path")).show(ctx, |ui| {
             ui.set_width(520.0);
             ui.heading("Open a volume");
-            ui.label("Path of a NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz) or raw file:");
+            ui.label(
+                "Path of a NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), MetaImage (.mha, .mhd) or \
+                 raw file, a DICOM file, or a folder of DICOM files:",
+            );
             let edit = ui.add(
                 egui::TextEdit::singleline(text)
                     .desired_width(f32::INFINITY)

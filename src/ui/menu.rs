@@ -59,8 +59,22 @@ pub const CONTROLS: [(&str, &str); 12] = [
          RAS where it has none); also along ±x/±y/±z and oblique",
     ),
     ("View menu: Perspective / Orthographic", "projection"),
-    ("Ctrl + O", "open a file (or drop one onto the window)"),
+    (
+        "Ctrl + O",
+        "open a file (or drop a file or a DICOM folder onto the window)",
+    ),
     ("Ctrl + Q", "quit"),
+];
+
+/// The file formats, for the Help menu (the README's Formats section, shorter).
+pub const FORMATS: &[&str] = &[
+    "NRRD (.nrrd, .nhdr), NIfTI-1 (.nii, .nii.gz), MetaImage (.mha, .mhd), raw with its layout.",
+    "DICOM: File › Open folder… (or drop a folder) for a series; any file of a series opens \
+     that series; a multi-frame file opens on its own. Every common codec.",
+    "A folder with several series: the one with the most slices opens; the others are listed \
+     in the side panel's Volume section to choose from.",
+    "Slices are ordered by their position along the slice normal, never by file name; gaps, \
+     uneven spacing and gantry tilt are resampled and said in the side panel.",
 ];
 
 /// Draws the menu bar; returns what the user chose.
@@ -70,6 +84,15 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
         ui.menu_button("File", |ui| {
             if ui.button("Open…").clicked() {
                 action = Some(Action::OpenDialog);
+            }
+            if ui
+                .button("Open folder…")
+                .on_hover_text(
+                    "A folder of DICOM files: the series in it are listed to choose from",
+                )
+                .clicked()
+            {
+                action = Some(Action::OpenFolderDialog);
             }
             if ui.button("Open path…").clicked() {
                 action = Some(Action::OpenPathPrompt);
@@ -140,6 +163,12 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
         ui.menu_button("Help", |ui| {
             ui.label(egui::RichText::new("Controls").strong());
             controls_grid(ui);
+            ui.separator();
+            ui.label(egui::RichText::new("What opens").strong());
+            ui.set_max_width(520.0);
+            for line in FORMATS {
+                ui.label(*line);
+            }
         });
     });
     action

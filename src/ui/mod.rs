@@ -66,6 +66,9 @@ pub struct VolumeSummary {
     pub kind: crate::transfer::fit::DataKind,
     /// [`crate::transfer::fit::DataKind::describe`], for the side panel.
     pub kind_text: String,
+    /// What the file said beyond the samples: notes from loading, the header's window, the
+    /// DICOM series and the others beside it.
+    pub provenance: crate::volume::Provenance,
 }
 
 impl VolumeSummary {
@@ -85,6 +88,7 @@ impl VolumeSummary {
             from_file: false,
             kind_text: kind.describe(volume.modality()),
             kind,
+            provenance: volume.provenance().clone(),
         }
     }
 
@@ -121,8 +125,12 @@ impl VolumeSummary {
 pub enum Action {
     /// Show the system file dialog (or the path prompt where there is none).
     OpenDialog,
+    /// Show the system folder dialog (a DICOM series), or the path prompt where there is none.
+    OpenFolderDialog,
     /// Show the path prompt.
     OpenPathPrompt,
+    /// Open series N (1-based, as listed) of the folder the volume on screen came from.
+    OpenSeries(usize),
     /// Generate the Shepp–Logan head phantom.
     LoadPhantom,
     /// Generate the vessel tree.

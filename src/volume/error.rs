@@ -39,6 +39,10 @@ pub enum VolumeError {
         intercept: f64,
     },
 
+    /// A DICOM file, folder or series that cannot be read.
+    #[error(transparent)]
+    Dicom(super::dicom::DicomError),
+
     /// The file does not exist.
     #[error("no such file")]
     NotFound,
@@ -80,7 +84,8 @@ pub enum VolumeError {
     /// The file name does not tell a supported format.
     #[error(
         "unrecognised volume file type '{extension}'; LeapView reads .nrrd, .nhdr, .nii, \
-         .nii.gz, and raw files given with --dims X,Y,Z --type T"
+         .nii.gz, .mha, .mhd, DICOM files and folders, and raw files given with --dims X,Y,Z \
+         --type T"
     )]
     UnknownFormat {
         /// The file's extension as written (may be empty).
@@ -262,6 +267,12 @@ pub enum VolumeError {
         /// Bytes that were asked for.
         bytes: u64,
     },
+    /// A zlib stream (MetaImage `CompressedData`) cannot be decompressed.
+    #[error("the zlib-compressed data is corrupt ({reason})")]
+    CorruptZlib {
+        /// What the decompressor reported.
+        reason: String,
+    },
     /// The gzip stream cannot be decompressed.
     #[error("the gzip-compressed data is corrupt ({reason})")]
     CorruptGzip {
@@ -322,6 +333,15 @@ fn fmt_found_more(declared: u64, found: u64, exact: bool) -> String {
         found
     } else {
         format!("at least {found}")
+    }
+}
+
+impl From<super::dicom::DicomError> for VolumeError {
+    fn from(e: super::dicom::DicomError) -> Self {
+        match e {
+            super::dicom::DicomError::Cancelled => Self::Cancelled,
+            e => Self::Dicom(e),
+        }
     }
 }
 

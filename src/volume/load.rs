@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::error::{LoadError, VolumeError};
 use super::raw::RawParams;
-use super::{Volume, decode, nifti, nrrd, raw};
+use super::{Volume, decode, dicom, metaimage, nifti, nrrd, raw};
 
 /// How to open a file beyond what its name tells.
 #[derive(Clone, Debug, Default)]
@@ -15,6 +15,9 @@ pub struct LoadOptions {
     pub progress: Option<std::sync::Arc<super::LoadProgress>>,
     /// The user's orientation, in place of the header's (or of none), in the file's index frame.
     pub orientation: Option<super::Orientation>,
+    /// Which DICOM series of a folder to open (`--series`); the default is the image series
+    /// with the most slices, or the one holding the file named.
+    pub series: Option<super::dicom::SeriesChoice>,
 }
 
 /// The readers, as chosen from a file name and the options.
@@ -23,10 +26,14 @@ enum Format {
     Nrrd,
     Nifti,
     Raw,
+    Dicom,
+    MetaImage,
 }
 
-/// Loads a NRRD (`.nrrd`, `.nhdr`), NIfTI-1 (`.nii`, `.nii.gz`) or raw volume. Raw layout
-/// parameters in `options` make any file read as raw. The volume is named after the file.
+/// Loads a NRRD (`.nrrd`, `.nhdr`), NIfTI-1 (`.nii`, `.nii.gz`), MetaImage (`.mha`, `.mhd`),
+/// DICOM (a folder, any file of a series, a DICOMDIR, a multi-frame file: see
+/// [`super::dicom`]) or raw volume. Raw layout parameters in `options` make any file read as raw.
+/// The volume is named after the file (and the DICOM series).
 ///
 /// The orientation in `options` replaces the header's. A file whose orientation is mirrored comes
 /// back [`Volume::unmirrored`]: reversed along i, so that no render shows the patient's mirror
@@ -52,18 +59,31 @@ fn load(path: &Path, options: &LoadOptions) -> Result<Volume, VolumeError> {
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     );
+    let progress = options.progress.as_deref();
+    // A folder is a DICOM series (or several).
+    if options.raw.is_none() && std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
+        return dicom::load(path, options.series.as_ref(), progress);
+    }
     // A missing file, a folder or an empty file is reported as such whatever its name.
     decode::open_file(path)?;
-    let progress = options.progress.as_deref();
-    match (format_of(&name, options)?, &options.raw) {
+    let sniff = || dicom::scan::looks_like_dicom(path);
+    match (format_of(&name, options, sniff)?, &options.raw) {
         (Format::Raw, Some(params)) => raw::read_raw(path, name, params, progress),
         (Format::Raw, None) => Err(VolumeError::RawNeedsParams),
         (Format::Nrrd, _) => nrrd::read_nrrd(path, name, progress),
         (Format::Nifti, _) => nifti::read_nifti(path, name, progress),
+        (Format::MetaImage, _) => metaimage::read_metaimage(path, name, progress),
+        (Format::Dicom, _) => dicom::load(path, options.series.as_ref(), progress),
     }
 }
 
-fn format_of(name: &str, options: &LoadOptions) -> Result<Format, VolumeError> {
+/// The reader for a file: by its name, else (no known extension) DICOM when it starts like
+/// DICOM (`sniff`), as scanners' files often have no extension.
+fn format_of(
+    name: &str,
+    options: &LoadOptions,
+    sniff: impl FnOnce() -> bool,
+) -> Result<Format, VolumeError> {
     let lower = name.to_ascii_lowercase();
     let has = |suffix: &str| lower.ends_with(suffix);
     if options.raw.is_some() || has(".raw") {
@@ -72,6 +92,10 @@ fn format_of(name: &str, options: &LoadOptions) -> Result<Format, VolumeError> {
         Ok(Format::Nrrd)
     } else if has(".nii") || has(".nii.gz") {
         Ok(Format::Nifti)
+    } else if has(".mha") || has(".mhd") {
+        Ok(Format::MetaImage)
+    } else if has(".dcm") || has(".dicom") || has(".ima") || lower == "dicomdir" || sniff() {
+        Ok(Format::Dicom)
     } else {
         let extension = match lower.rsplit_once('.') {
             Some((_, ext)) if !lower.starts_with('.') || lower.matches('.').count() > 1 => {
@@ -91,6 +115,7 @@ mod tests {
     #[test]
     fn formats_follow_the_name_unless_raw_parameters_are_given() {
         let none = LoadOptions::default();
+        let no = || false;
         let raw = LoadOptions {
             raw: Some(RawParams {
                 dims: [1, 1, 1],
@@ -100,18 +125,25 @@ mod tests {
             }),
             ..LoadOptions::default()
         };
-        assert_eq!(format_of("a.NRRD", &none).ok(), Some(Format::Nrrd));
-        assert_eq!(format_of("a.nhdr", &none).ok(), Some(Format::Nrrd));
-        assert_eq!(format_of("a.nii", &none).ok(), Some(Format::Nifti));
-        assert_eq!(format_of("a.Nii.Gz", &none).ok(), Some(Format::Nifti));
-        assert_eq!(format_of("a.raw", &none).ok(), Some(Format::Raw));
-        assert_eq!(format_of("a.nrrd", &raw).ok(), Some(Format::Raw));
-        assert_eq!(format_of("scan.img", &raw).ok(), Some(Format::Raw));
-        let r = format_of("scan.img", &none);
+        assert_eq!(format_of("a.NRRD", &none, no).ok(), Some(Format::Nrrd));
+        assert_eq!(format_of("a.nhdr", &none, no).ok(), Some(Format::Nrrd));
+        assert_eq!(format_of("a.nii", &none, no).ok(), Some(Format::Nifti));
+        assert_eq!(format_of("a.Nii.Gz", &none, no).ok(), Some(Format::Nifti));
+        assert_eq!(format_of("a.raw", &none, no).ok(), Some(Format::Raw));
+        assert_eq!(format_of("a.nrrd", &raw, no).ok(), Some(Format::Raw));
+        assert_eq!(format_of("scan.img", &raw, no).ok(), Some(Format::Raw));
+        let r = format_of("scan.img", &none, no);
         assert!(
             matches!(r, Err(VolumeError::UnknownFormat { ref extension }) if extension == ".img")
         );
-        let r = format_of("scan", &none);
+        assert_eq!(format_of("a.MHA", &none, no).ok(), Some(Format::MetaImage));
+        assert_eq!(format_of("IM0001.dcm", &none, no).ok(), Some(Format::Dicom));
+        assert_eq!(format_of("DICOMDIR", &none, no).ok(), Some(Format::Dicom));
+        assert_eq!(
+            format_of("IM0001", &none, || true).ok(),
+            Some(Format::Dicom)
+        );
+        let r = format_of("scan", &none, no);
         assert!(
             matches!(r, Err(VolumeError::UnknownFormat { ref extension }) if extension.is_empty())
         );

@@ -12,9 +12,11 @@
 //!   and are rendered transparent.
 
 pub mod decode;
+pub mod dicom;
 pub mod error;
 pub mod limits;
 pub mod load;
+pub mod metaimage;
 pub mod modality;
 pub mod nifti;
 pub mod nrrd;
@@ -61,6 +63,29 @@ impl Default for ValueMapping {
     }
 }
 
+/// What the file said beyond the samples, for people rather than for rendering: notes from
+/// loading (a resampled gap, an assumption), the display window of the header, and for DICOM the
+/// series and the others found beside it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Provenance {
+    /// What a user should know about how the file was read, one sentence each.
+    pub notes: Vec<String>,
+    /// The header's display window (DICOM `WindowCenter`/`WindowWidth`) as lowest and highest
+    /// value, in data units.
+    pub window: Option<[f64; 2]>,
+    /// The DICOM series the volume is.
+    pub series: Option<dicom::SeriesFacts>,
+    /// Every series found where the volume came from, one line each (numbered as `--series`
+    /// takes them); empty for single-volume files.
+    pub listing: Vec<String>,
+    /// Which line of `listing` this volume is.
+    pub chosen: Option<usize>,
+    /// What was passed over where the volume came from (files that are not DICOM images).
+    pub skipped: Option<String>,
+    /// The patient-frame position (LPS, mm) of the first voxel's centre, where the file says.
+    pub origin_lps: Option<[f64; 3]>,
+}
+
 /// A scalar volume on a regular grid, with its statistics computed once at construction.
 #[derive(Clone, Debug)]
 pub struct Volume {
@@ -77,6 +102,7 @@ pub struct Volume {
     header_orientation: Option<Orientation>,
     reversed_i: bool,
     modality: Option<Modality>,
+    provenance: Provenance,
 }
 
 impl Volume {
@@ -123,6 +149,7 @@ impl Volume {
             header_orientation: None,
             reversed_i: false,
             modality: None,
+            provenance: Provenance::default(),
         })
     }
 
@@ -163,6 +190,18 @@ impl Volume {
     pub fn with_modality(mut self, modality: Option<Modality>) -> Self {
         self.modality = modality;
         self
+    }
+
+    /// The volume with what its file said beyond the samples.
+    pub fn with_provenance(mut self, provenance: Provenance) -> Self {
+        self.provenance = provenance;
+        self
+    }
+
+    /// What the file said beyond the samples: notes from loading, the header's window, the
+    /// DICOM series.
+    pub fn provenance(&self) -> &Provenance {
+        &self.provenance
     }
 
     /// The modality the file declared (`None` where it says nothing).

@@ -5,6 +5,9 @@
 
 mod bad_data;
 mod bad_files;
+mod dicom_shared;
+mod dicom_written;
+mod metaimage;
 mod nifti_round_trip;
 mod nrrd_round_trip;
 mod orientation;

@@ -197,13 +197,19 @@ impl LeapViewApp {
             Ok(summary) => {
                 self.shown_source = Some(source.clone());
                 self.state.forget_volume_values();
-                // MIP, MinIP and X-ray start from the data's window, as `leapview render` does.
-                self.state.render.window = summary.range.and_then(|range| {
-                    crate::transfer::fit::default_window(&crate::volume::Histogram {
-                        range,
-                        counts: summary.histogram.clone(),
+                // MIP, MinIP and X-ray start from the header's window, else the data's, as
+                // `leapview render` does.
+                self.state.render.window = summary.provenance.window.or_else(|| {
+                    summary.range.and_then(|range| {
+                        crate::transfer::fit::default_window(&crate::volume::Histogram {
+                            range,
+                            counts: summary.histogram.clone(),
+                        })
                     })
                 });
+                for note in &summary.provenance.notes {
+                    log::warn!("{}: {note}", summary.name);
+                }
                 if let VolumeSource::File { path, .. } = source {
                     self.state.remember_file(path);
                 }
@@ -236,6 +242,8 @@ impl LeapViewApp {
     fn apply(&mut self, action: Action, ctx: &egui::Context) {
         match action {
             Action::OpenDialog => self.dialogs.open_file_dialog(ctx),
+            Action::OpenFolderDialog => self.dialogs.open_folder_dialog(ctx),
+            Action::OpenSeries(number) => self.open_series(number, ctx),
             Action::OpenPathPrompt => self.dialogs.open_prompt(),
             Action::LoadPhantom => self.start_loading(VolumeSource::SheppLogan, ctx),
             Action::LoadVessels => self.start_loading(VolumeSource::VesselTree, ctx),
@@ -267,6 +275,15 @@ impl LeapViewApp {
         let mut options = self.load_options.clone();
         // The orientation given on the command line is for the file named there.
         options.orientation = self.state.orientation_for(&path);
+        self.start_loading(VolumeSource::File { path, options }, ctx);
+    }
+
+    /// Opens another series of the folder (or file) the volume on screen came from.
+    fn open_series(&mut self, number: usize, ctx: &egui::Context) {
+        let Some(VolumeSource::File { path, mut options }) = self.shown_source.clone() else {
+            return;
+        };
+        options.series = Some(crate::volume::dicom::SeriesChoice::Number(number));
         self.start_loading(VolumeSource::File { path, options }, ctx);
     }
 

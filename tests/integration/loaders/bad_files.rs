@@ -69,8 +69,12 @@ fn empty_files_folders_and_missing_files_are_told_apart() {
 
     let folder = dir.path().join("folder.nrrd");
     std::fs::create_dir(&folder).expect("create a folder");
-    assert!(matches!(fails(&folder), VolumeError::IsDirectory));
-    assert!(matches!(fails(dir.path()), VolumeError::IsDirectory));
+    // A folder is searched for DICOM series, whatever its name: an empty one says so.
+    for f in [&folder, &dir.path().to_path_buf()] {
+        let e = fails(f);
+        assert!(matches!(e, VolumeError::Dicom(_)), "{e}");
+        assert!(e.to_string().starts_with("no DICOM image here"), "{e}");
+    }
 
     assert!(matches!(
         fails(&dir.path().join("missing.nrrd")),
@@ -98,10 +102,14 @@ fn empty_files_folders_and_missing_files_are_told_apart() {
 #[test]
 fn unknown_file_types_and_raw_files_without_a_layout_say_what_to_do() {
     let dir = TempDir::new("formats");
-    let path = dir.write("scan.mha", b"ObjectType = Image\n");
+    let path = dir.write("scan.img", b"an Analyze image\n");
     let e = fails(&path);
     assert!(matches!(e, VolumeError::UnknownFormat { .. }), "{e}");
-    assert!(e.to_string().contains(".nrrd, .nhdr, .nii, .nii.gz"), "{e}");
+    assert!(
+        e.to_string()
+            .contains(".nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd, DICOM"),
+        "{e}"
+    );
     let path = dir.write("scan.raw", &[0; 8]);
     let e = fails(&path);
     assert!(matches!(e, VolumeError::RawNeedsParams), "{e}");

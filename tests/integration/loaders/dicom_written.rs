@@ -1,0 +1,378 @@
+//! DICOM series written here with dicom-rs (another implementation than the reader's geometry):
+//! slice order by position whatever the file names and instance numbers, gaps and tilts resampled
+//! and named, several series in one folder, signed and 12-bit samples, MONOCHROME1, big endian,
+//! and the errors a broken series gets.
+
+use std::path::Path;
+
+use dicom_core::{DataElement, PrimitiveValue, VR};
+use dicom_dictionary_std::{tags, uids};
+use dicom_object::{FileMetaTableBuilder, InMemDicomObject};
+use leapview::volume::dicom::SeriesChoice;
+use leapview::volume::{LoadOptions, load_volume};
+
+use crate::common::{self, load_ok};
+
+/// One slice to write: 4 columns x 3 rows.
+#[derive(Clone)]
+struct Slice {
+    series: &'static str,
+    instance: String,
+    position: [f64; 3],
+    orientation: [f64; 6],
+    /// Stored containers, 16 bits, row by row.
+    pixels: Vec<u16>,
+    bits_stored: u16,
+    signed: bool,
+    photometric: &'static str,
+    intercept: f64,
+    transfer_syntax: &'static str,
+    instance_number: i32,
+}
+
+fn ds(values: &[f64]) -> PrimitiveValue {
+    PrimitiveValue::Strs(values.iter().map(|v| format!("{v}")).collect())
+}
+
+fn axial(series: &'static str, z: f64, value: u16) -> Slice {
+    Slice {
+        series,
+        instance: format!(
+            "1.2.826.0.1.3680043.9.1.{}.{}",
+            series.bytes().map(u32::from).sum::<u32>(),
+            (z * 100.0) as i64 + 10_000
+        ),
+        position: [-1.5, -1.0, z],
+        orientation: [1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+        pixels: (0..12).map(|i| value + i).collect(),
+        bits_stored: 16,
+        signed: false,
+        photometric: "MONOCHROME2",
+        intercept: 0.0,
+        transfer_syntax: uids::EXPLICIT_VR_LITTLE_ENDIAN,
+        instance_number: 1,
+    }
+}
+
+fn write(dir: &Path, name: &str, s: &Slice) {
+    let mut obj = InMemDicomObject::new_empty();
+    let mut put = |tag, vr, value: PrimitiveValue| {
+        obj.put(DataElement::new(tag, vr, value));
+    };
+    put(
+        tags::SOP_CLASS_UID,
+        VR::UI,
+        PrimitiveValue::from(uids::CT_IMAGE_STORAGE),
+    );
+    put(
+        tags::SOP_INSTANCE_UID,
+        VR::UI,
+        PrimitiveValue::from(s.instance.as_str()),
+    );
+    put(tags::MODALITY, VR::CS, PrimitiveValue::from("CT"));
+    put(
+        tags::SERIES_INSTANCE_UID,
+        VR::UI,
+        PrimitiveValue::from(format!(
+            "1.2.826.0.1.3680043.9.2.{}",
+            s.series.len() * 7 + s.series.as_bytes()[0] as usize
+        )),
+    );
+    put(
+        tags::SERIES_DESCRIPTION,
+        VR::LO,
+        PrimitiveValue::from(s.series),
+    );
+    put(
+        tags::FRAME_OF_REFERENCE_UID,
+        VR::UI,
+        PrimitiveValue::from("1.2.826.0.1.3680043.9.3"),
+    );
+    put(
+        tags::INSTANCE_NUMBER,
+        VR::IS,
+        PrimitiveValue::from(s.instance_number.to_string()),
+    );
+    put(tags::IMAGE_POSITION_PATIENT, VR::DS, ds(&s.position));
+    put(tags::IMAGE_ORIENTATION_PATIENT, VR::DS, ds(&s.orientation));
+    put(tags::PIXEL_SPACING, VR::DS, ds(&[0.5, 0.25]));
+    put(tags::SLICE_THICKNESS, VR::DS, ds(&[9.0]));
+    put(tags::ROWS, VR::US, PrimitiveValue::from(3u16));
+    put(tags::COLUMNS, VR::US, PrimitiveValue::from(4u16));
+    put(tags::SAMPLES_PER_PIXEL, VR::US, PrimitiveValue::from(1u16));
+    put(
+        tags::PHOTOMETRIC_INTERPRETATION,
+        VR::CS,
+        PrimitiveValue::from(s.photometric),
+    );
+    put(tags::BITS_ALLOCATED, VR::US, PrimitiveValue::from(16u16));
+    put(
+        tags::BITS_STORED,
+        VR::US,
+        PrimitiveValue::from(s.bits_stored),
+    );
+    put(
+        tags::HIGH_BIT,
+        VR::US,
+        PrimitiveValue::from(s.bits_stored - 1),
+    );
+    put(
+        tags::PIXEL_REPRESENTATION,
+        VR::US,
+        PrimitiveValue::from(u16::from(s.signed)),
+    );
+    put(tags::RESCALE_INTERCEPT, VR::DS, ds(&[s.intercept]));
+    put(tags::RESCALE_SLOPE, VR::DS, ds(&[1.0]));
+    put(tags::WINDOW_CENTER, VR::DS, ds(&[40.0]));
+    put(tags::WINDOW_WIDTH, VR::DS, ds(&[400.0]));
+    put(
+        tags::PIXEL_DATA,
+        VR::OW,
+        PrimitiveValue::U16(s.pixels.clone().into()),
+    );
+    let file = obj
+        .with_meta(
+            FileMetaTableBuilder::new()
+                .transfer_syntax(s.transfer_syntax)
+                .media_storage_sop_class_uid(uids::CT_IMAGE_STORAGE)
+                .media_storage_sop_instance_uid(s.instance.as_str()),
+        )
+        .expect("meta");
+    file.write_to_file(dir.join(name)).expect("write");
+}
+
+fn load_with(path: &Path, series: Option<SeriesChoice>) -> leapview::volume::Volume {
+    load_volume(
+        path,
+        &LoadOptions {
+            series,
+            ..LoadOptions::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn slices_are_ordered_by_position_not_by_name_or_instance_number() {
+    let dir = common::TempDir::new("dicom-order");
+    // Names and instance numbers run against the positions.
+    for (n, z) in [4.0, 2.0, 0.0, 6.0, 8.0].iter().enumerate() {
+        let mut s = axial("order", *z, (*z as u16) * 100);
+        s.instance_number = 10 - n as i32;
+        write(dir.path(), &format!("a{n}.dcm"), &s);
+    }
+    let v = load_ok(dir.path());
+    assert_eq!(v.dims(), [4, 3, 5]);
+    // Spacing from the positions (2 mm), not SliceThickness (9 mm); PixelSpacing is row then
+    // column spacing.
+    assert_eq!(v.spacing_mm(), [0.25, 0.5, 2.0]);
+    for k in 0..5 {
+        assert_eq!(v.value(0, 0, k), 200.0 * k as f64, "slice {k}");
+    }
+    assert_eq!(v.value(3, 2, 0), 11.0);
+    assert_eq!(v.provenance().window, Some([-160.0, 240.0]));
+    assert!(
+        v.provenance().notes.is_empty(),
+        "{:?}",
+        v.provenance().notes
+    );
+}
+
+#[test]
+fn a_gap_and_a_tilt_are_resampled_and_named() {
+    let dir = common::TempDir::new("dicom-gap");
+    for z in [0.0, 1.0, 2.0, 4.0, 5.0] {
+        write(
+            dir.path(),
+            &format!("z{z}.dcm"),
+            &axial("gap", z, (z as u16) * 10),
+        );
+    }
+    let v = load_ok(dir.path());
+    assert_eq!(v.dims(), [4, 3, 6]);
+    // The missing slice at 3 mm lies halfway between 20 and 40.
+    assert_eq!(v.value(0, 0, 3), 30.0);
+    assert_eq!(v.value(0, 0, 4), 40.0);
+    let notes = &v.provenance().notes;
+    assert!(
+        notes
+            .iter()
+            .any(|n| n.contains("about 1 slice missing between 'z2.dcm' and 'z4.dcm'")),
+        "{notes:?}"
+    );
+
+    let dir = common::TempDir::new("dicom-tilt");
+    for k in 0..4 {
+        let mut s = axial("tilt", k as f64, 100);
+        // Each slice half a row (0.25 mm) further posterior: a tilted gantry.
+        s.position[1] += 0.25 * k as f64;
+        write(dir.path(), &format!("t{k}.dcm"), &s);
+    }
+    let v = load_ok(dir.path());
+    let notes = &v.provenance().notes;
+    assert!(
+        notes.iter().any(|n| n.starts_with("gantry tilt")),
+        "{notes:?}"
+    );
+    // Slice 2 lies one row further back: its row 0 is output row 1 there; output row 0 reads
+    // row -1, outside: the lowest value.
+    assert_eq!(v.value(0, 1, 2), 100.0);
+    assert_eq!(v.value(0, 0, 2), 100.0);
+}
+
+#[test]
+fn several_series_in_one_folder_are_told_apart() {
+    let dir = common::TempDir::new("dicom-two");
+    for z in 0..3 {
+        write(
+            dir.path(),
+            &format!("small{z}.dcm"),
+            &axial("small", z as f64, 1),
+        );
+    }
+    for z in 0..5 {
+        write(
+            dir.path(),
+            &format!("large{z}.dcm"),
+            &axial("large", z as f64, 2),
+        );
+    }
+    let v = load_ok(dir.path());
+    assert_eq!(
+        v.dims()[2],
+        5,
+        "the series with the most slices opens by default"
+    );
+    assert_eq!(v.provenance().listing.len(), 2);
+    let uid = v.provenance().series.as_ref().expect("series").uid.clone();
+    // Naming one file opens its series.
+    let small = load_ok(&dir.path().join("small1.dcm"));
+    assert_eq!(small.dims()[2], 3);
+    let small_uid = small
+        .provenance()
+        .series
+        .as_ref()
+        .expect("series")
+        .uid
+        .clone();
+    assert_ne!(small_uid, uid);
+    // By UID, and by number.
+    assert_eq!(
+        load_with(dir.path(), Some(SeriesChoice::Uid(small_uid))).dims()[2],
+        3
+    );
+    let number = v
+        .provenance()
+        .listing
+        .iter()
+        .position(|l| l.contains("\"small\""))
+        .expect("listed")
+        + 1;
+    assert_eq!(
+        load_with(dir.path(), Some(SeriesChoice::Number(number))).dims()[2],
+        3
+    );
+}
+
+#[test]
+fn signed_12_bit_monochrome1_and_big_endian_samples_read_right() {
+    let dir = common::TempDir::new("dicom-values");
+    // Signed 12 bits in 16 with junk in the top nibble: 0xF800 is -2048, 0x07FF is 2047.
+    for z in 0..2 {
+        let mut s = axial("signed", z as f64, 0);
+        s.bits_stored = 12;
+        s.signed = true;
+        s.intercept = -1000.0;
+        s.pixels = vec![0xF800, 0x07FF, 0x0FFF, 0x0000, 0, 0, 0, 0, 0, 0, 0, 0];
+        write(dir.path(), &format!("s{z}.dcm"), &s);
+    }
+    let v = load_ok(dir.path());
+    assert_eq!(v.scalar_type(), leapview::volume::ScalarType::I16);
+    assert_eq!(
+        [
+            v.value(0, 0, 0),
+            v.value(1, 0, 0),
+            v.value(2, 0, 0),
+            v.value(3, 0, 0)
+        ],
+        [-3048.0, 1047.0, -1001.0, -1000.0]
+    );
+
+    let dir = common::TempDir::new("dicom-mono1");
+    for z in 0..2 {
+        let mut s = axial("mono1", z as f64, 0);
+        s.bits_stored = 12;
+        s.photometric = "MONOCHROME1";
+        s.pixels = vec![0, 4095, 100, 0, 0, 0, 0, 0, 0, 0, 0, 0];
+        write(dir.path(), &format!("m{z}.dcm"), &s);
+    }
+    let v = load_ok(dir.path());
+    // White is the lowest value: inverted within the 12 stored bits.
+    assert_eq!(
+        [v.value(0, 0, 0), v.value(1, 0, 0), v.value(2, 0, 0)],
+        [4095.0, 0.0, 3995.0]
+    );
+    assert!(
+        v.provenance()
+            .notes
+            .iter()
+            .any(|n| n.contains("MONOCHROME1"))
+    );
+
+    let dir = common::TempDir::new("dicom-big-endian");
+    for z in 0..2 {
+        let mut s = axial("be", z as f64, 300);
+        s.transfer_syntax = "1.2.840.10008.1.2.2";
+        write(dir.path(), &format!("b{z}.dcm"), &s);
+    }
+    let v = load_ok(dir.path());
+    assert_eq!([v.value(0, 0, 1), v.value(3, 2, 1)], [300.0, 311.0]);
+}
+
+#[test]
+fn broken_series_get_clear_messages() {
+    // Two volumes in one series (echoes): refused, naming two of the files.
+    let dir = common::TempDir::new("dicom-echoes");
+    for (n, z) in [0.0, 1.0, 0.0, 1.0].iter().enumerate() {
+        let mut s = axial("echoes", *z, 1);
+        s.instance = format!("1.2.826.0.1.3680043.9.4.{n}");
+        write(dir.path(), &format!("e{n}.dcm"), &s);
+    }
+    let e = load_volume(dir.path(), &LoadOptions::default()).expect_err("two volumes");
+    assert!(e.to_string().contains("several volumes"), "{e}");
+
+    // A file cut short inside its pixel data.
+    let dir = common::TempDir::new("dicom-cut");
+    write(dir.path(), "a.dcm", &axial("cut", 0.0, 1));
+    let bytes = std::fs::read(dir.path().join("a.dcm")).expect("read");
+    std::fs::write(dir.path().join("a.dcm"), &bytes[..bytes.len() - 5]).expect("write");
+    let o = common::leapview(&["info", dir.path().join("a.dcm").to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        common::stderr(&o).contains("'a.dcm'"),
+        "{}",
+        common::stderr(&o)
+    );
+
+    // Absurd rows x columns: refused before anything is allocated.
+    let dir = common::TempDir::new("dicom-absurd");
+    let mut s = axial("absurd", 0.0, 1);
+    s.pixels = vec![0; 12];
+    write(dir.path(), "a.dcm", &s);
+    let mut bytes = std::fs::read(dir.path().join("a.dcm")).expect("read");
+    // NumberOfFrames is absent; make Rows 65535 by patching the US value after its tag.
+    let rows_tag = [0x28u8, 0x00, 0x10, 0x00, b'U', b'S', 2, 0];
+    let at = bytes
+        .windows(rows_tag.len())
+        .position(|w| w == rows_tag)
+        .expect("Rows")
+        + rows_tag.len();
+    bytes[at..at + 2].copy_from_slice(&u16::MAX.to_le_bytes());
+    std::fs::write(dir.path().join("a.dcm"), &bytes).expect("write");
+    let e = load_volume(&dir.path().join("a.dcm"), &LoadOptions::default()).expect_err("short");
+    assert!(
+        e.to_string()
+            .contains("pixel data of 'a.dcm' holds 24 bytes"),
+        "{e}"
+    );
+}
