@@ -384,7 +384,7 @@ fn series_rows(ui: &mut egui::Ui, v: &VolumeSummary, action: &mut Option<Action>
             .on_hover_text(format!("SeriesInstanceUID {}", s.uid));
     }
     for note in &p.notes {
-        ui.label(egui::RichText::new(format!("⚠ {note}")).small())
+        ui.label(egui::RichText::new(format!("Note: {note}")).small())
             .on_hover_text("How the file was read");
     }
     if p.listing.len() > 1 {

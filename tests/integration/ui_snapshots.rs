@@ -419,3 +419,53 @@ fn loading_shows_a_bar_then_says_the_histogram_is_being_computed() {
     h.run_steps(2);
     assert!(h.state().1, "Cancel is reported");
 }
+
+#[test]
+fn the_series_of_a_dicom_folder_are_listed_at_the_top_and_one_can_be_chosen() {
+    // A folder's volume as the DICOM loader leaves it: the series it is, the others listed, and
+    // what loading had to say.
+    let volume = leapview::volume::synthetic::constant([4, 4, 4], [1.0; 3], 1.0)
+        .expect("volume")
+        .with_provenance(leapview::volume::Provenance {
+            notes: vec!["about 1 slice missing between 'IM3' and 'IM4'".into()],
+            series: Some(leapview::volume::dicom::SeriesFacts {
+                uid: "1.2.3".into(),
+                modality: "CT".into(),
+                description: "Head 1.0".into(),
+                date: "20261202".into(),
+                ..Default::default()
+            }),
+            listing: vec![
+                "1: CT #2 \"Head 1.0\", 120 slices, 512 x 512".into(),
+                "2: CT #3 \"Scout\", 1 slice, 512 x 512".into(),
+            ],
+            chosen: Some(0),
+            ..Default::default()
+        });
+    let panel = SidePanel {
+        state: ViewerState::default(),
+        volume: VolumeSummary {
+            from_file: true,
+            ..VolumeSummary::of(&volume)
+        },
+        actions: Vec::new(),
+    };
+    let mut h = side_panel(harness([400.0, 900.0]), panel);
+    h.run();
+    assert!(
+        h.query_by_label_contains("CT · Head 1.0 · 2026-12-02")
+            .is_some()
+    );
+    assert!(h.query_by_label_contains("about 1 slice missing").is_some());
+    // The chooser shows the series on screen; its list offers the others.
+    h.get_by(|n| {
+        n.value().is_some_and(|v| v.contains("1: CT #2"))
+            || n.label().is_some_and(|l| l.contains("1: CT #2"))
+    })
+    .click();
+    h.run();
+    h.get_by_label("2: CT #3 \"Scout\", 1 slice, 512 x 512")
+        .click();
+    h.run();
+    assert_eq!(h.state().actions, [Action::OpenSeries(2)]);
+}

@@ -254,6 +254,13 @@ pub fn assemble(frames: &[FrameHeader]) -> Result<Geometry, DicomError> {
         });
     }
     let d: Vec<f64> = positions.iter().map(|p| dot(*p, n)).collect();
+    if let Some(k) = d.iter().position(|v| !v.is_finite()) {
+        return Err(fail(format!(
+            "the position of '{}' is too far out to place ({} mm)",
+            frames[k].label,
+            positions[k].map(mm).join("\\")
+        )));
+    }
     let mut order: Vec<usize> = (0..frames.len()).collect();
     order.sort_by(|&a, &b| d[a].total_cmp(&d[b]).then(a.cmp(&b)));
     let gaps: Vec<f64> = order.windows(2).map(|w| d[w[1]] - d[w[0]]).collect();
@@ -341,6 +348,12 @@ pub fn assemble(frames: &[FrameHeader]) -> Result<Geometry, DicomError> {
     let spacing_mm = |s: f64| [col_sp, row_sp, s];
     if !irregular && !tilted {
         let mean = (d_last - d0) / (frames.len() - 1) as f64;
+        if !(mean.is_finite() && mean > 0.0) {
+            return Err(fail(format!(
+                "its slices span {} mm: no spacing can be taken from their positions",
+                mm(d_last - d0)
+            )));
+        }
         return Ok(Geometry {
             dims: [dims_xy[0], dims_xy[1], frames.len() as u32],
             spacing_mm: spacing_mm(mean),
@@ -356,18 +369,27 @@ pub fn assemble(frames: &[FrameHeader]) -> Result<Geometry, DicomError> {
     } else {
         (d_last - d0) / (frames.len() - 1) as f64
     };
-    let count = ((d_last - d0) / step).round() as u64 + 1;
-    if count > 4 * frames.len() as u64 + 16
-        || count > u64::from(crate::volume::limits::MAX_DIMENSION)
-    {
+    if !(step.is_finite() && step > 0.0 && ((d_last - d0) / step).is_finite()) {
         return Err(fail(format!(
-            "its {} slices span {} mm at a median spacing of {} mm: {count} slices on a regular \
-             grid, too many to resample",
-            frames.len(),
+            "its slices span {} mm at a spacing of {} mm: no regular grid fits",
             mm(d_last - d0),
-            mm(median)
+            mm(step)
         )));
     }
+    // Counted in f64 and bounded before any conversion: a far-out slice must not overflow it.
+    let steps = ((d_last - d0) / step).round();
+    let most = (4 * frames.len() + 16).min(crate::volume::limits::MAX_DIMENSION as usize);
+    if steps + 1.0 > most as f64 {
+        return Err(fail(format!(
+            "its {} slices span {} mm at a median spacing of {} mm: {} slices on a regular grid, \
+             too many to resample",
+            frames.len(),
+            mm(d_last - d0),
+            mm(median),
+            mm(steps + 1.0)
+        )));
+    }
+    let count = steps as u64 + 1;
     let shift = |f: usize| {
         let delta = sub(p0, positions[f]);
         [dot(delta, r) / col_sp, dot(delta, c) / row_sp]
@@ -515,6 +537,13 @@ mod tests {
         // Output voxel (x, y) of slice 2 is at y - 20 mm; frame 2's first row is at -19 mm: one
         // row spacing (0.5 mm) is 2 rows back.
         assert_eq!(plan[2][0].shift, [0.0, -2.0]);
+    }
+
+    #[test]
+    fn a_far_out_slice_is_refused_not_overflowed() {
+        // Found by the dicom_series fuzz target: 9e27 steps overflowed the slice count to 0.
+        let e = assemble(&at(&[2.0, 1.5, -1.3476555094338099e28, 1e-300])).expect_err("too far");
+        assert!(e.to_string().contains("too many to resample"), "{e}");
     }
 
     #[test]

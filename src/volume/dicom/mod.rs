@@ -5,6 +5,7 @@
 
 pub mod error;
 pub mod geometry;
+pub mod guard;
 pub mod header;
 pub mod pixels;
 pub mod read;

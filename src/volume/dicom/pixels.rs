@@ -193,9 +193,17 @@ pub fn decode_file(
             rle_frames(&obj, label, rows as usize * columns as usize, frames)?
         }
         Ok(Err(e)) => {
+            let mut reason = error_chain(&e);
+            if uid == "1.2.840.10008.1.2.4.51" && format.bits_stored > 8 {
+                reason = format!(
+                    "{}-bit JPEG Extended is not supported: the JPEG decoder reads 8-bit \
+                     precision only ({reason})",
+                    format.bits_stored
+                );
+            }
             return Err(DicomError::Decode {
                 file: label.to_string(),
-                reason: error_chain(&e),
+                reason,
             });
         }
         Err(_) => {

@@ -36,6 +36,43 @@ fn frames_by_file(frames: &[FrameHeader]) -> Vec<(usize, Vec<(u32, usize)>)> {
     by_file
 }
 
+/// Refuses a volume that the series' files cannot hold even at the highest compression a codec
+/// reaches ([`limits::MAX_DEFLATE_RATIO`]: deflate's bound, beyond any lossless image codec's) or
+/// that this machine has no memory for, before anything is allocated: headers that lie about
+/// rows, columns or frames never make a large allocation.
+fn check_files_can_hold(files: &[PathBuf], series: &Series, bytes: u64) -> Result<(), VolumeError> {
+    let mut ids: Vec<usize> = series.frames.iter().map(|f| f.file).collect();
+    ids.sort_unstable();
+    ids.dedup();
+    let held: u64 = ids
+        .iter()
+        .filter_map(|&i| std::fs::metadata(&files[i]).ok())
+        .map(|m| m.len())
+        .sum();
+    let most = held.saturating_mul(limits::MAX_DEFLATE_RATIO);
+    if bytes > most {
+        let first = &series.frames[0];
+        return Err(DicomError::BadField {
+            file: first.label.clone(),
+            field: "Rows x Columns x frames",
+            value: format!(
+                "{} x {} x {} ({bytes} bytes of samples)",
+                first.rows,
+                first.columns,
+                series.frames.len()
+            ),
+            expected: "more than the series' files can hold, even compressed",
+        }
+        .into());
+    }
+    if let Some(available) = limits::available_memory_bytes()
+        && bytes > available
+    {
+        return Err(VolumeError::NotEnoughMemory { bytes, available });
+    }
+    Ok(())
+}
+
 /// Allocates `len` samples, or says there is not enough memory.
 fn allocate<T: Stored>(len: usize) -> Result<Vec<T>, VolumeError> {
     let mut v = Vec::new();
@@ -161,7 +198,8 @@ fn assemble_samples(
         );
         ScalarType::F32
     };
-    limits::check_dims(geometry.dims.map(u64::from), stored)?;
+    let (_, bytes) = limits::check_dims(geometry.dims.map(u64::from), stored)?;
+    check_files_can_hold(files, series, bytes)?;
     if let Some(p) = progress {
         let plane = first.rows as u64 * first.columns as u64;
         p.start(plane * series.frames.len() as u64 * stored.size_bytes() as u64);

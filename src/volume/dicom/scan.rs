@@ -129,6 +129,10 @@ fn read_header(path: &Path, file: usize, name: &str) -> Result<Found, DicomError
         return Ok(Found::NotDicom);
     }
     let bytes = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+    // dicom-rs allocates what a length says before reading: lying lengths are refused first.
+    if let Err(reason) = super::guard::check_lengths(path) {
+        return Ok(Found::Unreadable(format!("{name}: {reason}")));
+    }
     let obj = match OpenFileOptions::new()
         .read_until(tags::PIXEL_DATA)
         .open_file(path)

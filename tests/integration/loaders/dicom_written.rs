@@ -28,6 +28,10 @@ struct Slice {
     intercept: f64,
     transfer_syntax: &'static str,
     instance_number: i32,
+    /// 8: the pixels are written as bytes (each of `pixels` must fit).
+    bits_allocated: u16,
+    /// Compressed by dicom-rs into this transfer syntax before writing.
+    encode_as: Option<&'static str>,
 }
 
 fn ds(values: &[f64]) -> PrimitiveValue {
@@ -51,10 +55,16 @@ fn axial(series: &'static str, z: f64, value: u16) -> Slice {
         intercept: 0.0,
         transfer_syntax: uids::EXPLICIT_VR_LITTLE_ENDIAN,
         instance_number: 1,
+        bits_allocated: 16,
+        encode_as: None,
     }
 }
 
 fn write(dir: &Path, name: &str, s: &Slice) {
+    write_sized(dir, name, s, 3, 4);
+}
+
+fn write_sized(dir: &Path, name: &str, s: &Slice, rows: u16, columns: u16) {
     let mut obj = InMemDicomObject::new_empty();
     let mut put = |tag, vr, value: PrimitiveValue| {
         obj.put(DataElement::new(tag, vr, value));
@@ -97,15 +107,19 @@ fn write(dir: &Path, name: &str, s: &Slice) {
     put(tags::IMAGE_ORIENTATION_PATIENT, VR::DS, ds(&s.orientation));
     put(tags::PIXEL_SPACING, VR::DS, ds(&[0.5, 0.25]));
     put(tags::SLICE_THICKNESS, VR::DS, ds(&[9.0]));
-    put(tags::ROWS, VR::US, PrimitiveValue::from(3u16));
-    put(tags::COLUMNS, VR::US, PrimitiveValue::from(4u16));
+    put(tags::ROWS, VR::US, PrimitiveValue::from(rows));
+    put(tags::COLUMNS, VR::US, PrimitiveValue::from(columns));
     put(tags::SAMPLES_PER_PIXEL, VR::US, PrimitiveValue::from(1u16));
     put(
         tags::PHOTOMETRIC_INTERPRETATION,
         VR::CS,
         PrimitiveValue::from(s.photometric),
     );
-    put(tags::BITS_ALLOCATED, VR::US, PrimitiveValue::from(16u16));
+    put(
+        tags::BITS_ALLOCATED,
+        VR::US,
+        PrimitiveValue::from(s.bits_allocated),
+    );
     put(
         tags::BITS_STORED,
         VR::US,
@@ -130,7 +144,7 @@ fn write(dir: &Path, name: &str, s: &Slice) {
         VR::OW,
         PrimitiveValue::U16(s.pixels.clone().into()),
     );
-    let file = obj
+    let mut file = obj
         .with_meta(
             FileMetaTableBuilder::new()
                 .transfer_syntax(s.transfer_syntax)
@@ -138,6 +152,13 @@ fn write(dir: &Path, name: &str, s: &Slice) {
                 .media_storage_sop_instance_uid(s.instance.as_str()),
         )
         .expect("meta");
+    if let Some(uid) = s.encode_as {
+        // dicom-rs's encoder compresses the pixels; the file says so in its meta group.
+        use dicom_pixeldata::Transcode;
+        use dicom_transfer_syntax_registry::{TransferSyntaxIndex, TransferSyntaxRegistry};
+        let ts = TransferSyntaxRegistry.get(uid).expect("registered");
+        file.transcode(ts).expect("transcode");
+    }
     file.write_to_file(dir.join(name)).expect("write");
 }
 
@@ -375,4 +396,100 @@ fn broken_series_get_clear_messages() {
             .contains("pixel data of 'a.dcm' holds 24 bytes"),
         "{e}"
     );
+}
+
+#[test]
+fn jpeg_baseline_and_deflate_written_by_dicom_rs_decode() {
+    // A smooth 8-bit 4 x 3 ramp, as a 16 x 12 image so JPEG's 8 x 8 blocks are whole.
+    let ramp = |z: u16| -> Vec<u16> {
+        (0..192)
+            .map(|i| 40 + (i % 16) * 8 + (i / 16) * 4 + z * 10)
+            .collect()
+    };
+    let slice = |name: &'static str, z: u16, ts: Option<&'static str>| {
+        let mut s = axial(name, f64::from(z), 0);
+        s.bits_allocated = 8;
+        s.bits_stored = 8;
+        s.pixels = ramp(z);
+        s.encode_as = ts;
+        s
+    };
+    let write16x12 = |dir: &Path, file: &str, s: &Slice| {
+        // The helper writes 4 x 3 images; these are 16 x 12.
+        write_sized(dir, file, s, 12, 16);
+    };
+    let plain = common::TempDir::new("dicom-plain8");
+    let jpeg = common::TempDir::new("dicom-jpeg");
+    let deflate = common::TempDir::new("dicom-deflate");
+    for z in 0..3 {
+        write16x12(plain.path(), &format!("p{z}.dcm"), &slice("plain", z, None));
+        write16x12(
+            jpeg.path(),
+            &format!("j{z}.dcm"),
+            &slice("jpeg", z, Some("1.2.840.10008.1.2.4.50")),
+        );
+        write16x12(
+            deflate.path(),
+            &format!("d{z}.dcm"),
+            &slice("deflate", z, Some("1.2.840.10008.1.2.1.99")),
+        );
+    }
+    let (p, j, d) = (
+        load_ok(plain.path()),
+        load_ok(jpeg.path()),
+        load_ok(deflate.path()),
+    );
+    assert_eq!(p.dims(), [16, 12, 3]);
+    assert!(d.samples() == p.samples(), "deflate is lossless");
+    // JPEG baseline is lossy: close to the ramp, not equal.
+    let mut worst = 0.0f64;
+    for k in 0..3 {
+        for y in 0..12 {
+            for x in 0..16 {
+                worst = worst.max((j.value(x, y, k) - p.value(x, y, k)).abs());
+            }
+        }
+    }
+    assert!(worst <= 12.0, "JPEG baseline differs by up to {worst}");
+}
+
+/// Series written by pydicom with libjpeg-turbo and OpenJPEG codestreams
+/// (`scripts/make-dicom-fixtures.py`): the codecs the shared data has no file of. The stored
+/// pattern is `500 + 10 x + 7 y + 100 k`, 12 bits, HU = stored - 1024. 12-bit JPEG extended
+/// (process 4) is not decoded: dicom-rs's JPEG decoder (jpeg-decoder 0.3) reads 8-bit precision
+/// only, so the series fails with a message naming the file and the precision.
+#[test]
+fn jpeg_lossless_and_jpeg_2000_lossy_written_elsewhere_decode() {
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dicom");
+    // (codec, largest difference allowed): the lossless one must be exact; the encoder's own
+    // decoder (imagecodecs) measured 1 for JPEG extended at quality 95 and 36 for JPEG 2000 at a
+    // PSNR of 60.
+    for (codec, tolerance) in [("jpeg-lossless-sv1", 0.0), ("jpeg2000-lossy", 40.0)] {
+        let v = load_ok(&folder.join(codec));
+        assert_eq!(v.dims(), [64, 64, 2], "{codec}");
+        assert_eq!(v.spacing_mm(), [0.5, 0.5, 3.0], "{codec}");
+        let mut worst = 0.0f64;
+        for k in 0..2 {
+            for y in 0..64 {
+                for x in 0..64 {
+                    let expected = f64::from(500 + 10 * x + 7 * y + 100 * k) - 1024.0;
+                    worst = worst.max((v.value(x, y, k) - expected).abs());
+                }
+            }
+        }
+        assert!(worst <= tolerance, "{codec}: off by up to {worst}");
+    }
+    let e = load_volume(&folder.join("jpeg-extended-12bit"), &LoadOptions::default())
+        .expect_err("12-bit JPEG is not decoded");
+    let text = e.to_string();
+    assert!(text.contains("'IM1.dcm'") && text.contains("12"), "{text}");
+}
+
+/// A 930-byte file the `dicom_file` fuzz target found: one element claims 2.7 GB, which dicom-rs
+/// would allocate and zero before reading. Refused, naming the element, with nothing allocated.
+#[test]
+fn a_lying_element_length_is_refused_before_dicom_rs_allocates_it() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz/dicom-lying-length.dcm");
+    let e = load_volume(&path, &LoadOptions::default()).expect_err("corrupt");
+    assert!(e.to_string().contains("claims"), "{e}");
 }
