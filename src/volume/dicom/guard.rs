@@ -21,18 +21,26 @@ const LONG_VRS: [&[u8; 2]; 13] = [
     b"OB", b"OW", b"OF", b"SQ", b"UT", b"UN", b"UC", b"UR", b"OD", b"OL", b"OV", b"SV", b"UV",
 ];
 
-/// Reads the meta group; returns the transfer syntax UID and where the data set starts.
+/// Reads the meta group; returns the transfer syntax UID and where the data set starts: where
+/// the group length (0002,0000) says, as dicom-rs takes it, else after the last group-2 element.
 fn meta_group(file: &mut impl Read, file_len: u64) -> Result<(String, u64), String> {
     let mut pos = 132u64;
     let mut ts = String::new();
     let mut head = [0u8; 8];
+    let mut end: Option<u64> = None;
     loop {
+        if let Some(end) = end
+            && pos >= end
+        {
+            return Ok((ts, end));
+        }
         if pos + 8 > file_len {
             return Err("the file ends inside its meta information".into());
         }
         file.read_exact(&mut head).map_err(|e| e.to_string())?;
         let group = u16::from_le_bytes([head[0], head[1]]);
-        if group != 0x0002 {
+        // Within the group length, dicom-rs reads whatever is there: so does this.
+        if group != 0x0002 && end.is_none() {
             return Ok((ts, pos));
         }
         let element = u16::from_le_bytes([head[2], head[3]]);
@@ -52,6 +60,10 @@ fn meta_group(file: &mut impl Read, file_len: u64) -> Result<(String, u64), Stri
         }
         let mut value = vec![0u8; len as usize];
         file.read_exact(&mut value).map_err(|e| e.to_string())?;
+        if element == 0x0000 && value.len() == 4 && end.is_none() {
+            let group_length = u32::from_le_bytes([value[0], value[1], value[2], value[3]]);
+            end = Some(pos + header + len + u64::from(group_length));
+        }
         if element == 0x0010 {
             ts = String::from_utf8_lossy(&value)
                 .trim_matches(|c: char| c.is_whitespace() || c == '\0')
@@ -68,8 +80,11 @@ pub fn check_lengths(path: &Path) -> Result<(), String> {
     file.seek(SeekFrom::Start(132)).map_err(|e| e.to_string())?;
     let (uid, start) = meta_group(&mut file, file_len)?;
     let Some(ts) = TransferSyntaxRegistry.get(&uid) else {
-        // dicom-rs will name the transfer syntax it cannot read.
-        return Ok(());
+        return Err(if uid.is_empty() {
+            "the meta information names no transfer syntax".to_string()
+        } else {
+            format!("the transfer syntax {uid} is not one LeapView reads")
+        });
     };
     // A deflated data set may inflate to more than the file: bound it as gzip is bounded.
     file.seek(SeekFrom::Start(start))

@@ -487,9 +487,15 @@ fn jpeg_lossless_and_jpeg_2000_lossy_written_elsewhere_decode() {
 
 /// A 930-byte file the `dicom_file` fuzz target found: one element claims 2.7 GB, which dicom-rs
 /// would allocate and zero before reading. Refused, naming the element, with nothing allocated.
+/// A second one: a meta group whose group length covers garbage (which dicom-rs reads through,
+/// finding the transfer syntax behind it) before an element claiming 2.1 GB.
 #[test]
 fn a_lying_element_length_is_refused_before_dicom_rs_allocates_it() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz/dicom-lying-length.dcm");
-    let e = load_volume(&path, &LoadOptions::default()).expect_err("corrupt");
-    assert!(e.to_string().contains("claims"), "{e}");
+    for name in ["dicom-lying-length.dcm", "dicom-meta-group-length.dcm"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/fuzz")
+            .join(name);
+        let e = load_volume(&path, &LoadOptions::default()).expect_err("corrupt");
+        assert!(e.to_string().contains("claims"), "{name}: {e}");
+    }
 }
