@@ -169,8 +169,11 @@ fn a_click_while_refining_reaches_the_item_under_the_pointer() {
         .lines()
         .find(|l| l.contains("transfer function preset ct-bone"))
         .unwrap_or_else(|| panic!("the click on ct-bone chose nothing:\n{log}"));
+    // Two paths drop it, whichever sees the click first: the input itself, or the new transfer
+    // function it chose (seen on a loaded machine: the preset change came first).
     assert!(
-        log.contains("refinement frame dropped on input"),
+        log.contains("refinement frame dropped on input")
+            || log.contains("frame in progress dropped for new inputs"),
         "the refinement frame in progress was not dropped:\n{log}"
     );
     assert!(
