@@ -8,8 +8,7 @@ use std::path::{Path, PathBuf};
 use leapview::imaging::ImageF32;
 use leapview::volume::{LoadOptions, Modality, Volume, VolumeError, load_volume};
 
-use super::real_data::data_dir;
-use crate::common::{self, load_ok};
+use crate::common::{self, data_dir, load_ok};
 
 fn dicom_dir() -> PathBuf {
     data_dir().join("dicom")

@@ -4,8 +4,7 @@
 use leapview::volume::{LoadOptions, Volume, load_volume};
 use std::io::Write;
 
-use super::real_data::data_dir;
-use crate::common::{self, load_ok, to_bytes};
+use crate::common::{self, data_dir, load_ok, to_bytes};
 
 fn header(v: &Volume, element_type: &str, extra: &str, data_file: &str) -> String {
     let [x, y, z] = v.dims();

@@ -10,7 +10,7 @@ use crate::common::load_ok;
 
 /// The data folder: `LEAPVIEW_DATA_DIR`, else `../shared/data` beside the repository. A missing
 /// folder fails the test, saying where it looked: the real data are never silently skipped.
-pub(crate) fn data_dir() -> PathBuf {
+fn data_dir() -> PathBuf {
     let dir = std::env::var_os("LEAPVIEW_DATA_DIR").map_or_else(
         || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"),
         PathBuf::from,
