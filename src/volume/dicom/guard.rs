@@ -65,9 +65,7 @@ fn meta_group(file: &mut impl Read, file_len: u64) -> Result<(String, u64), Stri
             end = Some(pos + header + len + u64::from(group_length));
         }
         if element == 0x0010 {
-            ts = String::from_utf8_lossy(&value)
-                .trim_matches(|c: char| c.is_whitespace() || c == '\0')
-                .to_string();
+            ts = super::tags::trimmed(&String::from_utf8_lossy(&value));
         }
         pos += header + len;
     }

@@ -151,11 +151,7 @@ pub fn decode_file(
         file: label.to_string(),
         reason: format!("{}; is the file cut short?", error_chain(&e)),
     })?;
-    let uid = obj
-        .meta()
-        .transfer_syntax()
-        .trim_matches(|c: char| c.is_whitespace() || c == '\0')
-        .to_string();
+    let uid = super::tags::trimmed(obj.meta().transfer_syntax());
     let ts = TransferSyntaxRegistry.get(&uid);
     if !ts.is_some_and(|ts| ts.can_decode_all()) {
         return Err(DicomError::UnsupportedTransferSyntax {

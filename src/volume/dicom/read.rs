@@ -26,14 +26,11 @@ struct Assembled {
 
 /// The frames of each file, as (frame in the file, index in the series' frames).
 fn frames_by_file(frames: &[FrameHeader]) -> Vec<(usize, Vec<(u32, usize)>)> {
-    let mut by_file: Vec<(usize, Vec<(u32, usize)>)> = Vec::new();
+    let mut by_file: std::collections::BTreeMap<usize, Vec<(u32, usize)>> = Default::default();
     for (i, f) in frames.iter().enumerate() {
-        match by_file.iter_mut().find(|(file, _)| *file == f.file) {
-            Some((_, list)) => list.push((f.frame, i)),
-            None => by_file.push((f.file, vec![(f.frame, i)])),
-        }
+        by_file.entry(f.file).or_default().push((f.frame, i));
     }
-    by_file
+    by_file.into_iter().collect()
 }
 
 /// Refuses a volume that the series' files cannot hold even at the highest compression a codec

@@ -37,7 +37,8 @@ fn not_an_image(sop_class: &str) -> Option<&'static str> {
     })
 }
 
-fn trimmed(s: &str) -> String {
+/// A DICOM text value without its padding (spaces, NULs).
+pub(crate) fn trimmed(s: &str) -> String {
     s.trim_matches(|c: char| c.is_whitespace() || c == '\0')
         .to_string()
 }
@@ -194,12 +195,11 @@ pub fn contents(
     file_bytes: u64,
 ) -> Result<Contents, DicomError> {
     let sop_class = {
-        let from_meta = obj.meta().media_storage_sop_class_uid();
-        let c = from_meta.trim_matches(|c: char| c.is_whitespace() || c == '\0');
+        let c = trimmed(obj.meta().media_storage_sop_class_uid());
         if c.is_empty() {
             text(obj.get(tags::SOP_CLASS_UID))
         } else {
-            c.to_string()
+            c
         }
     };
     if let Some(what) = not_an_image(&sop_class) {
@@ -217,11 +217,7 @@ pub fn contents(
         ));
     }
     let pixel = pixel_format(obj, name)?;
-    let ts = obj
-        .meta()
-        .transfer_syntax()
-        .trim_matches(|c: char| c.is_whitespace() || c == '\0')
-        .to_string();
+    let ts = trimmed(obj.meta().transfer_syntax());
     let frames = int(obj.get(tags::NUMBER_OF_FRAMES)).unwrap_or(1);
     let frame_bytes = (rows * columns) as u64
         * u64::from(pixel.samples_per_pixel)
