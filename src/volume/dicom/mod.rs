@@ -7,6 +7,7 @@ pub mod error;
 pub mod geometry;
 pub mod guard;
 pub mod header;
+pub mod jpeg12;
 pub mod pixels;
 pub mod read;
 pub mod resample;

@@ -11,7 +11,7 @@ use dicom_transfer_syntax_registry::{TransferSyntaxIndex, TransferSyntaxRegistry
 
 use super::error::DicomError;
 use super::header::PixelFormat;
-use super::rle;
+use super::{jpeg12, rle};
 use crate::volume::ScalarType;
 
 /// The stored type that holds `format`'s values exactly: the smallest integer of its stored bits
@@ -188,18 +188,14 @@ pub fn decode_file(
         Ok(Err(_)) if uid == rle::RLE_LOSSLESS && format.bits_allocated == 32 => {
             rle_frames(&obj, label, rows as usize * columns as usize, frames)?
         }
+        // dicom-rs's JPEG decoder reads 8-bit precision only; CT is often 12.
+        Ok(Err(_)) if uid == jpeg12::JPEG_EXTENDED && format.bits_allocated == 16 => {
+            jpeg12_frames(&obj, label, rows, columns, frames)?
+        }
         Ok(Err(e)) => {
-            let mut reason = error_chain(&e);
-            if uid == "1.2.840.10008.1.2.4.51" && format.bits_stored > 8 {
-                reason = format!(
-                    "{}-bit JPEG Extended is not supported: the JPEG decoder reads 8-bit \
-                     precision only ({reason})",
-                    format.bits_stored
-                );
-            }
             return Err(DicomError::Decode {
                 file: label.to_string(),
-                reason,
+                reason: error_chain(&e),
             });
         }
         Err(_) => {
@@ -230,6 +226,39 @@ pub fn decode_file(
     })
 }
 
+/// The fragments of `obj`'s encapsulated pixel data.
+fn fragments<'o>(
+    obj: &'o dicom_object::DefaultDicomObject,
+    label: &str,
+) -> Result<&'o [Vec<u8>], DicomError> {
+    obj.get(dicom_dictionary_std::tags::PIXEL_DATA)
+        .and_then(|e| e.value().fragments())
+        .ok_or_else(|| DicomError::Decode {
+            file: label.to_string(),
+            reason: "the encapsulated pixel data holds no fragments".into(),
+        })
+}
+
+/// Every frame of a 12-bit JPEG Extended object, decoded by [`jpeg12`].
+fn jpeg12_frames(
+    obj: &dicom_object::DefaultDicomObject,
+    label: &str,
+    rows: u32,
+    columns: u32,
+    frames: u32,
+) -> Result<Vec<u8>, DicomError> {
+    let fail = |reason: String| DicomError::Decode {
+        file: label.to_string(),
+        reason: format!("12-bit JPEG Extended: {reason}"),
+    };
+    let streams = jpeg12::frame_streams(fragments(obj, label)?, frames).map_err(fail)?;
+    let mut out = Vec::new();
+    for stream in &streams {
+        out.extend(jpeg12::decode_frame(stream, columns, rows).map_err(fail)?);
+    }
+    Ok(out)
+}
+
 /// Every frame of an RLE object of 32-bit samples, decoded by [`rle`].
 fn rle_frames(
     obj: &dicom_object::DefaultDicomObject,
@@ -241,10 +270,7 @@ fn rle_frames(
         file: label.to_string(),
         reason: reason.to_string(),
     };
-    let fragments = obj
-        .get(dicom_dictionary_std::tags::PIXEL_DATA)
-        .and_then(|e| e.value().fragments())
-        .ok_or_else(|| fail("the RLE pixel data holds no fragments"))?;
+    let fragments = fragments(obj, label)?;
     if fragments.len() != frames as usize {
         return Err(fail("an RLE object needs one fragment per frame"));
     }

@@ -456,15 +456,18 @@ fn jpeg_baseline_and_deflate_written_by_dicom_rs_decode() {
 /// Series written by pydicom with libjpeg-turbo and OpenJPEG codestreams
 /// (`scripts/make-dicom-fixtures.py`): the codecs the shared data has no file of. The stored
 /// pattern is `500 + 10 x + 7 y + 100 k`, 12 bits, HU = stored - 1024. 12-bit JPEG extended
-/// (process 4) is not decoded: dicom-rs's JPEG decoder (jpeg-decoder 0.3) reads 8-bit precision
-/// only, so the series fails with a message naming the file and the precision.
+/// (process 4), which dicom-rs's JPEG decoder cannot read, goes through libjpeg-turbo.
 #[test]
-fn jpeg_lossless_and_jpeg_2000_lossy_written_elsewhere_decode() {
+fn jpeg_extended_12_bit_jpeg_lossless_and_jpeg_2000_lossy_written_elsewhere_decode() {
     let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dicom");
     // (codec, largest difference allowed): the lossless one must be exact; the encoder's own
     // decoder (imagecodecs) measured 1 for JPEG extended at quality 95 and 36 for JPEG 2000 at a
     // PSNR of 60.
-    for (codec, tolerance) in [("jpeg-lossless-sv1", 0.0), ("jpeg2000-lossy", 40.0)] {
+    for (codec, tolerance) in [
+        ("jpeg-extended-12bit", 2.0),
+        ("jpeg-lossless-sv1", 0.0),
+        ("jpeg2000-lossy", 40.0),
+    ] {
         let v = load_ok(&folder.join(codec));
         assert_eq!(v.dims(), [64, 64, 2], "{codec}");
         assert_eq!(v.spacing_mm(), [0.5, 0.5, 3.0], "{codec}");
@@ -479,10 +482,29 @@ fn jpeg_lossless_and_jpeg_2000_lossy_written_elsewhere_decode() {
         }
         assert!(worst <= tolerance, "{codec}: off by up to {worst}");
     }
-    let e = load_volume(&folder.join("jpeg-extended-12bit"), &LoadOptions::default())
-        .expect_err("12-bit JPEG is not decoded");
+}
+
+/// A 12-bit JPEG stream cut short by an end-of-image marker in its middle: libjpeg-turbo would
+/// fill the rest of the frame with grey and warn; LeapView refuses the file instead.
+#[test]
+fn a_broken_12_bit_jpeg_stream_is_refused_not_filled_with_grey() {
+    let fixture =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dicom/jpeg-extended-12bit");
+    let dir = common::TempDir::new("dicom-jpeg12-broken");
+    let mut bytes = std::fs::read(fixture.join("IM1.dcm")).expect("fixture");
+    let soi = bytes
+        .windows(3)
+        .position(|w| w == [0xFF, 0xD8, 0xFF])
+        .expect("a JPEG stream");
+    let middle = soi + (bytes.len() - soi) / 2;
+    bytes[middle..middle + 2].copy_from_slice(&[0xFF, 0xD9]);
+    let path = dir.write("IM1.dcm", &bytes);
+    let e = load_volume(&path, &LoadOptions::default()).expect_err("a broken stream");
     let text = e.to_string();
-    assert!(text.contains("'IM1.dcm'") && text.contains("12"), "{text}");
+    assert!(
+        text.contains("IM1.dcm") && text.contains("12-bit JPEG Extended"),
+        "{text}"
+    );
 }
 
 /// What the `dicom_file` fuzz target found, rebuilt here from a slice dicom-rs writes: an
@@ -517,7 +539,29 @@ fn a_lying_element_length_is_refused_before_dicom_rs_allocates_it() {
     bytes.splice(group_length_value + 4..group_length_value + 4, junk);
     let hidden = dir.write("hidden.dcm", &bytes);
 
-    for path in [lying, hidden] {
+    // The meta group's length ends inside its last element, which dicom-rs reads whole: the data
+    // set starts after it. Read from the group length's end instead (as the guard once did), the
+    // element's value is a header claiming exactly the rest of the file, which hides the lying
+    // PixelData behind it (the `dicom_file` fuzz target's third finding had this shape).
+    let mut bytes = std::fs::read(&lying).expect("read");
+    let length = u32::from_le_bytes(
+        bytes[group_length_value..group_length_value + 4]
+            .try_into()
+            .expect("4 bytes"),
+    );
+    let meta_end = group_length_value + 4 + length as usize;
+    let value_start = meta_end + 12;
+    let hides_rest = (bytes.len() + 28 - (value_start + 12)) as u32;
+    let mut overshoot = vec![0x02u8, 0x00, 0x99, 0x00, b'O', b'B', 0, 0];
+    overshoot.extend(16u32.to_le_bytes());
+    overshoot.extend([0x09u8, 0x00, 0x10, 0x00, b'O', b'B', 0, 0]);
+    overshoot.extend(hides_rest.to_le_bytes());
+    overshoot.extend([0u8; 4]);
+    bytes.splice(meta_end..meta_end, overshoot);
+    bytes[group_length_value..group_length_value + 4].copy_from_slice(&(length + 12).to_le_bytes());
+    let overshooting = dir.write("overshoot.dcm", &bytes);
+
+    for path in [lying, hidden, overshooting] {
         let e = load_volume(&path, &LoadOptions::default()).expect_err("corrupt");
         assert!(
             e.to_string()
