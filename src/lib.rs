@@ -12,6 +12,7 @@ pub mod bench;
 pub mod camera;
 pub mod counters;
 pub mod imaging;
+pub mod mpr;
 pub mod reference;
 pub mod render;
 pub mod sampling;

@@ -6,7 +6,7 @@ use clap::{Args, Parser, Subcommand};
 use leapview::camera::ProjectionKind;
 use leapview::settings::{Mode, RenderPath, Strategy};
 
-use super::parse::{parse_dims, parse_size, parse_vec3};
+use super::parse::{parse_dims, parse_size, parse_vec3, parse_window};
 
 /// LeapView: GPU volume ray casting for CT and MRI with empty-space leaping.
 #[derive(Parser, Debug)]
@@ -39,6 +39,56 @@ pub enum Command {
     /// Write one of the generated volumes (the window's phantom and vessel tree, the benchmark's
     /// scenes) to a NRRD file, to try every command without data of your own.
     Generate(GenerateArgs),
+    /// Write a slice through a volume to a PNG: axial, coronal, sagittal or oblique, in the
+    /// patient's frame, grey through a window (what a slice view shows).
+    Slice(SliceArgs),
+}
+
+/// How a thick slab's samples combine (`leapview slice --mode`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SlabModeArg {
+    /// The largest value (maximum intensity projection).
+    Mip,
+    /// The smallest value (minimum intensity projection).
+    Minip,
+    /// The mean value.
+    Mean,
+}
+
+/// `leapview slice`.
+#[derive(Args, Debug)]
+pub struct SliceArgs {
+    /// The volume (any file or folder `leapview info` opens).
+    pub file: PathBuf,
+    /// The plane: `axial`, `coronal`, `sagittal`, or its normal `N1,N2,N3` in the patient's
+    /// frame (LPS: x to the patient's left, y to the back, z to the head) for an oblique plane.
+    #[arg(long, default_value = "axial", allow_hyphen_values = true)]
+    pub plane: String,
+    /// A point the plane passes through, `X,Y,Z` in the file's patient millimetres (LPS, as
+    /// `leapview info` reports the origin and extent). Default: the volume's centre.
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub at: Option<[f64; 3]>,
+    /// Output PNG.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Window `LO,HI` in data units (HU for CT) mapped to black..white. Default: the header's
+    /// (DICOM), else the data's (0.1 to 99.9 percentile).
+    #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
+    pub window: Option<[f64; 2]>,
+    /// Image size `WxH`: the slice's extent fills it with square pixels. Default: one pixel per
+    /// voxel at the volume's finest spacing.
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<[u32; 2]>,
+    /// The nearest voxel's value instead of trilinear interpolation.
+    #[arg(long)]
+    pub nearest: bool,
+    /// A thick slab of this many millimetres centred on the plane, its samples combined by
+    /// `--mode`.
+    #[arg(long)]
+    pub slab: Option<f64>,
+    /// How a slab's samples combine.
+    #[arg(long, value_enum, default_value_t = SlabModeArg::Mip)]
+    pub mode: SlabModeArg,
 }
 
 /// The volumes `leapview generate` writes.

@@ -5,7 +5,7 @@ use clap::Args;
 use leapview::settings::RenderSettings;
 use leapview::settings::effects::{GradientScheme, IsoSettings, Light, MipColor, Phong, Shading};
 
-use super::parse::parse_vec3;
+use super::parse::{parse_vec3, parse_window};
 
 /// Effect parameters; each flag left out keeps the renderer's default.
 #[derive(Args, Debug, Clone, Default)]
@@ -61,26 +61,6 @@ impl EffectArgs {
         settings.mip_color = self.mip_color.unwrap_or(settings.mip_color);
         settings.xray_density_per_mm = self.xray_density.unwrap_or(settings.xray_density_per_mm);
     }
-}
-
-fn parse_window(s: &str) -> Result<[f64; 2], String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    let [lo, hi] = parts.as_slice() else {
-        return Err(format!("expected LO,HI, got {s:?}"));
-    };
-    let parse = |p: &str| {
-        p.parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| format!("{p:?} is not a finite number in {s:?}"))
-    };
-    let (lo, hi) = (parse(lo)?, parse(hi)?);
-    if hi <= lo {
-        return Err(format!(
-            "the window's top must exceed its bottom, got {s:?}"
-        ));
-    }
-    Ok([lo, hi])
 }
 
 fn parse_light(s: &str) -> Result<Light, String> {

@@ -1,4 +1,4 @@
-//! The command line: `render`, `info`, `bench`, `accuracy` and `generate` (the window is opened from
+//! The command line: `render`, `info`, `bench`, `accuracy`, `generate` and `slice` (the window is opened from
 //! `main`).
 //! Input problems (a bad volume or transfer-function file, a bad flag) are [`Failure::BadInput`]
 //! and exit with status 2.
@@ -14,6 +14,7 @@ mod measuring;
 pub mod parse;
 mod plotting;
 mod render;
+mod slice;
 mod text;
 
 use std::path::Path;
@@ -48,6 +49,7 @@ pub fn run(command: Command, raw: &args::RawArgs) -> Result<(), Failure> {
         Command::Bench(args) => bench::run(*args),
         Command::Accuracy(args) => accuracy::run(*args),
         Command::Generate(args) => generate::run(&args),
+        Command::Slice(args) => slice::run(&args, raw),
     }
 }
 

@@ -1,4 +1,5 @@
-//! Parsers of the flags' value lists: `X,Y,Z` vectors, dimensions and `WxH` sizes.
+//! Parsers of the flags' value lists: `X,Y,Z` vectors, dimensions, `WxH` sizes and `LO,HI`
+//! windows.
 
 /// `N` values separated by commas or `x`.
 fn parse_list<const N: usize, T: std::str::FromStr>(s: &str, what: &str) -> Result<[T; N], String> {
@@ -41,6 +42,27 @@ pub fn parse_size(s: &str) -> Result<[u32; 2], String> {
         return Err(format!("image size {s:?} has a zero side"));
     }
     Ok(v)
+}
+
+/// `LO,HI`: a window in data units, its top above its bottom.
+pub fn parse_window(s: &str) -> Result<[f64; 2], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [lo, hi] = parts.as_slice() else {
+        return Err(format!("expected LO,HI, got {s:?}"));
+    };
+    let parse = |p: &str| {
+        p.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("{p:?} is not a finite number in {s:?}"))
+    };
+    let (lo, hi) = (parse(lo)?, parse(hi)?);
+    if hi <= lo {
+        return Err(format!(
+            "the window's top must exceed its bottom, got {s:?}"
+        ));
+    }
+    Ok([lo, hi])
 }
 
 #[cfg(test)]

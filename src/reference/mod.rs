@@ -8,6 +8,7 @@
 
 mod modes;
 mod shade;
+pub mod slice;
 mod trilinear;
 
 use glam::{DMat4, DVec2, DVec3};

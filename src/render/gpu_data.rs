@@ -40,6 +40,9 @@ fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
         ("TABLE_SIZE", "u32", u(TABLE_SIZE as u32)),
         ("MAX_DISTANCE", "u32", u(MAX_DISTANCE)),
         ("MISSING_BELOW", "f32", format!("{MISSING_BELOW:?}")),
+        ("SLAB_MIP", "u32", u(SLAB_MIP)),
+        ("SLAB_MINIP", "u32", u(SLAB_MINIP)),
+        ("SLAB_MEAN", "u32", u(SLAB_MEAN)),
     ];
     let counters = [
         "COUNTER_SAMPLES",
@@ -177,6 +180,10 @@ pub fn layouts() -> Vec<StructLayout> {
         }),
         layout!(AccumulateParams = "AccumulateParams" in "entry/accumulate.wgsl" {
             count, width, height, _pad0,
+        }),
+        layout!(SliceParams = "SliceParams" in "entry/slice.wgsl" {
+            first, step_x, step_y, slab_step, width, height, nearest, pitch, texel_max,
+            unit_scale, unit_bias, window_lo, window_hi, slab_count, slab_mode, _pad0,
         }),
     ]
 }
@@ -391,3 +398,51 @@ mod tests {
         assert_eq!(wgsl.matches("const COUNTER_").count(), COUNTERS);
     }
 }
+
+/// Parameters of a slice view's sampling pass (`SliceParams`, shaders/entry/slice.wgsl), built
+/// by `render::slice::slice_params` from a `mpr::SliceView`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SliceParams {
+    /// Voxel coordinates of pixel (0, 0)'s centre (w unused).
+    pub first: [f32; 4],
+    /// One pixel to the right, in voxel coordinates.
+    pub step_x: [f32; 4],
+    /// One pixel down, in voxel coordinates.
+    pub step_y: [f32; 4],
+    /// Between two samples of a thick slab, along the plane's normal (voxel coordinates).
+    pub slab_step: [f32; 4],
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// 1: the nearest voxel; 0: trilinear.
+    pub nearest: u32,
+    /// u32 words per row of the grey image buffer.
+    pub pitch: u32,
+    /// Largest integer of a unorm texture (255 or 65535), whose texels are integers `u / max`
+    /// (`u = round(texel × max)` recovers them exactly); 0 for a float texture (`u = texel`).
+    pub texel_max: f32,
+    /// Data value = u × unit_scale + unit_bias (exact for integer volumes: u is the stored
+    /// value plus an offset).
+    pub unit_scale: f32,
+    /// See `unit_scale`.
+    pub unit_bias: f32,
+    /// Window low end (data units): grey 0.
+    pub window_lo: f32,
+    /// Window high end: grey 255.
+    pub window_hi: f32,
+    /// Samples across a thick slab, centred on the plane (1: a thin slice).
+    pub slab_count: u32,
+    /// How a slab's samples combine: `SLAB_MIP`, `SLAB_MINIP` or `SLAB_MEAN`.
+    pub slab_mode: u32,
+    /// Padding to a multiple of 16 bytes.
+    pub _pad0: u32,
+}
+
+/// `SliceParams.slab_mode`: the largest sample.
+pub const SLAB_MIP: u32 = 0;
+/// `SliceParams.slab_mode`: the smallest sample.
+pub const SLAB_MINIP: u32 = 1;
+/// `SliceParams.slab_mode`: the mean of the samples.
+pub const SLAB_MEAN: u32 = 2;

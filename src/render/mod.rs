@@ -10,6 +10,7 @@ pub mod probe;
 pub mod raycast;
 pub mod readback;
 pub mod shader;
+pub mod slice;
 pub mod table_texture;
 pub mod texture;
 pub mod volume_texture;

@@ -118,6 +118,28 @@ pub fn encoding_for(volume: &Volume, format: wgpu::TextureFormat) -> TexelEncodi
     }
 }
 
+/// How a texel of `volume` in `format` becomes a value in data units, as exactly as the format
+/// allows: `value = u × scale + bias` with `u = round(texel × max)` for unorm formats (their
+/// texels are integers `u / max`; for 8- and 16-bit integer volumes `u` is the stored value
+/// plus an offset, so the value is exact) and `u = texel` for float formats (`max` = 0).
+pub fn texel_units(volume: &Volume, format: wgpu::TextureFormat) -> (f64, f64, f64) {
+    let range = volume.normalization_range();
+    let mapping = volume.mapping();
+    match (format, integer_offset(volume.scalar_type())) {
+        (wgpu::TextureFormat::R8Unorm | wgpu::TextureFormat::R16Unorm, Some((offset, max)))
+            if max as f64 == unorm_max(format) =>
+        {
+            (unorm_max(format), mapping.slope, mapping.apply(-offset))
+        }
+        // Quantised: the texel holds the normalised value.
+        (wgpu::TextureFormat::R8Unorm | wgpu::TextureFormat::R16Unorm, _) => {
+            let max = unorm_max(format);
+            (max, range.width() / max, range.min)
+        }
+        _ => (0.0, range.width(), range.min),
+    }
+}
+
 /// For 8- and 16-bit integers: the offset that makes stored values non-negative and the largest
 /// texel integer of their natural unorm format.
 fn integer_offset(scalar: ScalarType) -> Option<(f64, u32)> {

@@ -34,6 +34,7 @@ mod recompute;
 mod reference_match;
 mod refine;
 mod shaders;
+mod slice;
 mod strategies;
 mod ui_snapshots;
 mod window;

@@ -26,6 +26,7 @@ fn every_variant_validates() {
     for entry in [
         "entry/proxy_passes.wgsl",
         "entry/accumulate.wgsl",
+        "entry/slice.wgsl",
         "build/minmax.wgsl",
         "build/emptiness.wgsl",
         "build/distance.wgsl",

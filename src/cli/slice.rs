@@ -1,0 +1,138 @@
+//! `leapview slice`: one slice view written as an 8-bit grey PNG: the plane in the file's
+//! patient frame, sampled on the GPU, grey through the window.
+
+use anyhow::anyhow;
+use glam::DVec3;
+use leapview::mpr::{PatientFrame, Plane, PlaneKind, Slab, SlabMode, SliceView};
+use leapview::render::context::GpuContext;
+use leapview::render::slice::{SliceLook, SliceRenderer};
+use leapview::render::volume_texture::{VolumeTexture, VolumeTextureError};
+use leapview::transfer::fit;
+
+use super::args::{RawArgs, SlabModeArg, SliceArgs};
+use super::parse::parse_vec3;
+use super::text::number;
+use super::{Failure, load};
+
+/// The plane `name` (a standard plane or a normal `N1,N2,N3`) through `at`.
+fn parse_plane(name: &str, at: DVec3) -> Result<Plane, String> {
+    let standard = PlaneKind::STANDARD
+        .into_iter()
+        .find(|k| k.name().eq_ignore_ascii_case(name.trim()));
+    if let Some(kind) = standard {
+        return Ok(Plane::standard(kind, at));
+    }
+    let normal = parse_vec3(name)
+        .map_err(|e| format!("--plane is axial, coronal, sagittal or a normal N1,N2,N3 ({e})"))?;
+    Plane::with_normal(normal, at).map_err(|e| e.to_string())
+}
+
+/// Writes the slice `args` describes.
+pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
+    let bad = |e: String| Failure::BadInput(anyhow!(e));
+    if !args
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+    {
+        return Err(bad(format!(
+            "--out must name a .png file, not {}",
+            args.out.display()
+        )));
+    }
+    leapview::imaging::check_output_path(&args.out).map_err(|e| Failure::BadInput(e.into()))?;
+    let slab = match args.slab {
+        None => None,
+        Some(mm) if mm.is_finite() && mm > 0.0 => Some(Slab {
+            thickness_mm: mm,
+            mode: match args.mode {
+                SlabModeArg::Mip => SlabMode::Mip,
+                SlabModeArg::Minip => SlabMode::MinIp,
+                SlabModeArg::Mean => SlabMode::Mean,
+            },
+        }),
+        Some(mm) => {
+            return Err(bad(format!(
+                "--slab must be a thickness above 0 mm, not {mm}"
+            )));
+        }
+    };
+    let volume = load(&args.file, raw)?;
+    let frame = PatientFrame::of(&volume);
+    let at = args.at.map_or(frame.centre(), DVec3::from);
+    let plane = parse_plane(&args.plane, at).map_err(bad)?;
+    let distances = frame.corners().map(|c| plane.distance(c));
+    if distances.iter().all(|d| *d > 0.0) || distances.iter().all(|d| *d < 0.0) {
+        let lo = frame
+            .corners()
+            .into_iter()
+            .fold(DVec3::INFINITY, DVec3::min);
+        let hi = frame
+            .corners()
+            .into_iter()
+            .fold(DVec3::NEG_INFINITY, DVec3::max);
+        return Err(bad(format!(
+            "the {} plane through {} mm does not cut the volume, which spans x {} .. {}, y {} .. \
+             {}, z {} .. {} mm (LPS)",
+            plane.kind.name(),
+            triple(at),
+            number(lo.x),
+            number(hi.x),
+            number(lo.y),
+            number(hi.y),
+            number(lo.z),
+            number(hi.z)
+        )));
+    }
+    let view = SliceView::fit(plane, &frame, args.size);
+    let window = args
+        .window
+        .or_else(|| fit::default_window_of(&volume))
+        .or_else(|| volume.value_range().map(|r| [r.min, r.max]))
+        .unwrap_or([0.0, 1.0]);
+    let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
+    let texture = VolumeTexture::upload(&ctx, &volume).map_err(|e| match e {
+        VolumeTextureError::TooLarge { .. } | VolumeTextureError::OutOfMemory { .. } => {
+            Failure::BadInput(e.into())
+        }
+        other => Failure::Other(other.into()),
+    })?;
+    let renderer = SliceRenderer::new(&ctx.device).map_err(|e| Failure::Other(e.into()))?;
+    let look = SliceLook {
+        window,
+        nearest: args.nearest,
+        slab,
+    };
+    let image = renderer
+        .render(&ctx, &volume, &texture, &view, look)
+        .map_err(|e| match e {
+            leapview::render::slice::SliceError::TooLarge(..) => Failure::BadInput(e.into()),
+            other => Failure::Other(other.into()),
+        })?;
+    let [w, h] = image.size;
+    let png = image::GrayImage::from_raw(w, h, image.grey)
+        .ok_or_else(|| Failure::Other(anyhow!("the slice image has the wrong size")))?;
+    png.save(&args.out)
+        .map_err(|e| Failure::Other(anyhow!("cannot write {}: {e}", args.out.display())))?;
+    let [left, right, top, bottom] = plane.edge_labels();
+    let slab_text = slab.map_or(String::new(), |s| {
+        format!(", {} slab of {} mm", s.mode.name(), number(s.thickness_mm))
+    });
+    println!(
+        "wrote {}: {} plane through {} mm (LPS), {w} x {h} pixels of {} mm, window {} .. {}{}{}; \
+         edges: left {left}, right {right}, top {top}, bottom {bottom}",
+        args.out.display(),
+        plane.kind.name(),
+        triple(at),
+        number(view.mm_per_pixel),
+        number(window[0]),
+        number(window[1]),
+        if args.nearest { ", nearest voxel" } else { "" },
+        slab_text,
+    );
+    Ok(())
+}
+
+fn triple(p: DVec3) -> String {
+    format!("{}, {}, {}", number(p.x), number(p.y), number(p.z))
+}
