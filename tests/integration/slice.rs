@@ -358,10 +358,7 @@ fn the_slice_command_writes_the_reference_pixels_and_refuses_bad_requests() {
         ),
         (vec!["--plane", "0,0,0"], "normal must be"),
         (vec!["--at", "0,0,9999"], "does not cut the volume"),
-        (
-            vec!["--slab", "0"],
-            "--slab must be a thickness above 0 mm",
-        ),
+        (vec!["--slab", "0"], "--slab must be a thickness above 0 mm"),
     ] {
         let mut all = vec!["slice", name, "--out", target];
         all.extend(args);

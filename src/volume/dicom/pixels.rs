@@ -179,15 +179,25 @@ pub fn decode_file(
     let encapsulated = ts.is_some_and(|ts| ts.is_encapsulated_pixel_data());
     // Codecs are other people's code, some of it translated from C: a corrupt codestream must
     // become an error naming the file, never take the program down.
-    let decoded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        obj.decode_pixel_data().map(|d| d.into_data())
-    }));
+    // RLE is decoded here for every sample size: dicom-rs's decoder takes 8 and 16 bits only
+    // (RT dose grids are 32) and indexes past a corrupt segment's end (a fuzzer's finding).
+    let decoded = if uid == rle::RLE_LOSSLESS {
+        let bytes_per_sample = usize::from(format.bits_allocated / 8).max(1);
+        let pixels = rows as usize * columns as usize;
+        Ok(Ok(rle_frames(
+            &obj,
+            label,
+            pixels,
+            bytes_per_sample,
+            frames,
+        )?))
+    } else {
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            obj.decode_pixel_data().map(|d| d.into_data())
+        }))
+    };
     let bytes = match decoded {
         Ok(Ok(bytes)) => bytes,
-        // dicom-rs's RLE decoder takes 8 and 16 bits; RT dose grids are 32.
-        Ok(Err(_)) if uid == rle::RLE_LOSSLESS && format.bits_allocated == 32 => {
-            rle_frames(&obj, label, rows as usize * columns as usize, frames)?
-        }
         // dicom-rs's JPEG decoder reads 8-bit precision only; CT is often 12.
         Ok(Err(_)) if uid == jpeg12::JPEG_EXTENDED && format.bits_allocated == 16 => {
             jpeg12_frames(&obj, label, rows, columns, frames)?
@@ -259,11 +269,12 @@ fn jpeg12_frames(
     Ok(out)
 }
 
-/// Every frame of an RLE object of 32-bit samples, decoded by [`rle`].
+/// Every frame of an RLE object, decoded by [`rle`].
 fn rle_frames(
     obj: &dicom_object::DefaultDicomObject,
     label: &str,
     pixels: usize,
+    bytes_per_sample: usize,
     frames: u32,
 ) -> Result<Vec<u8>, DicomError> {
     let fail = |reason: &str| DicomError::Decode {
@@ -274,10 +285,10 @@ fn rle_frames(
     if fragments.len() != frames as usize {
         return Err(fail("an RLE object needs one fragment per frame"));
     }
-    let mut out = Vec::with_capacity(pixels * 4 * frames as usize);
+    let mut out = Vec::new();
     for f in fragments {
         out.extend(
-            rle::decode_frame(f, pixels, 4)
+            rle::decode_frame(f, pixels, bytes_per_sample)
                 .ok_or_else(|| fail("an RLE segment is corrupt or cut short"))?,
         );
     }

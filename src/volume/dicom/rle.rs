@@ -1,5 +1,5 @@
-//! RLE Lossless (PS3.5 Annex G) for samples dicom-rs's decoder does not take (32-bit, as RT dose
-//! grids use): each frame one fragment, a 64-byte header of segment offsets, one PackBits
+//! RLE Lossless (PS3.5 Annex G), for every sample size (dicom-rs's decoder takes 8 and 16 bits
+//! only, and indexes past a corrupt segment's end): each frame one fragment, a 64-byte header of segment offsets, one PackBits
 //! segment per byte plane, the most significant plane first.
 
 /// The RLE Lossless transfer syntax.

@@ -276,3 +276,49 @@ fn a_folder_without_images_is_a_clear_error() {
         "{e}"
     );
 }
+
+/// What the `dicom_file` fuzz target found in a mutated copy of `emri_small_RLE.dcm`: an RLE
+/// segment that decodes to fewer bytes than the frame has pixels made dicom-rs's RLE decoder
+/// index past its end (a panic, which the loader caught). RLE is now decoded by LeapView's own
+/// bounded decoder, which names the problem. Rebuilt here: the first frame's last segment
+/// emptied (PackBits no-ops) in a copy of the real file.
+#[test]
+fn a_short_rle_segment_is_a_clear_error() {
+    let mut bytes = std::fs::read(vendor("emri_small_RLE.dcm")).expect("vendor file");
+    // PixelData, OB, undefined length; then the offset table item, then the first fragment.
+    let header = [
+        0xE0u8, 0x7F, 0x10, 0x00, b'O', b'B', 0, 0, 0xFF, 0xFF, 0xFF, 0xFF,
+    ];
+    let mut at = bytes
+        .windows(12)
+        .position(|w| w == header)
+        .expect("encapsulated pixel data")
+        + 12;
+    let item_len = |b: &[u8], at: usize| {
+        assert_eq!(b[at..at + 4], [0xFE, 0xFF, 0x00, 0xE0], "an item");
+        u32::from_le_bytes(b[at + 4..at + 8].try_into().expect("4 bytes")) as usize
+    };
+    at += 8 + item_len(&bytes, at);
+    let fragment_len = item_len(&bytes, at);
+    let fragment = at + 8;
+    let word = |i: usize| {
+        u32::from_le_bytes(
+            bytes[fragment + 4 * i..fragment + 4 * i + 4]
+                .try_into()
+                .expect("4"),
+        ) as usize
+    };
+    let segments = word(0);
+    assert_eq!(segments, 2, "16-bit samples: two byte planes");
+    let last = word(segments);
+    for b in &mut bytes[fragment + last..fragment + fragment_len] {
+        *b = 0x80;
+    }
+    let dir = common::TempDir::new("dicom-short-rle");
+    let path = dir.write("emri_small_RLE.dcm", &bytes);
+    let text = message(&path);
+    assert!(
+        text.contains("emri_small_RLE.dcm") && text.contains("RLE segment is corrupt or cut short"),
+        "{text}"
+    );
+}
