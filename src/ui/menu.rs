@@ -6,6 +6,7 @@ use egui::MenuBar;
 use crate::camera::{ProjectionKind, ViewPreset};
 use crate::volume::Direction;
 
+use super::layout::Layout;
 use super::{Action, ViewerState};
 
 /// The standard views with their menu labels, in menu order.
@@ -25,7 +26,7 @@ pub fn view_label(side: Direction) -> String {
 }
 
 /// The controls, one `(gesture, effect)` pair a line, for the Help menu and the view's tooltip.
-pub const CONTROLS: [(&str, &str); 12] = [
+pub const CONTROLS: [(&str, &str); 15] = [
     (
         "Left drag",
         "orbit about the centre (horizontal: azimuth, vertical: elevation)",
@@ -59,6 +60,18 @@ pub const CONTROLS: [(&str, &str); 12] = [
          RAS where it has none); also along ±x/±y/±z and oblique",
     ),
     ("View menu: Perspective / Orthographic", "projection"),
+    (
+        "View menu or toolbar: 3D only, 2 × 2, 1 + 3",
+        "the 3D view alone, or beside axial, coronal and sagittal slices",
+    ),
+    (
+        "In a slice: left click or drag",
+        "move the crosshair (the other slices follow); Shift + drag or middle drag pans",
+    ),
+    (
+        "In a slice: wheel, ↑/↓, Page Up/Down; Ctrl + wheel",
+        "step one voxel towards head, front or right (back with ↓); zoom about the pointer",
+    ),
     (
         "Ctrl + O",
         "open a file (or drop a file or a DICOM folder onto the window)",
@@ -144,6 +157,12 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
                 action = Some(Action::Roll(90.0));
             }
             ui.separator();
+            for layout in Layout::ALL {
+                if ui.radio(state.layout == layout, layout.label()).clicked() {
+                    action = Some(Action::SetLayout(layout));
+                }
+            }
+            ui.separator();
             for (kind, label) in [
                 (ProjectionKind::Perspective, "Perspective"),
                 (ProjectionKind::Orthographic, "Orthographic"),
@@ -170,6 +189,17 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
                 ui.label(*line);
             }
         });
+        // The layout toolbar: the same choice as View › layouts, one click away.
+        ui.separator();
+        for layout in Layout::ALL {
+            if ui
+                .selectable_label(state.layout == layout, layout.label())
+                .on_hover_text("Layout of the views (also in the View menu)")
+                .clicked()
+            {
+                action = Some(Action::SetLayout(layout));
+            }
+        }
     });
     action
 }

@@ -16,6 +16,7 @@ pub mod dialogs;
 pub mod effects;
 pub mod frame_job;
 pub mod interaction;
+pub mod layout;
 pub mod loading;
 pub mod lod;
 pub mod menu;
@@ -26,6 +27,7 @@ pub mod redraw;
 pub mod save_image;
 pub mod scene;
 pub mod screenshot;
+pub mod slices;
 pub mod state;
 pub mod tf_editor;
 pub mod viewport;
@@ -155,4 +157,6 @@ pub enum Action {
     SaveImagePrompt,
     /// Open a file from the recent list.
     OpenRecent(std::path::PathBuf),
+    /// Divide the central area this way (3D only, 2 × 2, 1 + 3).
+    SetLayout(layout::Layout),
 }

@@ -178,6 +178,16 @@ impl Scene {
         Ok(summary)
     }
 
+    /// The volume's texture on the GPU and its format (the slice views sample it too).
+    pub fn volume_texture(&self) -> Option<(wgpu::TextureView, wgpu::TextureFormat)> {
+        let handle = self.pump.handle();
+        let shared = lock(&handle);
+        shared
+            .renderer
+            .volume_texture()
+            .map(|t| (t.view.clone(), t.encoding.format))
+    }
+
     /// The view a volume opens in: the patient from the front, superior up (by the file's
     /// orientation, RAS where it has none), as a radiologist looks at a 3D rendering.
     pub fn reset_view(&mut self, projection: ProjectionKind) {

@@ -73,6 +73,8 @@ pub struct ViewerState {
     pub show_orientation_marker: bool,
     /// Whether the cropping box and its handles are drawn over the view.
     pub show_crop_box: bool,
+    /// How the central area is divided between the 3D view and the slice views.
+    pub layout: crate::ui::layout::Layout,
     /// Files opened successfully, newest first (at most [`RECENT_FILES`]).
     pub recent: Vec<std::path::PathBuf>,
     /// The orientation the user gave for a file (its absolute path → a code such as `RAI`, in
@@ -103,6 +105,7 @@ impl Default for ViewerState {
             refine_frames: DEFAULT_REFINE_FRAMES,
             recent: Vec::new(),
             show_crop_box: false,
+            layout: crate::ui::layout::Layout::default(),
             orientations: std::collections::BTreeMap::new(),
         }
     }

@@ -24,6 +24,7 @@ use leapview::transfer::editor::TfEditor;
 use leapview::transfer::presets::preset;
 use leapview::ui::controls::{PanelInfo, controls_ui};
 use leapview::ui::dialogs::Dialogs;
+use leapview::ui::layout::Layout;
 use leapview::ui::menu::menu_bar;
 use leapview::ui::tf_editor::tf_editor_ui;
 use leapview::ui::{Action, ViewerState, VolumeSummary};
@@ -317,7 +318,7 @@ fn menu_bar_opens_menus_and_returns_actions() {
         actions: Vec::new(),
     };
     // Tall enough for the whole View menu: a clipped item cannot be clicked.
-    let mut h = harness([420.0, 420.0]).build_ui_state(
+    let mut h = harness([420.0, 500.0]).build_ui_state(
         |ui, b: &mut MenuBar| b.actions.extend(menu_bar(ui, &mut b.state)),
         bar,
     );
@@ -364,6 +365,11 @@ fn menu_bar_opens_menus_and_returns_actions() {
             Action::LoadPhantom,
         ]
     );
+
+    // The layout toolbar beside the menus.
+    h.get_by_label("2 × 2").click();
+    h.run();
+    assert_eq!(h.state().actions.last(), Some(&Action::SetLayout(Layout::Grid)));
 }
 
 #[test]

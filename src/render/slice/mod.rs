@@ -29,13 +29,13 @@ pub fn slice_params(
     view: &SliceView,
     frame: &PatientFrame,
     volume: &Volume,
-    texture: &VolumeTexture,
+    format: wgpu::TextureFormat,
     look: SliceLook,
     pitch: u32,
 ) -> SliceParams {
     let grid = view.voxel_grid(frame);
     let v4 = |v: glam::DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
-    let (texel_max, unit_scale, unit_bias) = texel_units(volume, texture.encoding.format);
+    let (texel_max, unit_scale, unit_bias) = texel_units(volume, format);
     let normal = view.plane.normal();
     let (slab_count, slab_step_mm) = look.slab.map_or((1, 0.0), |s| s.samples(frame, normal));
     let slab_step = frame.axes().inverse() * (normal * slab_step_mm);
@@ -110,24 +110,25 @@ pub enum SliceError {
 }
 
 impl SliceTarget {
-    /// Buffers for a `size` image on `ctx`'s device.
-    pub fn new(ctx: &GpuContext, size: [u32; 2]) -> Result<Self, SliceError> {
+    /// Buffers for a `size` image on `device`.
+    pub fn new(device: &wgpu::Device, size: [u32; 2]) -> Result<Self, SliceError> {
+        let limits = device.limits();
         let [w, h] = size;
         let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT / 4;
         let pitch = w.div_ceil(align) * align;
         let image_bytes = u64::from(pitch) * u64::from(h) * 4;
-        let max_groups = u64::from(ctx.limits.max_compute_workgroups_per_dimension);
+        let max_groups = u64::from(limits.max_compute_workgroups_per_dimension);
         let groups = |n: u32| u64::from(n.div_ceil(WORKGROUP));
         if w == 0
             || h == 0
-            || image_bytes > ctx.limits.max_storage_buffer_binding_size
+            || image_bytes > limits.max_storage_buffer_binding_size
             || groups(w) > max_groups
             || groups(h) > max_groups
         {
             return Err(SliceError::TooLarge(w, h));
         }
         let storage = |label: &str, bytes: u64| {
-            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size: bytes,
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
@@ -137,7 +138,7 @@ impl SliceTarget {
         Ok(Self {
             size,
             pitch,
-            params: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            params: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("slice params"),
                 size: std::mem::size_of::<SliceParams>() as u64,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
@@ -168,21 +169,21 @@ impl SliceRenderer {
     /// view needs its own target within one submission).
     pub fn encode(
         &self,
-        ctx: &GpuContext,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        texture: &VolumeTexture,
+        volume: &wgpu::TextureView,
         target: &SliceTarget,
         params: &SliceParams,
     ) {
-        ctx.queue
-            .write_buffer(&target.params, 0, bytemuck::bytes_of(params));
-        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        queue.write_buffer(&target.params, 0, bytemuck::bytes_of(params));
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("slice"),
             layout: &self.pipeline.get_bind_group_layout(0),
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&texture.view),
+                    resource: wgpu::BindingResource::TextureView(volume),
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
@@ -221,15 +222,23 @@ impl SliceRenderer {
         view: &SliceView,
         look: SliceLook,
     ) -> Result<SliceImage, SliceError> {
-        let target = SliceTarget::new(ctx, view.size)?;
+        let target = SliceTarget::new(&ctx.device, view.size)?;
         let frame = PatientFrame::of(volume);
-        let params = slice_params(view, &frame, volume, texture, look, target.pitch);
+        let format = texture.encoding.format;
+        let params = slice_params(view, &frame, volume, format, look, target.pitch);
         let mut encoder = ctx
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("slice"),
             });
-        self.encode(ctx, &mut encoder, texture, &target, &params);
+        self.encode(
+            &ctx.device,
+            &ctx.queue,
+            &mut encoder,
+            &texture.view,
+            &target,
+            &params,
+        );
         ctx.queue.submit([encoder.finish()]);
         let [w, h] = view.size;
         let pixels = w as usize * h as usize;

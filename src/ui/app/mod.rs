@@ -113,6 +113,8 @@ struct LeapViewApp {
     shown_source: Option<VolumeSource>,
     /// The outcome of an image being saved, while it is.
     saving: Option<std::sync::mpsc::Receiver<Result<String, String>>>,
+    /// The slice views (drawn when the layout has them).
+    slices: crate::ui::slices::SliceViews,
 }
 
 impl LeapViewApp {
@@ -127,6 +129,7 @@ impl LeapViewApp {
             .as_ref()
             .ok_or_else(|| AppError::Renderer("eframe did not start its wgpu renderer".into()))?;
         let scene = Scene::new(rs, &cc.egui_ctx).map_err(|e| AppError::Renderer(e.to_string()))?;
+        let slices = crate::ui::slices::SliceViews::new(rs);
         let state = match cc.storage {
             Some(storage) if !automation.is_active() => restored_state(storage),
             _ => ViewerState::default(),
@@ -147,6 +150,7 @@ impl LeapViewApp {
             last_motion: None,
             shown_source: None,
             saving: None,
+            slices,
         };
         // A file's orientation as corrected before, unless the command line gives one.
         let first = match first {
@@ -171,7 +175,7 @@ impl LeapViewApp {
     /// Takes a finished load: uploads it, frames it, picks a fitting preset.
     fn receive_volume(&mut self, ctx: &egui::Context) {
         match self.loader.poll() {
-            Some((source, Ok(volume))) => self.show_volume(&volume, &source, ctx),
+            Some((source, Ok(volume))) => self.show_volume(volume, &source, ctx),
             Some((_, Err(e))) => {
                 self.dialogs
                     .show_error(format!("Cannot open the volume: {e}"));
@@ -188,11 +192,11 @@ impl LeapViewApp {
         }
     }
 
-    fn show_volume(&mut self, volume: &Volume, source: &VolumeSource, ctx: &egui::Context) {
+    fn show_volume(&mut self, volume: Volume, source: &VolumeSource, ctx: &egui::Context) {
         let from_file = matches!(source, VolumeSource::File { .. });
         match self
             .scene
-            .show_volume(volume, self.state.projection, from_file)
+            .show_volume(&volume, self.state.projection, from_file)
         {
             Ok(summary) => {
                 self.shown_source = Some(source.clone());
@@ -226,6 +230,12 @@ impl LeapViewApp {
                 }
                 let title = format!("LeapView — {}", summary.name);
                 ctx.send_viewport_cmd(ViewportCommand::Title(title));
+                // The slices start from the same window as MIP: the header's, else the data's.
+                let window = self.state.render.window.unwrap_or([0.0, 1.0]);
+                if let Some((texture, format)) = self.scene.volume_texture() {
+                    self.slices
+                        .set_volume(std::sync::Arc::new(volume), texture, format, window);
+                }
             }
             Err(e) => {
                 let message = match e {
@@ -261,6 +271,7 @@ impl LeapViewApp {
                 self.state.projection = kind;
                 self.scene.set_projection(kind);
             }
+            Action::SetLayout(layout) => self.state.layout = layout,
             Action::OpenRecent(path) => self.open_file(path, ctx),
             Action::SaveImagePrompt => {
                 self.save_image

@@ -7,6 +7,7 @@ use egui::Color32;
 
 use crate::ui::Action;
 use crate::ui::crop::{crop_handles, hint as crop_hint};
+use crate::ui::layout::{Pane, panes};
 use crate::ui::lod::STILL_AFTER;
 use crate::ui::orientation_marker;
 use crate::ui::overlay::{draw_first_frame_status, draw_loading, draw_readout};
@@ -17,8 +18,33 @@ use crate::ui::window_level::{self, WindowLevelEdit};
 use super::LeapViewApp;
 
 impl LeapViewApp {
-    /// The central panel: gestures, the frame, the image and what is drawn over it.
+    /// The central panel, divided by the layout between the 3D view and the slice views.
     pub(super) fn view(&mut self, ui: &mut egui::Ui) {
+        self.slices.begin_pass();
+        let area = ui.available_rect_before_wrap();
+        let has_volume = self.scene.volume().is_some();
+        for (pane, rect) in panes(self.state.layout, area, 2.0) {
+            let mut child = ui.new_child(egui::UiBuilder::new().max_rect(rect));
+            match pane {
+                Pane::ThreeD => self.view_3d(&mut child),
+                Pane::Slice(kind) if has_volume => self.slices.pane_ui(&mut child, kind, rect),
+                Pane::Slice(_) => {}
+            }
+        }
+        if self.state.layout.has_slices()
+            && let Some(probe) = self.slices.hover()
+        {
+            draw_probe(
+                ui,
+                area,
+                probe,
+                self.scene.volume().map(|v| v.kind_text.as_str()),
+            );
+        }
+    }
+
+    /// The 3D view: gestures, the frame, the image and what is drawn over it.
+    fn view_3d(&mut self, ui: &mut egui::Ui) {
         let ctx = ui.ctx().clone();
         let area = view_ui(ui, self.scene.camera_mut());
         self.view_gestures(&area, &ctx);
@@ -203,4 +229,34 @@ fn draw_drop_hint(ui: &egui::Ui, rect: egui::Rect) {
         egui::FontId::proportional(22.0),
         Color32::WHITE,
     );
+}
+
+/// The point under the pointer in a slice: patient millimetres, voxel, value, at the bottom of
+/// the central area.
+fn draw_probe(
+    ui: &egui::Ui,
+    area: egui::Rect,
+    probe: &crate::ui::slices::Probe,
+    _kind: Option<&str>,
+) {
+    let p = probe.patient;
+    let mut text = format!("{:.1}, {:.1}, {:.1} mm (LPS)", p.x, p.y, p.z);
+    if let Some([i, j, k]) = probe.voxel {
+        text.push_str(&format!("   voxel {i}, {j}, {k}"));
+    }
+    match probe.value {
+        Some(v) => text.push_str(&format!("   value {}", crate::text::number_to(v, 5))),
+        None if probe.voxel.is_some() => text.push_str("   no value"),
+        None => text.push_str("   outside the volume"),
+    }
+    let at = egui::pos2(area.min.x + 6.0, area.max.y - 6.0);
+    let font = egui::FontId::monospace(13.0);
+    let galley = ui.painter().layout_no_wrap(text, font, Color32::WHITE);
+    let rect = egui::Align2::LEFT_BOTTOM
+        .anchor_size(at, galley.size())
+        .expand(3.0);
+    ui.painter()
+        .rect_filled(rect, 3.0, Color32::from_black_alpha(180));
+    ui.painter()
+        .galley(rect.min + egui::vec2(3.0, 3.0), galley, Color32::WHITE);
 }

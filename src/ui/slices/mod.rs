@@ -1,0 +1,170 @@
+//! The slice views beside the 3D view: axial, coronal and sagittal planes through one crosshair
+//! point in the patient's frame, sampled on the GPU by `render::slice` from the ray caster's own
+//! volume texture, each redrawn only when what it shows changed. Gestures per pane
+//! ([`pane`]): click or drag to move the crosshair, the wheel (or arrow keys, Page Up/Down) to
+//! step one voxel along the plane's normal, Ctrl+wheel to zoom, a middle- or Shift-drag to pan,
+//! a right-drag for window/level.
+
+mod pane;
+
+use std::sync::Arc;
+
+use glam::DVec3;
+
+use crate::mpr::{PatientFrame, PlaneKind, Slab};
+use crate::render::slice::SliceRenderer;
+use crate::volume::Volume;
+
+pub use pane::Probe;
+use pane::{PaneLook, SlicePane};
+
+/// The window's GPU handles the slice views draw with.
+struct SliceGpu {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    egui_renderer: Arc<egui::mutex::RwLock<egui_wgpu::Renderer>>,
+    renderer: SliceRenderer,
+}
+
+/// The volume the slices show: its samples (for the value under the cursor), its patient frame
+/// and its texture on the GPU (shared with the ray caster).
+struct Source {
+    volume: Arc<Volume>,
+    frame: PatientFrame,
+    texture: wgpu::TextureView,
+    format: wgpu::TextureFormat,
+    /// Counts volumes shown: a new one redraws every pane.
+    generation: u64,
+}
+
+/// The slice views' state: the crosshair, the look shared by all panes, and each pane.
+pub struct SliceViews {
+    gpu: Result<SliceGpu, String>,
+    source: Option<Source>,
+    generation: u64,
+    /// The crosshair point (mm, LPS), which every plane passes through.
+    crosshair: DVec3,
+    panes: Vec<SlicePane>,
+    /// The grey window of the slices (data units).
+    pub window: [f64; 2],
+    /// The nearest voxel instead of trilinear interpolation.
+    pub nearest: bool,
+    /// A thick slab instead of a thin slice.
+    pub slab: Option<Slab>,
+    /// The point under the pointer in a slice this pass, if any.
+    hover: Option<Probe>,
+}
+
+impl SliceViews {
+    /// Slice views drawing with eframe's device.
+    pub fn new(rs: &egui_wgpu::RenderState) -> Self {
+        let gpu = SliceRenderer::new(&rs.device)
+            .map(|renderer| SliceGpu {
+                device: rs.device.clone(),
+                queue: rs.queue.clone(),
+                egui_renderer: rs.renderer.clone(),
+                renderer,
+            })
+            .map_err(|e| e.to_string());
+        Self {
+            gpu,
+            source: None,
+            generation: 0,
+            crosshair: DVec3::ZERO,
+            panes: PlaneKind::STANDARD
+                .into_iter()
+                .map(SlicePane::new)
+                .collect(),
+            window: [0.0, 1.0],
+            nearest: false,
+            slab: None,
+            hover: None,
+        }
+    }
+
+    /// Shows `volume`, already on the GPU as `texture` in `format`: the crosshair at its centre,
+    /// every pane fitted anew, the window `window`.
+    pub fn set_volume(
+        &mut self,
+        volume: Arc<Volume>,
+        texture: wgpu::TextureView,
+        format: wgpu::TextureFormat,
+        window: [f64; 2],
+    ) {
+        let frame = PatientFrame::of(&volume);
+        self.generation += 1;
+        self.crosshair = frame.centre();
+        self.window = window;
+        for pane in &mut self.panes {
+            pane.forget_view();
+        }
+        self.source = Some(Source {
+            volume,
+            frame,
+            texture,
+            format,
+            generation: self.generation,
+        });
+    }
+
+    /// The crosshair point (mm, LPS).
+    pub fn crosshair(&self) -> DVec3 {
+        self.crosshair
+    }
+
+    /// Moves the crosshair (the planes follow), clamped into the volume's box.
+    pub fn set_crosshair(&mut self, p: DVec3) {
+        self.crosshair = match &self.source {
+            Some(s) => {
+                let dims = s.frame.dims();
+                let v = s.frame.to_voxel(p);
+                let v = DVec3::from(std::array::from_fn::<f64, 3, _>(|a| {
+                    v[a].clamp(-0.5, f64::from(dims[a]) - 0.5)
+                }));
+                s.frame.to_patient(v)
+            }
+            None => p,
+        };
+    }
+
+    /// What lies under the pointer in a slice view this pass.
+    pub fn hover(&self) -> Option<&Probe> {
+        self.hover.as_ref()
+    }
+
+    /// Starts a pass: forgets last pass's pointer position.
+    pub fn begin_pass(&mut self) {
+        self.hover = None;
+    }
+
+    /// Draws the pane of `kind` in `rect` and applies its gestures.
+    pub fn pane_ui(&mut self, ui: &mut egui::Ui, kind: PlaneKind, rect: egui::Rect) {
+        let Some(index) = self.panes.iter().position(|p| p.kind() == kind) else {
+            return;
+        };
+        let (Ok(gpu), Some(source)) = (&self.gpu, &self.source) else {
+            let text = match &self.gpu {
+                Err(e) => format!("Slices cannot be drawn: {e}"),
+                Ok(_) => "No volume".to_string(),
+            };
+            pane::draw_message(ui, rect, &text);
+            return;
+        };
+        let look = PaneLook {
+            crosshair: self.crosshair,
+            window: self.window,
+            nearest: self.nearest,
+            slab: self.slab,
+        };
+        let outcome = self.panes[index].ui(ui, rect, gpu, source, look);
+        if let Some(p) = outcome.crosshair {
+            self.set_crosshair(p);
+        }
+        if let Some(window) = outcome.window {
+            self.window = window;
+        }
+        if outcome.hover.is_some() {
+            self.hover = outcome.hover;
+        }
+    }
+}

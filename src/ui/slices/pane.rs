@@ -1,0 +1,364 @@
+//! One slice pane: its view (zoom and pan) of the plane through the crosshair, its GPU buffers
+//! and the texture egui shows, redrawn only when what it shows changed; the crosshair lines and
+//! the patient directions at its edges; its gestures.
+
+use egui::{
+    Align2, Color32, CursorIcon, FontId, PointerButton, Pos2, Rect, Sense, Stroke, pos2, vec2,
+};
+use glam::{DVec2, DVec3};
+
+use crate::mpr::frame::lps;
+use crate::mpr::{Plane, PlaneKind, Slab, SliceView};
+use crate::render::gpu_data::SliceParams;
+use crate::render::slice::{SliceLook, SliceTarget, slice_params};
+use crate::ui::window_level::window_drag;
+use crate::volume::Direction;
+
+use super::{SliceGpu, Source};
+
+/// What every pane shows this pass.
+#[derive(Clone, Copy, Debug)]
+pub struct PaneLook {
+    /// The crosshair (mm, LPS).
+    pub crosshair: DVec3,
+    /// The grey window.
+    pub window: [f64; 2],
+    /// Nearest-voxel sampling.
+    pub nearest: bool,
+    /// A thick slab.
+    pub slab: Option<Slab>,
+}
+
+/// The point under the pointer in a slice.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Probe {
+    /// Which pane.
+    pub kind: PlaneKind,
+    /// Patient position (mm, LPS).
+    pub patient: DVec3,
+    /// The nearest voxel (stored indices), `None` outside the volume.
+    pub voxel: Option<[u32; 3]>,
+    /// Its value in data units (the nearest voxel's), `None` outside or where it is missing.
+    pub value: Option<f64>,
+}
+
+/// What a pane's gestures asked for this pass.
+#[derive(Default)]
+pub struct Outcome {
+    /// Move the crosshair here.
+    pub crosshair: Option<DVec3>,
+    /// The new window.
+    pub window: Option<[f64; 2]>,
+    /// The pointer's point, when over the pane.
+    pub hover: Option<Probe>,
+}
+
+/// A pane's GPU side for one image size.
+struct PaneGpu {
+    target: SliceTarget,
+    texture: wgpu::Texture,
+    id: egui::TextureId,
+}
+
+/// One slice pane.
+pub struct SlicePane {
+    kind: PlaneKind,
+    view: Option<SliceView>,
+    gpu: Option<PaneGpu>,
+    /// What the texture shows: the volume's generation and the pass's parameters.
+    drawn: Option<(u64, SliceParams)>,
+}
+
+/// The direction Up, Page Up and the wheel step a plane in: the patient's head, front and right
+/// (RAS positive, as 3D Slicer's slice offsets).
+fn forward(kind: PlaneKind) -> DVec3 {
+    match kind {
+        PlaneKind::Axial | PlaneKind::Oblique => lps(Direction::Superior),
+        PlaneKind::Coronal => lps(Direction::Anterior),
+        PlaneKind::Sagittal => lps(Direction::Right),
+    }
+}
+
+impl SlicePane {
+    /// A pane of `kind`, not yet drawn.
+    pub fn new(kind: PlaneKind) -> Self {
+        Self {
+            kind,
+            view: None,
+            gpu: None,
+            drawn: None,
+        }
+    }
+
+    /// The plane it shows.
+    pub fn kind(&self) -> PlaneKind {
+        self.kind
+    }
+
+    /// Forgets zoom and pan (a new volume): the next pass fits the slice to the pane.
+    pub fn forget_view(&mut self) {
+        self.view = None;
+        self.drawn = None;
+    }
+
+    /// Draws the pane in `rect` and reads its gestures.
+    pub fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        rect: Rect,
+        gpu: &SliceGpu,
+        source: &Source,
+        look: PaneLook,
+    ) -> Outcome {
+        let ppp = ui.ctx().pixels_per_point();
+        let min = pos2(
+            (rect.min.x * ppp).round() / ppp,
+            (rect.min.y * ppp).round() / ppp,
+        );
+        let size_px = [
+            ((rect.max.x - min.x) * ppp).floor().max(1.0) as u32,
+            ((rect.max.y - min.y) * ppp).floor().max(1.0) as u32,
+        ];
+        let rect = Rect::from_min_size(min, vec2(size_px[0] as f32 / ppp, size_px[1] as f32 / ppp));
+        let response = ui.allocate_rect(rect, Sense::click_and_drag());
+        let plane = Plane::standard(self.kind, look.crosshair);
+        let mut view = match self.view {
+            Some(v) if v.size == size_px => v.with_plane(plane),
+            _ => SliceView::fit(plane, &source.frame, Some(size_px)),
+        };
+        let to_px = |p: Pos2| {
+            DVec2::new(
+                f64::from((p.x - rect.min.x) * ppp),
+                f64::from((p.y - rect.min.y) * ppp),
+            )
+        };
+        let mut outcome = Outcome::default();
+        let pointer = response.hover_pos().or(response.interact_pointer_pos());
+        let shift = ui.input(|i| i.modifiers.shift);
+        if response.dragged_by(PointerButton::Middle)
+            || (response.dragged_by(PointerButton::Primary) && shift)
+        {
+            let d = response.drag_delta() * ppp;
+            view = view.panned(DVec2::new(f64::from(d.x), f64::from(d.y)));
+            ui.ctx().set_cursor_icon(CursorIcon::Move);
+        } else if (response.dragged_by(PointerButton::Primary) || response.clicked())
+            && let Some(p) = pointer
+        {
+            outcome.crosshair = Some(view.to_patient(to_px(p)));
+            ui.ctx().set_cursor_icon(CursorIcon::Crosshair);
+        }
+        if response.dragged_by(PointerButton::Secondary)
+            && let Some(range) = source.volume.value_range()
+        {
+            let d = response.drag_delta();
+            outcome.window = Some(window_drag(look.window, range, [d.x, d.y]));
+        }
+        if response.hovered() {
+            let (zoom, scroll, up, down) = ui.input(|i| {
+                let key = |k: &[egui::Key]| k.iter().filter(|k| i.key_pressed(**k)).count() as i32;
+                (
+                    i.zoom_delta(),
+                    i.events
+                        .iter()
+                        .map(|e| match e {
+                            egui::Event::MouseWheel {
+                                delta, modifiers, ..
+                            } if !modifiers.ctrl && !modifiers.command => delta.y.signum() as i32,
+                            _ => 0,
+                        })
+                        .sum::<i32>(),
+                    key(&[egui::Key::ArrowUp, egui::Key::PageUp]),
+                    key(&[egui::Key::ArrowDown, egui::Key::PageDown]),
+                )
+            });
+            if zoom != 1.0
+                && let Some(p) = pointer
+            {
+                view = view.zoomed(f64::from(zoom), to_px(p));
+            } else {
+                let steps = up - down + scroll;
+                if steps != 0 {
+                    let dir = forward(self.kind);
+                    let mm = source.frame.step_along(dir) * f64::from(steps);
+                    outcome.crosshair = Some(look.crosshair + dir * mm);
+                }
+            }
+            if let Some(p) = pointer {
+                let patient = view.to_patient(to_px(p));
+                let voxel = source.frame.voxel_index(source.frame.to_voxel(patient));
+                let value = voxel
+                    .map(|[i, j, k]| source.volume.value(i, j, k))
+                    .filter(|v| v.is_finite());
+                outcome.hover = Some(Probe {
+                    kind: self.kind,
+                    patient,
+                    voxel,
+                    value,
+                });
+            }
+        }
+        self.view = Some(view);
+        self.draw(gpu, source, look, view);
+        self.paint(ui, rect, &view, look.crosshair);
+        outcome
+    }
+
+    /// Renders the slice into the pane's texture when what it shows changed.
+    fn draw(&mut self, gpu: &SliceGpu, source: &Source, look: PaneLook, view: SliceView) {
+        if self.gpu.as_ref().is_none_or(|g| g.target.size != view.size) {
+            self.gpu = new_pane_gpu(gpu, view.size, self.gpu.as_ref().map(|g| g.id));
+            self.drawn = None;
+        }
+        let Some(pane) = &self.gpu else { return };
+        let slice_look = SliceLook {
+            window: look.window,
+            nearest: look.nearest,
+            slab: look.slab,
+        };
+        let params = slice_params(
+            &view,
+            &source.frame,
+            &source.volume,
+            source.format,
+            slice_look,
+            pane.target.pitch,
+        );
+        if self.drawn == Some((source.generation, params)) {
+            return;
+        }
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("slice view"),
+            });
+        gpu.renderer.encode(
+            &gpu.device,
+            &gpu.queue,
+            &mut encoder,
+            &source.texture,
+            &pane.target,
+            &params,
+        );
+        encoder.copy_buffer_to_texture(
+            wgpu::TexelCopyBufferInfo {
+                buffer: &pane.target.image,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(pane.target.pitch * 4),
+                    rows_per_image: Some(view.size[1]),
+                },
+            },
+            pane.texture.as_image_copy(),
+            crate::render::texture::extent(view.size),
+        );
+        gpu.queue.submit([encoder.finish()]);
+        self.drawn = Some((source.generation, params));
+    }
+
+    /// The image, the crosshair lines, the patient directions at the edges and the plane's name.
+    fn paint(&self, ui: &egui::Ui, rect: Rect, view: &SliceView, crosshair: DVec3) {
+        let painter = ui.painter_at(rect);
+        painter.rect_filled(rect, 0.0, Color32::BLACK);
+        if let Some(pane) = &self.gpu {
+            let uv = Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0));
+            painter.image(pane.id, rect, uv, Color32::WHITE);
+        }
+        let ppp = ui.ctx().pixels_per_point();
+        let c = view.to_pixel(crosshair);
+        let at = pos2(rect.min.x + c.x as f32 / ppp, rect.min.y + c.y as f32 / ppp);
+        let line = Stroke::new(1.0, Color32::from_rgba_unmultiplied(255, 200, 0, 160));
+        painter.line_segment([pos2(rect.min.x, at.y), pos2(rect.max.x, at.y)], line);
+        painter.line_segment([pos2(at.x, rect.min.y), pos2(at.x, rect.max.y)], line);
+        let font = FontId::proportional(14.0);
+        let text = Color32::from_rgb(255, 220, 120);
+        let [left, right, top, bottom] = view.plane.edge_labels();
+        let m = 4.0;
+        painter.text(
+            pos2(rect.min.x + m, rect.center().y),
+            Align2::LEFT_CENTER,
+            left,
+            font.clone(),
+            text,
+        );
+        painter.text(
+            pos2(rect.max.x - m, rect.center().y),
+            Align2::RIGHT_CENTER,
+            right,
+            font.clone(),
+            text,
+        );
+        painter.text(
+            pos2(rect.center().x, rect.min.y + m),
+            Align2::CENTER_TOP,
+            top,
+            font.clone(),
+            text,
+        );
+        painter.text(
+            pos2(rect.center().x, rect.max.y - m),
+            Align2::CENTER_BOTTOM,
+            bottom,
+            font.clone(),
+            text,
+        );
+        painter.text(
+            rect.min + vec2(m, m),
+            Align2::LEFT_TOP,
+            self.kind.name(),
+            FontId::proportional(13.0),
+            Color32::from_gray(200),
+        );
+    }
+}
+
+/// A pane's buffers and texture for `size`, registered with egui (reusing `id`).
+fn new_pane_gpu(gpu: &SliceGpu, size: [u32; 2], id: Option<egui::TextureId>) -> Option<PaneGpu> {
+    let target = match SliceTarget::new(&gpu.device, size) {
+        Ok(t) => t,
+        Err(e) => {
+            log::warn!("slice view: {e}");
+            return None;
+        }
+    };
+    use wgpu::TextureUsages as U;
+    let texture = crate::render::texture::texture_2d(
+        &gpu.device,
+        size,
+        wgpu::TextureFormat::Rgba8Unorm,
+        U::TEXTURE_BINDING | U::COPY_DST,
+        "slice view",
+    );
+    let view = crate::render::texture::full_view(&texture);
+    let mut renderer = gpu.egui_renderer.write();
+    let id = match id {
+        Some(id) => {
+            renderer.update_egui_texture_from_wgpu_texture(
+                &gpu.device,
+                &view,
+                wgpu::FilterMode::Nearest,
+                id,
+            );
+            id
+        }
+        None => renderer.register_native_texture(&gpu.device, &view, wgpu::FilterMode::Nearest),
+    };
+    Some(PaneGpu {
+        target,
+        texture,
+        id,
+    })
+}
+
+/// A pane that cannot show a slice: its reason, centred.
+pub fn draw_message(ui: &mut egui::Ui, rect: Rect, text: &str) {
+    ui.allocate_rect(rect, Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 0.0, Color32::from_gray(20));
+    painter.text(
+        rect.center(),
+        Align2::CENTER_CENTER,
+        text,
+        FontId::proportional(14.0),
+        Color32::from_gray(180),
+    );
+}
