@@ -175,6 +175,47 @@ pub fn slice_extent(plane: &Plane, frame: &PatientFrame) -> (DVec2, DVec2) {
     (lo, hi)
 }
 
+/// The polygon where the plane cuts the volume's box (patient mm), its corners in order around
+/// the cut; empty when the plane misses the box.
+pub fn cut_polygon(plane: &Plane, frame: &PatientFrame) -> Vec<DVec3> {
+    let corners = frame.corners();
+    let mut points: Vec<DVec3> = Vec::with_capacity(12);
+    for a in 0..8usize {
+        for axis in 0..3 {
+            let b = a | 1 << axis;
+            if b == a {
+                continue;
+            }
+            let (pa, pb) = (corners[a], corners[b]);
+            let (da, db) = (plane.distance(pa), plane.distance(pb));
+            let hit = if da == 0.0 {
+                Some(pa)
+            } else if db == 0.0 {
+                Some(pb)
+            } else if da * db < 0.0 {
+                Some(pa + (pb - pa) * (da / (da - db)))
+            } else {
+                None
+            };
+            if let Some(p) = hit
+                && !points.iter().any(|q| (*q - p).length() < 1e-9)
+            {
+                points.push(p);
+            }
+        }
+    }
+    if points.len() < 3 {
+        return Vec::new();
+    }
+    let centre = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    let angle = |p: &DVec3| {
+        let d = *p - centre;
+        d.dot(plane.up).atan2(d.dot(plane.right))
+    };
+    points.sort_by(|a, b| angle(a).total_cmp(&angle(b)));
+    points
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -238,6 +279,24 @@ mod tests {
             (p.to_patient(DVec2::new(10.0, 9.0)) - v.to_patient(DVec2::new(7.0, 11.0))).length()
                 < 1e-9
         );
+    }
+
+    #[test]
+    fn the_cut_polygon_is_the_box_section_in_order() {
+        let f = frame("LPS");
+        let axial = Plane::standard(PlaneKind::Axial, f.centre());
+        let cut = cut_polygon(&axial, &f);
+        assert_eq!(cut.len(), 4, "an axial cut of a box is a rectangle");
+        for w in 0..4 {
+            let edge = cut[(w + 1) % 4] - cut[w];
+            assert!(edge.length() == 20.0 || edge.length() == 30.0, "{edge}");
+        }
+        // Tilted about two axes: a polygon of up to six corners, all on the plane.
+        let tilted = axial.tilted(DVec3::new(1.0, 1.0, 0.0), 0.6);
+        let cut = cut_polygon(&tilted, &f);
+        assert!((3..=6).contains(&cut.len()));
+        assert!(cut.iter().all(|p| tilted.distance(*p).abs() < 1e-9));
+        assert!(cut_polygon(&axial.through(DVec3::Z * 1e3), &f).is_empty());
     }
 
     #[test]

@@ -82,14 +82,16 @@ fn voxel_text(v: f64, _: std::ops::RangeInclusive<usize>) -> String {
 }
 
 /// Projects world points onto the view (in points).
-struct Projector {
-    clip_from_world: DMat4,
-    rect: Rect,
+pub struct Projector {
+    /// The camera's world → clip transform for the view's image.
+    pub clip_from_world: DMat4,
+    /// The view's rectangle on screen.
+    pub rect: Rect,
 }
 
 impl Projector {
     /// Screen position of `p`, or `None` behind the eye.
-    fn screen(&self, p: DVec3) -> Option<Pos2> {
+    pub fn screen(&self, p: DVec3) -> Option<Pos2> {
         let h = self.clip_from_world * p.extend(1.0);
         if h.w <= 1e-9 {
             return None;

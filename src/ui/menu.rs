@@ -178,6 +178,7 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
                 &mut state.show_orientation_marker,
                 "Orientation marker (R, A, S)",
             );
+            ui.checkbox(&mut state.show_slice_planes, "Slice planes in the 3D view");
         });
         ui.menu_button("Help", |ui| {
             ui.label(egui::RichText::new("Controls").strong());

@@ -75,6 +75,8 @@ pub struct ViewerState {
     pub show_crop_box: bool,
     /// How the central area is divided between the 3D view and the slice views.
     pub layout: crate::ui::layout::Layout,
+    /// Whether the 3D view outlines the slice planes (when slices are shown).
+    pub show_slice_planes: bool,
     /// Files opened successfully, newest first (at most [`RECENT_FILES`]).
     pub recent: Vec<std::path::PathBuf>,
     /// The orientation the user gave for a file (its absolute path → a code such as `RAI`, in
@@ -106,6 +108,7 @@ impl Default for ViewerState {
             recent: Vec::new(),
             show_crop_box: false,
             layout: crate::ui::layout::Layout::default(),
+            show_slice_planes: true,
             orientations: std::collections::BTreeMap::new(),
         }
     }

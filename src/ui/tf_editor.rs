@@ -74,6 +74,7 @@ pub fn tf_editor_ui(
     range: Option<ValueRange>,
     histogram: &[u64],
     log_scale: &mut bool,
+    marker: Option<f64>,
 ) -> bool {
     let before = editor.tf().clone();
     ui.heading("Transfer function editor");
@@ -113,7 +114,7 @@ pub fn tf_editor_ui(
             editor.redo();
         }
     }
-    opacity_canvas(ui, editor, range, histogram, *log_scale);
+    opacity_canvas(ui, editor, range, histogram, *log_scale, marker);
     color_bar(ui, editor, range);
     file_row(ui, editor);
     ui.label(format!(
@@ -134,6 +135,7 @@ fn opacity_canvas(
     range: ValueRange,
     histogram: &[u64],
     log_scale: bool,
+    marker: Option<f64>,
 ) {
     let width = ui.available_width().max(64.0);
     let (rect, response) =
@@ -157,6 +159,19 @@ fn opacity_canvas(
         log_scale,
         visuals.weak_text_color(),
     );
+    // The value under the pointer in a slice view, on the histogram.
+    if let Some(value) = marker {
+        let x = axis.x(match editor.tf().space {
+            ValueSpace::Data => value,
+            ValueSpace::Normalized => range.normalize(value),
+        });
+        if rect.x_range().contains(x) {
+            painter.line_segment(
+                [pos2(x, rect.top()), pos2(x, rect.bottom())],
+                Stroke::new(1.0, egui::Color32::from_rgb(255, 200, 0)),
+            );
+        }
+    }
     let tf = editor.tf();
     let points: Vec<Pos2> = tf
         .opacity

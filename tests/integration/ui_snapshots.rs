@@ -62,7 +62,14 @@ fn tf_panel() -> egui_kittest::Harness<'static, TfPanel> {
     harness([440.0, 250.0]).build_ui_state(
         |ui, p: &mut TfPanel| {
             let range = Some(p.range);
-            if tf_editor_ui(ui, &mut p.editor, range, &p.histogram, &mut p.log_scale) {
+            if tf_editor_ui(
+                ui,
+                &mut p.editor,
+                range,
+                &p.histogram,
+                &mut p.log_scale,
+                None,
+            ) {
                 p.reported_changes += 1;
             }
         },
@@ -369,7 +376,10 @@ fn menu_bar_opens_menus_and_returns_actions() {
     // The layout toolbar beside the menus.
     h.get_by_label("2 × 2").click();
     h.run();
-    assert_eq!(h.state().actions.last(), Some(&Action::SetLayout(Layout::Grid)));
+    assert_eq!(
+        h.state().actions.last(),
+        Some(&Action::SetLayout(Layout::Grid))
+    );
 }
 
 #[test]

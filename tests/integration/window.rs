@@ -189,3 +189,62 @@ fn a_click_while_refining_reaches_the_item_under_the_pointer() {
     );
     assert!(latency < 2.0, "the click took {latency:.2} s:\n{log}");
 }
+
+#[test]
+fn a_click_in_a_slice_moves_the_crosshair_and_the_other_slices_follow() {
+    let x = common::Xvfb::start();
+    let dir = common::TempDir::new("window-slices");
+    let log_path = dir.path().join("log.txt");
+    let log_file = std::fs::File::create(&log_path).expect("create the log");
+    let mut command = x.window_command(dir.path());
+    command
+        .env("HOME", dir.path())
+        .env("XDG_DATA_HOME", dir.path())
+        .env("RUST_LOG", "warn,leapview=debug")
+        .stdout(Stdio::null())
+        .stderr(log_file);
+    let mut app = command.spawn().expect("start the window");
+    let log = wait_for_log(&log_path, "showing ", Duration::from_secs(240));
+    assert!(log.contains("showing "), "no volume shown:\n{log}");
+    // The toolbar's "2 × 2" beside the menus (see tests/snapshots/menu_bar_view.png), then a
+    // click in the axial pane (top left), away from its centre.
+    xdotool(&x.display, &["mousemove", "205", "12", "click", "1"]);
+    let log = wait_for_log(&log_path, "sagittal slice drawn", Duration::from_secs(60));
+    assert!(log.contains("axial slice drawn"), "no slices drawn:\n{log}");
+    xdotool(&x.display, &["mousemove", "150", "120", "click", "1"]);
+    let log = wait_for_log(&log_path, "crosshair moved to", Duration::from_secs(30));
+    let moved = log
+        .lines()
+        .find_map(|l| l.split("crosshair moved to ").nth(1))
+        .unwrap_or_else(|| panic!("the click did not move the crosshair:\n{log}"))
+        .trim_end_matches(" mm")
+        .to_string();
+    for kind in ["coronal", "sagittal"] {
+        let needle = format!("{kind} slice drawn through {moved}");
+        let log = wait_for_log(&log_path, &needle, Duration::from_secs(30));
+        assert!(
+            log.contains(&needle),
+            "the {kind} slice did not follow:\n{log}"
+        );
+    }
+    xdotool(
+        &x.display,
+        &[
+            "search",
+            "--name",
+            "LeapView",
+            "windowfocus",
+            "--sync",
+            "key",
+            "ctrl+q",
+        ],
+    );
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while app.try_wait().expect("wait for the window").is_none() {
+        if Instant::now() > deadline {
+            let _ = app.kill();
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}

@@ -389,6 +389,10 @@ impl eframe::App for LeapViewApp {
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     actions.extend(controls_ui(ui, &mut self.state, &info));
                     ui.separator();
+                    if self.state.layout.has_slices() && info.volume.is_some() {
+                        self.slices.controls_ui(ui);
+                        ui.separator();
+                    }
                     let volume = self.scene.volume();
                     tf_editor_ui(
                         ui,
@@ -396,6 +400,7 @@ impl eframe::App for LeapViewApp {
                         volume.and_then(|v| v.range),
                         volume.map_or(&[], |v| v.histogram.as_slice()),
                         &mut self.state.log_histogram,
+                        self.slices.hover().and_then(|p| p.value),
                     );
                     ui.separator();
                     effects_ui(

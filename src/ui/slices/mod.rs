@@ -5,7 +5,9 @@
 //! step one voxel along the plane's normal, Ctrl+wheel to zoom, a middle- or Shift-drag to pan,
 //! a right-drag for window/level.
 
+mod controls;
 mod pane;
+mod planes_3d;
 
 use std::sync::Arc;
 
@@ -137,6 +139,29 @@ impl SliceViews {
         self.hover = None;
     }
 
+    /// Outlines the three slice planes over the 3D view in `rect` (its image `size_px` pixels,
+    /// seen by `camera`, the volume in `bounds`), in each pane's colour.
+    pub fn draw_planes_3d(
+        &self,
+        ui: &egui::Ui,
+        rect: egui::Rect,
+        size_px: [u32; 2],
+        camera: &crate::camera::Camera,
+        bounds: &crate::camera::Aabb,
+    ) {
+        if let Some(source) = &self.source {
+            planes_3d::draw(
+                ui,
+                rect,
+                size_px,
+                camera,
+                bounds,
+                &source.frame,
+                self.crosshair,
+            );
+        }
+    }
+
     /// Draws the pane of `kind` in `rect` and applies its gestures.
     pub fn pane_ui(&mut self, ui: &mut egui::Ui, kind: PlaneKind, rect: egui::Rect) {
         let Some(index) = self.panes.iter().position(|p| p.kind() == kind) else {
@@ -159,6 +184,8 @@ impl SliceViews {
         let outcome = self.panes[index].ui(ui, rect, gpu, source, look);
         if let Some(p) = outcome.crosshair {
             self.set_crosshair(p);
+            let c = self.crosshair;
+            log::debug!("crosshair moved to {:.2}, {:.2}, {:.2} mm", c.x, c.y, c.z);
         }
         if let Some(window) = outcome.window {
             self.window = window;

@@ -253,6 +253,14 @@ impl SlicePane {
         );
         gpu.queue.submit([encoder.finish()]);
         self.drawn = Some((source.generation, params));
+        let p = view.plane.point;
+        log::debug!(
+            "{} slice drawn through {:.2}, {:.2}, {:.2} mm",
+            self.kind.name(),
+            p.x,
+            p.y,
+            p.z
+        );
     }
 
     /// The image, the crosshair lines, the patient directions at the edges and the plane's name.
@@ -306,7 +314,7 @@ impl SlicePane {
             Align2::LEFT_TOP,
             self.kind.name(),
             FontId::proportional(13.0),
-            Color32::from_gray(200),
+            super::planes_3d::colour(self.kind),
         );
     }
 }
