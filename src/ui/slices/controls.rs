@@ -60,10 +60,21 @@ impl SliceViews {
                 ui.label(format!("{:.1}, {:.1}, {:.1} mm (LPS)", p.x, p.y, p.z));
                 ui.end_row();
             });
-        if ui.button("Crosshair to the centre").clicked()
-            && let Some(source) = &self.source
-        {
-            self.crosshair = source.frame.centre();
-        }
+        ui.horizontal(|ui| {
+            if ui.button("Crosshair to the centre").clicked()
+                && let Some(source) = &self.source
+            {
+                self.crosshair = source.frame.centre();
+            }
+            if ui
+                .button("Reset planes")
+                .on_hover_text(
+                    "Back to axial, coronal and sagittal (Ctrl + drag in a slice tilts the others)",
+                )
+                .clicked()
+            {
+                self.reset_planes();
+            }
+        });
     }
 }

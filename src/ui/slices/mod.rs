@@ -13,7 +13,7 @@ use std::sync::Arc;
 
 use glam::DVec3;
 
-use crate::mpr::{PatientFrame, PlaneKind, Slab};
+use crate::mpr::{PatientFrame, Plane, PlaneKind, Slab};
 use crate::render::slice::SliceRenderer;
 use crate::volume::Volume;
 
@@ -47,6 +47,9 @@ pub struct SliceViews {
     /// The crosshair point (mm, LPS), which every plane passes through.
     crosshair: DVec3,
     panes: Vec<SlicePane>,
+    /// Each pane's plane orientation (its point is the crosshair's), by pane: standard until
+    /// tilted with Ctrl + drag in another pane.
+    planes: Vec<Plane>,
     /// The grey window of the slices (data units).
     pub window: [f64; 2],
     /// The nearest voxel instead of trilinear interpolation.
@@ -77,6 +80,7 @@ impl SliceViews {
                 .into_iter()
                 .map(SlicePane::new)
                 .collect(),
+            planes: standard_planes(),
             window: [0.0, 1.0],
             nearest: false,
             slab: None,
@@ -100,6 +104,7 @@ impl SliceViews {
         for pane in &mut self.panes {
             pane.forget_view();
         }
+        self.planes = standard_planes();
         self.source = Some(Source {
             volume,
             frame,
@@ -139,6 +144,11 @@ impl SliceViews {
         self.hover = None;
     }
 
+    /// Back to the standard axial, coronal and sagittal planes.
+    pub fn reset_planes(&mut self) {
+        self.planes = standard_planes();
+    }
+
     /// Outlines the three slice planes over the 3D view in `rect` (its image `size_px` pixels,
     /// seen by `camera`, the volume in `bounds`), in each pane's colour.
     pub fn draw_planes_3d(
@@ -150,15 +160,13 @@ impl SliceViews {
         bounds: &crate::camera::Aabb,
     ) {
         if let Some(source) = &self.source {
-            planes_3d::draw(
-                ui,
-                rect,
-                size_px,
-                camera,
-                bounds,
-                &source.frame,
-                self.crosshair,
-            );
+            let planes: Vec<(PlaneKind, Plane)> = self
+                .panes
+                .iter()
+                .zip(&self.planes)
+                .map(|(pane, plane)| (pane.kind(), plane.through(self.crosshair)))
+                .collect();
+            planes_3d::draw(ui, rect, size_px, camera, bounds, &source.frame, &planes);
         }
     }
 
@@ -175,8 +183,15 @@ impl SliceViews {
             pane::draw_message(ui, rect, &text);
             return;
         };
+        let plane = |i: usize| self.planes[i].through(self.crosshair);
+        let (a, b) = ((index + 1) % 3, (index + 2) % 3);
         let look = PaneLook {
             crosshair: self.crosshair,
+            plane: plane(index),
+            others: [
+                (self.panes[a].kind(), plane(a)),
+                (self.panes[b].kind(), plane(b)),
+            ],
             window: self.window,
             nearest: self.nearest,
             slab: self.slab,
@@ -190,8 +205,23 @@ impl SliceViews {
         if let Some(window) = outcome.window {
             self.window = window;
         }
+        if let Some(turn) = outcome.tilt {
+            // The other planes turn about this one's normal through the crosshair.
+            let axis = self.planes[index].normal();
+            for j in [a, b] {
+                self.planes[j] = self.planes[j].tilted(axis, turn);
+            }
+        }
         if outcome.hover.is_some() {
             self.hover = outcome.hover;
         }
     }
+}
+
+/// The standard planes, one per pane, in pane order.
+fn standard_planes() -> Vec<Plane> {
+    PlaneKind::STANDARD
+        .into_iter()
+        .map(|k| Plane::standard(k, DVec3::ZERO))
+        .collect()
 }

@@ -16,11 +16,16 @@ use crate::volume::Direction;
 
 use super::{SliceGpu, Source};
 
-/// What every pane shows this pass.
+/// What a pane shows this pass.
 #[derive(Clone, Copy, Debug)]
 pub struct PaneLook {
     /// The crosshair (mm, LPS).
     pub crosshair: DVec3,
+    /// This pane's plane (through the crosshair; tilted when oblique).
+    pub plane: Plane,
+    /// The other two panes (their slots) and planes, whose lines cross this one at the
+    /// crosshair.
+    pub others: [(PlaneKind, Plane); 2],
     /// The grey window.
     pub window: [f64; 2],
     /// Nearest-voxel sampling.
@@ -51,6 +56,9 @@ pub struct Outcome {
     pub window: Option<[f64; 2]>,
     /// The pointer's point, when over the pane.
     pub hover: Option<Probe>,
+    /// Turn the other planes about this pane's normal through the crosshair by this many
+    /// radians (Ctrl + drag).
+    pub tilt: Option<f64>,
 }
 
 /// A pane's GPU side for one image size.
@@ -121,7 +129,7 @@ impl SlicePane {
         ];
         let rect = Rect::from_min_size(min, vec2(size_px[0] as f32 / ppp, size_px[1] as f32 / ppp));
         let response = ui.allocate_rect(rect, Sense::click_and_drag());
-        let plane = Plane::standard(self.kind, look.crosshair);
+        let plane = look.plane;
         let mut view = match self.view {
             Some(v) if v.size == size_px => v.with_plane(plane),
             _ => SliceView::fit(plane, &source.frame, Some(size_px)),
@@ -134,8 +142,28 @@ impl SlicePane {
         };
         let mut outcome = Outcome::default();
         let pointer = response.hover_pos().or(response.interact_pointer_pos());
-        let shift = ui.input(|i| i.modifiers.shift);
-        if response.dragged_by(PointerButton::Middle)
+        let (shift, ctrl) = ui.input(|i| (i.modifiers.shift, i.modifiers.command));
+        if response.dragged_by(PointerButton::Primary)
+            && ctrl
+            && let Some(p) = pointer
+        {
+            // The turn of the pointer about the crosshair, counter-clockwise on screen.
+            let c = view.to_pixel(look.crosshair);
+            let now = to_px(p) - c;
+            let d = response.drag_delta() * ppp;
+            let before = now - DVec2::new(f64::from(d.x), f64::from(d.y));
+            let angle = |v: DVec2| (-v.y).atan2(v.x);
+            if now.length() > 4.0 && before.length() > 4.0 {
+                let mut turn = angle(now) - angle(before);
+                if turn > std::f64::consts::PI {
+                    turn -= std::f64::consts::TAU;
+                } else if turn < -std::f64::consts::PI {
+                    turn += std::f64::consts::TAU;
+                }
+                outcome.tilt = Some(turn);
+            }
+            ui.ctx().set_cursor_icon(CursorIcon::Alias);
+        } else if response.dragged_by(PointerButton::Middle)
             || (response.dragged_by(PointerButton::Primary) && shift)
         {
             let d = response.drag_delta() * ppp;
@@ -178,7 +206,13 @@ impl SlicePane {
             } else {
                 let steps = up - down + scroll;
                 if steps != 0 {
-                    let dir = forward(self.kind);
+                    // Along the plane's normal (tilted or not), the way of `forward`.
+                    let n = look.plane.normal();
+                    let dir = if n.dot(forward(self.kind)) >= 0.0 {
+                        n
+                    } else {
+                        -n
+                    };
                     let mm = source.frame.step_along(dir) * f64::from(steps);
                     outcome.crosshair = Some(look.crosshair + dir * mm);
                 }
@@ -199,7 +233,7 @@ impl SlicePane {
         }
         self.view = Some(view);
         self.draw(gpu, source, look, view);
-        self.paint(ui, rect, &view, look.crosshair);
+        self.paint(ui, rect, &view, &look);
         outcome
     }
 
@@ -263,8 +297,9 @@ impl SlicePane {
         );
     }
 
-    /// The image, the crosshair lines, the patient directions at the edges and the plane's name.
-    fn paint(&self, ui: &egui::Ui, rect: Rect, view: &SliceView, crosshair: DVec3) {
+    /// The image, the other planes' lines through the crosshair (in their colours), the patient
+    /// directions at the edges and the plane's name.
+    fn paint(&self, ui: &egui::Ui, rect: Rect, view: &SliceView, look: &PaneLook) {
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, Color32::BLACK);
         if let Some(pane) = &self.gpu {
@@ -272,11 +307,20 @@ impl SlicePane {
             painter.image(pane.id, rect, uv, Color32::WHITE);
         }
         let ppp = ui.ctx().pixels_per_point();
-        let c = view.to_pixel(crosshair);
+        let c = view.to_pixel(look.crosshair);
         let at = pos2(rect.min.x + c.x as f32 / ppp, rect.min.y + c.y as f32 / ppp);
-        let line = Stroke::new(1.0, Color32::from_rgba_unmultiplied(255, 200, 0, 160));
-        painter.line_segment([pos2(rect.min.x, at.y), pos2(rect.max.x, at.y)], line);
-        painter.line_segment([pos2(at.x, rect.min.y), pos2(at.x, rect.max.y)], line);
+        let reach = rect.width().hypot(rect.height());
+        for (slot, other) in &look.others {
+            // Where the other plane cuts this one: a line through the crosshair.
+            let d = view.plane.normal().cross(other.normal());
+            let screen = egui::vec2(d.dot(view.plane.right) as f32, -d.dot(view.plane.up) as f32);
+            if screen.length() < 1e-6 {
+                continue;
+            }
+            let screen = screen.normalized() * reach;
+            let colour = super::planes_3d::colour(*slot).gamma_multiply(0.75);
+            painter.line_segment([at - screen, at + screen], Stroke::new(1.0, colour));
+        }
         let font = FontId::proportional(14.0);
         let text = Color32::from_rgb(255, 220, 120);
         let [left, right, top, bottom] = view.plane.edge_labels();
@@ -309,10 +353,15 @@ impl SlicePane {
             font.clone(),
             text,
         );
+        let name = if view.plane.kind == PlaneKind::Oblique {
+            format!("{} (oblique)", self.kind.name())
+        } else {
+            self.kind.name().to_string()
+        };
         painter.text(
             rect.min + vec2(m, m),
             Align2::LEFT_TOP,
-            self.kind.name(),
+            name,
             FontId::proportional(13.0),
             super::planes_3d::colour(self.kind),
         );

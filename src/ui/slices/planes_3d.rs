@@ -19,7 +19,7 @@ pub fn colour(kind: PlaneKind) -> Color32 {
     }
 }
 
-/// Draws the three planes through `crosshair` over the 3D view.
+/// Draws `planes` (each with its pane's kind, for its colour) over the 3D view.
 pub fn draw(
     ui: &egui::Ui,
     rect: Rect,
@@ -27,7 +27,7 @@ pub fn draw(
     camera: &Camera,
     bounds: &Aabb,
     frame: &PatientFrame,
-    crosshair: DVec3,
+    planes: &[(PlaneKind, Plane)],
 ) {
     let projector = Projector {
         clip_from_world: camera.clip_from_world(size_px, bounds),
@@ -40,8 +40,9 @@ pub fn draw(
         frame.axes().z_axis.length(),
     );
     let painter = ui.painter_at(rect);
-    for kind in PlaneKind::STANDARD {
-        let cut = cut_polygon(&Plane::standard(kind, crosshair), frame);
+    for (kind, plane) in planes {
+        let kind = *kind;
+        let cut = cut_polygon(plane, frame);
         let screen: Option<Vec<egui::Pos2>> = cut
             .iter()
             .map(|p| projector.screen(frame.to_voxel(*p) * spacing))
