@@ -4,6 +4,7 @@
 //! The GPU sampling is `render::slice`; the f64 reference `reference::slice`.
 
 pub mod frame;
+pub mod pick;
 pub mod plane;
 pub mod slab;
 pub mod view;

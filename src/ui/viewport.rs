@@ -13,6 +13,8 @@ use super::interaction::{orbit_drag, pan_drag, zoom_scroll};
 pub struct ViewArea {
     /// In points, aligned to physical pixels.
     pub rect: Rect,
+    /// Where a left click (not a drag) landed this pass, in physical pixels from the corner.
+    pub clicked_px: Option<[f64; 2]>,
     /// In physical pixels (what the renderer renders at).
     pub size_px: [u32; 2],
     /// Whether R was pressed (reset view) while the view had the keyboard.
@@ -78,6 +80,16 @@ pub fn view_ui(ui: &mut egui::Ui, camera: Option<&mut Camera>) -> ViewArea {
     }
     ViewArea {
         rect,
+        clicked_px: response
+            .clicked()
+            .then(|| response.interact_pointer_pos())
+            .flatten()
+            .map(|p| {
+                [
+                    f64::from((p.x - rect.min.x) * ppp),
+                    f64::from((p.y - rect.min.y) * ppp),
+                ]
+            }),
         size_px,
         reset_requested,
         roll_deg,

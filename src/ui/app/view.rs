@@ -75,6 +75,20 @@ impl LeapViewApp {
 
     /// What the view's gestures ask of the app: reset, window/level, the scripted turn.
     fn view_gestures(&mut self, area: &ViewArea, ctx: &egui::Context) {
+        // With slices shown, a click on the 3D view moves the crosshair to what it points at.
+        if self.state.layout.has_slices()
+            && let Some([x, y]) = area.clicked_px
+            && let Some((camera, _)) = self.scene.camera_and_bounds()
+        {
+            let tf = self.state.editor.tf().clone();
+            self.slices.pick(
+                &self.state.render,
+                &tf,
+                &camera,
+                area.size_px,
+                glam::DVec2::new(x, y),
+            );
+        }
         if area.reset_requested {
             self.apply(Action::ResetView, ctx);
         }

@@ -144,6 +144,31 @@ impl SliceViews {
         self.hover = None;
     }
 
+    /// Moves the crosshair to what the 3D view's pixel `px` (of a `size` view seen by
+    /// `camera`) shows by `settings` and `tf` (`mpr::pick`); nothing when it shows nothing.
+    pub fn pick(
+        &mut self,
+        settings: &crate::settings::RenderSettings,
+        tf: &crate::transfer::TransferFunction,
+        camera: &crate::camera::Camera,
+        size: [u32; 2],
+        px: glam::DVec2,
+    ) {
+        let Some(source) = &self.source else { return };
+        let picked = crate::mpr::pick::pick(&source.volume, settings, tf, camera, size, px);
+        if let Some(world) = picked {
+            let spacing = DVec3::from(source.volume.spacing_mm());
+            let p = source.frame.to_patient(world / spacing);
+            self.set_crosshair(p);
+            log::debug!(
+                "crosshair picked in 3D at {:.2}, {:.2}, {:.2} mm",
+                p.x,
+                p.y,
+                p.z
+            );
+        }
+    }
+
     /// Back to the standard axial, coronal and sagittal planes.
     pub fn reset_planes(&mut self) {
         self.planes = standard_planes();
