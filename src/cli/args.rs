@@ -89,6 +89,10 @@ pub struct SliceArgs {
     /// How a slab's samples combine.
     #[arg(long, value_enum, default_value_t = SlabModeArg::Mip)]
     pub mode: SlabModeArg,
+    /// Also time the slice on the GPU: this many passes between timestamps, the median printed
+    /// (needs an adapter with timestamp queries).
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=1024))]
+    pub repeat: u32,
 }
 
 /// The volumes `leapview generate` writes.

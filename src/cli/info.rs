@@ -94,6 +94,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
             "series_opened": volume.provenance().chosen.map(|i| i + 1),
             "skipped": volume.provenance().skipped,
             "origin_lps_mm": volume.provenance().origin_lps,
+            "patient_box_lps_mm": patient_box(&volume),
         });
         return print_stdout(&format!("{value:#}\n")).map_err(|e| Failure::Other(e.into()));
     }
@@ -120,6 +121,17 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
     );
     outln!(out, "type:        {}", volume.scalar_type());
     outln!(out, "orientation: {}", orientation_text(&volume));
+    let [lo, hi] = patient_box(&volume);
+    outln!(
+        out,
+        "patient box: x {} .. {}, y {} .. {}, z {} .. {} mm (LPS, voxel centres; `slice --at`)",
+        number(lo[0]),
+        number(hi[0]),
+        number(lo[1]),
+        number(hi[1]),
+        number(lo[2]),
+        number(hi[2])
+    );
     if m != ValueMapping::IDENTITY {
         outln!(
             out,
@@ -192,6 +204,22 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
 }
 
 /// A DICOM series' facts, and the other series found beside it.
+/// The smallest and largest patient coordinates (LPS, mm) of the voxel centres: where
+/// `leapview slice --at` points can lie (the header's origin, else the first voxel at 0).
+fn patient_box(volume: &Volume) -> [[f64; 3]; 2] {
+    let frame = leapview::mpr::PatientFrame::of(volume);
+    let [x, y, z] = volume.dims().map(|n| f64::from(n - 1));
+    let corners = (0..8).map(|c| {
+        let pick = |a: usize, n: f64| if c >> a & 1 == 1 { n } else { 0.0 };
+        frame.to_patient(glam::DVec3::new(pick(0, x), pick(1, y), pick(2, z)))
+    });
+    let (lo, hi) = corners.fold(
+        (glam::DVec3::INFINITY, glam::DVec3::NEG_INFINITY),
+        |(lo, hi), p| (lo.min(p), hi.max(p)),
+    );
+    [lo.to_array(), hi.to_array()]
+}
+
 fn series_text(out: &mut String, volume: &Volume) {
     let p = volume.provenance();
     if let Some(s) = &p.series {

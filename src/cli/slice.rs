@@ -5,7 +5,7 @@ use anyhow::anyhow;
 use glam::DVec3;
 use leapview::mpr::{PatientFrame, Plane, PlaneKind, Slab, SlabMode, SliceView};
 use leapview::render::context::GpuContext;
-use leapview::render::slice::{SliceLook, SliceRenderer};
+use leapview::render::slice::{SliceLook, SliceRenderer, SliceTarget, slice_params};
 use leapview::render::volume_texture::{VolumeTexture, VolumeTextureError};
 use leapview::transfer::fit;
 
@@ -109,6 +109,32 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
             leapview::render::slice::SliceError::TooLarge(..) => Failure::BadInput(e.into()),
             other => Failure::Other(other.into()),
         })?;
+    if args.repeat > 0 {
+        let target =
+            SliceTarget::new(&ctx.device, view.size).map_err(|e| Failure::Other(e.into()))?;
+        let params = slice_params(
+            &view,
+            &frame,
+            &volume,
+            texture.encoding.format,
+            look,
+            target.pitch,
+        );
+        match renderer
+            .median_gpu_ms(&ctx, &texture.view, &target, &params, args.repeat)
+            .map_err(|e| Failure::Other(e.into()))?
+        {
+            Some(ms) => println!(
+                "GPU time: {ms:.4} ms per slice (median of {} passes; {})",
+                args.repeat,
+                ctx.adapter_summary()
+            ),
+            None => println!(
+                "GPU time: not measured ({} has no timestamp queries)",
+                ctx.adapter_summary()
+            ),
+        }
+    }
     let [w, h] = image.size;
     let png = image::GrayImage::from_raw(w, h, image.grey)
         .ok_or_else(|| Failure::Other(anyhow!("the slice image has the wrong size")))?;

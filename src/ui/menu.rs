@@ -26,7 +26,7 @@ pub fn view_label(side: Direction) -> String {
 }
 
 /// The controls, one `(gesture, effect)` pair a line, for the Help menu and the view's tooltip.
-pub const CONTROLS: [(&str, &str); 15] = [
+pub const CONTROLS: [(&str, &str); 18] = [
     (
         "Left drag",
         "orbit about the centre (horizontal: azimuth, vertical: elevation)",
@@ -71,6 +71,16 @@ pub const CONTROLS: [(&str, &str); 15] = [
     (
         "In a slice: wheel, ↑/↓, Page Up/Down; Ctrl + wheel",
         "step one voxel towards head, front or right (back with ↓); zoom about the pointer",
+    ),
+    (
+        "In a slice: Ctrl + drag; Alt + drag, Alt + click",
+        "tilt the other two planes (oblique; Reset planes in the panel); measure a distance in \
+         mm, take the ruler away",
+    ),
+    ("In a slice: right drag", "window/level of the slices"),
+    (
+        "With slices: left click on the 3D view",
+        "move the crosshair to what the pixel shows (the first surface, or the MIP maximum)",
     ),
     (
         "Ctrl + O",

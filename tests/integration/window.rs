@@ -227,6 +227,44 @@ fn a_click_in_a_slice_moves_the_crosshair_and_the_other_slices_follow() {
             "the {kind} slice did not follow:\n{log}"
         );
     }
+    // Turning the 3D view (a drag in its pane, bottom right) renders 3D frames and no slice:
+    // the slices cost the 3D view nothing while it moves.
+    let before = std::fs::read_to_string(&log_path).unwrap_or_default().len();
+    xdotool(
+        &x.display,
+        &[
+            "mousemove",
+            "640",
+            "600",
+            "mousedown",
+            "1",
+            "mousemove",
+            "670",
+            "600",
+            "mousemove",
+            "700",
+            "605",
+            "mouseup",
+            "1",
+        ],
+    );
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let after = loop {
+        let log = std::fs::read_to_string(&log_path).unwrap_or_default();
+        let after = log.get(before..).unwrap_or_default().to_string();
+        if after.contains("rendered volume frame") || Instant::now() > deadline {
+            break after;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert!(
+        after.contains("rendered volume frame"),
+        "the drag rendered no 3D frame:\n{after}"
+    );
+    assert!(
+        !after.contains("slice drawn"),
+        "turning the 3D view redrew a slice:\n{after}"
+    );
     xdotool(
         &x.display,
         &[

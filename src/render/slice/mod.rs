@@ -3,6 +3,8 @@
 //! units, f32) and its grey through the window. The pixel grid is the pure
 //! `mpr::SliceView::voxel_grid`; the f64 twin is `reference::slice`.
 
+mod timing;
+
 use crate::mpr::{PatientFrame, Slab, SlabMode, SliceView};
 use crate::volume::Volume;
 
@@ -177,7 +179,28 @@ impl SliceRenderer {
         params: &SliceParams,
     ) {
         queue.write_buffer(&target.params, 0, bytemuck::bytes_of(params));
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let group = self.bind_group(device, volume, target);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("slice"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups(
+            params.width.div_ceil(WORKGROUP),
+            params.height.div_ceil(WORKGROUP),
+            1,
+        );
+    }
+
+    /// The pass's resources: the volume, `target`'s parameters, values and image.
+    fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        volume: &wgpu::TextureView,
+        target: &SliceTarget,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("slice"),
             layout: &self.pipeline.get_bind_group_layout(0),
             entries: &[
@@ -198,18 +221,7 @@ impl SliceRenderer {
                     resource: target.image.as_entire_binding(),
                 },
             ],
-        });
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("slice"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups(
-            params.width.div_ceil(WORKGROUP),
-            params.height.div_ceil(WORKGROUP),
-            1,
-        );
+        })
     }
 
     /// Draws `view` of `volume` (already in `texture`) and reads it back: the headless path of

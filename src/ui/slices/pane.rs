@@ -75,6 +75,8 @@ pub struct SlicePane {
     gpu: Option<PaneGpu>,
     /// What the texture shows: the volume's generation and the pass's parameters.
     drawn: Option<(u64, SliceParams)>,
+    /// A distance ruler's ends (patient mm), drawn while the plane passes through them.
+    ruler: Option<(DVec3, DVec3)>,
 }
 
 /// The direction Up, Page Up and the wheel step a plane in: the patient's head, front and right
@@ -95,6 +97,7 @@ impl SlicePane {
             view: None,
             gpu: None,
             drawn: None,
+            ruler: None,
         }
     }
 
@@ -142,8 +145,24 @@ impl SlicePane {
         };
         let mut outcome = Outcome::default();
         let pointer = response.hover_pos().or(response.interact_pointer_pos());
-        let (shift, ctrl) = ui.input(|i| (i.modifiers.shift, i.modifiers.command));
-        if response.dragged_by(PointerButton::Primary)
+        let (shift, ctrl, alt) =
+            ui.input(|i| (i.modifiers.shift, i.modifiers.command, i.modifiers.alt));
+        if alt && (response.dragged_by(PointerButton::Primary) || response.clicked()) {
+            // Alt + drag measures; Alt + click takes the ruler away.
+            if response.clicked() {
+                self.ruler = None;
+            } else if let Some(p) = pointer {
+                let end = view.to_patient(to_px(p));
+                let pressed = ui.input(|i| i.pointer.press_origin());
+                let start = match (self.ruler, pressed) {
+                    (Some((start, _)), _) if !response.drag_started() => start,
+                    (_, Some(origin)) => view.to_patient(to_px(origin)),
+                    _ => end,
+                };
+                self.ruler = Some((start, end));
+            }
+            ui.ctx().set_cursor_icon(CursorIcon::Crosshair);
+        } else if response.dragged_by(PointerButton::Primary)
             && ctrl
             && let Some(p) = pointer
         {
@@ -234,6 +253,12 @@ impl SlicePane {
         self.view = Some(view);
         self.draw(gpu, source, look, view);
         self.paint(ui, rect, &view, &look);
+        if let Some((a, b)) = self.ruler {
+            let near = source.frame.step_along(view.plane.normal()) / 2.0;
+            if view.plane.distance(a).abs() <= near && view.plane.distance(b).abs() <= near {
+                draw_ruler(ui, rect, &view, a, b);
+            }
+        }
         outcome
     }
 
@@ -417,5 +442,31 @@ pub fn draw_message(ui: &mut egui::Ui, rect: Rect, text: &str) {
         text,
         FontId::proportional(14.0),
         Color32::from_gray(180),
+    );
+}
+
+/// A ruler from `a` to `b` (patient mm) over the pane, labelled with its length.
+fn draw_ruler(ui: &egui::Ui, rect: Rect, view: &SliceView, a: DVec3, b: DVec3) {
+    let ppp = ui.ctx().pixels_per_point();
+    let at = |p: DVec3| {
+        let px = view.to_pixel(p);
+        pos2(
+            rect.min.x + px.x as f32 / ppp,
+            rect.min.y + px.y as f32 / ppp,
+        )
+    };
+    let (pa, pb) = (at(a), at(b));
+    let painter = ui.painter_at(rect);
+    let colour = Color32::from_rgb(120, 220, 255);
+    painter.line_segment([pa, pb], Stroke::new(1.5, colour));
+    for p in [pa, pb] {
+        painter.circle_stroke(p, 3.0, Stroke::new(1.5, colour));
+    }
+    painter.text(
+        pb + vec2(6.0, -6.0),
+        Align2::LEFT_BOTTOM,
+        format!("{:.1} mm", (b - a).length()),
+        FontId::proportional(14.0),
+        colour,
     );
 }
