@@ -178,7 +178,17 @@ pub fn slice_extent(plane: &Plane, frame: &PatientFrame) -> (DVec2, DVec2) {
 /// The polygon where the plane cuts the volume's box (patient mm), its corners in order around
 /// the cut; empty when the plane misses the box.
 pub fn cut_polygon(plane: &Plane, frame: &PatientFrame) -> Vec<DVec3> {
-    let corners = frame.corners();
+    let dims = frame.dims().map(|n| f64::from(n) - 0.5);
+    cut_polygon_of(plane, frame, DVec3::splat(-0.5), DVec3::from(dims))
+}
+
+/// The polygon where the plane cuts the box from `lo` to `hi` in voxel coordinates (a cropping
+/// box), in patient mm, in order around the cut; empty when the plane misses it.
+pub fn cut_polygon_of(plane: &Plane, frame: &PatientFrame, lo: DVec3, hi: DVec3) -> Vec<DVec3> {
+    let corners: [DVec3; 8] = std::array::from_fn(|c| {
+        let pick = |a: usize| if c >> a & 1 == 1 { hi[a] } else { lo[a] };
+        frame.to_patient(DVec3::new(pick(0), pick(1), pick(2)))
+    });
     let mut points: Vec<DVec3> = Vec::with_capacity(12);
     for a in 0..8usize {
         for axis in 0..3 {

@@ -27,7 +27,13 @@ impl LeapViewApp {
             let mut child = ui.new_child(egui::UiBuilder::new().max_rect(rect));
             match pane {
                 Pane::ThreeD => self.view_3d(&mut child),
-                Pane::Slice(kind) if has_volume => self.slices.pane_ui(&mut child, kind, rect),
+                Pane::Slice(kind) if has_volume => {
+                    let crop = self
+                        .state
+                        .show_crop_box
+                        .then_some(&mut self.state.render.crop);
+                    self.slices.pane_ui(&mut child, kind, rect, crop);
+                }
                 Pane::Slice(_) => {}
             }
         }

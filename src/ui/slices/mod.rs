@@ -6,6 +6,7 @@
 //! a right-drag for window/level.
 
 mod controls;
+mod crop_edit;
 mod pane;
 mod planes_3d;
 
@@ -196,7 +197,13 @@ impl SliceViews {
     }
 
     /// Draws the pane of `kind` in `rect` and applies its gestures.
-    pub fn pane_ui(&mut self, ui: &mut egui::Ui, kind: PlaneKind, rect: egui::Rect) {
+    pub fn pane_ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        kind: PlaneKind,
+        rect: egui::Rect,
+        crop: Option<&mut crate::settings::CropBox>,
+    ) {
         let Some(index) = self.panes.iter().position(|p| p.kind() == kind) else {
             return;
         };
@@ -220,6 +227,7 @@ impl SliceViews {
             window: self.window,
             nearest: self.nearest,
             slab: self.slab,
+            crop: crop.as_deref().copied(),
         };
         let outcome = self.panes[index].ui(ui, rect, gpu, source, look);
         if let Some(p) = outcome.crosshair {
@@ -239,6 +247,9 @@ impl SliceViews {
         }
         if outcome.hover.is_some() {
             self.hover = outcome.hover;
+        }
+        if let (Some(new), Some(crop)) = (outcome.crop, crop) {
+            *crop = new;
         }
     }
 }

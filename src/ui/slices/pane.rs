@@ -14,7 +14,8 @@ use crate::render::slice::{SliceLook, SliceTarget, slice_params};
 use crate::ui::window_level::window_drag;
 use crate::volume::Direction;
 
-use super::{SliceGpu, Source};
+use super::{SliceGpu, Source, crop_edit};
+use crate::settings::CropBox;
 
 /// What a pane shows this pass.
 #[derive(Clone, Copy, Debug)]
@@ -32,6 +33,8 @@ pub struct PaneLook {
     pub nearest: bool,
     /// A thick slab.
     pub slab: Option<Slab>,
+    /// The cropping box, when it is shown (drawn and edited here too).
+    pub crop: Option<CropBox>,
 }
 
 /// The point under the pointer in a slice.
@@ -59,6 +62,8 @@ pub struct Outcome {
     /// Turn the other planes about this pane's normal through the crosshair by this many
     /// radians (Ctrl + drag).
     pub tilt: Option<f64>,
+    /// The cropping box as a drag of one of its faces left it.
+    pub crop: Option<CropBox>,
 }
 
 /// A pane's GPU side for one image size.
@@ -77,6 +82,8 @@ pub struct SlicePane {
     drawn: Option<(u64, SliceParams)>,
     /// A distance ruler's ends (patient mm), drawn while the plane passes through them.
     ruler: Option<(DVec3, DVec3)>,
+    /// The cropping box's face being dragged.
+    crop_face: Option<crop_edit::Face>,
 }
 
 /// The direction Up, Page Up and the wheel step a plane in: the patient's head, front and right
@@ -98,6 +105,7 @@ impl SlicePane {
             gpu: None,
             drawn: None,
             ruler: None,
+            crop_face: None,
         }
     }
 
@@ -147,7 +155,27 @@ impl SlicePane {
         let pointer = response.hover_pos().or(response.interact_pointer_pos());
         let (shift, ctrl, alt) =
             ui.input(|i| (i.modifiers.shift, i.modifiers.command, i.modifiers.alt));
-        if alt && (response.dragged_by(PointerButton::Primary) || response.clicked()) {
+        // A press on a face of the shown cropping box takes that face.
+        if response.drag_started_by(PointerButton::Primary) && !(alt || ctrl || shift) {
+            let origin = ui.input(|i| i.pointer.press_origin());
+            self.crop_face = match (look.crop, origin) {
+                (Some(crop), Some(o)) => crop_edit::face_at(
+                    &view.voxel_grid(&source.frame),
+                    &source.frame,
+                    &crop,
+                    to_px(o),
+                ),
+                _ => None,
+            };
+        }
+        if !response.dragged() {
+            self.crop_face = None;
+        }
+        if let (Some(face), Some(crop), Some(p)) = (self.crop_face, look.crop, pointer) {
+            let grid = view.voxel_grid(&source.frame);
+            outcome.crop = crop_edit::moved(&grid, &source.frame, &crop, face, to_px(p));
+            ui.ctx().set_cursor_icon(CursorIcon::ResizeColumn);
+        } else if alt && (response.dragged_by(PointerButton::Primary) || response.clicked()) {
             // Alt + drag measures; Alt + click takes the ruler away.
             if response.clicked() {
                 self.ruler = None;
@@ -253,6 +281,9 @@ impl SlicePane {
         self.view = Some(view);
         self.draw(gpu, source, look, view);
         self.paint(ui, rect, &view, &look);
+        if let Some(crop) = &look.crop {
+            crop_edit::draw(ui, rect, &view, &source.frame, crop);
+        }
         if let Some((a, b)) = self.ruler {
             let near = source.frame.step_along(view.plane.normal()) / 2.0;
             if view.plane.distance(a).abs() <= near && view.plane.distance(b).abs() <= near {
