@@ -140,25 +140,9 @@ impl SliceView {
 /// coordinates from its point (mm): the polygon where the plane crosses the box's edges; the
 /// whole box projected when the plane misses it.
 pub fn slice_extent(plane: &Plane, frame: &PatientFrame) -> (DVec2, DVec2) {
-    let corners = frame.corners();
-    let mut points = Vec::with_capacity(12);
-    for a in 0..8usize {
-        for axis in 0..3 {
-            let b = a | 1 << axis;
-            if b == a {
-                continue;
-            }
-            let (pa, pb) = (corners[a], corners[b]);
-            let (da, db) = (plane.distance(pa), plane.distance(pb));
-            if da == 0.0 && db == 0.0 {
-                points.extend([pa, pb]);
-            } else if da * db <= 0.0 && da != db {
-                points.push(pa + (pb - pa) * (da / (da - db)));
-            }
-        }
-    }
+    let mut points = cut_polygon(plane, frame);
     if points.is_empty() {
-        points.extend(corners);
+        points.extend(frame.corners());
     }
     let project = |p: &DVec3| {
         let d = *p - plane.point;

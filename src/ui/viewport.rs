@@ -27,11 +27,9 @@ pub struct ViewArea {
     pub window_drag_ended: bool,
 }
 
-/// Allocates all remaining space for the view and applies the pointer gestures to `camera`.
-pub fn view_ui(ui: &mut egui::Ui, camera: Option<&mut Camera>) -> ViewArea {
-    let ppp = ui.ctx().pixels_per_point();
-    let rect = ui.available_rect_before_wrap();
-    // Align the corner to a physical pixel so texels map 1:1 onto the screen.
+/// `rect` with its corner on a physical pixel and a whole number of pixels wide and high (at
+/// `ppp` pixels per point), and that size in pixels: what makes texels map 1:1 onto the screen.
+pub fn pixel_aligned(rect: Rect, ppp: f32) -> (Rect, [u32; 2]) {
     let min = pos2(
         (rect.min.x * ppp).round() / ppp,
         (rect.min.y * ppp).round() / ppp,
@@ -40,7 +38,14 @@ pub fn view_ui(ui: &mut egui::Ui, camera: Option<&mut Camera>) -> ViewArea {
         ((rect.max.x - min.x) * ppp).floor().max(0.0) as u32,
         ((rect.max.y - min.y) * ppp).floor().max(0.0) as u32,
     ];
-    let rect = Rect::from_min_size(min, vec2(size_px[0] as f32 / ppp, size_px[1] as f32 / ppp));
+    let aligned = Rect::from_min_size(min, vec2(size_px[0] as f32 / ppp, size_px[1] as f32 / ppp));
+    (aligned, size_px)
+}
+
+/// Allocates all remaining space for the view and applies the pointer gestures to `camera`.
+pub fn view_ui(ui: &mut egui::Ui, camera: Option<&mut Camera>) -> ViewArea {
+    let ppp = ui.ctx().pixels_per_point();
+    let (rect, size_px) = pixel_aligned(ui.available_rect_before_wrap(), ppp);
     let response = ui.allocate_rect(rect, Sense::click_and_drag());
     // Clicking the view gives it egui's focus, so only a text field blocks the shortcut.
     let keys = !ui.ctx().text_edit_focused();

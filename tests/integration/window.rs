@@ -92,6 +92,57 @@ fn xdotool(display: &str, args: &[&str]) {
     assert!(status.success(), "xdotool {args:?} failed");
 }
 
+/// The window on a virtual display, run as a user's would (no automation variables; its stored
+/// state in a folder of its own), its debug log in a file: the display, the folder, the log's
+/// path and the process.
+fn start_as_a_user(
+    tag: &str,
+) -> (
+    common::Xvfb,
+    common::TempDir,
+    std::path::PathBuf,
+    std::process::Child,
+) {
+    let x = common::Xvfb::start();
+    let dir = common::TempDir::new(tag);
+    let log_path = dir.path().join("log.txt");
+    let log_file = std::fs::File::create(&log_path).expect("create the log");
+    let mut command = x.window_command(dir.path());
+    command
+        .env("HOME", dir.path())
+        .env("XDG_DATA_HOME", dir.path())
+        .env("RUST_LOG", "warn,leapview=debug")
+        .stdout(Stdio::null())
+        .stderr(log_file);
+    let app = command.spawn().expect("start the window");
+    (x, dir, log_path, app)
+}
+
+/// Quits the window with Ctrl + Q (giving it the keyboard first: without a window manager it has
+/// it only once given) and waits up to a minute for it to close, killing it after that.
+fn quit(display: &str, app: &mut std::process::Child) {
+    xdotool(
+        display,
+        &[
+            "search",
+            "--name",
+            "LeapView",
+            "windowfocus",
+            "--sync",
+            "key",
+            "ctrl+q",
+        ],
+    );
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while app.try_wait().expect("wait for the window").is_none() {
+        if Instant::now() > deadline {
+            let _ = app.kill();
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
 /// Waits until the log at `path` holds `needle` (or `timeout` passes); returns the log.
 fn wait_for_log(path: &std::path::Path, needle: &str, timeout: Duration) -> String {
     let deadline = Instant::now() + timeout;
@@ -111,20 +162,7 @@ fn a_click_while_refining_reaches_the_item_under_the_pointer() {
     // on the preset list's "ct-bone" landed on the strategy RC-t under it before the list had
     // opened. Now the frames go out in short bands from another thread, and any input drops the
     // refinement frame in progress.
-    let x = common::Xvfb::start();
-    let dir = common::TempDir::new("window-clicks");
-    let log_path = dir.path().join("log.txt");
-    let log_file = std::fs::File::create(&log_path).expect("create the log");
-    let mut command = x.window_command(dir.path());
-    command
-        // No automation variables: the window runs as a user's would, with its stored state in
-        // the test's own folder.
-        .env("HOME", dir.path())
-        .env("XDG_DATA_HOME", dir.path())
-        .env("RUST_LOG", "warn,leapview=debug")
-        .stdout(Stdio::null())
-        .stderr(log_file);
-    let mut app = command.spawn().expect("start the window");
+    let (x, _dir, log_path, mut app) = start_as_a_user("window-clicks");
     let log = wait_for_log(&log_path, "to a mean of 2/", Duration::from_secs(240));
     assert!(
         log.contains("to a mean of 2/"),
@@ -143,27 +181,7 @@ fn a_click_while_refining_reaches_the_item_under_the_pointer() {
         "transfer function preset ct-bone",
         Duration::from_secs(20),
     );
-    // Without a window manager the window has the keyboard only once it is given it.
-    xdotool(
-        &x.display,
-        &[
-            "search",
-            "--name",
-            "LeapView",
-            "windowfocus",
-            "--sync",
-            "key",
-            "ctrl+q",
-        ],
-    );
-    let deadline = Instant::now() + Duration::from_secs(60);
-    while app.try_wait().expect("wait for the window").is_none() {
-        if Instant::now() > deadline {
-            let _ = app.kill();
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
+    quit(&x.display, &mut app);
     let log = std::fs::read_to_string(&log_path).unwrap_or(log);
     let chosen = log
         .lines()
@@ -192,18 +210,7 @@ fn a_click_while_refining_reaches_the_item_under_the_pointer() {
 
 #[test]
 fn a_click_in_a_slice_moves_the_crosshair_and_the_other_slices_follow() {
-    let x = common::Xvfb::start();
-    let dir = common::TempDir::new("window-slices");
-    let log_path = dir.path().join("log.txt");
-    let log_file = std::fs::File::create(&log_path).expect("create the log");
-    let mut command = x.window_command(dir.path());
-    command
-        .env("HOME", dir.path())
-        .env("XDG_DATA_HOME", dir.path())
-        .env("RUST_LOG", "warn,leapview=debug")
-        .stdout(Stdio::null())
-        .stderr(log_file);
-    let mut app = command.spawn().expect("start the window");
+    let (x, _dir, log_path, mut app) = start_as_a_user("window-slices");
     let log = wait_for_log(&log_path, "showing ", Duration::from_secs(240));
     assert!(log.contains("showing "), "no volume shown:\n{log}");
     // The toolbar's "2 × 2" beside the menus (see tests/snapshots/menu_bar_view.png), then a
@@ -265,24 +272,5 @@ fn a_click_in_a_slice_moves_the_crosshair_and_the_other_slices_follow() {
         !after.contains("slice drawn"),
         "turning the 3D view redrew a slice:\n{after}"
     );
-    xdotool(
-        &x.display,
-        &[
-            "search",
-            "--name",
-            "LeapView",
-            "windowfocus",
-            "--sync",
-            "key",
-            "ctrl+q",
-        ],
-    );
-    let deadline = Instant::now() + Duration::from_secs(60);
-    while app.try_wait().expect("wait for the window").is_none() {
-        if Instant::now() > deadline {
-            let _ = app.kill();
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
+    quit(&x.display, &mut app);
 }

@@ -130,15 +130,8 @@ impl SlicePane {
         look: PaneLook,
     ) -> Outcome {
         let ppp = ui.ctx().pixels_per_point();
-        let min = pos2(
-            (rect.min.x * ppp).round() / ppp,
-            (rect.min.y * ppp).round() / ppp,
-        );
-        let size_px = [
-            ((rect.max.x - min.x) * ppp).floor().max(1.0) as u32,
-            ((rect.max.y - min.y) * ppp).floor().max(1.0) as u32,
-        ];
-        let rect = Rect::from_min_size(min, vec2(size_px[0] as f32 / ppp, size_px[1] as f32 / ppp));
+        let (rect, size_px) = crate::ui::viewport::pixel_aligned(rect, ppp);
+        let size_px = size_px.map(|n| n.max(1));
         let response = ui.allocate_rect(rect, Sense::click_and_drag());
         let plane = look.plane;
         let mut view = match self.view {
