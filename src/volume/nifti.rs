@@ -106,8 +106,30 @@ fn read_stream(
     let spacing_mm = spacing_of(&header);
     Ok(
         Volume::new(name, dims, spacing_mm, samples, mapping_of(&header))?
-            .with_orientation(orientation_of(&header)),
+            .with_orientation(orientation_of(&header))
+            .with_provenance(super::Provenance {
+                origin_lps: origin_of(&header),
+                ..super::Provenance::default()
+            }),
     )
+}
+
+/// Where the first voxel's centre lies in the patient frame, as LPS millimetres: the sform's
+/// translation (preferred, as for the orientation) or the qform's offset, both RAS in NIfTI;
+/// `None` when both codes are 0 or the numbers are not finite.
+fn origin_of(header: &NiftiHeader) -> Option<[f64; 3]> {
+    let ras = if header.sform_code > 0 {
+        [header.srow_x[3], header.srow_y[3], header.srow_z[3]]
+    } else if header.qform_code > 0 {
+        [header.quatern_x, header.quatern_y, header.quatern_z]
+    } else {
+        return None;
+    };
+    let [x, y, z] = ras.map(f64::from);
+    [x, y, z]
+        .iter()
+        .all(|v| v.is_finite())
+        .then_some([-x, -y, z])
 }
 
 /// The anatomical orientation from the sform (preferred, as nibabel) or the qform; `None` when

@@ -378,3 +378,45 @@ fn the_slice_command_writes_the_reference_pixels_and_refuses_bad_requests() {
     ]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// The Seg3D MR head as its NIfTI original and as the DICOM series written from it (both by
+/// other software, `../shared/data`): the same patient frame (the NIfTI's sform origin, the
+/// series' ImagePositionPatient), so a slice through one patient point is the same picture from
+/// either file, in every standard plane.
+#[test]
+fn the_nifti_and_dicom_twins_give_the_same_slice_through_the_same_patient_point() {
+    let ctx = common::gpu();
+    let data = common::data_dir();
+    let nifti = leapview::volume::load_volume(
+        &data.join("originals/VolumeRenderingData_seg3D_MR.nii.gz"),
+        &Default::default(),
+    )
+    .expect("NIfTI");
+    let dicom =
+        leapview::volume::load_volume(&data.join("dicom/mr_head_t1_seg3d"), &Default::default())
+            .expect("DICOM series");
+    let (a, b) = (PatientFrame::of(&nifti), PatientFrame::of(&dicom));
+    for c in a.corners() {
+        assert!(
+            b.corners().iter().any(|o| (*o - c).length() < 1e-3),
+            "the NIfTI's corner {c} is not the series'"
+        );
+    }
+    let at = a.centre() + DVec3::new(-12.3, 7.9, 20.4);
+    for kind in PlaneKind::STANDARD {
+        let view = SliceView::fit(Plane::standard(kind, at), &a, Some([160, 140]));
+        let x = draw(&ctx, &nifti, &view, false);
+        let y = draw(&ctx, &dicom, &view, false);
+        let worst = x
+            .values
+            .iter()
+            .zip(&y.values)
+            .filter(|(p, q)| !p.is_nan() && !q.is_nan())
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0f32, f32::max);
+        let shown = x.values.iter().filter(|v| **v > 10.0).count();
+        assert!(shown > 1000, "{kind:?}: the slice shows the head");
+        assert!(worst <= 1e-3, "{kind:?}: the twins differ by up to {worst}");
+        assert_eq!(x.grey, y.grey, "{kind:?}: the same picture");
+    }
+}

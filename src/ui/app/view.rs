@@ -40,12 +40,7 @@ impl LeapViewApp {
         if self.state.layout.has_slices()
             && let Some(probe) = self.slices.hover()
         {
-            draw_probe(
-                ui,
-                area,
-                probe,
-                self.scene.volume().map(|v| v.kind_text.as_str()),
-            );
+            draw_probe(ui, area, probe, self.scene.volume().map(|v| &v.kind));
         }
     }
 
@@ -264,7 +259,7 @@ fn draw_probe(
     ui: &egui::Ui,
     area: egui::Rect,
     probe: &crate::ui::slices::Probe,
-    _kind: Option<&str>,
+    kind: Option<&crate::transfer::fit::DataKind>,
 ) {
     let p = probe.patient;
     let mut text = format!("{:.1}, {:.1}, {:.1} mm (LPS)", p.x, p.y, p.z);
@@ -272,7 +267,19 @@ fn draw_probe(
         text.push_str(&format!("   voxel {i}, {j}, {k}"));
     }
     match probe.value {
-        Some(v) => text.push_str(&format!("   value {}", crate::text::number_to(v, 5))),
+        Some(v) => {
+            use crate::transfer::fit::DataKind;
+            text.push_str(&format!("   value {}", crate::text::number_to(v, 5)));
+            // CT: in Hounsfield units, or the calibration's HU beside scanner units.
+            match kind {
+                Some(DataKind::CtHounsfield { .. }) => text.push_str(" HU"),
+                Some(DataKind::CtCalibrated { to_hu, .. }) => text.push_str(&format!(
+                    " (about {:.0} HU)",
+                    to_hu.offset + to_hu.scale * v
+                )),
+                _ => {}
+            }
+        }
         None if probe.voxel.is_some() => text.push_str("   no value"),
         None => text.push_str("   outside the volume"),
     }
