@@ -55,7 +55,11 @@ pub fn read_nrrd(
     Ok(
         Volume::new(name, dims, nrrd.spacing_mm, samples, nrrd.mapping)?
             .with_orientation(nrrd.orientation)
-            .with_modality(nrrd.modality),
+            .with_modality(nrrd.modality)
+            .with_provenance(super::Provenance {
+                origin_lps: nrrd.origin_lps,
+                ..super::Provenance::default()
+            }),
     )
 }
 

@@ -27,6 +27,8 @@ pub struct NrrdHeader {
     pub spacing_mm: [f64; 3],
     /// Anatomical orientation, from an anatomical `space` and `space directions`.
     pub orientation: Option<Orientation>,
+    /// `space origin` in an anatomical space, as LPS millimetres (the first voxel's centre).
+    pub origin_lps: Option<[f64; 3]>,
     /// Stored values to data units.
     pub mapping: ValueMapping,
     /// The `modality:=…` key/value, where there is one.
@@ -93,6 +95,10 @@ pub fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
         (None, None) => ([1.0; 3], None),
     };
     let orientation = directions.and_then(|d| orientation_of(field("space"), d));
+    let origin_lps = field("space origin")
+        .map(|o| origin_of(field("space"), o))
+        .transpose()?
+        .flatten();
 
     let data_file = match (field("data file"), field("datafile")) {
         (Some(f), _) | (None, Some(f)) => Some(parse_data_file(f)?),
@@ -139,7 +145,39 @@ pub fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
         data_file,
         line_skip,
         byte_skip,
+        origin_lps,
     })
+}
+
+/// `space origin: (x,y,z)` in the anatomical `space` as LPS millimetres; `None` for a space that
+/// is not anatomical (the origin then says nothing about the patient).
+fn origin_of(space: Option<&str>, text: &str) -> Result<Option<[f64; 3]>, VolumeError> {
+    let bad = || {
+        bad_field(
+            "space origin",
+            text,
+            "it must be one vector such as (0,0,0)",
+        )
+    };
+    let inside = text
+        .trim()
+        .strip_prefix('(')
+        .and_then(|t| t.strip_suffix(')'))
+        .ok_or_else(bad)?;
+    let v = inside
+        .split(',')
+        .map(|c| c.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+        .collect::<Option<Vec<f64>>>()
+        .and_then(|v| <[f64; 3]>::try_from(v.as_slice()).ok())
+        .ok_or_else(bad)?;
+    // Signs turning the space's axes into LPS.
+    let flip = match space.map(str::to_ascii_lowercase).as_deref() {
+        Some("right-anterior-superior" | "ras") => [-1.0, -1.0, 1.0],
+        Some("left-posterior-superior" | "lps") => [1.0, 1.0, 1.0],
+        Some("left-anterior-superior" | "las") => [1.0, -1.0, 1.0],
+        _ => return Ok(None),
+    };
+    Ok(Some([0, 1, 2].map(|a| v[a] * flip[a])))
 }
 
 fn parse_sizes(text: &str, dimension: usize) -> Result<Vec<u64>, VolumeError> {
@@ -406,5 +444,21 @@ mod tests {
         assert!(matches!(h, Err(VolumeError::BadField { .. })), "{h:?}");
         let h = with(&["type: uint8", "nifti_scl_slope:=0", "nifti_scl_inter:=5"]);
         assert_eq!(h.expect("valid").mapping, ValueMapping::IDENTITY);
+    }
+
+    #[test]
+    fn space_origin_is_read_as_lps() {
+        let h = with(&[
+            "type: uint8",
+            "space: right-anterior-superior",
+            "space directions: (1,0,0) (0,1,0) (0,0,1)",
+            "space origin: (10, -20.5, 30)",
+        ])
+        .expect("header");
+        assert_eq!(h.origin_lps, Some([-10.0, 20.5, 30.0]));
+        let h =
+            with(&["type: uint8", "space: scanner-xyz", "space origin: (1,2,3)"]).expect("header");
+        assert_eq!(h.origin_lps, None, "not an anatomical space");
+        assert!(with(&["type: uint8", "space: LPS", "space origin: (1,2)"]).is_err());
     }
 }
