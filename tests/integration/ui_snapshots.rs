@@ -17,7 +17,7 @@ mod harness;
 use egui::accesskit::Toggled;
 use egui::{Key, Modifiers};
 use egui_kittest::kittest::{NodeT, Queryable};
-use harness::{canvas_pos, click_at, drag, harness};
+use harness::{canvas_pos, click_at, drag, harness, harness_with, render_state};
 use leapview::camera::{ProjectionKind, ViewPreset};
 use leapview::settings::Strategy;
 use leapview::transfer::editor::TfEditor;
@@ -484,4 +484,60 @@ fn the_series_of_a_dicom_folder_are_listed_at_the_top_and_one_can_be_chosen() {
         .click();
     h.run();
     assert_eq!(h.state().actions, [Action::OpenSeries(2)]);
+}
+
+/// The 2 × 2 layout's slice panes on the snapshots' own device: the shared CT-like phantom in
+/// axial, coronal and sagittal planes through the crosshair (the 3D pane, which needs the window's
+/// render thread, stands empty here). A click in the axial pane moves the crosshair: the coronal
+/// and sagittal planes follow, the axial stays.
+#[test]
+fn the_2x2_layout_shows_three_slices_and_a_click_moves_the_others() {
+    use leapview::render::context::GpuContext;
+    use leapview::render::volume_texture::VolumeTexture;
+    use leapview::ui::layout::{Pane, panes};
+    use leapview::ui::slices::SliceViews;
+
+    let rs = render_state();
+    let ctx = GpuContext::new(&rs.adapter, rs.device.clone(), rs.queue.clone());
+    let volume = std::sync::Arc::new(shepp_logan(64).expect("phantom"));
+    let texture = VolumeTexture::upload(&ctx, &volume).expect("upload");
+    let mut slices = SliceViews::new(&rs);
+    slices.set_volume(
+        volume,
+        texture.view.clone(),
+        texture.encoding.format,
+        [-100.0, 100.0],
+    );
+    let start = slices.crosshair();
+    let mut h = harness_with(
+        [600.0, 600.0],
+        egui_kittest::wgpu::WgpuTestRenderer::from_render_state(rs),
+    )
+    .build_ui_state(
+        |ui, slices: &mut SliceViews| {
+            slices.begin_pass();
+            for (pane, rect) in panes(Layout::Grid, ui.max_rect(), 2.0) {
+                let mut child = ui.new_child(egui::UiBuilder::new().max_rect(rect));
+                if let Pane::Slice(kind) = pane {
+                    slices.pane_ui(&mut child, kind, rect, None);
+                }
+            }
+        },
+        slices,
+    );
+    h.run();
+    h.snapshot("layout_2x2");
+    // Up and left of the axial pane's centre (its pane is the top-left quarter).
+    click_at(&h, egui::pos2(100.0, 90.0));
+    h.run();
+    let moved = h.state().crosshair();
+    let step = moved - start;
+    assert!(
+        step.length() > 1.0,
+        "the click moved the crosshair: {start} -> {moved}"
+    );
+    assert!(
+        step.z.abs() < 1e-9,
+        "the axial plane stays where it was: {step}"
+    );
 }

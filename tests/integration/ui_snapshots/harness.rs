@@ -27,6 +27,12 @@ pub const SNAPSHOT_MAX_FAILED_PIXELS: usize = 0;
 /// (lavapipe, llvmpipe) comes first, so that the snapshots are rasterised by the same code on every
 /// machine that has it, with or without a GPU. No adapter fails the test with the install hint.
 pub fn renderer() -> WgpuTestRenderer {
+    WgpuTestRenderer::from_render_state(render_state())
+}
+
+/// egui's wgpu render state on a fresh device of the adapter [`renderer`] describes: for tests
+/// that draw with the same device as the snapshots (the slice views).
+pub fn render_state() -> egui_wgpu::RenderState {
     let order: &[wgpu::Backends] = match std::env::var("LEAPVIEW_BACKEND").as_deref() {
         Ok("gl") => &[wgpu::Backends::GL],
         Ok("vulkan") => &[wgpu::Backends::VULKAN],
@@ -63,7 +69,7 @@ pub fn renderer() -> WgpuTestRenderer {
             egui_wgpu::RendererOptions::PREDICTABLE,
         ))
         .unwrap_or_else(|e| panic!("{} ({:?}): egui renderer: {e}", info.name, info.backend));
-        return WgpuTestRenderer::from_render_state(state);
+        return state;
     }
     panic!(
         "no GPU adapter for the UI snapshots (tried {order:?}). Without a GPU, Mesa's Vulkan CPU \
@@ -74,6 +80,11 @@ pub fn renderer() -> WgpuTestRenderer {
 /// A harness builder of `size` points (1 pixel per point, dark theme) that renders through
 /// [`renderer`] and compares snapshots with the tolerance above.
 pub fn harness<State>(size: [f32; 2]) -> HarnessBuilder<State> {
+    harness_with(size, renderer())
+}
+
+/// [`harness`] rendering through `renderer`.
+pub fn harness_with<State>(size: [f32; 2], renderer: WgpuTestRenderer) -> HarnessBuilder<State> {
     egui_kittest::Harness::builder()
         .with_size(size)
         .with_pixels_per_point(1.0)
@@ -85,7 +96,7 @@ pub fn harness<State>(size: [f32; 2]) -> HarnessBuilder<State> {
                 .threshold(SNAPSHOT_THRESHOLD)
                 .max_failed_pixels(SNAPSHOT_MAX_FAILED_PIXELS),
         )
-        .renderer(renderer())
+        .renderer(renderer)
 }
 
 /// Where the transfer-function editor draws `(value, alpha)` in its opacity canvas `canvas`:
