@@ -542,7 +542,9 @@ fn a_lying_element_length_is_refused_before_dicom_rs_allocates_it() {
     // The meta group's length ends inside its last element, which dicom-rs reads whole: the data
     // set starts after it. Read from the group length's end instead (as the guard once did), the
     // element's value is a header claiming exactly the rest of the file, which hides the lying
-    // PixelData behind it (the `dicom_file` fuzz target's third finding had this shape).
+    // PixelData behind it. One of the ways the old guard's walk and dicom-rs's parted, found by
+    // reading dicom-object's meta reader after the `dicom_file` fuzz target's third finding (a
+    // 4 GB length the old guard did not see; that file was not kept).
     let mut bytes = std::fs::read(&lying).expect("read");
     let length = u32::from_le_bytes(
         bytes[group_length_value..group_length_value + 4]
