@@ -61,8 +61,7 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
     let frame = PatientFrame::of(&volume);
     let at = args.at.map_or(frame.centre(), DVec3::from);
     let plane = parse_plane(&args.plane, at).map_err(bad)?;
-    let distances = frame.corners().map(|c| plane.distance(c));
-    if distances.iter().all(|d| *d > 0.0) || distances.iter().all(|d| *d < 0.0) {
+    if leapview::mpr::view::cut_polygon(&plane, &frame).is_empty() {
         let lo = frame
             .corners()
             .into_iter()
