@@ -1,8 +1,17 @@
 // A slice view: each pixel's value sampled from the volume texture at the voxel coordinates of
-// its centre (trilinear from eight texel loads with exact f32 weights, clamp-to-edge inside the
-// volume's box, or the nearest voxel), written as a value in data units (NaN where nothing is:
-// outside the box or a missing sample) and as grey through the window. The f64 reference is
-// src/reference/slice.rs; the pixel grid comes from src/mpr/view.rs (`VoxelGrid`).
+// its centre, clamp-to-edge inside the volume's box, and shown as grey through the window.
+// Two variants:
+// - exact (default): trilinear from eight texel loads with exact f32 weights, or the nearest
+//   voxel; writes the value in data units (NaN where nothing is: outside the box or a missing
+//   sample) and the grey image to buffers. The f64 reference is src/reference/slice.rs.
+// - DISPLAY (what the window shows and `leapview slice` writes): the texture unit's trilinear
+//   filter (one fetch, as the ray caster samples), or the nearest voxel; writes only the RGBA8
+//   grey, straight into the texture on screen.
+// A thick slab walks its samples along the normal through the min/max bricks of
+// build/minmax.wgsl (4³ voxels, extended by one so no trilinear value escapes a brick's range)
+// and, for MIP and MinIP, skips the bricks that cannot change the running maximum (minimum);
+// the mean skips constant bricks, adding their value for each sample. The pixel grid comes from
+// src/mpr/view.rs (`VoxelGrid`).
 
 #include "generated/constants.wgsl"
 
@@ -35,13 +44,25 @@ struct SliceParams {
     // combine (SLAB_MIP, SLAB_MINIP, SLAB_MEAN).
     slab_count: u32,
     slab_mode: u32,
-    _pad0: u32,
+    // 1: a slab skips the bricks that cannot change it (`bricks`); 0: it takes every sample.
+    leap: u32,
 }
 
 @group(0) @binding(0) var volume: texture_3d<f32>;
 @group(0) @binding(1) var<uniform> params: SliceParams;
+#ifdef DISPLAY
+@group(0) @binding(2) var linear: sampler;
+@group(0) @binding(3) var screen: texture_storage_2d<rgba8unorm, write>;
+#else
 @group(0) @binding(2) var<storage, read_write> values: array<f32>;
 @group(0) @binding(3) var<storage, read_write> image: array<u32>;
+#endif
+// (min, max) of u over each 4³ brick extended by one voxel (build/minmax.wgsl's level 0, with
+// texel_scale = texel_max (1 for a float texture) and texel_bias = 0), x fastest.
+@group(0) @binding(4) var<storage, read> bricks: array<vec2<f32>>;
+
+// Edge of a brick in voxels (src/accel/pyramid.rs's FINEST_BRICK).
+const BRICK: f32 = 4.0;
 
 // Texel `i` as u (see `texel_max`): exact integers for unorm textures; a float texture's
 // MISSING marker stays far below MISSING_BELOW.
@@ -72,6 +93,12 @@ fn sample_units(v: vec3<f32>) -> f32 {
         let i = clamp(vec3<i32>(floor(v + vec3<f32>(0.5))), vec3<i32>(0), dims - vec3<i32>(1));
         return texel(i);
     }
+#ifdef DISPLAY
+    // Clamp-to-edge at texture coordinate (v + ½) / dims is the exact path's clamp of v into
+    // [0, dims − 1]; a missing texel's marker drags the blend far below MISSING_BELOW.
+    let t = textureSampleLevel(volume, linear, (v + vec3<f32>(0.5)) / vec3<f32>(dims), 0.0).r;
+    return select(t, t * params.texel_max, params.texel_max > 0.0);
+#else
     let x = clamp(v, vec3<f32>(0.0), top);
     let base = floor(x);
     let f = x - base;
@@ -92,6 +119,7 @@ fn sample_units(v: vec3<f32>) -> f32 {
         sum = sum + w * u;
     }
     return sum;
+#endif
 }
 
 fn grey(value: f32) -> f32 {
@@ -118,6 +146,140 @@ fn value_at(v: vec3<f32>) -> f32 {
     return nan();
 }
 
+// Sample `s` of the slab through `v`: (s − middle) steps along the normal.
+fn slab_point(v: vec3<f32>, s: u32, middle: f32) -> vec3<f32> {
+    return v + (f32(s) - middle) * params.slab_step.xyz;
+}
+
+// The samples of the slab through `v` that can lie inside the box: [first, last] (one more on
+// each side than the exact intersection, whose rounding `value_at` settles); first > last when
+// none can.
+fn slab_span(v: vec3<f32>, middle: f32) -> vec2<u32> {
+    let d = params.slab_step.xyz;
+    let dims = vec3<f32>(textureDimensions(volume));
+    var lo = 0.0;
+    var hi = f32(params.slab_count - 1u);
+    for (var a = 0; a < 3; a = a + 1) {
+        if d[a] == 0.0 {
+            if v[a] < -0.5 || v[a] > dims[a] - 0.5 {
+                return vec2<u32>(1u, 0u);
+            }
+        } else {
+            let t1 = (-0.5 - v[a]) / d[a] + middle;
+            let t2 = (dims[a] - 0.5 - v[a]) / d[a] + middle;
+            lo = max(lo, min(t1, t2));
+            hi = min(hi, max(t1, t2));
+        }
+    }
+    if lo > hi + 1.0 {
+        return vec2<u32>(1u, 0u);
+    }
+    let first = u32(max(ceil(lo) - 1.0, 0.0));
+    let last = u32(clamp(floor(hi) + 1.0, 0.0, f32(params.slab_count - 1u)));
+    return vec2<u32>(first, last);
+}
+
+// The brick holding the sample at `p` (clamped into the grid), and how many samples from it on,
+// at most `left`, stay in that brick's region [b·4 − ½, (b + 1)·4 − ½) (at least one).
+struct Run {
+    brick: u32,
+    count: u32,
+}
+
+fn brick_run(p: vec3<f32>, left: u32) -> Run {
+    let dims = vec3<i32>(textureDimensions(volume));
+    let nodes = (dims + vec3<i32>(3)) / 4;
+    let b = clamp(vec3<i32>(floor((p + vec3<f32>(0.5)) / BRICK)), vec3<i32>(0), nodes - vec3<i32>(1));
+    let d = params.slab_step.xyz;
+    var n = f32(left);
+    for (var a = 0; a < 3; a = a + 1) {
+        if d[a] != 0.0 {
+            let wall = select(f32(b[a]) * BRICK - 0.5, f32(b[a] + 1) * BRICK - 0.5, d[a] > 0.0);
+            n = min(n, floor((wall - p[a]) / d[a]) + 1.0);
+        }
+    }
+    let index = u32(b.x + nodes.x * (b.y + nodes.y * b.z));
+    return Run(index, u32(max(n, 1.0)));
+}
+
+// A brick's (min, max) in data units, widened by a few ulps: a unorm texel decodes to
+// u = texel × texel_max within rounding of the integer the exact path rounds it to.
+fn brick_range(index: u32) -> vec2<f32> {
+    let b = bricks[index];
+    let pad = 1.0e-5 * max(abs(b.x), abs(b.y));
+    let r = vec2<f32>(b.x - pad, b.y + pad) * params.unit_scale + vec2<f32>(params.unit_bias);
+    let slack = 1.0e-6 * max(abs(r.x), abs(r.y));
+    return vec2<f32>(min(r.x, r.y) - slack, max(r.x, r.y) + slack);
+}
+
+// Whether every sample of a run of `n` from `p` lies inside the box (the box is convex).
+fn run_inside(p: vec3<f32>, n: u32) -> bool {
+    let dims = vec3<f32>(textureDimensions(volume));
+    let q = p + f32(n - 1u) * params.slab_step.xyz;
+    return all(min(p, q) >= vec3<f32>(-0.5)) && all(max(p, q) <= dims - vec3<f32>(0.5));
+}
+
+// A thick slab's value at `v`: MIP, MinIP or mean of its samples that have a value, NaN when
+// none has.
+fn slab_value(v: vec3<f32>) -> f32 {
+    let middle = f32(params.slab_count - 1u) * 0.5;
+    let span = slab_span(v, middle);
+    let mip = params.slab_mode == SLAB_MIP;
+    let mean = params.slab_mode == SLAB_MEAN;
+    var value = nan();
+    // Where the slab has a sample on the plane, it bounds the maximum (minimum) from the start.
+    if params.leap == 1u && !mean && params.slab_count % 2u == 1u {
+        value = value_at(v);
+    }
+    var sum = 0.0;
+    var n = 0.0;
+    var s = span.x;
+    while s <= span.y {
+        let p = slab_point(v, s, middle);
+        var run = Run(0u, span.y + 1u - s);
+        if params.leap == 1u {
+            run = brick_run(p, span.y + 1u - s);
+            if mean {
+                // A constant brick (no missing texel: unorm textures hold none) adds its value
+                // for each of its samples.
+                let b = bricks[run.brick];
+                if b.x == b.y && params.texel_max > 0.0 && run_inside(p, run.count) {
+                    let x = round(b.x) * params.unit_scale + params.unit_bias;
+                    sum = sum + x * f32(run.count);
+                    n = n + f32(run.count);
+                    s = s + run.count;
+                    continue;
+                }
+            } else if value == value {
+                let r = brick_range(run.brick);
+                if (mip && r.y <= value) || (!mip && r.x >= value) {
+                    s = s + run.count;
+                    continue;
+                }
+            }
+        }
+        for (var k = 0u; k < run.count; k = k + 1u) {
+            let x = value_at(slab_point(v, s + k, middle));
+            if x == x {
+                if value != value {
+                    value = x;
+                } else if mip {
+                    value = max(value, x);
+                } else {
+                    value = min(value, x);
+                }
+                sum = sum + x;
+                n = n + 1.0;
+            }
+        }
+        s = s + run.count;
+    }
+    if mean {
+        return select(nan(), sum / n, n > 0.0);
+    }
+    return value;
+}
+
 @compute @workgroup_size(WORKGROUP, WORKGROUP, 1)
 fn slice(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.width || id.y >= params.height {
@@ -128,30 +290,13 @@ fn slice(@builtin(global_invocation_id) id: vec3<u32>) {
     if params.slab_count <= 1u {
         value = value_at(v);
     } else {
-        // Samples at (s − (count − 1) / 2) steps from the plane; those with no value are left out.
-        let middle = f32(params.slab_count - 1u) * 0.5;
-        var sum = 0.0;
-        var n = 0u;
-        for (var s = 0u; s < params.slab_count; s = s + 1u) {
-            let x = value_at(v + (f32(s) - middle) * params.slab_step.xyz);
-            if x != x {
-                continue;
-            }
-            if n == 0u {
-                value = x;
-            } else if params.slab_mode == SLAB_MIP {
-                value = max(value, x);
-            } else if params.slab_mode == SLAB_MINIP {
-                value = min(value, x);
-            }
-            sum = sum + x;
-            n = n + 1u;
-        }
-        if params.slab_mode == SLAB_MEAN && n > 0u {
-            value = sum / f32(n);
-        }
+        value = slab_value(v);
     }
-    values[id.y * params.width + id.x] = value;
     let g = grey(value);
+#ifdef DISPLAY
+    textureStore(screen, vec2<i32>(id.xy), vec4<f32>(g, g, g, 1.0));
+#else
+    values[id.y * params.width + id.x] = value;
     image[id.y * params.pitch + id.x] = pack4x8unorm(vec4<f32>(g, g, g, 1.0));
+#endif
 }

@@ -82,6 +82,15 @@ pub struct SliceArgs {
     /// The nearest voxel's value instead of trilinear interpolation.
     #[arg(long)]
     pub nearest: bool,
+    /// Trilinear interpolation with exact f32 weights from eight texel loads (the tests'
+    /// variant) instead of the texture unit's filter, which the window shows (its weights have
+    /// 8 fractional bits on most GPUs).
+    #[arg(long)]
+    pub exact: bool,
+    /// A slab takes every sample instead of leaping over the bricks that cannot change it (for
+    /// timing the difference).
+    #[arg(long)]
+    pub no_leap: bool,
     /// A thick slab of this many millimetres centred on the plane, its samples combined by
     /// `--mode`.
     #[arg(long)]

@@ -5,7 +5,10 @@ use anyhow::anyhow;
 use glam::DVec3;
 use leapview::mpr::{PatientFrame, Plane, PlaneKind, Slab, SlabMode, SliceView};
 use leapview::render::context::GpuContext;
-use leapview::render::slice::{SliceLook, SliceRenderer, SliceTarget, slice_params};
+use leapview::render::slice::{
+    DisplayTarget, Output, SliceError, SliceLook, SliceRenderer, SliceSource, SliceTarget,
+    slice_params,
+};
 use leapview::render::volume_texture::{VolumeTexture, VolumeTextureError};
 use leapview::transfer::fit;
 
@@ -101,28 +104,45 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
         window,
         nearest: args.nearest,
         slab,
+        leap: !args.no_leap,
     };
-    let image = renderer
-        .render(&ctx, &volume, &texture, &view, look)
-        .map_err(|e| match e {
-            leapview::render::slice::SliceError::TooLarge(..) => Failure::BadInput(e.into()),
-            other => Failure::Other(other.into()),
-        })?;
+    let bricks = if slab.is_some() && !args.no_leap {
+        renderer.bricks_of(&ctx, &volume, &texture)
+    } else {
+        None
+    };
+    let slice_failure = |e: SliceError| match e {
+        SliceError::TooLarge(..) => Failure::BadInput(e.into()),
+        other => Failure::Other(other.into()),
+    };
+    let grey = if args.exact {
+        renderer
+            .render(&ctx, &volume, &texture, bricks.as_ref(), &view, look)
+            .map_err(slice_failure)?
+            .grey
+    } else {
+        renderer
+            .render_display(&ctx, &volume, &texture, bricks.as_ref(), &view, look)
+            .map_err(slice_failure)?
+    };
     if args.repeat > 0 {
-        let target =
-            SliceTarget::new(&ctx.device, view.size).map_err(|e| Failure::Other(e.into()))?;
-        let params = slice_params(
-            &view,
-            &frame,
-            &volume,
-            texture.encoding.format,
-            look,
-            target.pitch,
-        );
-        match renderer
-            .median_gpu_ms(&ctx, &texture.view, &target, &params, args.repeat)
-            .map_err(|e| Failure::Other(e.into()))?
-        {
+        let source = SliceSource {
+            texture: &texture.view,
+            bricks: bricks.as_ref(),
+        };
+        let format = texture.encoding.format;
+        let other = |e: SliceError| Failure::Other(e.into());
+        let ms = if args.exact {
+            let target = SliceTarget::new(&ctx.device, view.size).map_err(other)?;
+            let params = slice_params(&view, &frame, &volume, format, look, target.pitch);
+            renderer.median_gpu_ms(&ctx, source, Output::Exact(&target), &params, args.repeat)
+        } else {
+            let target = DisplayTarget::new(&ctx.device, view.size).map_err(other)?;
+            let params = slice_params(&view, &frame, &volume, format, look, view.size[0]);
+            renderer.median_gpu_ms(&ctx, source, Output::Display(&target), &params, args.repeat)
+        }
+        .map_err(other)?;
+        match ms {
             Some(ms) => println!(
                 "GPU time: {ms:.4} ms per slice (median of {} passes; {})",
                 args.repeat,
@@ -134,8 +154,8 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
             ),
         }
     }
-    let [w, h] = image.size;
-    let png = image::GrayImage::from_raw(w, h, image.grey)
+    let [w, h] = view.size;
+    let png = image::GrayImage::from_raw(w, h, grey)
         .ok_or_else(|| Failure::Other(anyhow!("the slice image has the wrong size")))?;
     png.save(&args.out)
         .map_err(|e| Failure::Other(anyhow!("cannot write {}: {e}", args.out.display())))?;
@@ -152,7 +172,13 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
         number(view.mm_per_pixel),
         number(window[0]),
         number(window[1]),
-        if args.nearest { ", nearest voxel" } else { "" },
+        if args.nearest {
+            ", nearest voxel"
+        } else if args.exact {
+            ", exact trilinear"
+        } else {
+            ""
+        },
         slab_text,
     );
     Ok(())

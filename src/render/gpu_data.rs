@@ -183,7 +183,7 @@ pub fn layouts() -> Vec<StructLayout> {
         }),
         layout!(SliceParams = "SliceParams" in "entry/slice.wgsl" {
             first, step_x, step_y, slab_step, width, height, nearest, pitch, texel_max,
-            unit_scale, unit_bias, window_lo, window_hi, slab_count, slab_mode, _pad0,
+            unit_scale, unit_bias, window_lo, window_hi, slab_count, slab_mode, leap,
         }),
     ]
 }
@@ -436,8 +436,8 @@ pub struct SliceParams {
     pub slab_count: u32,
     /// How a slab's samples combine: `SLAB_MIP`, `SLAB_MINIP` or `SLAB_MEAN`.
     pub slab_mode: u32,
-    /// Padding to a multiple of 16 bytes.
-    pub _pad0: u32,
+    /// 1: a slab skips the bricks that cannot change it; 0: it takes every sample.
+    pub leap: u32,
 }
 
 /// `SliceParams.slab_mode`: the largest sample.

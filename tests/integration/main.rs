@@ -35,6 +35,7 @@ mod reference_match;
 mod refine;
 mod shaders;
 mod slice;
+mod slice_real;
 mod strategies;
 mod ui_snapshots;
 mod window;

@@ -104,10 +104,14 @@ fn draw_slab(
         window: WINDOW,
         nearest,
         slab,
+        leap: true,
     };
-    SliceRenderer::new(&ctx.device)
-        .expect("pipeline")
-        .render(ctx, v, &texture, view, look)
+    let renderer = SliceRenderer::new(&ctx.device).expect("pipeline");
+    // Slabs leap over their bricks here, so the reference checks the leaping walk.
+    let bricks = slab.and_then(|_| renderer.bricks_of(ctx, v, &texture));
+    assert_eq!(bricks.is_some(), slab.is_some());
+    renderer
+        .render(ctx, v, &texture, bricks.as_ref(), view, look)
         .expect("slice")
 }
 

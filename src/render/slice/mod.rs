@@ -1,16 +1,24 @@
 //! Slice views on the GPU: one compute pass samples the volume texture (the ray caster's own,
-//! `VolumeRenderer::volume_texture`) at each pixel's voxel coordinates and writes the value (data
-//! units, f32) and its grey through the window. The pixel grid is the pure
-//! `mpr::SliceView::voxel_grid`; the f64 twin is `reference::slice`.
+//! `VolumeRenderer::volume_texture`) at each pixel's voxel coordinates. Its exact variant writes
+//! the value (data units, f32, trilinear with exact weights) and its grey through the window to
+//! buffers ([`SliceTarget`]); its display variant, what the window shows and `leapview slice`
+//! writes, samples with the texture unit's filter (as the ray caster does) and writes only the
+//! grey, into a texture ([`DisplayTarget`]). Thick slabs leap over the [`SliceBricks`] that
+//! cannot change them. The pixel grid is the pure `mpr::SliceView::voxel_grid`; the f64 twin
+//! is `reference::slice`.
 
+mod bricks;
+mod targets;
 mod timing;
+
+pub use bricks::SliceBricks;
+pub use targets::{DisplayTarget, SliceTarget};
 
 use crate::mpr::{PatientFrame, Slab, SlabMode, SliceView};
 use crate::volume::Volume;
 
 use super::context::GpuContext;
 use super::gpu_data::{SLAB_MEAN, SLAB_MINIP, SLAB_MIP, SliceParams, WORKGROUP};
-use super::readback::read_buffer;
 use super::shader::{ShaderError, compose, shader_module};
 use super::volume_texture::{VolumeTexture, texel_units};
 
@@ -23,10 +31,14 @@ pub struct SliceLook {
     pub nearest: bool,
     /// A thick slab instead of a thin slice.
     pub slab: Option<Slab>,
+    /// Whether a slab skips the bricks that cannot change it (it does where the pass is given
+    /// bricks; off, it takes every sample: the comparison the cost figures make).
+    pub leap: bool,
 }
 
 /// The parameters of one view's pass: the view's pixel grid in `frame`'s voxel coordinates, the
-/// texels' encoding and the window. `pitch`: u32 words per image row.
+/// texels' encoding and the window. `pitch`: u32 words per image row of a [`SliceTarget`]
+/// (unused by a [`DisplayTarget`]).
 pub fn slice_params(
     view: &SliceView,
     frame: &PatientFrame,
@@ -62,27 +74,8 @@ pub fn slice_params(
         window_hi: look.window[1] as f32,
         slab_count,
         slab_mode,
-        _pad0: 0,
+        leap: u32::from(look.leap && look.slab.is_some()),
     }
-}
-
-/// The sampling pass, compiled once per device.
-pub struct SliceRenderer {
-    pipeline: wgpu::ComputePipeline,
-}
-
-/// One view's buffers, for one image size: its parameters, the values and the grey image (rows
-/// padded to a texture copy's alignment, so the window can copy it into a texture).
-pub struct SliceTarget {
-    /// Image size in pixels.
-    pub size: [u32; 2],
-    /// u32 words (pixels) per row of `image`.
-    pub pitch: u32,
-    params: wgpu::Buffer,
-    /// One f32 per pixel, row-major: the value in data units, NaN where there is none.
-    pub values: wgpu::Buffer,
-    /// One RGBA8 pixel per u32, `pitch` per row: grey through the window.
-    pub image: wgpu::Buffer,
 }
 
 /// A slice read back to the CPU.
@@ -95,6 +88,44 @@ pub struct SliceImage {
     pub values: Vec<f32>,
     /// The grey level of each pixel through the window.
     pub grey: Vec<u8>,
+}
+
+/// What a pass samples: the volume texture and, for a leaping slab, its bricks.
+#[derive(Clone, Copy)]
+pub struct SliceSource<'a> {
+    /// The volume texture (filterable, as the ray caster's).
+    pub texture: &'a wgpu::TextureView,
+    /// The volume's bricks; without them a slab takes every sample.
+    pub bricks: Option<&'a SliceBricks>,
+}
+
+/// Where a pass writes, which also picks its variant.
+#[derive(Clone, Copy)]
+pub enum Output<'a> {
+    /// Values and grey to buffers; trilinear with exact weights.
+    Exact(&'a SliceTarget),
+    /// Grey into a texture; trilinear by the texture unit.
+    Display(&'a DisplayTarget),
+}
+
+impl Output<'_> {
+    fn params(&self) -> &wgpu::Buffer {
+        match self {
+            Output::Exact(t) => &t.params,
+            Output::Display(t) => &t.params,
+        }
+    }
+}
+
+/// The sampling pass's two variants and the bricks' builder, compiled once per device.
+pub struct SliceRenderer {
+    exact: wgpu::ComputePipeline,
+    display: wgpu::ComputePipeline,
+    bricks_pipeline: wgpu::ComputePipeline,
+    /// The display variant's trilinear sampler (clamp to edge).
+    linear: wgpu::Sampler,
+    /// Bound in place of bricks where there are none (the pass then takes every sample).
+    no_bricks: wgpu::Buffer,
 }
 
 /// Why a slice could not be drawn.
@@ -111,80 +142,131 @@ pub enum SliceError {
     Readback(String),
 }
 
-impl SliceTarget {
-    /// Buffers for a `size` image on `device`.
-    pub fn new(device: &wgpu::Device, size: [u32; 2]) -> Result<Self, SliceError> {
-        let limits = device.limits();
-        let [w, h] = size;
-        let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT / 4;
-        let pitch = w.div_ceil(align) * align;
-        let image_bytes = u64::from(pitch) * u64::from(h) * 4;
-        let max_groups = u64::from(limits.max_compute_workgroups_per_dimension);
-        let groups = |n: u32| u64::from(n.div_ceil(WORKGROUP));
-        if w == 0
-            || h == 0
-            || image_bytes > limits.max_storage_buffer_binding_size
-            || groups(w) > max_groups
-            || groups(h) > max_groups
-        {
-            return Err(SliceError::TooLarge(w, h));
-        }
-        let storage = |label: &str, bytes: u64| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: bytes,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            })
-        };
-        Ok(Self {
-            size,
-            pitch,
-            params: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("slice params"),
-                size: std::mem::size_of::<SliceParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-            values: storage("slice values", u64::from(w) * u64::from(h) * 4),
-            image: storage("slice image", image_bytes),
-        })
-    }
+fn compute(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: None,
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
 }
 
 impl SliceRenderer {
-    /// Compiles the sampling pass.
+    /// Compiles the pass's variants and the bricks' builder.
     pub fn new(device: &wgpu::Device) -> Result<Self, SliceError> {
-        let module = shader_module(device, "slice", compose("entry/slice.wgsl", &[])?);
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("slice"),
-            layout: None,
-            module: &module,
-            entry_point: Some("slice"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        Ok(Self { pipeline })
+        let exact = shader_module(device, "slice", compose("entry/slice.wgsl", &[])?);
+        let display = shader_module(
+            device,
+            "slice display",
+            compose("entry/slice.wgsl", &["DISPLAY"])?,
+        );
+        let minmax = shader_module(device, "slab bricks", compose("build/minmax.wgsl", &[])?);
+        Ok(Self {
+            exact: compute(device, &exact, "slice"),
+            display: compute(device, &display, "slice"),
+            bricks_pipeline: compute(device, &minmax, "build_base"),
+            linear: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("slice trilinear"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            }),
+            no_bricks: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("no slab bricks"),
+                size: 16,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }),
+        })
     }
 
-    /// Records the pass of `params` into `target` (the parameters are written now, so each
-    /// view needs its own target within one submission).
+    /// Writes `params` for `output` (leaping only where `source` has bricks) and returns the
+    /// pipeline and bind group of its pass.
+    fn prepare(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        source: SliceSource<'_>,
+        output: Output<'_>,
+        params: &SliceParams,
+    ) -> (&wgpu::ComputePipeline, wgpu::BindGroup) {
+        let mut params = *params;
+        if source.bricks.is_none() {
+            params.leap = 0;
+        }
+        queue.write_buffer(output.params(), 0, bytemuck::bytes_of(&params));
+        let pipeline = match output {
+            Output::Exact(_) => &self.exact,
+            Output::Display(_) => &self.display,
+        };
+        let bricks = source.bricks.map_or(&self.no_bricks, |b| &b.buffer);
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(source.texture),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.params().as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: bricks.as_entire_binding(),
+            },
+        ];
+        match output {
+            Output::Exact(t) => {
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: t.values.as_entire_binding(),
+                });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: t.image.as_entire_binding(),
+                });
+            }
+            Output::Display(t) => {
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Sampler(&self.linear),
+                });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&t.view),
+                });
+            }
+        }
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("slice"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &entries,
+        });
+        (pipeline, group)
+    }
+
+    /// Records the pass of `params` from `source` into `output` (the parameters are written
+    /// now, so each view needs its own target within one submission).
     pub fn encode(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        volume: &wgpu::TextureView,
-        target: &SliceTarget,
+        source: SliceSource<'_>,
+        output: Output<'_>,
         params: &SliceParams,
     ) {
-        queue.write_buffer(&target.params, 0, bytemuck::bytes_of(params));
-        let group = self.bind_group(device, volume, target);
+        let (pipeline, group) = self.prepare(device, queue, source, output, params);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("slice"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &group, &[]);
         pass.dispatch_workgroups(
             params.width.div_ceil(WORKGROUP),
@@ -193,91 +275,102 @@ impl SliceRenderer {
         );
     }
 
-    /// The pass's resources: the volume, `target`'s parameters, values and image.
-    fn bind_group(
+    /// The bricks of `volume` in `texture`, for leaping slabs (see [`Self::build_bricks`]).
+    pub fn bricks_of(
         &self,
-        device: &wgpu::Device,
-        volume: &wgpu::TextureView,
-        target: &SliceTarget,
-    ) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("slice"),
-            layout: &self.pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(volume),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: target.params.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: target.values.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: target.image.as_entire_binding(),
-                },
-            ],
-        })
+        ctx: &GpuContext,
+        volume: &Volume,
+        texture: &VolumeTexture,
+    ) -> Option<SliceBricks> {
+        let (texel_max, _, _) = texel_units(volume, texture.encoding.format);
+        self.build_bricks(
+            &ctx.device,
+            &ctx.queue,
+            &texture.view,
+            volume.dims(),
+            texel_max,
+        )
     }
 
-    /// Draws `view` of `volume` (already in `texture`) and reads it back: the headless path of
-    /// `leapview slice` and the tests.
+    /// Draws `view` of `volume` (already in `texture`, with its `bricks` for a leaping slab)
+    /// by the exact variant and reads it back: the tests and `leapview slice --exact`.
     pub fn render(
         &self,
         ctx: &GpuContext,
         volume: &Volume,
         texture: &VolumeTexture,
+        bricks: Option<&SliceBricks>,
         view: &SliceView,
         look: SliceLook,
     ) -> Result<SliceImage, SliceError> {
         let target = SliceTarget::new(&ctx.device, view.size)?;
-        let frame = PatientFrame::of(volume);
-        let format = texture.encoding.format;
-        let params = slice_params(view, &frame, volume, format, look, target.pitch);
-        let mut encoder = ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("slice"),
-            });
-        self.encode(
-            &ctx.device,
-            &ctx.queue,
-            &mut encoder,
-            &texture.view,
-            &target,
-            &params,
+        let params = slice_params(
+            view,
+            &PatientFrame::of(volume),
+            volume,
+            texture.encoding.format,
+            look,
+            target.pitch,
         );
-        ctx.queue.submit([encoder.finish()]);
-        let [w, h] = view.size;
-        let pixels = w as usize * h as usize;
-        let values =
-            read_buffer(ctx, &target.values, pixels as u64 * 4).map_err(SliceError::Readback)?;
-        let image = read_buffer(
-            ctx,
-            &target.image,
-            u64::from(target.pitch) * u64::from(h) * 4,
-        )
-        .map_err(SliceError::Readback)?;
-        let values: Vec<f32> = values
-            .chunks_exact(4)
-            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect();
-        // The red byte of each RGBA8 word, rows unpadded.
-        let grey = (0..h as usize)
-            .flat_map(|y| {
-                let row = y * target.pitch as usize * 4;
-                (0..w as usize).map(move |x| row + x * 4)
-            })
-            .map(|at| image[at])
-            .collect();
+        self.submit(ctx, texture, bricks, Output::Exact(&target), &params);
+        let (values, grey) = target.read(ctx)?;
         Ok(SliceImage {
             size: view.size,
             values,
             grey,
         })
+    }
+
+    /// Draws `view` as the window shows it (the display variant) and reads its grey levels
+    /// back, row-major: `leapview slice` and the tests that compare the two variants.
+    pub fn render_display(
+        &self,
+        ctx: &GpuContext,
+        volume: &Volume,
+        texture: &VolumeTexture,
+        bricks: Option<&SliceBricks>,
+        view: &SliceView,
+        look: SliceLook,
+    ) -> Result<Vec<u8>, SliceError> {
+        let target = DisplayTarget::new(&ctx.device, view.size)?;
+        let params = slice_params(
+            view,
+            &PatientFrame::of(volume),
+            volume,
+            texture.encoding.format,
+            look,
+            view.size[0],
+        );
+        self.submit(ctx, texture, bricks, Output::Display(&target), &params);
+        target.read(ctx)
+    }
+
+    /// Records and submits one pass.
+    fn submit(
+        &self,
+        ctx: &GpuContext,
+        texture: &VolumeTexture,
+        bricks: Option<&SliceBricks>,
+        output: Output<'_>,
+        params: &SliceParams,
+    ) {
+        let mut encoder = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("slice"),
+            });
+        let source = SliceSource {
+            texture: &texture.view,
+            bricks,
+        };
+        self.encode(
+            &ctx.device,
+            &ctx.queue,
+            &mut encoder,
+            source,
+            output,
+            params,
+        );
+        ctx.queue.submit([encoder.finish()]);
     }
 }

@@ -1,19 +1,20 @@
 //! GPU time of the slice pass, from timestamp queries around each of `repeats` passes (the
 //! median), for `leapview slice --repeat` and the cost figures of the slice views.
 
-use super::{SliceError, SliceRenderer, SliceTarget};
+use super::{Output, SliceError, SliceRenderer, SliceSource};
 use crate::render::context::GpuContext;
 use crate::render::gpu_data::{SliceParams, WORKGROUP};
 use crate::render::readback::read_buffer;
 
 impl SliceRenderer {
-    /// Runs the pass of `params` into `target` `repeats` times, each between two timestamps;
-    /// the median GPU time in milliseconds, `None` when the adapter has no timestamp queries.
+    /// Runs the pass of `params` from `source` into `output` `repeats` times, each between two
+    /// timestamps; the median GPU time in milliseconds, `None` when the adapter has no
+    /// timestamp queries.
     pub fn median_gpu_ms(
         &self,
         ctx: &GpuContext,
-        volume: &wgpu::TextureView,
-        target: &SliceTarget,
+        source: SliceSource<'_>,
+        output: Output<'_>,
         params: &SliceParams,
         repeats: u32,
     ) -> Result<Option<f64>, SliceError> {
@@ -33,9 +34,7 @@ impl SliceRenderer {
             usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        ctx.queue
-            .write_buffer(&target.params, 0, bytemuck::bytes_of(params));
-        let group = self.bind_group(&ctx.device, volume, target);
+        let (pipeline, group) = self.prepare(&ctx.device, &ctx.queue, source, output, params);
         let mut encoder = ctx
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -50,7 +49,7 @@ impl SliceRenderer {
                     end_of_pass_write_index: Some(2 * r + 1),
                 }),
             });
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &group, &[]);
             pass.dispatch_workgroups(
                 params.width.div_ceil(WORKGROUP),

@@ -15,7 +15,8 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use crate::mpr::{PatientFrame, Plane, PlaneKind, Slab};
-use crate::render::slice::SliceRenderer;
+use crate::render::slice::{SliceBricks, SliceRenderer};
+use crate::render::volume_texture::texel_units;
 use crate::volume::Volume;
 
 pub use pane::Probe;
@@ -38,6 +39,27 @@ struct Source {
     format: wgpu::TextureFormat,
     /// Counts volumes shown: a new one redraws every pane.
     generation: u64,
+    /// The bricks a slab leaps over, built when a slab is first drawn (`None` inside: the
+    /// device cannot hold them, and slabs take every sample).
+    bricks: std::cell::OnceCell<Option<SliceBricks>>,
+}
+
+impl Source {
+    /// The bricks of this volume, built on first use.
+    fn bricks(&self, gpu: &SliceGpu) -> Option<&SliceBricks> {
+        self.bricks
+            .get_or_init(|| {
+                let (texel_max, _, _) = texel_units(&self.volume, self.format);
+                gpu.renderer.build_bricks(
+                    &gpu.device,
+                    &gpu.queue,
+                    &self.texture,
+                    self.volume.dims(),
+                    texel_max,
+                )
+            })
+            .as_ref()
+    }
 }
 
 /// The slice views' state: the crosshair, the look shared by all panes, and each pane.
@@ -112,6 +134,7 @@ impl SliceViews {
             texture,
             format,
             generation: self.generation,
+            bricks: std::cell::OnceCell::new(),
         });
     }
 

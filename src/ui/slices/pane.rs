@@ -10,7 +10,7 @@ use glam::{DVec2, DVec3};
 use crate::mpr::frame::lps;
 use crate::mpr::{Plane, PlaneKind, Slab, SliceView};
 use crate::render::gpu_data::SliceParams;
-use crate::render::slice::{SliceLook, SliceTarget, slice_params};
+use crate::render::slice::{DisplayTarget, Output, SliceLook, SliceSource, slice_params};
 use crate::ui::window_level::window_drag;
 use crate::volume::Direction;
 
@@ -66,10 +66,9 @@ pub struct Outcome {
     pub crop: Option<CropBox>,
 }
 
-/// A pane's GPU side for one image size.
+/// A pane's GPU side for one image size: the texture the pass writes and egui shows.
 struct PaneGpu {
-    target: SliceTarget,
-    texture: wgpu::Texture,
+    target: DisplayTarget,
     id: egui::TextureId,
 }
 
@@ -297,6 +296,7 @@ impl SlicePane {
             window: look.window,
             nearest: look.nearest,
             slab: look.slab,
+            leap: true,
         };
         let params = slice_params(
             &view,
@@ -304,11 +304,12 @@ impl SlicePane {
             &source.volume,
             source.format,
             slice_look,
-            pane.target.pitch,
+            view.size[0],
         );
         if self.drawn == Some((source.generation, params)) {
             return;
         }
+        let bricks = look.slab.and_then(|_| source.bricks(gpu));
         let mut encoder = gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -318,21 +319,12 @@ impl SlicePane {
             &gpu.device,
             &gpu.queue,
             &mut encoder,
-            &source.texture,
-            &pane.target,
-            &params,
-        );
-        encoder.copy_buffer_to_texture(
-            wgpu::TexelCopyBufferInfo {
-                buffer: &pane.target.image,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(pane.target.pitch * 4),
-                    rows_per_image: Some(view.size[1]),
-                },
+            SliceSource {
+                texture: &source.texture,
+                bricks,
             },
-            pane.texture.as_image_copy(),
-            crate::render::texture::extent(view.size),
+            Output::Display(&pane.target),
+            &params,
         );
         gpu.queue.submit([encoder.finish()]);
         self.drawn = Some((source.generation, params));
@@ -419,40 +411,29 @@ impl SlicePane {
 
 /// A pane's buffers and texture for `size`, registered with egui (reusing `id`).
 fn new_pane_gpu(gpu: &SliceGpu, size: [u32; 2], id: Option<egui::TextureId>) -> Option<PaneGpu> {
-    let target = match SliceTarget::new(&gpu.device, size) {
+    let target = match DisplayTarget::new(&gpu.device, size) {
         Ok(t) => t,
         Err(e) => {
             log::warn!("slice view: {e}");
             return None;
         }
     };
-    use wgpu::TextureUsages as U;
-    let texture = crate::render::texture::texture_2d(
-        &gpu.device,
-        size,
-        wgpu::TextureFormat::Rgba8Unorm,
-        U::TEXTURE_BINDING | U::COPY_DST,
-        "slice view",
-    );
-    let view = crate::render::texture::full_view(&texture);
     let mut renderer = gpu.egui_renderer.write();
     let id = match id {
         Some(id) => {
             renderer.update_egui_texture_from_wgpu_texture(
                 &gpu.device,
-                &view,
+                &target.view,
                 wgpu::FilterMode::Nearest,
                 id,
             );
             id
         }
-        None => renderer.register_native_texture(&gpu.device, &view, wgpu::FilterMode::Nearest),
+        None => {
+            renderer.register_native_texture(&gpu.device, &target.view, wgpu::FilterMode::Nearest)
+        }
     };
-    Some(PaneGpu {
-        target,
-        texture,
-        id,
-    })
+    Some(PaneGpu { target, id })
 }
 
 /// A pane that cannot show a slice: its reason, centred.
