@@ -8,7 +8,7 @@
 //   filter (one fetch, as the ray caster samples), or the nearest voxel; writes only the RGBA8
 //   grey, straight into the texture on screen.
 // A thick slab walks its samples along the normal through the min/max bricks of
-// build/minmax.wgsl (4³ voxels, extended by one so no trilinear value escapes a brick's range)
+// build/minmax.wgsl (SLAB_BRICK³ voxels, extended by one so no trilinear value escapes a brick's range)
 // and, for MIP and MinIP, skips the bricks that cannot change the running maximum (minimum);
 // the mean skips constant bricks, adding their value for each sample. The pixel grid comes from
 // src/mpr/view.rs (`VoxelGrid`).
@@ -48,6 +48,7 @@ struct SliceParams {
     leap: u32,
 }
 
+
 @group(0) @binding(0) var volume: texture_3d<f32>;
 @group(0) @binding(1) var<uniform> params: SliceParams;
 #ifdef DISPLAY
@@ -57,12 +58,12 @@ struct SliceParams {
 @group(0) @binding(2) var<storage, read_write> values: array<f32>;
 @group(0) @binding(3) var<storage, read_write> image: array<u32>;
 #endif
-// (min, max) of u over each 4³ brick extended by one voxel (build/minmax.wgsl's level 0, with
+// (min, max) of u over each SLAB_BRICK³ brick extended by one voxel (build/minmax.wgsl's level 0, with
 // texel_scale = texel_max (1 for a float texture) and texel_bias = 0), x fastest.
 @group(0) @binding(4) var<storage, read> bricks: array<vec2<f32>>;
 
-// Edge of a brick in voxels (src/accel/pyramid.rs's FINEST_BRICK).
-const BRICK: f32 = 4.0;
+// Edge of a brick in voxels.
+const BRICK: f32 = f32(SLAB_BRICK);
 
 // Texel `i` as u (see `texel_max`): exact integers for unorm textures; a float texture's
 // MISSING marker stays far below MISSING_BELOW.
@@ -188,7 +189,7 @@ struct Run {
 
 fn brick_run(p: vec3<f32>, left: u32) -> Run {
     let dims = vec3<i32>(textureDimensions(volume));
-    let nodes = (dims + vec3<i32>(3)) / 4;
+    let nodes = (dims + vec3<i32>(i32(SLAB_BRICK) - 1)) / i32(SLAB_BRICK);
     let b = clamp(vec3<i32>(floor((p + vec3<f32>(0.5)) / BRICK)), vec3<i32>(0), nodes - vec3<i32>(1));
     let d = params.slab_step.xyz;
     var n = f32(left);
@@ -280,11 +281,8 @@ fn slab_value(v: vec3<f32>) -> f32 {
     return value;
 }
 
-@compute @workgroup_size(WORKGROUP, WORKGROUP, 1)
-fn slice(@builtin(global_invocation_id) id: vec3<u32>) {
-    if id.x >= params.width || id.y >= params.height {
-        return;
-    }
+// Pixel `id`'s value, grey, written.
+fn shade(id: vec2<u32>) {
     let v = params.first.xyz + f32(id.x) * params.step_x.xyz + f32(id.y) * params.step_y.xyz;
     var value = nan();
     if params.slab_count <= 1u {
@@ -294,9 +292,24 @@ fn slice(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let g = grey(value);
 #ifdef DISPLAY
-    textureStore(screen, vec2<i32>(id.xy), vec4<f32>(g, g, g, 1.0));
+    textureStore(screen, vec2<i32>(id), vec4<f32>(g, g, g, 1.0));
 #else
     values[id.y * params.width + id.x] = value;
     image[id.y * params.pitch + id.x] = pack4x8unorm(vec4<f32>(g, g, g, 1.0));
 #endif
+}
+
+// One invocation per column and band of rows: it shades rows id.y, id.y + stride, ... where
+// the dispatch covers height / rows of them (`render::slice::dispatch`: thin slices several rows
+// per invocation, which halves a 1080p slice's time on an H200; slabs one, their samples keep
+// the invocations busy).
+@compute @workgroup_size(WORKGROUP, WORKGROUP, 1)
+fn slice(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    if id.x >= params.width {
+        return;
+    }
+    let stride = groups.y * WORKGROUP;
+    for (var y = id.y; y < params.height; y = y + stride) {
+        shade(vec2<u32>(id.x, y));
+    }
 }

@@ -43,6 +43,7 @@ fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
         ("SLAB_MIP", "u32", u(SLAB_MIP)),
         ("SLAB_MINIP", "u32", u(SLAB_MINIP)),
         ("SLAB_MEAN", "u32", u(SLAB_MEAN)),
+        ("SLAB_BRICK", "u32", u(SLAB_BRICK)),
     ];
     let counters = [
         "COUNTER_SAMPLES",
@@ -446,3 +447,5 @@ pub const SLAB_MIP: u32 = 0;
 pub const SLAB_MINIP: u32 = 1;
 /// `SliceParams.slab_mode`: the mean of the samples.
 pub const SLAB_MEAN: u32 = 2;
+/// Edge in voxels of the bricks a thick slab leaps over (`render::slice::SliceBricks`).
+pub const SLAB_BRICK: u32 = 8;

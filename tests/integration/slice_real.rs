@@ -6,6 +6,7 @@ use crate::common;
 
 use glam::DVec3;
 use leapview::mpr::{PatientFrame, Plane, PlaneKind, Slab, SlabMode, SliceView};
+use leapview::render::gpu_data::SLAB_BRICK;
 use leapview::render::slice::{SliceLook, SliceRenderer};
 use leapview::render::volume_texture::{VolumeTexture, texel_units};
 use leapview::volume::{Volume, load_volume};
@@ -58,7 +59,8 @@ fn slab_bricks_hold_the_min_and_max_of_their_voxels_extended_by_one() {
             .read(&ctx)
             .expect("read");
         let dims = v.dims();
-        let nodes = dims.map(|d| d.div_ceil(4));
+        let b_vox = SLAB_BRICK;
+        let nodes = dims.map(|d| d.div_ceil(b_vox));
         assert_eq!(bricks.len(), nodes.iter().product::<u32>() as usize);
         let mut checked = 0;
         // Every 7th brick, brute force over its voxels extended by one on every side.
@@ -69,8 +71,8 @@ fn slab_bricks_hold_the_min_and_max_of_their_voxels_extended_by_one() {
                 (i / nodes[0]) % nodes[1],
                 i / (nodes[0] * nodes[1]),
             ];
-            let lo = b.map(|n| (n * 4).saturating_sub(1));
-            let hi: [u32; 3] = std::array::from_fn(|a| ((b[a] + 1) * 4).min(dims[a] - 1));
+            let lo = b.map(|n| (n * b_vox).saturating_sub(1));
+            let hi: [u32; 3] = std::array::from_fn(|a| ((b[a] + 1) * b_vox).min(dims[a] - 1));
             let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
             for z in lo[2]..=hi[2] {
                 for y in lo[1]..=hi[1] {

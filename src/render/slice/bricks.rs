@@ -1,11 +1,10 @@
 //! The bricks a thick slab leaps over: (min, max) of the texel units `u` (see `SliceParams`) of
-//! each 4³ brick of the volume, extended by one voxel on every side so that no trilinear sample
+//! each `SLAB_BRICK`³ brick of the volume, extended by one voxel on every side so that no trilinear sample
 //! in a brick's region escapes its range (`accel::pyramid` documents the regions). Built on the
 //! GPU once per volume by the min/max pyramid's own leaf builder (`build/minmax.wgsl`), with the
 //! texel decoding set to give `u` rather than normalised values.
 
-use crate::accel::pyramid::FINEST_BRICK;
-use crate::render::gpu_data::{BUILD_WORKGROUP, BuildParams, LevelInfo};
+use crate::render::gpu_data::{BUILD_WORKGROUP, BuildParams, LevelInfo, SLAB_BRICK};
 
 use super::SliceRenderer;
 
@@ -28,11 +27,11 @@ impl SliceRenderer {
         texel_max: f64,
     ) -> Option<SliceBricks> {
         use wgpu::util::DeviceExt;
-        let nodes = dims.map(|d| d.div_ceil(FINEST_BRICK).max(1));
+        let nodes = dims.map(|d| d.div_ceil(SLAB_BRICK).max(1));
         let level = LevelInfo {
             nodes,
             offset: 0,
-            brick_vox: FINEST_BRICK,
+            brick_vox: SLAB_BRICK,
             _pad0: 0,
             _pad1: 0,
             _pad2: 0,

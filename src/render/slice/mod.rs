@@ -90,6 +90,24 @@ pub struct SliceImage {
     pub grey: Vec<u8>,
 }
 
+/// Rows of pixels each invocation of a thin slice shades (measured on an H200 at 1920 x 1080:
+/// 12.3 µs per slice with 4, 25.0 µs with 1; a slab's samples keep one row per invocation
+/// busy, and fewer invocations made it slower).
+const THIN_ROWS_PER_INVOCATION: u32 = 4;
+
+/// The workgroups of the pass of `params`: one invocation per column and band of rows.
+pub(crate) fn dispatch(params: &SliceParams) -> [u32; 2] {
+    let rows = if params.slab_count > 1 {
+        1
+    } else {
+        THIN_ROWS_PER_INVOCATION
+    };
+    [
+        params.width.div_ceil(WORKGROUP),
+        params.height.div_ceil(WORKGROUP * rows),
+    ]
+}
+
 /// What a pass samples: the volume texture and, for a leaping slab, its bricks.
 #[derive(Clone, Copy)]
 pub struct SliceSource<'a> {
@@ -268,11 +286,8 @@ impl SliceRenderer {
         });
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups(
-            params.width.div_ceil(WORKGROUP),
-            params.height.div_ceil(WORKGROUP),
-            1,
-        );
+        let [x, y] = dispatch(params);
+        pass.dispatch_workgroups(x, y, 1);
     }
 
     /// The bricks of `volume` in `texture`, for leaping slabs (see [`Self::build_bricks`]).

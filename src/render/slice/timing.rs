@@ -3,7 +3,7 @@
 
 use super::{Output, SliceError, SliceRenderer, SliceSource};
 use crate::render::context::GpuContext;
-use crate::render::gpu_data::{SliceParams, WORKGROUP};
+use crate::render::gpu_data::SliceParams;
 use crate::render::readback::read_buffer;
 
 impl SliceRenderer {
@@ -51,11 +51,8 @@ impl SliceRenderer {
             });
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(
-                params.width.div_ceil(WORKGROUP),
-                params.height.div_ceil(WORKGROUP),
-                1,
-            );
+            let [x, y] = super::dispatch(params);
+            pass.dispatch_workgroups(x, y, 1);
         }
         encoder.resolve_query_set(&queries, 0..count, &resolve, 0);
         ctx.queue.submit([encoder.finish()]);
