@@ -6,7 +6,8 @@
 //   sample) and the grey image to buffers. The f64 reference is src/reference/slice.rs.
 // - DISPLAY (what the window shows and `leapview slice` writes): the texture unit's trilinear
 //   filter (one fetch, as the ray caster samples), or the nearest voxel; writes only the RGBA8
-//   grey, straight into the texture on screen.
+//   grey (or the transfer function's colour blended over it by its opacity), straight into the
+//   texture on screen.
 // A thick slab walks its samples along the normal through the min/max bricks of
 // build/minmax.wgsl (SLAB_BRICK³ voxels, extended by one so no trilinear value escapes a brick's range)
 // and, for MIP and MinIP, skips the bricks that cannot change the running maximum (minimum);
@@ -46,6 +47,13 @@ struct SliceParams {
     slab_mode: u32,
     // 1: a slab skips the bricks that cannot change it (`bricks`); 0: it takes every sample.
     leap: u32,
+    // 1 (display variant): the transfer function's colour blended over the grey by its
+    // opacity (`colours`); 0: grey.
+    colour: u32,
+    // The data values at the first and last entries of `colours`.
+    colour_lo: f32,
+    colour_hi: f32,
+    _pad0: u32,
 }
 
 
@@ -54,6 +62,8 @@ struct SliceParams {
 #ifdef DISPLAY
 @group(0) @binding(2) var linear: sampler;
 @group(0) @binding(3) var screen: texture_storage_2d<rgba8unorm, write>;
+// The transfer function's straight colour and opacity per value (transfer::lut::slice_colours).
+@group(0) @binding(5) var colours: texture_2d<f32>;
 #else
 @group(0) @binding(2) var<storage, read_write> values: array<f32>;
 @group(0) @binding(3) var<storage, read_write> image: array<u32>;
@@ -292,7 +302,14 @@ fn shade(id: vec2<u32>) {
     }
     let g = grey(value);
 #ifdef DISPLAY
-    textureStore(screen, vec2<i32>(id), vec4<f32>(g, g, g, 1.0));
+    var rgb = vec3<f32>(g);
+    if params.colour == 1u && value == value {
+        let n = f32(textureDimensions(colours).x);
+        let s = clamp((value - params.colour_lo) / (params.colour_hi - params.colour_lo), 0.0, 1.0);
+        let c = textureSampleLevel(colours, linear, vec2<f32>((s * (n - 1.0) + 0.5) / n, 0.5), 0.0);
+        rgb = mix(rgb, c.rgb, clamp(c.a, 0.0, 1.0));
+    }
+    textureStore(screen, vec2<i32>(id), vec4<f32>(rgb, 1.0));
 #else
     values[id.y * params.width + id.x] = value;
     image[id.y * params.pitch + id.x] = pack4x8unorm(vec4<f32>(g, g, g, 1.0));

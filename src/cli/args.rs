@@ -91,6 +91,11 @@ pub struct SliceArgs {
     /// timing the difference).
     #[arg(long)]
     pub no_leap: bool,
+    /// Colour the slice by a transfer function (`auto`: the one `render` would choose, a preset
+    /// name or a JSON file): its colour blended over the grey by its opacity, so what it hides
+    /// stays grey; writes an RGB PNG.
+    #[arg(long)]
+    pub tf: Option<String>,
     /// A thick slab of this many millimetres centred on the plane, its samples combined by
     /// `--mode`.
     #[arg(long)]

@@ -92,6 +92,19 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
         .or_else(|| fit::default_window_of(&volume))
         .or_else(|| volume.value_range().map(|r| [r.min, r.max]))
         .unwrap_or([0.0, 1.0]);
+    let tf = match &args.tf {
+        Some(_) if args.exact => {
+            return Err(bad(
+                "--tf colours the slice the window shows; --exact writes grey values".into(),
+            ));
+        }
+        Some(name) => {
+            let resolved = fit::resolve(name, &fit::DataKind::of(&volume))
+                .map_err(|e| Failure::BadInput(e.into()))?;
+            Some(resolved.tf)
+        }
+        None => None,
+    };
     let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
     let texture = VolumeTexture::upload(&ctx, &volume).map_err(|e| match e {
         VolumeTextureError::TooLarge { .. } | VolumeTextureError::OutOfMemory { .. } => {
@@ -100,11 +113,16 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
         other => Failure::Other(other.into()),
     })?;
     let renderer = SliceRenderer::new(&ctx.device).map_err(|e| Failure::Other(e.into()))?;
+    let colours = match &tf {
+        Some(tf) => Some(renderer.colour_table(&ctx.device, &ctx.queue, tf, &volume)),
+        None => None,
+    };
     let look = SliceLook {
         window,
         nearest: args.nearest,
         slab,
         leap: !args.no_leap,
+        colour: colours.is_some(),
     };
     let bricks = if slab.is_some() && !args.no_leap {
         renderer.bricks_of(&ctx, &volume, &texture)
@@ -115,20 +133,38 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
         SliceError::TooLarge(..) => Failure::BadInput(e.into()),
         other => Failure::Other(other.into()),
     };
-    let grey = if args.exact {
-        renderer
+    let [w, h] = view.size;
+    let png: image::DynamicImage = if args.exact {
+        let grey = renderer
             .render(&ctx, &volume, &texture, bricks.as_ref(), &view, look)
             .map_err(slice_failure)?
-            .grey
+            .grey;
+        image::GrayImage::from_raw(w, h, grey).map(Into::into)
     } else {
-        renderer
-            .render_display(&ctx, &volume, &texture, bricks.as_ref(), &view, look)
-            .map_err(slice_failure)?
-    };
+        let rgb = renderer
+            .render_display(
+                &ctx,
+                &volume,
+                &texture,
+                bricks.as_ref(),
+                colours.as_ref(),
+                &view,
+                look,
+            )
+            .map_err(slice_failure)?;
+        if look.colour {
+            image::RgbImage::from_raw(w, h, rgb.concat()).map(Into::into)
+        } else {
+            let grey = rgb.iter().map(|p| p[0]).collect();
+            image::GrayImage::from_raw(w, h, grey).map(Into::into)
+        }
+    }
+    .ok_or_else(|| Failure::Other(anyhow!("the slice image has the wrong size")))?;
     if args.repeat > 0 {
         let source = SliceSource {
             texture: &texture.view,
             bricks: bricks.as_ref(),
+            colours: colours.as_ref(),
         };
         let format = texture.encoding.format;
         let other = |e: SliceError| Failure::Other(e.into());
@@ -154,15 +190,15 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
             ),
         }
     }
-    let [w, h] = view.size;
-    let png = image::GrayImage::from_raw(w, h, grey)
-        .ok_or_else(|| Failure::Other(anyhow!("the slice image has the wrong size")))?;
     png.save(&args.out)
         .map_err(|e| Failure::Other(anyhow!("cannot write {}: {e}", args.out.display())))?;
     let [left, right, top, bottom] = plane.edge_labels();
-    let slab_text = slab.map_or(String::new(), |s| {
+    let mut slab_text = slab.map_or(String::new(), |s| {
         format!(", {} slab of {} mm", s.mode.name(), number(s.thickness_mm))
     });
+    if let Some(name) = &args.tf {
+        slab_text.push_str(&format!(", coloured by transfer function {name}"));
+    }
     println!(
         "wrote {}: {} plane through {} mm (LPS), {w} x {h} pixels of {} mm, window {} .. {}{}{}; \
          edges: left {left}, right {right}, top {top}, bottom {bottom}",

@@ -184,7 +184,8 @@ pub fn layouts() -> Vec<StructLayout> {
         }),
         layout!(SliceParams = "SliceParams" in "entry/slice.wgsl" {
             first, step_x, step_y, slab_step, width, height, nearest, pitch, texel_max,
-            unit_scale, unit_bias, window_lo, window_hi, slab_count, slab_mode, leap,
+            unit_scale, unit_bias, window_lo, window_hi, slab_count, slab_mode, leap, colour,
+            colour_lo, colour_hi, _pad0,
         }),
     ]
 }
@@ -439,6 +440,15 @@ pub struct SliceParams {
     pub slab_mode: u32,
     /// 1: a slab skips the bricks that cannot change it; 0: it takes every sample.
     pub leap: u32,
+    /// 1 (display variant): the transfer function's colour blended over the grey by its
+    /// opacity; 0: grey.
+    pub colour: u32,
+    /// The data value at the colour table's first entry.
+    pub colour_lo: f32,
+    /// The data value at its last entry.
+    pub colour_hi: f32,
+    /// Padding to a multiple of 16 bytes.
+    pub _pad0: u32,
 }
 
 /// `SliceParams.slab_mode`: the largest sample.

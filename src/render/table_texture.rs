@@ -23,8 +23,19 @@ impl TableTexture {
     /// ([`crate::transfer::lut::f16_depth_scale`]) so that faint ones stay normal numbers.
     pub fn lut(ctx: &GpuContext, entries: u32) -> Self {
         Self::new(
-            ctx,
+            &ctx.device,
             "transfer function",
+            [entries, 1],
+            wgpu::TextureFormat::Rgba16Float,
+        )
+    }
+
+    /// The colours a slice view blends in (`transfer::lut::slice_colours`): `entries` texels of
+    /// RGBA16F, sampled linearly as the lookup table.
+    pub fn slice_colours(device: &wgpu::Device, entries: u32) -> Self {
+        Self::new(
+            device,
+            "slice colours",
             [entries, 1],
             wgpu::TextureFormat::Rgba16Float,
         )
@@ -34,16 +45,21 @@ impl TableTexture {
     /// RGBA32F, never filtered (so no adapter feature is needed).
     pub fn integrals(ctx: &GpuContext, entries: u32) -> Self {
         Self::new(
-            ctx,
+            &ctx.device,
             "pre-integration",
             [entries, INTEGRAL_ROWS as u32],
             wgpu::TextureFormat::Rgba32Float,
         )
     }
 
-    fn new(ctx: &GpuContext, label: &str, size: [u32; 2], format: wgpu::TextureFormat) -> Self {
+    fn new(
+        device: &wgpu::Device,
+        label: &str,
+        size: [u32; 2],
+        format: wgpu::TextureFormat,
+    ) -> Self {
         let usage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
-        let texture = texture_2d(&ctx.device, size, format, usage, label);
+        let texture = texture_2d(device, size, format, usage, label);
         Self {
             view: full_view(&texture),
             texture,

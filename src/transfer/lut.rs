@@ -56,9 +56,44 @@ pub fn bake(tf: &TransferFunction, range: ValueRange, step_over_d0: f64) -> Vec<
         .collect()
 }
 
+/// The table a slice view colours by (`LUT_SIZE` entries over `range`, as [`bake`]): the
+/// straight colour and the opacity per `d₀` of each value, as the transfer function gives them.
+pub fn slice_colours(tf: &TransferFunction, range: ValueRange) -> Vec<[f32; 4]> {
+    (0..LUT_SIZE)
+        .map(|i| {
+            let value = range.denormalize(i as f64 / (LUT_SIZE - 1) as f64);
+            let [r, g, b] = tf.color_at(value, range);
+            let a = tf.opacity_at(value, range);
+            [r as f32, g as f32, b as f32, a as f32]
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn slice_colours_hold_the_transfer_functions_colour_and_opacity_at_each_entry() {
+        let tf = crate::transfer::presets::preset("ct-bone").expect("preset");
+        let range = ValueRange {
+            min: -1024.0,
+            max: 3071.0,
+        };
+        let table = slice_colours(&tf, range);
+        assert_eq!(table.len(), LUT_SIZE);
+        for i in [0, 1000, 1400, 2047, 4095] {
+            let value = range.denormalize(i as f64 / (LUT_SIZE - 1) as f64);
+            let [r, g, b] = tf.color_at(value, range);
+            let want = [r, g, b, tf.opacity_at(value, range)];
+            for (got, want) in table[i].iter().zip(want) {
+                assert!((f64::from(*got) - want).abs() < 1e-6, "entry {i}");
+            }
+        }
+        // The preset hides air and shows bone.
+        assert_eq!(table[0][3], 0.0);
+        assert!(table[LUT_SIZE - 1][3] > 0.0);
+    }
 
     #[test]
     fn the_depth_scale_keeps_the_deepest_entry_finite_and_faint_ones_normal() {

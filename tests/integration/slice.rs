@@ -105,6 +105,7 @@ fn draw_slab(
         nearest,
         slab,
         leap: true,
+        colour: false,
     };
     let renderer = SliceRenderer::new(&ctx.device).expect("pipeline");
     // Slabs leap over their bricks here, so the reference checks the leaping walk.

@@ -118,6 +118,7 @@ fn leaping_slabs_equal_slabs_that_take_every_sample() {
                         mode,
                     }),
                     leap: true,
+                    colour: false,
                 };
                 let leaping = renderer
                     .render(&ctx, &v, &texture, Some(&bricks), view, look)
@@ -177,13 +178,17 @@ fn the_window_shows_the_exact_slice_within_a_grey_level() {
                         nearest,
                         slab,
                         leap: true,
+                        colour: false,
                     };
                     let exact = renderer
                         .render(&ctx, &v, &texture, Some(&bricks), view, look)
                         .expect("exact");
-                    let shown = renderer
-                        .render_display(&ctx, &v, &texture, Some(&bricks), view, look)
-                        .expect("display");
+                    let shown: Vec<u8> = renderer
+                        .render_display(&ctx, &v, &texture, Some(&bricks), None, view, look)
+                        .expect("display")
+                        .iter()
+                        .map(|p| p[0])
+                        .collect();
                     let diffs: Vec<i32> = exact
                         .grey
                         .iter()
@@ -210,4 +215,63 @@ fn the_window_shows_the_exact_slice_within_a_grey_level() {
             }
         }
     }
+}
+
+/// Colouring by the transfer function: each pixel is the grey of the exact slice blended with the
+/// function's colour by its opacity at the pixel's value, on a CT with a preset that hides air
+/// and soft tissue and shows bone.
+#[test]
+fn slices_coloured_by_the_transfer_function_blend_its_colour_by_its_opacity() {
+    let ctx = common::gpu();
+    let renderer = SliceRenderer::new(&ctx.device).expect("pipeline");
+    let v = load("ct_head_cthead_256x256x113_uint16.nrrd");
+    let kind = leapview::transfer::fit::DataKind::of(&v);
+    let tf = leapview::transfer::fit::resolve("auto", &kind)
+        .expect("tf")
+        .tf;
+    let texture = VolumeTexture::upload(&ctx, &v).expect("upload");
+    let colours = renderer.colour_table(&ctx.device, &ctx.queue, &tf, &v);
+    let frame = PatientFrame::of(&v);
+    let range = v.normalization_range();
+    let (mut coloured, mut grey) = (0, 0);
+    for view in views(&frame) {
+        let look = SliceLook {
+            window: window_of(&v),
+            nearest: true,
+            slab: None,
+            leap: true,
+            colour: true,
+        };
+        let exact = renderer
+            .render(&ctx, &v, &texture, None, &view, look)
+            .expect("exact");
+        let shown = renderer
+            .render_display(&ctx, &v, &texture, None, Some(&colours), &view, look)
+            .expect("display");
+        for ((value, g), rgb) in exact.values.iter().zip(&exact.grey).zip(&shown) {
+            let (want, alpha) = if value.is_nan() {
+                ([0.0; 3], 0.0)
+            } else {
+                let value = f64::from(*value);
+                let a = tf.opacity_at(value, range).clamp(0.0, 1.0);
+                let c = tf.color_at(value, range);
+                let grey = f64::from(*g) / 255.0;
+                (c.map(|c| grey + (c - grey) * a), a)
+            };
+            for (got, want) in rgb.iter().zip(want) {
+                let off = (f64::from(*got) - want * 255.0).abs();
+                // The table's 4096 entries, its 16-bit floats and the blend in f32.
+                assert!(off <= 2.0, "{rgb:?} against {want:?} (opacity {alpha})");
+            }
+            if alpha > 0.5 {
+                coloured += 1;
+            } else if alpha == 0.0 && *g > 0 {
+                grey += 1;
+            }
+        }
+    }
+    assert!(
+        coloured > 100 && grey > 100,
+        "{coloured} coloured, {grey} grey pixels"
+    );
 }

@@ -15,11 +15,14 @@ pub use bricks::SliceBricks;
 pub use targets::{DisplayTarget, SliceTarget};
 
 use crate::mpr::{PatientFrame, Slab, SlabMode, SliceView};
+use crate::transfer::TransferFunction;
+use crate::transfer::lut::{LUT_SIZE, slice_colours};
 use crate::volume::Volume;
 
 use super::context::GpuContext;
 use super::gpu_data::{SLAB_MEAN, SLAB_MINIP, SLAB_MIP, SliceParams, WORKGROUP};
 use super::shader::{ShaderError, compose, shader_module};
+use super::table_texture::TableTexture;
 use super::volume_texture::{VolumeTexture, texel_units};
 
 /// How a view is sampled and shown.
@@ -34,6 +37,9 @@ pub struct SliceLook {
     /// Whether a slab skips the bricks that cannot change it (it does where the pass is given
     /// bricks; off, it takes every sample: the comparison the cost figures make).
     pub leap: bool,
+    /// Blend the transfer function's colour over the grey by its opacity (the display variant,
+    /// where the pass is given a colour table; the exact one writes grey).
+    pub colour: bool,
 }
 
 /// The parameters of one view's pass: the view's pixel grid in `frame`'s voxel coordinates, the
@@ -75,6 +81,10 @@ pub fn slice_params(
         slab_count,
         slab_mode,
         leap: u32::from(look.leap && look.slab.is_some()),
+        colour: u32::from(look.colour),
+        colour_lo: volume.normalization_range().min as f32,
+        colour_hi: volume.normalization_range().max as f32,
+        _pad0: 0,
     }
 }
 
@@ -115,6 +125,9 @@ pub struct SliceSource<'a> {
     pub texture: &'a wgpu::TextureView,
     /// The volume's bricks; without them a slab takes every sample.
     pub bricks: Option<&'a SliceBricks>,
+    /// The transfer function's colours over the volume's value range
+    /// ([`SliceRenderer::colour_table`]); without them the display variant writes grey.
+    pub colours: Option<&'a TableTexture>,
 }
 
 /// Where a pass writes, which also picks its variant.
@@ -144,6 +157,8 @@ pub struct SliceRenderer {
     linear: wgpu::Sampler,
     /// Bound in place of bricks where there are none (the pass then takes every sample).
     no_bricks: wgpu::Buffer,
+    /// Bound in place of a colour table where there is none.
+    no_colours: TableTexture,
 }
 
 /// Why a slice could not be drawn.
@@ -201,7 +216,21 @@ impl SliceRenderer {
                 usage: wgpu::BufferUsages::STORAGE,
                 mapped_at_creation: false,
             }),
+            no_colours: TableTexture::slice_colours(device, 1),
         })
+    }
+
+    /// The colour table of `tf` over `volume`'s value range, for [`SliceSource::colours`].
+    pub fn colour_table(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        tf: &TransferFunction,
+        volume: &Volume,
+    ) -> TableTexture {
+        let table = TableTexture::slice_colours(device, LUT_SIZE as u32);
+        table.write(queue, &slice_colours(tf, volume.normalization_range()));
+        table
     }
 
     /// Writes `params` for `output` (leaping only where `source` has bricks) and returns the
@@ -217,6 +246,9 @@ impl SliceRenderer {
         let mut params = *params;
         if source.bricks.is_none() {
             params.leap = 0;
+        }
+        if source.colours.is_none() {
+            params.colour = 0;
         }
         queue.write_buffer(output.params(), 0, bytemuck::bytes_of(&params));
         let pipeline = match output {
@@ -250,6 +282,11 @@ impl SliceRenderer {
                 });
             }
             Output::Display(t) => {
+                let colours = source.colours.unwrap_or(&self.no_colours);
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::TextureView(&colours.view),
+                });
                 entries.push(wgpu::BindGroupEntry {
                     binding: 2,
                     resource: wgpu::BindingResource::Sampler(&self.linear),
@@ -327,7 +364,12 @@ impl SliceRenderer {
             look,
             target.pitch,
         );
-        self.submit(ctx, texture, bricks, Output::Exact(&target), &params);
+        let source = SliceSource {
+            texture: &texture.view,
+            bricks,
+            colours: None,
+        };
+        self.submit(ctx, source, Output::Exact(&target), &params);
         let (values, grey) = target.read(ctx)?;
         Ok(SliceImage {
             size: view.size,
@@ -336,17 +378,20 @@ impl SliceRenderer {
         })
     }
 
-    /// Draws `view` as the window shows it (the display variant) and reads its grey levels
-    /// back, row-major: `leapview slice` and the tests that compare the two variants.
+    /// Draws `view` as the window shows it (the display variant; coloured by `colours` where
+    /// `look` asks) and reads its pixels back, RGB, row-major: `leapview slice` and the tests
+    /// that compare the two variants.
+    #[allow(clippy::too_many_arguments)]
     pub fn render_display(
         &self,
         ctx: &GpuContext,
         volume: &Volume,
         texture: &VolumeTexture,
         bricks: Option<&SliceBricks>,
+        colours: Option<&TableTexture>,
         view: &SliceView,
         look: SliceLook,
-    ) -> Result<Vec<u8>, SliceError> {
+    ) -> Result<Vec<[u8; 3]>, SliceError> {
         let target = DisplayTarget::new(&ctx.device, view.size)?;
         let params = slice_params(
             view,
@@ -356,7 +401,12 @@ impl SliceRenderer {
             look,
             view.size[0],
         );
-        self.submit(ctx, texture, bricks, Output::Display(&target), &params);
+        let source = SliceSource {
+            texture: &texture.view,
+            bricks,
+            colours,
+        };
+        self.submit(ctx, source, Output::Display(&target), &params);
         target.read(ctx)
     }
 
@@ -364,8 +414,7 @@ impl SliceRenderer {
     fn submit(
         &self,
         ctx: &GpuContext,
-        texture: &VolumeTexture,
-        bricks: Option<&SliceBricks>,
+        source: SliceSource<'_>,
         output: Output<'_>,
         params: &SliceParams,
     ) {
@@ -374,10 +423,6 @@ impl SliceRenderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("slice"),
             });
-        let source = SliceSource {
-            texture: &texture.view,
-            bricks,
-        };
         self.encode(
             &ctx.device,
             &ctx.queue,

@@ -43,11 +43,15 @@ fn padded_pitch(width: u32) -> u32 {
     width.div_ceil(align) * align
 }
 
+/// The byte offsets of each RGBA8 pixel of rows of `pitch` u32 words, row-major, unpadded.
+fn pixel_offsets(size: [u32; 2], pitch: u32) -> impl Iterator<Item = usize> {
+    let [w, h] = size.map(|n| n as usize);
+    (0..h).flat_map(move |y| (0..w).map(move |x| (y * pitch as usize + x) * 4))
+}
+
 /// The red byte of each RGBA8 pixel of `rows` (`pitch` u32 words per row), rows unpadded.
 fn red_bytes(rows: &[u8], size: [u32; 2], pitch: u32) -> Vec<u8> {
-    let [w, h] = size.map(|n| n as usize);
-    (0..h)
-        .flat_map(|y| (0..w).map(move |x| (y * pitch as usize + x) * 4))
+    pixel_offsets(size, pitch)
         .filter_map(|at| rows.get(at).copied())
         .collect()
 }
@@ -137,8 +141,8 @@ impl DisplayTarget {
         })
     }
 
-    /// The grey levels, row-major, read back.
-    pub fn read(&self, ctx: &GpuContext) -> Result<Vec<u8>, SliceError> {
+    /// The pixels (RGB), row-major, read back.
+    pub fn read(&self, ctx: &GpuContext) -> Result<Vec<[u8; 3]>, SliceError> {
         let [w, h] = self.size;
         let pitch = padded_pitch(w);
         let bytes = u64::from(pitch) * u64::from(h) * 4;
@@ -167,6 +171,9 @@ impl DisplayTarget {
         );
         ctx.queue.submit([encoder.finish()]);
         let rows = read_buffer(ctx, &buffer, bytes).map_err(SliceError::Readback)?;
-        Ok(red_bytes(&rows, self.size, pitch))
+        Ok(pixel_offsets(self.size, pitch)
+            .filter_map(|at| rows.get(at..at + 3))
+            .map(|p| [p[0], p[1], p[2]])
+            .collect())
     }
 }

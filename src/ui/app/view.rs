@@ -21,6 +21,7 @@ impl LeapViewApp {
     /// The central panel, divided by the layout between the 3D view and the slice views.
     pub(super) fn view(&mut self, ui: &mut egui::Ui) {
         self.slices.begin_pass();
+        self.slices.set_transfer_function(self.state.editor.tf());
         let area = ui.available_rect_before_wrap();
         let has_volume = self.scene.volume().is_some();
         for (pane, rect) in panes(self.state.layout, area, 2.0) {

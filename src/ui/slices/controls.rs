@@ -43,6 +43,12 @@ impl SliceViews {
                     );
                     ui.end_row();
                 }
+                ui.label("Colour");
+                ui.checkbox(&mut self.colour_by_tf, "by the transfer function")
+                    .on_hover_text(
+                        "Its colour blended over the grey by its opacity: what it hides stays grey",
+                    );
+                ui.end_row();
                 ui.label("Window");
                 ui.horizontal(|ui| {
                     let [mut lo, mut hi] = self.window;

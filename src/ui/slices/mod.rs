@@ -16,7 +16,9 @@ use glam::DVec3;
 
 use crate::mpr::{PatientFrame, Plane, PlaneKind, Slab};
 use crate::render::slice::{SliceBricks, SliceRenderer};
+use crate::render::table_texture::TableTexture;
 use crate::render::volume_texture::texel_units;
+use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
 pub use pane::Probe;
@@ -79,8 +81,21 @@ pub struct SliceViews {
     pub nearest: bool,
     /// A thick slab instead of a thin slice.
     pub slab: Option<Slab>,
+    /// Blend the transfer function's colour over the grey by its opacity.
+    pub colour_by_tf: bool,
+    /// The colour table of the transfer function last given, for the volume shown.
+    colours: Option<Colours>,
     /// The point under the pointer in a slice this pass, if any.
     hover: Option<Probe>,
+}
+
+/// A transfer function's colour table on the GPU, for one volume (its value range).
+struct Colours {
+    tf: TransferFunction,
+    volume: u64,
+    table: TableTexture,
+    /// Counts tables built: a new one redraws every pane.
+    generation: u64,
 }
 
 impl SliceViews {
@@ -107,8 +122,35 @@ impl SliceViews {
             window: [0.0, 1.0],
             nearest: false,
             slab: None,
+            colour_by_tf: false,
+            colours: None,
             hover: None,
         }
+    }
+
+    /// The transfer function the slices are coloured by (when `colour_by_tf`): its table is
+    /// rebuilt when it or the volume changed.
+    pub fn set_transfer_function(&mut self, tf: &TransferFunction) {
+        let (Ok(gpu), Some(source)) = (&self.gpu, &self.source) else {
+            return;
+        };
+        if !self.colour_by_tf
+            || self
+                .colours
+                .as_ref()
+                .is_some_and(|c| c.volume == source.generation && c.tf == *tf)
+        {
+            return;
+        }
+        let generation = self.colours.as_ref().map_or(0, |c| c.generation + 1);
+        self.colours = Some(Colours {
+            tf: tf.clone(),
+            volume: source.generation,
+            table: gpu
+                .renderer
+                .colour_table(&gpu.device, &gpu.queue, tf, &source.volume),
+            generation,
+        });
     }
 
     /// Shows `volume`, already on the GPU as `texture` in `format`: the crosshair at its centre,
@@ -251,6 +293,11 @@ impl SliceViews {
             nearest: self.nearest,
             slab: self.slab,
             crop: crop.as_deref().copied(),
+            colours: self
+                .colours
+                .as_ref()
+                .filter(|c| self.colour_by_tf && c.volume == source.generation)
+                .map(|c| (&c.table, c.generation)),
         };
         let outcome = self.panes[index].ui(ui, rect, gpu, source, look);
         if let Some(p) = outcome.crosshair {

@@ -11,6 +11,7 @@ use crate::mpr::frame::lps;
 use crate::mpr::{Plane, PlaneKind, Slab, SliceView};
 use crate::render::gpu_data::SliceParams;
 use crate::render::slice::{DisplayTarget, Output, SliceLook, SliceSource, slice_params};
+use crate::render::table_texture::TableTexture;
 use crate::ui::window_level::window_drag;
 use crate::volume::Direction;
 
@@ -18,8 +19,8 @@ use super::{SliceGpu, Source, crop_edit};
 use crate::settings::CropBox;
 
 /// What a pane shows this pass.
-#[derive(Clone, Copy, Debug)]
-pub struct PaneLook {
+#[derive(Clone, Copy)]
+pub struct PaneLook<'a> {
     /// The crosshair (mm, LPS).
     pub crosshair: DVec3,
     /// This pane's plane (through the crosshair; tilted when oblique).
@@ -35,6 +36,8 @@ pub struct PaneLook {
     pub slab: Option<Slab>,
     /// The cropping box, when it is shown (drawn and edited here too).
     pub crop: Option<CropBox>,
+    /// The transfer function's colour table and its generation, when the slices are coloured.
+    pub colours: Option<(&'a TableTexture, u64)>,
 }
 
 /// The point under the pointer in a slice.
@@ -77,8 +80,9 @@ pub struct SlicePane {
     kind: PlaneKind,
     view: Option<SliceView>,
     gpu: Option<PaneGpu>,
-    /// What the texture shows: the volume's generation and the pass's parameters.
-    drawn: Option<(u64, SliceParams)>,
+    /// What the texture shows: the volume's generation, the colour table's and the pass's
+    /// parameters.
+    drawn: Option<(u64, Option<u64>, SliceParams)>,
     /// A distance ruler's ends (patient mm), drawn while the plane passes through them.
     ruler: Option<(DVec3, DVec3)>,
     /// The cropping box's face being dragged.
@@ -126,7 +130,7 @@ impl SlicePane {
         rect: Rect,
         gpu: &SliceGpu,
         source: &Source,
-        look: PaneLook,
+        look: PaneLook<'_>,
     ) -> Outcome {
         let ppp = ui.ctx().pixels_per_point();
         let (rect, size_px) = crate::ui::viewport::pixel_aligned(rect, ppp);
@@ -286,7 +290,7 @@ impl SlicePane {
     }
 
     /// Renders the slice into the pane's texture when what it shows changed.
-    fn draw(&mut self, gpu: &SliceGpu, source: &Source, look: PaneLook, view: SliceView) {
+    fn draw(&mut self, gpu: &SliceGpu, source: &Source, look: PaneLook<'_>, view: SliceView) {
         if self.gpu.as_ref().is_none_or(|g| g.target.size != view.size) {
             self.gpu = new_pane_gpu(gpu, view.size, self.gpu.as_ref().map(|g| g.id));
             self.drawn = None;
@@ -297,6 +301,7 @@ impl SlicePane {
             nearest: look.nearest,
             slab: look.slab,
             leap: true,
+            colour: look.colours.is_some(),
         };
         let params = slice_params(
             &view,
@@ -306,7 +311,8 @@ impl SlicePane {
             slice_look,
             view.size[0],
         );
-        if self.drawn == Some((source.generation, params)) {
+        let drawn = Some((source.generation, look.colours.map(|(_, g)| g), params));
+        if self.drawn == drawn {
             return;
         }
         let bricks = look.slab.and_then(|_| source.bricks(gpu));
@@ -322,12 +328,13 @@ impl SlicePane {
             SliceSource {
                 texture: &source.texture,
                 bricks,
+                colours: look.colours.map(|(table, _)| table),
             },
             Output::Display(&pane.target),
             &params,
         );
         gpu.queue.submit([encoder.finish()]);
-        self.drawn = Some((source.generation, params));
+        self.drawn = drawn;
         let p = view.plane.point;
         log::debug!(
             "{} slice drawn through {:.2}, {:.2}, {:.2} mm",
@@ -340,7 +347,7 @@ impl SlicePane {
 
     /// The image, the other planes' lines through the crosshair (in their colours), the patient
     /// directions at the edges and the plane's name.
-    fn paint(&self, ui: &egui::Ui, rect: Rect, view: &SliceView, look: &PaneLook) {
+    fn paint(&self, ui: &egui::Ui, rect: Rect, view: &SliceView, look: &PaneLook<'_>) {
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, Color32::BLACK);
         if let Some(pane) = &self.gpu {
