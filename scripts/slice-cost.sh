@@ -7,7 +7,8 @@
 #     written into the texture on screen), and the axial one by the exact variant (--exact:
 #     eight texel loads, values and grey to buffers);
 #   - 20 mm coronal slabs, MIP and mean, leaping over the bricks and taking every sample
-#     (--no-leap), the ratio the leaping gives.
+#     (--no-leap), the ratio the leaping gives;
+#   - the axial slice coloured by the transfer function (--tf auto).
 # Usage: scripts/slice-cost.sh LEAPVIEW_BINARY OUT_FOLDER VOLUME...
 set -euo pipefail
 bin=$1; out=$2; shift 2
@@ -27,6 +28,9 @@ for volume in "$@"; do
       "$bin" slice "$volume" --plane "$plane" --size "$size" --repeat 200 --out "$out/slice-$name-$size.png" \
         | grep 'GPU time'
     done
+    echo "== $name $size slice axial --tf auto (coloured by the transfer function)"
+    "$bin" slice "$volume" --plane axial --tf auto --size "$size" --repeat 200 --out "$out/tf-$name-$size.png" \
+      | grep 'GPU time'
     echo "== $name $size slice axial --exact"
     "$bin" slice "$volume" --plane axial --exact --size "$size" --repeat 200 --out "$out/exact-$name-$size.png" \
       | grep 'GPU time'
