@@ -11,7 +11,7 @@ use crate::render::gpu_data::{
     MAX_WORKGROUPS_PER_DIMENSION, NODE_WORKGROUP, RULE_AT_MOST, RULE_TRANSFER, TABLE_WORKGROUP,
 };
 use crate::render::probe::{ProbePool, ProbeSlot};
-use crate::render::shader::{ShaderError, compose, shader_module};
+use crate::render::shader::{ShaderError, compose, compute_pipeline, shader_module};
 use crate::render::table_texture::TableTexture;
 use crate::settings::{Mode, RenderSettings, Strategy};
 
@@ -28,21 +28,6 @@ pub struct LeapPipelines {
     distance: wgpu::ComputePipeline,
 }
 
-fn compute(
-    device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
-    entry: &str,
-) -> wgpu::ComputePipeline {
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(entry),
-        layout: None,
-        module,
-        entry_point: Some(entry),
-        compilation_options: Default::default(),
-        cache: None,
-    })
-}
-
 impl LeapPipelines {
     /// Compiles the builders.
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
@@ -53,12 +38,12 @@ impl LeapPipelines {
         let emptiness = module("build/emptiness.wgsl")?;
         let distance = module("build/distance.wgsl")?;
         Ok(Self {
-            base: compute(device, &minmax, "build_base"),
-            parent: compute(device, &minmax, "build_parent"),
-            scan: compute(device, &emptiness, "scan_lut"),
-            table: compute(device, &emptiness, "build_table"),
-            flags: compute(device, &emptiness, "flag_nodes"),
-            distance: compute(device, &distance, "distance_pass"),
+            base: compute_pipeline(device, &minmax, "build_base"),
+            parent: compute_pipeline(device, &minmax, "build_parent"),
+            scan: compute_pipeline(device, &emptiness, "scan_lut"),
+            table: compute_pipeline(device, &emptiness, "build_table"),
+            flags: compute_pipeline(device, &emptiness, "flag_nodes"),
+            distance: compute_pipeline(device, &distance, "distance_pass"),
         })
     }
 }

@@ -7,7 +7,7 @@
 
 use crate::render::context::GpuContext;
 use crate::render::gpu_data::{AccumulateParams, WORKGROUP};
-use crate::render::shader::{ShaderError, compose, shader_module};
+use crate::render::shader::{ShaderError, compose, compute_pipeline, shader_module};
 use crate::render::texture::{OUTPUT_FORMAT, full_view, texture_2d};
 
 /// Sample offset (in steps, in `[0, 1)`) of refinement frame `k`: 0.5 for the first (the offset
@@ -44,14 +44,7 @@ impl Accumulator {
     /// Compiles the accumulation pass.
     pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
         let module = shader_module(device, "accumulate", compose("entry/accumulate.wgsl", &[])?);
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("accumulate"),
-            layout: None,
-            module: &module,
-            entry_point: Some("accumulate"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = compute_pipeline(device, &module, "accumulate");
         let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("accumulate params"),
             size: std::mem::size_of::<AccumulateParams>() as u64,

@@ -21,7 +21,7 @@ use crate::volume::Volume;
 
 use super::context::GpuContext;
 use super::gpu_data::{SLAB_MEAN, SLAB_MINIP, SLAB_MIP, SliceParams, WORKGROUP};
-use super::shader::{ShaderError, compose, shader_module};
+use super::shader::{ShaderError, compose, compute_pipeline, shader_module};
 use super::table_texture::TableTexture;
 use super::volume_texture::{VolumeTexture, texel_units};
 
@@ -175,21 +175,6 @@ pub enum SliceError {
     Readback(String),
 }
 
-fn compute(
-    device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
-    entry: &str,
-) -> wgpu::ComputePipeline {
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(entry),
-        layout: None,
-        module,
-        entry_point: Some(entry),
-        compilation_options: Default::default(),
-        cache: None,
-    })
-}
-
 impl SliceRenderer {
     /// Compiles the pass's variants and the bricks' builder.
     pub fn new(device: &wgpu::Device) -> Result<Self, SliceError> {
@@ -201,9 +186,9 @@ impl SliceRenderer {
         );
         let minmax = shader_module(device, "slab bricks", compose("build/minmax.wgsl", &[])?);
         Ok(Self {
-            exact: compute(device, &exact, "slice"),
-            display: compute(device, &display, "slice"),
-            bricks_pipeline: compute(device, &minmax, "build_base"),
+            exact: compute_pipeline(device, &exact, "slice"),
+            display: compute_pipeline(device, &display, "slice"),
+            bricks_pipeline: compute_pipeline(device, &minmax, "build_base"),
             linear: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("slice trilinear"),
                 mag_filter: wgpu::FilterMode::Linear,
