@@ -101,8 +101,8 @@ pub struct SliceImage {
 }
 
 /// Rows of pixels each invocation of a thin slice shades (measured on an H200 at 1920 x 1080:
-/// 12.3 µs per slice with 4, 25.0 µs with 1; a slab's samples keep one row per invocation
-/// busy, and fewer invocations made it slower).
+/// 11.8-13.7 µs per slice with 4, 25.0 µs with 1; a slab's samples keep one row per invocation
+/// busy: four rows each made a 20 mm slab slower in the run that tried it).
 const THIN_ROWS_PER_INVOCATION: u32 = 4;
 
 /// The workgroups of the pass of `params`: one invocation per column and band of rows.
