@@ -103,8 +103,9 @@ pub struct SliceArgs {
     /// How a slab's samples combine.
     #[arg(long, value_enum, default_value_t = SlabModeArg::Mip)]
     pub mode: SlabModeArg,
-    /// Also time the slice on the GPU: this many passes between timestamps, the median printed
-    /// (needs an adapter with timestamp queries).
+    /// Also time the slice on the GPU: this many passes between timestamps, the median per
+    /// slice printed for passes of one slice and of 50 (what one more slice adds, without a
+    /// pass's fixed cost); needs an adapter with timestamp queries.
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=1024))]
     pub repeat: u32,
 }

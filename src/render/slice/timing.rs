@@ -1,5 +1,7 @@
 //! GPU time of the slice pass, from timestamp queries around each of `repeats` passes (the
-//! median), for `leapview slice --repeat` and the cost figures of the slice views.
+//! median), for `leapview slice --repeat` and the cost figures of the slice views. A timed pass
+//! may hold several slices: its time over their number is what one more slice adds to a
+//! command buffer, without the fixed cost of a pass between two timestamps.
 
 use super::{Output, SliceError, SliceRenderer, SliceSource};
 use crate::render::context::GpuContext;
@@ -7,9 +9,9 @@ use crate::render::gpu_data::SliceParams;
 use crate::render::readback::read_buffer;
 
 impl SliceRenderer {
-    /// Runs the pass of `params` from `source` into `output` `repeats` times, each between two
-    /// timestamps; the median GPU time in milliseconds, `None` when the adapter has no
-    /// timestamp queries.
+    /// Runs `repeats` passes between two timestamps each, every pass drawing the slice of
+    /// `params` from `source` into `output` `per_pass` times; the median GPU time of a pass
+    /// over `per_pass`, in milliseconds, `None` when the adapter has no timestamp queries.
     pub fn median_gpu_ms(
         &self,
         ctx: &GpuContext,
@@ -17,8 +19,9 @@ impl SliceRenderer {
         output: Output<'_>,
         params: &SliceParams,
         repeats: u32,
+        per_pass: u32,
     ) -> Result<Option<f64>, SliceError> {
-        if !ctx.has_timestamps() || repeats == 0 {
+        if !ctx.has_timestamps() || repeats == 0 || per_pass == 0 {
             return Ok(None);
         }
         let count = repeats.min(1024) * 2;
@@ -52,7 +55,9 @@ impl SliceRenderer {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &group, &[]);
             let [x, y] = super::dispatch(params);
-            pass.dispatch_workgroups(x, y, 1);
+            for _ in 0..per_pass {
+                pass.dispatch_workgroups(x, y, 1);
+            }
         }
         encoder.resolve_query_set(&queries, 0..count, &resolve, 0);
         ctx.queue.submit([encoder.finish()]);
@@ -64,7 +69,7 @@ impl SliceRenderer {
         let period_ns = f64::from(ctx.queue.get_timestamp_period());
         let mut ms: Vec<f64> = ticks
             .chunks_exact(2)
-            .map(|t| t[1].saturating_sub(t[0]) as f64 * period_ns / 1e6)
+            .map(|t| t[1].saturating_sub(t[0]) as f64 * period_ns / 1e6 / f64::from(per_pass))
             .collect();
         ms.sort_by(f64::total_cmp);
         Ok(ms.get(ms.len() / 2).copied())
