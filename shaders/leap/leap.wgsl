@@ -1,12 +1,14 @@
-// Empty-space leaping (RC-s). When a sample enters a new leaf block, the ray asks its mode
-// whether the block can matter (acc_skips, the mode's leap predicate: for DVR whether the transfer
+// Empty-space leaping (RC-s). Where the ray enters a leaf block, it asks its mode whether the
+// block can matter (acc_skips, the mode's leap predicate: for DVR whether the transfer
 // function is zero over the block's values, for MIP whether its maximum can raise the ray's
 // maximum, and so on, see modes/). A block that cannot matter sends the ray to the first sample of
 // its grid past the largest such region known around it: the coarsest such ancestor in the
 // min/max octree (the paper's hierarchical leaping) or, with LEAP_DISTANCE, the cube of blocks
 // the distance field proves empty; the mode decides where exactly it lands (acc_leap_target).
 // The exit is the exact ray/box exit, so the samples taken are exactly the plain strategy's
-// samples that can change the image.
+// samples that can change the image. Two ways to walk (shared/march.wgsl): block runs
+// (leap_region: one question per block, then its samples without any) and sample by sample
+// (leap_from: the block is recomputed at each sample and asked about when it changes).
 
 #include "leap/pyramid.wgsl"
 
@@ -23,26 +25,30 @@ fn holds_no_finite_voxel(m: vec2<f32>) -> bool {
 }
 
 struct LeapRay {
-    entry: vec3<f32>,
-    box_per_mm: vec3<f32>,
-    // The leaf block of the last sample that was looked up.
-    block: vec3<u32>,
+    // The entry in voxel units, and mm per voxel of travel along each axis (1 / direction;
+    // 3e38 along axes the ray runs parallel to, which it never leaves through): a box exit is one
+    // multiply-add per axis.
+    entry_vox: vec3<f32>,
+    mm_per_vox: vec3<f32>,
     // The ray's first-sample offset (Ray.offset).
     offset: f32,
+    // Sample by sample: the leaf block of the last sample looked up.
+    block: vec3<u32>,
 }
 
 fn leap_ray(entry: vec3<f32>, box_per_mm: vec3<f32>, offset: f32) -> LeapRay {
-    return LeapRay(entry, box_per_mm, vec3<u32>(0xffffffffu), offset);
+    let dims = frame.volume_dims;
+    let d = box_per_mm * dims;
+    let inv = select(1.0 / d, vec3<f32>(3.0e38), d == vec3<f32>(0.0));
+    return LeapRay(entry * dims, inv, offset, vec3<u32>(0xffffffffu));
 }
 
 // Distance (mm from the entry) at which the ray leaves the box [lo, hi), given in voxel units
-// (voxel-centre coordinate + 1/2, so the volume spans [0, dims]).
+// (voxel-centre coordinate + 1/2, so the volume spans [0, dims]). Along a parallel axis the
+// upper face counts and lies (all but) infinitely far.
 fn exit_distance(ray: LeapRay, lo: vec3<f32>, hi: vec3<f32>) -> f32 {
-    let dims = frame.volume_dims;
-    let d = ray.box_per_mm;
-    let bound = select(lo, hi, d > vec3<f32>(0.0)) / dims;
-    // Axis-parallel rays never leave through the faces they run along.
-    let t = select((bound - ray.entry) / d, vec3<f32>(3.0e38), d == vec3<f32>(0.0));
+    let bound = select(lo, hi, ray.mm_per_vox > vec3<f32>(0.0));
+    let t = (bound - ray.entry_vox) * ray.mm_per_vox;
     return min(t.x, min(t.y, t.z));
 }
 
@@ -53,28 +59,36 @@ fn first_sample_after(t: f32, k: u32, offset: f32) -> u32 {
     return max(u32(clamp(after, 0.0, 4.0e9)), k + 1u);
 }
 
-// Where the ray should go from sample k at box position p, holding `acc`: k itself (sample it), or
-// where its mode lands past a region that cannot change the pixel.
-fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32, acc: Acc) -> u32 {
+// The leaf block holding box position p.
+fn leaf_block(p: vec3<f32>) -> vec3<u32> {
+    let leaf = levels[frame.leaf_level];
+    let v = max(p * frame.volume_dims, vec3<f32>(0.0));
+    return min(vec3<u32>(v / f32(leaf.brick_vox)), leaf.nodes - 1u);
+}
+
+// What a leaf block is to a ray holding `acc`: whether it can matter, and a box in voxel units:
+// the block itself where it can, else the largest region known around it that cannot change the
+// pixel.
+struct Region {
+    matters: bool,
+    lo: vec3<f32>,
+    hi: vec3<f32>,
+}
+
+fn region_of(block: vec3<u32>, acc: Acc) -> Region {
     let leaf = levels[frame.leaf_level];
     let dims = frame.volume_dims;
-    let v = max(p * dims, vec3<f32>(0.0));
-    let block = min(vec3<u32>(v / f32(leaf.brick_vox)), leaf.nodes - 1u);
-    if all(block == (*ray).block) {
-        return k;
-    }
-    (*ray).block = block;
+    let brick = f32(leaf.brick_vox);
 #ifdef LEAP_DISTANCE
     let d = block_distance[block.x + leaf.nodes.x * (block.y + leaf.nodes.y * block.z)];
-    if d == 0u {
-        return k;
-    }
-    let brick = f32(leaf.brick_vox);
-    let lo = vec3<f32>(max(vec3<i32>(block) - i32(d - 1u), vec3<i32>(0))) * brick;
-    let hi = min(vec3<f32>(block + d) * brick, dims);
+    // d = 0: the block can matter; d > 0: the cube of d − 1 blocks around it cannot.
+    let reach = i32(max(d, 1u) - 1u);
+    let lo = vec3<f32>(max(vec3<i32>(block) - reach, vec3<i32>(0))) * brick;
+    let hi = min(vec3<f32>(block + vec3<u32>(u32(reach) + 1u)) * brick, dims);
+    return Region(d == 0u, lo, hi);
 #else
     if !acc_skips(acc, node_index(leaf, block)) {
-        return k;
+        return Region(true, vec3<f32>(block) * brick, min(vec3<f32>(block + 1u) * brick, dims));
     }
     var level = frame.leaf_level;
     var node = block;
@@ -89,10 +103,37 @@ fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32, acc: Acc) -> u32
         level += 1u;
         node = up;
     }
-    let brick = f32(levels[level].brick_vox);
-    let lo = vec3<f32>(node) * brick;
-    let hi = min(vec3<f32>(node + 1u) * brick, dims);
+    let size = f32(levels[level].brick_vox);
+    return Region(false, vec3<f32>(node) * size, min(vec3<f32>(node + 1u) * size, dims));
 #endif
-    let after = first_sample_after(exit_distance(*ray, lo, hi), k, (*ray).offset);
+}
+
+// Block runs: what the ray does at sample k (box position p), the first sample of a block run,
+// holding `acc`. x: where it goes, k itself (the block can matter) or where its mode lands past
+// the region that cannot change the pixel; y, where x = k: the first grid sample past the leaf
+// block, so that samples k .. y − 1 are taken without any lookup.
+fn leap_region(ray: LeapRay, p: vec3<f32>, k: u32, acc: Acc) -> vec2<u32> {
+    let region = region_of(leaf_block(p), acc);
+    let after = first_sample_after(exit_distance(ray, region.lo, region.hi), k, ray.offset);
+    if region.matters {
+        return vec2<u32>(k, after);
+    }
+    return vec2<u32>(acc_leap_target(k, after), after);
+}
+
+// Sample by sample: where the ray goes from sample k at box position p, holding `acc`: k itself
+// (sample it), or where its mode lands past a region that cannot change the pixel. Asks only
+// where the sample lies in another leaf block than the last one asked about.
+fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32, acc: Acc) -> u32 {
+    let block = leaf_block(p);
+    if all(block == (*ray).block) {
+        return k;
+    }
+    (*ray).block = block;
+    let region = region_of(block, acc);
+    if region.matters {
+        return k;
+    }
+    let after = first_sample_after(exit_distance(*ray, region.lo, region.hi), k, (*ray).offset);
     return acc_leap_target(k, after);
 }

@@ -3,6 +3,9 @@
 
 #include "shared/classify.wgsl"
 
+// Samples taken before the march for a lower bound (leaping only).
+const MIP_PRIME_SAMPLES: u32 = 4u;
+
 struct Acc {
     extreme: f32,
     seen: bool,
@@ -30,6 +33,30 @@ fn acc_skips(acc: Acc, node: u32) -> bool {
 
 fn acc_leap_target(k: u32, after: u32) -> u32 {
     return after;
+}
+
+// A lower bound before the march: the ray's first sample, then MIP_PRIME_SAMPLES samples of its
+// grid spread along it. Blocks whose maximum (MinIP: minimum) cannot beat them are skipped from
+// the ray's first block on, where otherwise the running maximum starts from nothing. They are
+// samples of the ray's own grid, so the result stays exactly the plain strategy's. Returns how
+// many were taken and whether the pixel is already settled (the first sample saturates: the
+// common MinIP case, where a ray entering through air ends at once).
+fn acc_prime(acc: ptr<function, Acc>, ray: Ray) -> vec2<u32> {
+    let n = min(MIP_PRIME_SAMPLES, ray.count);
+    var taken = 0u;
+    for (var j = 0u; j <= n; j++) {
+        var k = 0u;
+        if j > 0u {
+            k = ((2u * j - 1u) * ray.count) / (2u * n);
+        }
+        let t = min((f32(k) + ray.offset) * frame.step_mm, ray.length_mm);
+        let p = ray.entry + ray.box_per_mm * t;
+        taken += 1u;
+        if (acc_sample(acc, ray, k, t, p, sample_value(p)) & SAMPLE_STOP) != 0u {
+            return vec2<u32>(taken, 1u);
+        }
+    }
+    return vec2<u32>(taken, 0u);
 }
 #endif
 
