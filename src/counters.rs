@@ -14,7 +14,8 @@ pub struct FrameCounters {
     pub rays: u64,
     /// Empty regions leapt over (RC-s).
     pub leaps: u64,
-    /// Grid samples skipped by leaping (RC-s): with the samples taken, what RC-t takes.
+    /// Grid samples skipped by leaping (RC-s): with the samples taken, what RC-t takes (MIP and
+    /// MinIP also take up to five samples per ray before the march, to prime their leaping).
     pub leapt_samples: u64,
 }
 
