@@ -53,10 +53,6 @@ fn acc_skips(acc: Acc, node: u32) -> bool {
 fn acc_leap_target(k: u32, after: u32) -> u32 {
     return after;
 }
-// Nothing to learn before the march.
-fn acc_prime(acc: ptr<function, Acc>, ray: Ray) -> vec2<u32> {
-    return vec2<u32>(0u);
-}
 #endif
 
 fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32 {

@@ -17,9 +17,9 @@
 //   fn acc_leap_target(k: u32, after: u32) -> u32
 //       where a leap from sample k lands, given the first sample `after` past the region
 //   fn acc_prime(acc: ptr<function, Acc>, ray: Ray) -> vec2<u32>
-//       before the march: samples of the ray's grid that sharpen the leap predicate from the
-//       first block on (MIP's lower bound); returns how many, and 1 where the pixel is settled;
-//       (0, 0) for most modes
+//       (modes that walk in block runs, LEAP_RUNS: all but DVR) before the march: samples of
+//       the ray's grid that sharpen the leap predicate from the first block on (MIP's lower
+//       bound); returns how many, and 1 where the pixel is settled; (0, 0) for most modes
 // and, for pre-integrated DVR only (PREINTEGRATED), the segment hooks:
 //   fn acc_start(acc, ray)           the entry value starts the first segment
 //   fn acc_resume(acc, t, s)         after a leap, the sample at t starts the next segment
@@ -70,9 +70,9 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
 #ifdef PREINTEGRATED
         acc_start(&acc, ray);
 #endif
-#ifdef LEAP
-        // Two ways to walk, chosen per variant by measurement (src/render/raycast/variant.rs):
-        // block runs with LEAP_RUNS, else sample by sample.
+        // Leaping walks in one of two ways, chosen per variant by measurement
+        // (src/render/raycast/variant.rs): block runs with LEAP_RUNS (set only with LEAP), else
+        // sample by sample.
 #ifdef LEAP_RUNS
         // Block runs: each block that can matter is one run of samples in a tight inner loop
         // (never with PREINTEGRATED: DVR does not set LEAP_RUNS).
@@ -117,9 +117,12 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
         }
 #else
         // Sample by sample (DVR, whose rays end early at different samples, and the distance
-        // field's X-ray): at each sample the leaf block is recomputed, and looked up when it
-        // changes. Block runs measured slower for these (docs/benchmarks/README.md).
+        // field): at each sample the leaf block is recomputed, and looked up when it changes.
+        // Block runs measured slower for these (docs/benchmarks/nvidia-h200-leap-walk). RC and
+        // RC-t take this loop without the leaping.
+#ifdef LEAP
         var leap = leap_ray(entry, ray.box_per_mm, ray.offset);
+#endif
         var k = 0u;
         loop {
             if k >= ray.count {
@@ -127,6 +130,7 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
             }
             let t = min((f32(k) + ray.offset) * step, ray.length_mm);
             let p = entry + ray.box_per_mm * t;
+#ifdef LEAP
             let next = leap_from(&leap, p, k, acc);
 #ifndef PREINTEGRATED
             if next != k {
@@ -135,11 +139,13 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
                 continue;
             }
 #endif
+#endif
             let result = acc_sample(&acc, ray, k, t, p, sample_value(p));
             tally_sample(&tally, result);
             if (result & SAMPLE_STOP) != 0u {
                 break;
             }
+#ifdef LEAP
 #ifdef PREINTEGRATED
             if next != k {
                 // Sample k closed the segment into the empty region; the segments inside it add
@@ -156,22 +162,7 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
                 continue;
             }
 #endif
-            k += 1u;
-        }
 #endif
-#else
-        var k = 0u;
-        loop {
-            if k >= ray.count {
-                break;
-            }
-            let t = min((f32(k) + ray.offset) * step, ray.length_mm);
-            let p = entry + ray.box_per_mm * t;
-            let result = acc_sample(&acc, ray, k, t, p, sample_value(p));
-            tally_sample(&tally, result);
-            if (result & SAMPLE_STOP) != 0u {
-                break;
-            }
             k += 1u;
         }
 #endif

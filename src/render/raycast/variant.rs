@@ -123,10 +123,11 @@ impl PipelineKey {
         if self.strategy.leaps() {
             defines.push("LEAP");
             // How the leaping loop walks (shaders/shared/march.wgsl), chosen by measurement on
-            // an H200 (docs/benchmarks/README.md): block runs for the octree's MIP, MinIP,
-            // isosurface and X-ray (MIP 1.1-2x faster); sample by sample for DVR (block runs up
-            // to 1.5x slower: its rays end early, at different samples) and for the distance
-            // field (X-ray up to 1.4x slower in runs). Never with PREINTEGRATED (DVR only).
+            // an H200 (docs/benchmarks/nvidia-h200-leap-walk): block runs for the octree's MIP,
+            // MinIP, isosurface and X-ray (MIP 1.1-2x faster); sample by sample for DVR (block
+            // runs up to 1.55x slower: its rays end early, at different samples) and for the
+            // distance field (X-ray up to 1.4x slower in runs). Never with PREINTEGRATED (DVR
+            // only), and DVR's mode module has no acc_prime.
             if self.mode != Mode::Dvr && self.strategy != Strategy::RcSDistance {
                 defines.push("LEAP_RUNS");
             }
