@@ -55,14 +55,15 @@ pub fn timed_frame(
     Ok((ms, results, path))
 }
 
-/// [`timed_frame`], then the image read back to the CPU: also returns the wall time from
-/// submission to the image in memory (what tools that time `render + read-back` report).
+/// [`timed_frame`], then the image read back to the CPU as 8-bit RGBA (quantised on the GPU, as
+/// a screenshot holds it): also returns the wall time from submission to the image in memory
+/// (what tools that time `render + read-back` report; VTK, vispy and pygfx read 8-bit pixels).
 pub fn timed_frame_read_back(
     renderer: &mut VolumeRenderer,
     request: &FrameRequest,
 ) -> Result<(f64, f64, String), RenderError> {
     let start = Instant::now();
     let (ms, _, path) = timed_frame(renderer, request)?;
-    renderer.read_image()?;
+    renderer.read_image_rgba8()?;
     Ok((ms, start.elapsed().as_secs_f64() * 1e3, path))
 }

@@ -1,11 +1,12 @@
 //! GPU rendering with wgpu. Shared by every kind of drawing: the device ([`context`]), the
-//! volume's 3D texture, table textures, timing probes, read-back, WGSL composition and the data
+//! volume's 3D texture, table textures, timing probes, read-back (f32, or 8-bit packed on the GPU: [`pack`]), WGSL composition and the data
 //! shared with the shaders. The 3D ray caster is [`raycast`]; what to render is described by the
 //! pure [`crate::settings`]. One [`VolumeRenderer`] serves the window, the command line and the
 //! tests.
 
 pub mod context;
 pub mod gpu_data;
+pub mod pack;
 pub mod probe;
 pub mod raycast;
 pub mod readback;

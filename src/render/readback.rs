@@ -8,7 +8,7 @@ use super::context::GpuContext;
 
 /// Submits `encoder` (which copies into `buffer`) and maps `buffer` for reading, waiting for
 /// the GPU.
-fn submit_and_map(
+pub(super) fn submit_and_map(
     ctx: &GpuContext,
     encoder: wgpu::CommandEncoder,
     buffer: &wgpu::Buffer,

@@ -18,6 +18,7 @@ const MODULES: &[(&str, &str)] = modules![
     "entry/raycast_compute.wgsl",
     "entry/proxy_passes.wgsl",
     "entry/accumulate.wgsl",
+    "entry/pack_rgba8.wgsl",
     "entry/slice.wgsl",
     "shared/common.wgsl",
     "shared/proxy.wgsl",

@@ -29,6 +29,7 @@ mod modes;
 mod newcomer_faults;
 mod opacity;
 mod preintegration;
+mod readback;
 mod readme;
 mod recompute;
 mod reference_match;

@@ -6,6 +6,7 @@
 use crate::camera::Camera;
 use crate::imaging::ImageF32;
 use crate::render::context::GpuContext;
+use crate::render::pack::Rgba8Reader;
 use crate::render::probe::{FrameResults, ProbePool, ProbeSlot};
 use crate::render::readback::read_texture;
 use crate::render::shader::ShaderError;
@@ -193,6 +194,8 @@ pub struct VolumeRenderer {
     measurements: Measurements,
     /// The running mean of progressive refinement (built on first use).
     refine: Option<Accumulator>,
+    /// The 8-bit read-back (built on first use).
+    rgba8: Option<Rgba8Reader>,
     /// The path `auto` stands for on this adapter, once chosen ([`super::auto_path::choose`]).
     auto_path: Option<ConcretePath>,
 }
@@ -234,6 +237,7 @@ impl VolumeRenderer {
             targets: None,
             measurements,
             refine: None,
+            rgba8: None,
             auto_path: None,
         })
     }
@@ -509,6 +513,27 @@ impl VolumeRenderer {
     pub fn read_image(&self) -> Result<ImageF32, RenderError> {
         let targets = self.targets.as_ref().ok_or(RenderError::NoVolume)?;
         read_texture(&self.ctx, &targets.output, targets.size).map_err(RenderError::Gpu)
+    }
+
+    /// Copies the last rendered image to the CPU as 8-bit RGBA, quantised on the GPU (waits for
+    /// the GPU): the same bytes as [`Self::read_image`] followed by [`ImageF32::to_rgba8`], in
+    /// half the bytes and without the CPU's conversion. An image too large for one storage
+    /// buffer takes that slower way.
+    pub fn read_image_rgba8(&mut self) -> Result<image::RgbaImage, RenderError> {
+        let targets = self.targets.as_ref().ok_or(RenderError::NoVolume)?;
+        if self.rgba8.is_none() {
+            self.rgba8 = Some(Rgba8Reader::new(&self.ctx.device)?);
+        }
+        let packed = match self.rgba8.as_mut() {
+            Some(reader) => reader
+                .read(&self.ctx, &targets.output_view, targets.size)
+                .map_err(RenderError::Gpu)?,
+            None => None,
+        };
+        match packed {
+            Some(image) => Ok(image),
+            None => Ok(self.read_image()?.to_rgba8()),
+        }
     }
 
     /// The path `path` stands for: itself, or for `auto` the path chosen on this adapter
