@@ -109,6 +109,14 @@ pub fn unsuitable(adapter: &wgpu::Adapter) -> Option<String> {
 }
 
 impl GpuContext {
+    /// Bytes of the largest buffer a shader can bind as storage whole (the smaller of the
+    /// binding and buffer limits).
+    pub fn largest_storage_buffer(&self) -> u64 {
+        self.limits
+            .max_storage_buffer_binding_size
+            .min(self.limits.max_buffer_size)
+    }
+
     /// Creates a device without a window. Prefers Vulkan (on data-centre GPUs the GL backend
     /// fails or renders nothing, see GPU.md); falls back to GL where there is no Vulkan driver.
     /// `LEAPVIEW_BACKEND=vulkan|gl` forces one.

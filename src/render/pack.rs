@@ -37,11 +37,7 @@ impl Rgba8Reader {
     /// the device's largest storage buffer (128 MiB by default: 33.5 M pixels).
     pub fn packed_bytes(ctx: &GpuContext, size: [u32; 2]) -> Option<u64> {
         let bytes = u64::from(size[0]) * u64::from(size[1]) * 4;
-        let max = ctx
-            .limits
-            .max_storage_buffer_binding_size
-            .min(ctx.limits.max_buffer_size);
-        (bytes > 0 && bytes <= max).then_some(bytes)
+        (bytes > 0 && bytes <= ctx.largest_storage_buffer()).then_some(bytes)
     }
 
     /// Quantises `image` (an RGBA texture of `size` pixels that shaders can sample) to 8 bits per

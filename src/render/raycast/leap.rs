@@ -100,11 +100,11 @@ fn dispatch_over_nodes(pass: &mut wgpu::ComputePass<'_>, nodes: [u32; 3]) {
 /// the builders then mark every cell of a visible block visible) where that would pass the
 /// device's largest storage buffer.
 fn cell_bin_bytes(ctx: &GpuContext, finest: u64) -> u64 {
-    let max = ctx
-        .limits
-        .max_storage_buffer_binding_size
-        .min(ctx.limits.max_buffer_size);
-    if finest * 16 <= max { finest * 16 } else { 16 }
+    if finest * 16 <= ctx.largest_storage_buffer() {
+        finest * 16
+    } else {
+        16
+    }
 }
 
 /// What makes a node empty, and the inputs that rule depends on.

@@ -63,11 +63,7 @@ impl Accumulator {
     /// the image is too large to refine.
     pub fn sum_bytes(ctx: &GpuContext, size: [u32; 2]) -> Option<u64> {
         let bytes = u64::from(size[0]) * u64::from(size[1]) * 16;
-        let max = ctx
-            .limits
-            .max_storage_buffer_binding_size
-            .min(ctx.limits.max_buffer_size);
-        (bytes > 0 && bytes <= max).then_some(bytes)
+        (bytes > 0 && bytes <= ctx.largest_storage_buffer()).then_some(bytes)
     }
 
     /// Records a pass that adds `latest` (the output texture, `size` pixels) to the mean;
