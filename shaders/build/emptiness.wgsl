@@ -17,10 +17,6 @@ const SCAN_THREADS: u32 = 256u;
 @group(0) @binding(3) var<storage, read_write> table: array<u32>;
 @group(0) @binding(4) var<storage, read> minmax: array<vec2<f32>>;
 @group(0) @binding(5) var<storage, read_write> node_empty: array<u32>;
-// Per finest block (4³ voxels): the value bins of its eight 2³-voxel cells (build/minmax.wgsl),
-// and the mask of those that can be visible (bit c for cell c = x + 2y + 4z).
-@group(0) @binding(6) var<storage, read> cell_bins: array<vec4<u32>>;
-@group(0) @binding(7) var<storage, read_write> cell_mask: array<u32>;
 
 var<workgroup> partial: array<u32, SCAN_THREADS>;
 
@@ -76,6 +72,9 @@ fn build_table(@builtin(global_invocation_id) id: vec3<u32>) {
     table[max_bin * TABLE_SIZE + min_bin] = empty;
 }
 
+fn bin(v: f32) -> u32 {
+    return min(u32(clamp(v, 0.0, 1.0) * f32(TABLE_SIZE)), TABLE_SIZE - 1u);
+}
 
 @compute @workgroup_size(NODE_WORKGROUP)
 fn flag_nodes(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -90,45 +89,8 @@ fn flag_nodes(@builtin(global_invocation_id) id: vec3<u32>) {
         if params.rule == 1u {
             empty = u32(m.y <= params.threshold);
         } else {
-            empty = table[value_bin(m.y) * TABLE_SIZE + value_bin(m.x)];
+            empty = table[bin(m.y) * TABLE_SIZE + bin(m.x)];
         }
     }
     node_empty[i] = empty;
-}
-
-// Whether a cell whose values lie in bins [lo, hi] (lo > hi: no finite voxel) is empty under
-// the frame's rule, as flag_nodes decides for nodes.
-fn cell_empty(lo: u32, hi: u32) -> bool {
-    if lo > hi {
-        return true;
-    }
-    if params.rule == 1u {
-        // Every value lies below the top bin's upper edge.
-        return f32(hi + 1u) / f32(TABLE_SIZE) <= params.threshold;
-    }
-    return table[hi * TABLE_SIZE + lo] != 0u;
-}
-
-// The finer occupancy: which cells of each finest block can be visible (none where the block
-// itself is empty). Runs after flag_nodes, which it reads.
-@compute @workgroup_size(NODE_WORKGROUP)
-fn flag_cells(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x + id.y * MAX_WORKGROUPS_PER_DIMENSION * NODE_WORKGROUP;
-    if i >= arrayLength(&cell_mask) {
-        return;
-    }
-    var mask = 0u;
-    if node_empty[i] == 0u && i >= arrayLength(&cell_bins) {
-        // No bins (the device could not hold them): every cell can be visible.
-        mask = 0xffu;
-    } else if node_empty[i] == 0u {
-        let bins = cell_bins[i];
-        for (var c = 0u; c < 8u; c++) {
-            let pair = (bins[c / 2u] >> (16u * (c % 2u))) & 0xffffu;
-            if !cell_empty(pair & 0xffu, pair >> 8u) {
-                mask |= 1u << c;
-            }
-        }
-    }
-    cell_mask[i] = mask;
 }

@@ -10,10 +10,6 @@
 @group(0) @binding(1) var<storage, read> levels: array<LevelInfo>;
 @group(0) @binding(2) var<storage, read_write> minmax: array<vec2<f32>>;
 @group(0) @binding(3) var volume_tex: texture_3d<f32>;
-// Per finest block, its eight 2³-voxel cells' value bins (the finer occupancy, see
-// src/accel/cells.rs): cell c = x + 2y + 4z in bits 16·(c % 2) of component c / 2, min bin in
-// the low byte, max bin in the high one; min > max where the cell holds no finite voxel.
-@group(0) @binding(4) var<storage, read_write> cell_bins: array<vec4<u32>>;
 
 // Texels of non-finite voxels decode below MISSING_BELOW (generated/constants.wgsl), as in
 // shared/classify.wgsl.
@@ -41,58 +37,6 @@ fn build_base(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     minmax[node_index(level, id)] = m;
-}
-
-// The finer occupancy's ranges (level 0's 4³ blocks only): the value bins of each block's eight
-// 2³-voxel cells, from the same voxels as build_base. A pass of its own, because the slab
-// bricks of the slice views (src/render/slice/bricks.rs) reuse build_base at another size.
-@compute @workgroup_size(BUILD_WORKGROUP, BUILD_WORKGROUP, BUILD_WORKGROUP)
-fn build_cells(@builtin(global_invocation_id) id: vec3<u32>) {
-    let level = levels[0];
-    // A buffer too short for the blocks (past the device's limits) is left alone: the masks
-    // then keep every cell.
-    if any(id >= level.nodes) || node_index(level, id) >= arrayLength(&cell_bins) {
-        return;
-    }
-    let dims = vec3<i32>(textureDimensions(volume_tex));
-    let b = i32(level.brick_vox);
-    let lo = max(vec3<i32>(id) * b - 1, vec3<i32>(0));
-    let hi = min((vec3<i32>(id) + 1) * b, dims - 1);
-    // Cell c along an axis reads voxels [4i + 2c − 1, 4i + 2c + 2]: offsets 0..3 from `first`
-    // for c = 0, 2..5 for c = 1.
-    let first = vec3<i32>(id) * b - 1;
-    var cells: array<vec2<f32>, 8>;
-    for (var c = 0u; c < 8u; c++) {
-        cells[c] = NONE;
-    }
-    for (var z = lo.z; z <= hi.z; z++) {
-        for (var y = lo.y; y <= hi.y; y++) {
-            for (var x = lo.x; x <= hi.x; x++) {
-                let s = textureLoad(volume_tex, vec3<i32>(x, y, z), 0).r * params.texel_scale + params.texel_bias;
-                if s >= MISSING_BELOW {
-                    let o = vec3<i32>(x, y, z) - first;
-                    // Along each axis: in cell 0 (o <= 3), in cell 1 (o >= 2), or both.
-                    let in0 = o <= vec3<i32>(3);
-                    let in1 = o >= vec3<i32>(2);
-                    for (var c = 0u; c < 8u; c++) {
-                        let bit = vec3<u32>(c & 1u, (c >> 1u) & 1u, (c >> 2u) & 1u);
-                        if all(select(in0, in1, bit == vec3<u32>(1u))) {
-                            cells[c] = vec2<f32>(min(cells[c].x, s), max(cells[c].y, s));
-                        }
-                    }
-                }
-            }
-        }
-    }
-    var packed = vec4<u32>(0u);
-    for (var c = 0u; c < 8u; c++) {
-        var pair = 0x00ffu;
-        if cells[c].x <= cells[c].y {
-            pair = value_bin(cells[c].x) | (value_bin(cells[c].y) << 8u);
-        }
-        packed[c / 2u] |= pair << (16u * (c % 2u));
-    }
-    cell_bins[node_index(level, id)] = packed;
 }
 
 @compute @workgroup_size(BUILD_WORKGROUP, BUILD_WORKGROUP, BUILD_WORKGROUP)

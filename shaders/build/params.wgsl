@@ -1,8 +1,6 @@
 // The parameter blocks of the leaping structures' builders (src/render/gpu_data.rs has their
 // Rust twins).
 
-#include "generated/constants.wgsl"
-
 // `BuildParams` in src/render/gpu_data.rs.
 struct BuildParams {
     // The level this pass builds.
@@ -23,9 +21,4 @@ struct EmptinessParams {
     // (X-ray: nothing above the window's low end).
     rule: u32,
     threshold: f32,
-}
-
-// The emptiness table's bin of a normalised value (TABLE_SIZE bins over [0, 1]).
-fn value_bin(v: f32) -> u32 {
-    return min(u32(clamp(v, 0.0, 1.0) * f32(TABLE_SIZE)), TABLE_SIZE - 1u);
 }

@@ -18,11 +18,6 @@
 @group(3) @binding(2) var<storage, read> block_distance: array<u32>;
 #endif
 @group(3) @binding(3) var<storage, read> minmax: array<vec2<f32>>;
-#ifdef LEAP_CELLS
-// The finer occupancy (DVR, sample by sample, at the finest block size): per 4³ block, the mask
-// of its eight 2³-voxel cells that can be visible (bit x + 2y + 4z; build/emptiness.wgsl).
-@group(3) @binding(4) var<storage, read> cell_mask: array<u32>;
-#endif
 
 // Whether node range `m` (min, max) holds no finite voxel: every sample there is missing.
 fn holds_no_finite_voxel(m: vec2<f32>) -> bool {
@@ -37,17 +32,15 @@ struct LeapRay {
     mm_per_vox: vec3<f32>,
     // The ray's first-sample offset (Ray.offset).
     offset: f32,
-    // Sample by sample: the leaf block of the last sample looked up, and with LEAP_CELLS the
-    // mask of its cells that can be visible (all where the leaf blocks are coarser than 4³).
+    // Sample by sample: the leaf block of the last sample looked up.
     block: vec3<u32>,
-    cells: u32,
 }
 
 fn leap_ray(entry: vec3<f32>, box_per_mm: vec3<f32>, offset: f32) -> LeapRay {
     let dims = frame.volume_dims;
     let d = box_per_mm * dims;
     let inv = select(1.0 / d, vec3<f32>(3.0e38), d == vec3<f32>(0.0));
-    return LeapRay(entry * dims, inv, offset, vec3<u32>(0xffffffffu), 0xffu);
+    return LeapRay(entry * dims, inv, offset, vec3<u32>(0xffffffffu));
 }
 
 // Distance (mm from the entry) at which the ray leaves the box [lo, hi), given in voxel units
@@ -133,34 +126,14 @@ fn leap_region(ray: LeapRay, p: vec3<f32>, k: u32, acc: Acc) -> vec2<u32> {
 // where the sample lies in another leaf block than the last one asked about.
 fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32, acc: Acc) -> u32 {
     let block = leaf_block(p);
-    if any(block != (*ray).block) {
-        (*ray).block = block;
-        let region = region_of(block, acc);
-        if !region.matters {
-            let after = first_sample_after(exit_distance(*ray, region.lo, region.hi), k, (*ray).offset);
-            return acc_leap_target(k, after);
-        }
-#ifdef LEAP_CELLS
-        (*ray).cells = 0xffu;
-        if frame.leaf_level == 0u {
-            (*ray).cells = cell_mask[node_index(levels[0], block)];
-        }
-#endif
+    if all(block == (*ray).block) {
+        return k;
     }
-#ifdef LEAP_CELLS
-    // Inside a block that can matter, a cell that cannot is leapt over (one mask test per
-    // sample; none where every cell can matter).
-    if (*ray).cells != 0xffu {
-        let v = max(p * frame.volume_dims, vec3<f32>(0.0));
-        let cell = min(vec3<u32>(v * 0.5), block * 2u + 1u);
-        let local = cell - block * 2u;
-        if (((*ray).cells >> (local.x + 2u * local.y + 4u * local.z)) & 1u) == 0u {
-            let lo = vec3<f32>(cell) * 2.0;
-            let hi = min(lo + 2.0, frame.volume_dims);
-            let after = first_sample_after(exit_distance(*ray, lo, hi), k, (*ray).offset);
-            return acc_leap_target(k, after);
-        }
+    (*ray).block = block;
+    let region = region_of(block, acc);
+    if region.matters {
+        return k;
     }
-#endif
-    return k;
+    let after = first_sample_after(exit_distance(*ray, region.lo, region.hi), k, (*ray).offset);
+    return acc_leap_target(k, after);
 }

@@ -3,9 +3,8 @@
 
 use crate::common;
 
-use leapview::accel::cells;
 use leapview::accel::distance::chebyshev;
-use leapview::accel::emptiness::{self, OpacityIndex, TABLE_SIZE, table_says_empty};
+use leapview::accel::emptiness::{OpacityIndex, TABLE_SIZE, table_says_empty};
 use leapview::accel::pyramid::{MinMax, build_cpu, normalized_values};
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::counters::FrameCounters;
@@ -123,9 +122,6 @@ fn gpu_structures_equal_the_cpu_references() {
             flags.contains(&0) && flags.contains(&1),
             "a useful test has both kinds of nodes"
         );
-        if block == 4 {
-            check_cells(&r, &volume, &index, &table, &flags);
-        }
         // Distance field over the leaf level, from the GPU's flags.
         let leaf = p.levels[p.level_of_block(block).expect("level")];
         let empty: Vec<bool> = flags[leaf.offset as usize..(leaf.offset + leaf.count()) as usize]
@@ -135,69 +131,6 @@ fn gpu_structures_equal_the_cpu_references() {
         let gpu_distance = read_u32(&r, &leap.distance[0], leaf.count());
         assert_eq!(gpu_distance, chebyshev(leaf.nodes, &empty), "block {block}");
     }
-}
-
-/// The finer occupancy (`accel::cells`): the GPU's cell bins are the CPU's (but where a value
-/// lies within rounding of a bin's edge), its masks follow from its bins and the table exactly,
-/// and no cell that the exact test (the CPU's ranges, no bins) calls visible is left out.
-fn check_cells(
-    r: &VolumeRenderer,
-    volume: &Volume,
-    index: &OpacityIndex,
-    table: &[u8],
-    flags: &[u32],
-) {
-    let leap = r.leap_structures().expect("built");
-    let count = leap.pyramid.levels[0].count();
-    let bins: Vec<[u32; 4]> = bytemuck::cast_slice(
-        &read_buffer(r.context(), &leap.cell_bins, count as u64 * 16).expect("read"),
-    )
-    .to_vec();
-    let masks = read_u32(r, &leap.cell_mask, count);
-    let cpu = cells::cell_ranges(&leap.pyramid, &normalized_values(volume));
-    let near_edge = |v: f32| {
-        let x = v.clamp(0.0, 1.0) * TABLE_SIZE as f32;
-        (x - x.round()).abs() < 1e-4
-    };
-    let (mut visible, mut hidden) = (0, 0);
-    for (i, ((gpu, cpu), mask)) in bins.iter().zip(&cpu).zip(&masks).enumerate() {
-        let mut from_bins = [MinMax::NONE; 8];
-        for c in 0..8 {
-            let pair = (gpu[c / 2] >> (16 * (c % 2))) & 0xffff;
-            let (lo, hi) = (pair & 0xff, pair >> 8);
-            let m = cpu[c];
-            if m.min > m.max {
-                assert!(lo > hi, "block {i} cell {c}: no voxel, gpu bins {lo}..{hi}");
-                continue;
-            }
-            for (g, v) in [(lo, m.min), (hi, m.max)] {
-                assert!(
-                    g as usize == emptiness::bin(v) || near_edge(v),
-                    "block {i} cell {c}: gpu bin {g}, cpu value {v}"
-                );
-            }
-            // A range inside the bins, to ask the table with.
-            let edge = |b: u32| (b as f32 + 0.5) / TABLE_SIZE as f32;
-            from_bins[c] = MinMax {
-                min: edge(lo),
-                max: edge(hi),
-            };
-            let bit = mask >> c & 1;
-            if !index.is_node_empty(m) {
-                assert_eq!(bit, 1, "block {i} cell {c}: visible ({m:?}) but masked out");
-            }
-        }
-        let expected = cells::cell_mask(&from_bins, flags[i] == 1, |m| table_says_empty(table, m));
-        assert_eq!(*mask, u32::from(expected), "block {i}: mask");
-        if flags[i] == 0 {
-            visible += mask.count_ones();
-            hidden += 8 - mask.count_ones();
-        }
-    }
-    assert!(
-        visible > 0 && hidden > 0,
-        "a useful test has visible blocks with hidden cells ({visible} visible, {hidden} hidden)"
-    );
 }
 
 /// RC-s must draw RC-t's image from fewer samples, and must take every sample that can

@@ -17,8 +17,7 @@ pub struct Layouts {
     pub compute_io: wgpu::BindGroupLayout,
     /// Group 2 of statistics variants: the counters.
     pub stats: wgpu::BindGroupLayout,
-    /// Group 3 of leaping variants: pyramid levels, node flags, distances, node min/max, cell
-    /// masks.
+    /// Group 3 of leaping variants: pyramid levels, node flags, distances, node min/max.
     pub leap: wgpu::BindGroupLayout,
 }
 
@@ -47,8 +46,6 @@ pub struct LeapResources<'a> {
     pub distance: &'a wgpu::Buffer,
     /// Per-node (min, max).
     pub minmax: &'a wgpu::Buffer,
-    /// Per finest block, the mask of its 2³-voxel cells that can be visible.
-    pub cell_mask: &'a wgpu::Buffer,
 }
 
 /// The stages that run the ray loop.
@@ -169,7 +166,7 @@ impl Layouts {
         let leap = layout(
             device,
             "leap",
-            &[0, 1, 2, 3, 4].map(|binding| storage_entry(binding, true)),
+            &[0, 1, 2, 3].map(|binding| storage_entry(binding, true)),
         );
         Self {
             frame,
@@ -238,7 +235,6 @@ impl Layouts {
                 r.node_empty.as_entire_binding(),
                 r.distance.as_entire_binding(),
                 r.minmax.as_entire_binding(),
-                r.cell_mask.as_entire_binding(),
             ],
         )
     }

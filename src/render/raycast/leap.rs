@@ -22,11 +22,9 @@ use super::uniforms::LeapLevels;
 pub struct LeapPipelines {
     base: wgpu::ComputePipeline,
     parent: wgpu::ComputePipeline,
-    cell_bins: wgpu::ComputePipeline,
     scan: wgpu::ComputePipeline,
     table: wgpu::ComputePipeline,
     flags: wgpu::ComputePipeline,
-    cells: wgpu::ComputePipeline,
     distance: wgpu::ComputePipeline,
 }
 
@@ -42,11 +40,9 @@ impl LeapPipelines {
         Ok(Self {
             base: compute_pipeline(device, &minmax, "build_base"),
             parent: compute_pipeline(device, &minmax, "build_parent"),
-            cell_bins: compute_pipeline(device, &minmax, "build_cells"),
             scan: compute_pipeline(device, &emptiness, "scan_lut"),
             table: compute_pipeline(device, &emptiness, "build_table"),
             flags: compute_pipeline(device, &emptiness, "flag_nodes"),
-            cells: compute_pipeline(device, &emptiness, "flag_cells"),
             distance: compute_pipeline(device, &distance, "distance_pass"),
         })
     }
@@ -96,17 +92,6 @@ fn dispatch_over_nodes(pass: &mut wgpu::ComputePass<'_>, nodes: [u32; 3]) {
     pass.dispatch_workgroups(x, y, z);
 }
 
-/// Bytes of the cells' value bins for `finest` blocks, or 16 (a buffer too short for any block:
-/// the builders then mark every cell of a visible block visible) where that would pass the
-/// device's largest storage buffer.
-fn cell_bin_bytes(ctx: &GpuContext, finest: u64) -> u64 {
-    if finest * 16 <= ctx.largest_storage_buffer() {
-        finest * 16
-    } else {
-        16
-    }
-}
-
 /// What makes a node empty, and the inputs that rule depends on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FlagRule {
@@ -125,12 +110,6 @@ pub struct LeapStructures {
     pub minmax: wgpu::Buffer,
     /// Per-node emptiness flags (u32 0/1), all levels.
     pub node_empty: wgpu::Buffer,
-    /// Per finest block (4³ voxels), the value bins of its eight 2³-voxel cells
-    /// (`vec4<u32>`, see `shaders/build/minmax.wgsl`): built with the pyramid.
-    pub cell_bins: wgpu::Buffer,
-    /// Per finest block, the mask of its cells that can be visible (u32, bits 0..7), built with
-    /// the node flags ([`crate::accel::cells`] is the reference).
-    pub cell_mask: wgpu::Buffer,
     /// The emptiness table, `TABLE_SIZE²` u32 (1 = empty), indexed `max_bin * TABLE_SIZE + min_bin`.
     pub table: wgpu::Buffer,
     prefix: wgpu::Buffer,
@@ -175,8 +154,7 @@ impl LeapStructures {
         );
         ctx.queue
             .write_buffer(&level_buffer, 0, bytemuck::cast_slice(&infos));
-        let finest = pyramid.levels[0].count() as u64;
-        let leaf_max = finest * 4;
+        let leaf_max = pyramid.levels[0].count() as u64 * 4;
         let storage = U::STORAGE | U::COPY_SRC | U::COPY_DST;
         let level_params = (0..pyramid.levels.len() as u32)
             .map(|l| {
@@ -195,8 +173,6 @@ impl LeapStructures {
         Self {
             minmax: buffer(device, "node min/max", nodes * 8, storage),
             node_empty: buffer(device, "node emptiness", nodes * 4, storage),
-            cell_bins: buffer(device, "cell bins", cell_bin_bytes(ctx, finest), storage),
-            cell_mask: buffer(device, "cell mask", finest * 4, storage),
             table: buffer(
                 device,
                 "emptiness table",
@@ -264,19 +240,6 @@ impl LeapStructures {
             pass.set_bind_group(0, &group, &[]);
             dispatch_over_nodes(&mut pass, level.nodes);
         }
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("cell bins build"),
-            layout: &pipelines.cell_bins.get_bind_group_layout(0),
-            entries: &[
-                entry(0, self.level_params[0].as_entire_binding()),
-                entry(1, self.level_buffer.as_entire_binding()),
-                entry(3, wgpu::BindingResource::TextureView(volume_view)),
-                entry(4, self.cell_bins.as_entire_binding()),
-            ],
-        });
-        pass.set_pipeline(&pipelines.cell_bins);
-        pass.set_bind_group(0, &group, &[]);
-        dispatch_over_nodes(&mut pass, self.pyramid.levels[0].nodes);
         drop(pass);
         self.minmax_ready = true;
         true
@@ -316,8 +279,6 @@ impl LeapStructures {
                 entry(3, self.table.as_entire_binding()),
                 entry(4, self.minmax.as_entire_binding()),
                 entry(5, self.node_empty.as_entire_binding()),
-                entry(6, self.cell_bins.as_entire_binding()),
-                entry(7, self.cell_mask.as_entire_binding()),
             ];
             let entries: Vec<_> = all
                 .into_iter()
@@ -332,7 +293,6 @@ impl LeapStructures {
         let scan = entries_for(&pipelines.scan, &[0, 1, 2]);
         let table = entries_for(&pipelines.table, &[0, 2, 3]);
         let flags = entries_for(&pipelines.flags, &[0, 3, 4, 5]);
-        let cells = entries_for(&pipelines.cells, &[0, 3, 5, 6, 7]);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("emptiness"),
             timestamp_writes: timestamps,
@@ -347,10 +307,6 @@ impl LeapStructures {
         pass.set_pipeline(&pipelines.flags);
         pass.set_bind_group(0, &flags, &[]);
         let (gx, gy) = groups_for(nodes, NODE_WORKGROUP);
-        pass.dispatch_workgroups(gx, gy, 1);
-        pass.set_pipeline(&pipelines.cells);
-        pass.set_bind_group(0, &cells, &[]);
-        let (gx, gy) = groups_for(self.pyramid.levels[0].count(), NODE_WORKGROUP);
         pass.dispatch_workgroups(gx, gy, 1);
         drop(pass);
         self.flags_for = Some(rule);
@@ -420,7 +376,6 @@ impl LeapStructures {
             node_empty: &self.node_empty,
             distance: &self.distance[0],
             minmax: &self.minmax,
-            cell_mask: &self.cell_mask,
         }
     }
 

@@ -131,11 +131,6 @@ impl PipelineKey {
             if self.mode != Mode::Dvr && self.strategy != Strategy::RcSDistance {
                 defines.push("LEAP_RUNS");
             }
-            // DVR also leaps over the 2³-voxel cells of a visible 4³ block that are transparent
-            // (the finer occupancy, src/accel/cells.rs).
-            if self.mode == Mode::Dvr {
-                defines.push("LEAP_CELLS");
-            }
         }
         if self.strategy == Strategy::RcSDistance {
             defines.push("LEAP_DISTANCE");
