@@ -55,15 +55,24 @@ pub fn timed_frame(
     Ok((ms, results, path))
 }
 
-/// [`timed_frame`], then the image read back to the CPU as 8-bit RGBA (quantised on the GPU, as
-/// a screenshot holds it): also returns the wall time from submission to the image in memory
-/// (what tools that time `render + read-back` report; VTK, vispy and pygfx read 8-bit pixels).
+/// Renders one frame and reads its image back to the CPU as 8-bit RGBA (quantised on the GPU, as
+/// a screenshot holds it), the way tools that time `render + read-back` do (VTK, vispy and
+/// pygfx read 8-bit pixels): one submission of the frame, one of the read-back, one wait for
+/// both. Returns the frame's GPU time (as [`timed_frame`]), the wall time from submission to the
+/// image in memory, and the path that ran.
 pub fn timed_frame_read_back(
     renderer: &mut VolumeRenderer,
     request: &FrameRequest,
 ) -> Result<(f64, f64, String), RenderError> {
     let start = Instant::now();
-    let (ms, _, path) = timed_frame(renderer, request)?;
+    let submitted = renderer.render(request)?;
     renderer.read_image_rgba8()?;
-    Ok((ms, start.elapsed().as_secs_f64() * 1e3, path))
+    let wall_ms = start.elapsed().as_secs_f64() * 1e3;
+    let results = renderer
+        .collect_results(true)
+        .into_iter()
+        .find(|r| r.frame == submitted.frame)
+        .unwrap_or_default();
+    let path = format!("{:?}", submitted.key.path).to_lowercase();
+    Ok((results.gpu_ms.unwrap_or(wall_ms), wall_ms, path))
 }
