@@ -49,7 +49,7 @@ fn acc_prime(acc: ptr<function, Acc>, ray: Ray) -> vec2<u32> {
         if j > 0u {
             k = ((2u * j - 1u) * ray.count) / (2u * n);
         }
-        let t = min((f32(k) + ray.offset) * frame.step_mm, ray.length_mm);
+        let t = sample_distance(ray, k);
         let p = ray.entry + ray.box_per_mm * t;
         taken += 1u;
         if (acc_sample(acc, ray, k, t, p, sample_value(p)) & SAMPLE_STOP) != 0u {

@@ -95,6 +95,12 @@ struct Ray {
     count: u32,
 }
 
+// Distance (mm from the entry) of grid sample k of `ray`: t_k = min((k + offset) · step, L), the
+// rule of src/sampling.rs. Every sample any loop takes or leaps to lies on it.
+fn sample_distance(ray: Ray, k: u32) -> f32 {
+    return min((f32(k) + ray.offset) * frame.step_mm, ray.length_mm);
+}
+
 // Bits returned by acc_sample.
 const SAMPLE_STOP: u32 = 1u;
 const SAMPLE_CONTRIBUTED: u32 = 2u;

@@ -1,6 +1,6 @@
 // The ray loop, shared by the fragment and compute entry points and by every mode. Samples lie on
-// one grid per ray, t_k = min((k + offset) * step, L) (src/sampling.rs documents the rule; the CPU
-// reference implements the same). Leaping variants skip grid samples but never move them.
+// one grid per ray, t_k = min((k + offset) * step, L) (`sample_distance`, shared/common.wgsl;
+// src/sampling.rs documents the rule and the CPU reference implements the same). Leaping variants skip grid samples but never move them.
 //
 // THE MODE CONTRACT. Exactly one module of modes/ is included (by the MODE_* symbol of the
 // variant, src/render/raycast/variant.rs); it decides what a sample does and defines:
@@ -63,10 +63,9 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
     var acc = acc_init();
     var tally = tally_new();
     if ray.length_mm > 0.0 {
-        let step = frame.step_mm;
         ray.box_per_mm = segment / ray.length_mm;
         ray.dir_world = segment_mm / ray.length_mm;
-        ray.count = u32(ceil(ray.length_mm / step));
+        ray.count = u32(ceil(ray.length_mm / frame.step_mm));
 #ifdef PREINTEGRATED
         acc_start(&acc, ray);
 #endif
@@ -87,7 +86,7 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
             if k >= ray.count {
                 break;
             }
-            let t_k = min((f32(k) + ray.offset) * step, ray.length_mm);
+            let t_k = sample_distance(ray, k);
             let region = leap_region(leap, entry + ray.box_per_mm * t_k, k, acc);
             let next = region.x;
             let end = min(region.y, ray.count);
@@ -98,7 +97,7 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
             }
             var stopped = false;
             loop {
-                let t = min((f32(k) + ray.offset) * step, ray.length_mm);
+                let t = sample_distance(ray, k);
                 let p = entry + ray.box_per_mm * t;
                 let result = acc_sample(&acc, ray, k, t, p, sample_value(p));
                 tally_sample(&tally, result);
@@ -128,7 +127,7 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
             if k >= ray.count {
                 break;
             }
-            let t = min((f32(k) + ray.offset) * step, ray.length_mm);
+            let t = sample_distance(ray, k);
             let p = entry + ray.box_per_mm * t;
 #ifdef LEAP
             let next = leap_from(&leap, p, k, acc);
@@ -152,7 +151,7 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
                 // nothing, and the region's last sample starts the segment out of it.
                 let last = min(next, ray.count) - 1u;
                 if last > k {
-                    let t_last = min((f32(last) + ray.offset) * step, ray.length_mm);
+                    let t_last = sample_distance(ray, last);
                     acc_resume(&acc, t_last, sample_value(entry + ray.box_per_mm * t_last));
                 }
                 // Samples k + 1 .. next − 1 (sample k was taken; the resumed one is not counted

@@ -6,7 +6,9 @@ use std::time::Instant;
 use glam::DVec3;
 use leapview::bench::record::Environment;
 use leapview::camera::{Aabb, Camera, ProjectionKind, orbit_direction};
-use leapview::render::{FrameRequest, FrameResults, GpuContext, RenderError, VolumeRenderer};
+use leapview::render::{
+    FrameRequest, FrameResults, GpuContext, RenderError, SubmittedFrame, VolumeRenderer,
+};
 
 /// Where a run happens: the adapter, driver, command line and version.
 pub fn environment(ctx: &GpuContext, quick: bool) -> Environment {
@@ -51,8 +53,12 @@ pub fn timed_frame(
     let ms = results
         .gpu_ms
         .unwrap_or_else(|| start.elapsed().as_secs_f64() * 1e3);
-    let path = format!("{:?}", submitted.key.path).to_lowercase();
-    Ok((ms, results, path))
+    Ok((ms, results, path_name(&submitted)))
+}
+
+/// The path a frame ran on, as the reports write it.
+fn path_name(submitted: &SubmittedFrame) -> String {
+    format!("{:?}", submitted.key.path).to_lowercase()
 }
 
 /// Renders one frame and reads its image back to the CPU as 8-bit RGBA (quantised on the GPU, as
@@ -68,11 +74,10 @@ pub fn timed_frame_read_back(
     let submitted = renderer.render(request)?;
     renderer.read_image_rgba8()?;
     let wall_ms = start.elapsed().as_secs_f64() * 1e3;
-    let results = renderer
-        .collect_results(true)
-        .into_iter()
-        .find(|r| r.frame == submitted.frame)
-        .unwrap_or_default();
-    let path = format!("{:?}", submitted.key.path).to_lowercase();
-    Ok((results.gpu_ms.unwrap_or(wall_ms), wall_ms, path))
+    let results = renderer.wait_for_results(&submitted);
+    Ok((
+        results.gpu_ms.unwrap_or(wall_ms),
+        wall_ms,
+        path_name(&submitted),
+    ))
 }

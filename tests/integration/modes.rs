@@ -285,13 +285,8 @@ fn lighting_only_where_it_shows_changes_the_image_by_less_than_its_threshold_all
 #[test]
 fn block_runs_take_each_grid_sample_once() {
     let volume = scene();
-    let tf = tf();
-    let mut r = common::renderer();
-    r.set_volume(&volume).expect("upload");
-    r.set_transfer_function(&tf);
-    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
-    let (dir, up) = ViewPreset::Oblique.direction_and_up();
-    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    let mut r = common::renderer_for(&volume, &tf());
+    let camera = common::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
     for (name, settings) in cases() {
         if settings.mode == Mode::Dvr {
             continue;

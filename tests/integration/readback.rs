@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
+use leapview::camera::{ProjectionKind, ViewPreset};
 use leapview::render::FrameRequest;
 use leapview::settings::{Mode, RenderPath, RenderSettings};
 use leapview::transfer::presets::preset;
@@ -13,12 +13,8 @@ use leapview::volume::synthetic;
 #[test]
 fn the_8_bit_read_back_equals_the_f32_image_quantised() {
     let volume = synthetic::vessel_tree(48, 3).expect("volume");
-    let mut r = common::renderer();
-    r.set_volume(&volume).expect("upload");
-    r.set_transfer_function(&preset("mr-angio").expect("preset"));
-    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
-    let (dir, up) = ViewPreset::Oblique.direction_and_up();
-    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    let mut r = common::renderer_for(&volume, &preset("mr-angio").expect("preset"));
+    let camera = common::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
     // Odd sizes: rows of neither 64 pixels (copy alignment) nor 8 (workgroups); the second
     // size rebuilds the kept buffers, the third reuses them.
     for size in [[53, 61], [97, 33], [97, 33]] {

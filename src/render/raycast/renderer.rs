@@ -496,12 +496,16 @@ impl VolumeRenderer {
         request: &FrameRequest,
     ) -> Result<(SubmittedFrame, FrameResults), RenderError> {
         let submitted = self.render(request)?;
-        let results = self.collect_results(true);
-        let mine = results
+        let results = self.wait_for_results(&submitted);
+        Ok((submitted, results))
+    }
+
+    /// Waits for the measurements of `submitted` (empty where it had none).
+    pub fn wait_for_results(&mut self, submitted: &SubmittedFrame) -> FrameResults {
+        self.collect_results(true)
             .into_iter()
             .find(|r| r.frame == submitted.frame)
-            .unwrap_or_default();
-        Ok((submitted, mine))
+            .unwrap_or_default()
     }
 
     /// The rendered image (to copy it for display), once a frame was rendered.
@@ -521,15 +525,13 @@ impl VolumeRenderer {
     /// buffer takes that slower way.
     pub fn read_image_rgba8(&mut self) -> Result<image::RgbaImage, RenderError> {
         let targets = self.targets.as_ref().ok_or(RenderError::NoVolume)?;
-        if self.rgba8.is_none() {
-            self.rgba8 = Some(Rgba8Reader::new(&self.ctx.device)?);
-        }
-        let packed = match self.rgba8.as_mut() {
-            Some(reader) => reader
-                .read(&self.ctx, &targets.output_view, targets.size)
-                .map_err(RenderError::Gpu)?,
-            None => None,
+        let reader = match &mut self.rgba8 {
+            Some(reader) => reader,
+            empty => empty.insert(Rgba8Reader::new(&self.ctx.device)?),
         };
+        let packed = reader
+            .read(&self.ctx, &targets.output_view, targets.size)
+            .map_err(RenderError::Gpu)?;
         match packed {
             Some(image) => Ok(image),
             None => Ok(self.read_image()?.to_rgba8()),
