@@ -52,6 +52,58 @@
 #include "leap/leap.wgsl"
 #endif
 
+#ifdef SAMPLE_BATCH
+// Takes grid samples k .. min(k + 4, end) − 1 of `ray` in order, their four texture reads issued
+// before the first is used, so that they overlap (src/render/raycast/variant.rs says where this
+// is chosen). Samples past `end` are read (their positions clamp to the exit, `sample_distance`)
+// but never used. Returns the next sample, and 1 where a sample returned SAMPLE_STOP (then the
+// next sample is the stopping one's, as the one-by-one loop leaves it).
+fn take_batch(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray, k: u32, end: u32) -> vec2<u32> {
+    let t0 = sample_distance(ray, k);
+    let t1 = sample_distance(ray, k + 1u);
+    let t2 = sample_distance(ray, k + 2u);
+    let t3 = sample_distance(ray, k + 3u);
+    let p0 = ray.entry + ray.box_per_mm * t0;
+    let p1 = ray.entry + ray.box_per_mm * t1;
+    let p2 = ray.entry + ray.box_per_mm * t2;
+    let p3 = ray.entry + ray.box_per_mm * t3;
+    let s0 = sample_value(p0);
+    let s1 = sample_value(p1);
+    let s2 = sample_value(p2);
+    let s3 = sample_value(p3);
+    var r = acc_sample(acc, ray, k, t0, p0, s0);
+    tally_sample(tally, r);
+    if (r & SAMPLE_STOP) != 0u {
+        return vec2<u32>(k, 1u);
+    }
+    if k + 1u >= end {
+        return vec2<u32>(k + 1u, 0u);
+    }
+    r = acc_sample(acc, ray, k + 1u, t1, p1, s1);
+    tally_sample(tally, r);
+    if (r & SAMPLE_STOP) != 0u {
+        return vec2<u32>(k + 1u, 1u);
+    }
+    if k + 2u >= end {
+        return vec2<u32>(k + 2u, 0u);
+    }
+    r = acc_sample(acc, ray, k + 2u, t2, p2, s2);
+    tally_sample(tally, r);
+    if (r & SAMPLE_STOP) != 0u {
+        return vec2<u32>(k + 2u, 1u);
+    }
+    if k + 3u >= end {
+        return vec2<u32>(k + 3u, 0u);
+    }
+    r = acc_sample(acc, ray, k + 3u, t3, p3, s3);
+    tally_sample(tally, r);
+    if (r & SAMPLE_STOP) != 0u {
+        return vec2<u32>(k + 3u, 1u);
+    }
+    return vec2<u32>(k + 4u, 0u);
+}
+#endif
+
 // Casts the ray from `entry` to `exit` (box coordinates); returns the pixel colour.
 fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
     let segment = exit - entry;
@@ -96,6 +148,19 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
                 continue;
             }
             var stopped = false;
+#ifdef SAMPLE_BATCH
+            loop {
+                let taken = take_batch(&acc, &tally, ray, k, end);
+                k = taken.x;
+                if taken.y != 0u {
+                    stopped = true;
+                    break;
+                }
+                if k >= end {
+                    break;
+                }
+            }
+#else
             loop {
                 let t = sample_distance(ray, k);
                 let p = entry + ray.box_per_mm * t;
@@ -110,6 +175,7 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
                     break;
                 }
             }
+#endif
             if stopped {
                 break;
             }
@@ -123,6 +189,19 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
         var leap = leap_ray(entry, ray.box_per_mm, ray.offset);
 #endif
         var k = 0u;
+#ifdef SAMPLE_BATCH
+        // Without leaping only (variant.rs): the plain loop four samples at a time.
+        loop {
+            if k >= ray.count {
+                break;
+            }
+            let taken = take_batch(&acc, &tally, ray, k, ray.count);
+            k = taken.x;
+            if taken.y != 0u {
+                break;
+            }
+        }
+#else
         loop {
             if k >= ray.count {
                 break;
@@ -164,6 +243,7 @@ fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
 #endif
             k += 1u;
         }
+#endif
 #endif
 #ifdef PREINTEGRATED
         if k >= ray.count {

@@ -128,9 +128,12 @@ impl PipelineKey {
             // runs up to 1.55x slower: its rays end early, at different samples) and for the
             // distance field (X-ray up to 1.4x slower in runs). Never with PREINTEGRATED (DVR
             // only), and DVR's mode module has no acc_prime.
-            if self.mode != Mode::Dvr && self.strategy != Strategy::RcSDistance {
+            if self.walks_in_runs() {
                 defines.push("LEAP_RUNS");
             }
+        }
+        if self.batches_samples() {
+            defines.push("SAMPLE_BATCH");
         }
         if self.strategy == Strategy::RcSDistance {
             defines.push("LEAP_DISTANCE");
@@ -144,6 +147,18 @@ impl PipelineKey {
         defines
     }
 
+    /// Whether the loop takes samples four at a time, their texture reads issued together
+    /// (`take_batch`, shaders/shared/march.wgsl): only in loops that take runs of samples with
+    /// no per-sample leaping test, i.e. without leaping or in block runs.
+    pub fn batches_samples(&self) -> bool {
+        !self.strategy.leaps() || self.walks_in_runs()
+    }
+
+    /// Whether a leaping variant walks in block runs (LEAP_RUNS) rather than sample by sample.
+    fn walks_in_runs(&self) -> bool {
+        self.strategy.leaps() && self.mode != Mode::Dvr && self.strategy != Strategy::RcSDistance
+    }
+
     /// The composed WGSL of this variant.
     pub fn source(&self) -> Result<String, ShaderError> {
         let entry = match self.path {
@@ -151,5 +166,25 @@ impl PipelineKey {
             ConcretePath::Compute => "entry/raycast_compute.wgsl",
         };
         compose(entry, &self.defines())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The batched loop has no leaping test: a variant that leaps sample by sample must never
+    /// batch, or it would stop leaping (march.wgsl takes the batch in place of that walk).
+    #[test]
+    fn only_loops_without_per_sample_leaping_batch() {
+        let keys = PipelineKey::all();
+        assert!(keys.iter().any(|k| k.defines().contains(&"SAMPLE_BATCH")));
+        for key in keys {
+            let defines = key.defines();
+            let batches = defines.contains(&"SAMPLE_BATCH");
+            let leaps = defines.contains(&"LEAP");
+            let runs = defines.contains(&"LEAP_RUNS");
+            assert_eq!(batches, !leaps || runs, "{key:?}: {defines:?}");
+        }
     }
 }
