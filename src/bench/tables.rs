@@ -122,6 +122,7 @@ pub fn markdown(summary: &Summary) -> String {
         let _ = writeln!(md, "- Dataset {} {what}: {}", s.dataset, s.reason);
     }
     write_table1(&mut md, &summary.table1);
+    md.push_str(&super::targets::default_markdown(&summary.against_rc_t));
     md.push_str(&super::targets::markdown(&summary.against_rc_t));
     write_table2(&mut md, &summary.runs);
     write_rebuilds(&mut md, &summary.rebuilds);

@@ -8,6 +8,11 @@ use std::fmt::Write;
 use serde::{Deserialize, Serialize};
 
 use super::stats::RunSummary;
+use crate::settings::{Mode, RenderSettings};
+
+/// A leaping run counts as at least as fast as RC-t from this fps ratio on (2 % for the runs'
+/// own spread, as issue 14 sets it).
+pub const AS_FAST_AS_RC_T: f64 = 0.98;
 
 /// One leaping run measured against RC-t.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -75,6 +80,114 @@ pub fn against_rc_t(runs: &[RunSummary]) -> Vec<AgainstRcT> {
         });
     }
     rows
+}
+
+/// How the strategy a user gets by default did against RC-t over the volumes of one mode, path
+/// and image size.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DefaultAgainstRcT {
+    /// Mode.
+    pub mode: String,
+    /// Path.
+    pub path: String,
+    /// Image size.
+    pub size: [u32; 2],
+    /// The default strategy of the mode (`RenderSettings::default()`'s, as the mode runs it).
+    pub strategy: String,
+    /// Volumes measured with both.
+    pub volumes: usize,
+    /// Volumes where its fps is at least [`AS_FAST_AS_RC_T`] × RC-t's.
+    pub as_fast: usize,
+    /// The median of its fps over RC-t's.
+    pub median_ratio: f64,
+    /// The volume where it did worst, and its ratio there.
+    pub worst: (String, f64),
+}
+
+/// The default strategy's rows of `rows`, gathered per mode, path and size (in first-seen order).
+pub fn default_against_rc_t(rows: &[AgainstRcT]) -> Vec<DefaultAgainstRcT> {
+    let default = RenderSettings::default().strategy;
+    let mut groups: Vec<(DefaultAgainstRcT, Vec<f64>)> = Vec::new();
+    for row in rows {
+        let Some(mode) = Mode::ALL.into_iter().find(|m| m.label() == row.mode) else {
+            continue;
+        };
+        let strategy = default.for_mode(mode).label();
+        if row.strategy != strategy {
+            continue;
+        }
+        let found = groups
+            .iter()
+            .position(|(g, _)| (&g.mode, &g.path, g.size) == (&row.mode, &row.path, row.size));
+        let index = found.unwrap_or_else(|| {
+            groups.push((
+                DefaultAgainstRcT {
+                    mode: row.mode.clone(),
+                    path: row.path.clone(),
+                    size: row.size,
+                    strategy: strategy.to_string(),
+                    volumes: 0,
+                    as_fast: 0,
+                    median_ratio: f64::NAN,
+                    worst: (row.dataset.clone(), f64::INFINITY),
+                },
+                Vec::new(),
+            ));
+            groups.len() - 1
+        });
+        let (group, ratios) = &mut groups[index];
+        group.volumes += 1;
+        group.as_fast += usize::from(row.fps_ratio >= AS_FAST_AS_RC_T);
+        if row.fps_ratio < group.worst.1 {
+            group.worst = (row.dataset.clone(), row.fps_ratio);
+        }
+        ratios.push(row.fps_ratio);
+    }
+    groups
+        .into_iter()
+        .map(|(mut group, mut ratios)| {
+            ratios.sort_by(f64::total_cmp);
+            let n = ratios.len();
+            group.median_ratio = if n % 2 == 1 {
+                ratios[n / 2]
+            } else {
+                (ratios[n / 2 - 1] + ratios[n / 2]) / 2.0
+            };
+            group
+        })
+        .collect()
+}
+
+/// The table of [`default_against_rc_t`] in Markdown (empty without rows).
+pub fn default_markdown(rows: &[AgainstRcT]) -> String {
+    let groups = default_against_rc_t(rows);
+    if groups.is_empty() {
+        return String::new();
+    }
+    let mut md = format!(
+        "\n## The default strategy against RC-t\n\nPer mode, path and size: the volumes where the \
+         strategy a user gets by default renders at least {AS_FAST_AS_RC_T}× RC-t's fps, the \
+         median of its fps over RC-t's, and the volume where it does worst.\n\n\
+         | mode | path | size | default | ≥ {AS_FAST_AS_RC_T}× RC-t | median | worst |\n\
+         |---|---|---|---|---:|---:|---|\n"
+    );
+    for g in groups {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {}×{} | {} | {} of {} | {:.2} | {} {:.2} |",
+            g.mode,
+            g.path,
+            g.size[0],
+            g.size[1],
+            g.strategy,
+            g.as_fast,
+            g.volumes,
+            g.median_ratio,
+            g.worst.0,
+            g.worst.1
+        );
+    }
+    md
 }
 
 fn opt(value: Option<f64>, digits: usize) -> String {
@@ -161,6 +274,40 @@ mod tests {
         assert!((r.over_floor.expect("over") - 5.0).abs() < 1e-9);
         assert_eq!((r.wall_ms, r.rct_wall_ms), (Some(2.0), Some(3.0)));
         assert!(markdown(&rows).contains("| d | dvr | compute | 8×8 | RC-s | 2.00 | 0.40 |"));
+    }
+
+    #[test]
+    fn the_default_summary_counts_the_default_strategy_only() {
+        let mut rows = Vec::new();
+        for (dataset, rct_ms, df_ms, s_ms) in [
+            ("a", 2.0, 1.0, 3.0),
+            ("b", 1.0, 1.01, 0.5),
+            ("c", 1.0, 1.5, 0.5),
+        ] {
+            let mut runs = [
+                run("RC-t", rct_ms, 1e6, 1e5),
+                run("RC-s-df", df_ms, 2e5, 1e5),
+                run("RC-s", s_ms, 2e5, 1e5),
+            ];
+            for r in &mut runs {
+                r.key.dataset = dataset.into();
+            }
+            rows.extend(against_rc_t(&runs));
+        }
+        let groups = default_against_rc_t(&rows);
+        assert_eq!(groups.len(), 1);
+        let g = &groups[0];
+        // DVR's default is RC-s-df: 2×, 0.990× (as fast, within the 2 %) and 0.667× RC-t.
+        assert_eq!(g.strategy, "RC-s-df");
+        assert_eq!((g.volumes, g.as_fast), (3, 2));
+        assert!((g.median_ratio - 1.0 / 1.01).abs() < 1e-12);
+        assert_eq!(g.worst.0, "c");
+        assert!((g.worst.1 - 1.0 / 1.5).abs() < 1e-12);
+        assert!(
+            default_markdown(&rows)
+                .contains("| dvr | compute | 8×8 | RC-s-df | 2 of 3 | 0.99 | c 0.67 |")
+        );
+        assert!(default_markdown(&[]).is_empty());
     }
 
     #[test]
