@@ -53,6 +53,13 @@
 #endif
 
 #ifdef SAMPLE_BATCH
+// Sample k of the batch (value s already read); whether it stops the ray.
+fn take_one(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> bool {
+    let r = acc_sample(acc, ray, k, t, p, s);
+    tally_sample(tally, r);
+    return (r & SAMPLE_STOP) != 0u;
+}
+
 // Takes grid samples k .. min(k + 4, end) − 1 of `ray` in order, their four texture reads issued
 // before the first is used, so that they overlap (src/render/raycast/variant.rs says where this
 // is chosen). Samples past `end` are read (their positions clamp to the exit, `sample_distance`)
@@ -71,33 +78,27 @@ fn take_batch(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray, k:
     let s1 = sample_value(p1);
     let s2 = sample_value(p2);
     let s3 = sample_value(p3);
-    var r = acc_sample(acc, ray, k, t0, p0, s0);
-    tally_sample(tally, r);
-    if (r & SAMPLE_STOP) != 0u {
+    // Then each in order, up to `end` (written out, not as a loop over arrays, so that no
+    // driver's compiler can put the values in memory or move a read after a use).
+    if take_one(acc, tally, ray, k, t0, p0, s0) {
         return vec2<u32>(k, 1u);
     }
     if k + 1u >= end {
         return vec2<u32>(k + 1u, 0u);
     }
-    r = acc_sample(acc, ray, k + 1u, t1, p1, s1);
-    tally_sample(tally, r);
-    if (r & SAMPLE_STOP) != 0u {
+    if take_one(acc, tally, ray, k + 1u, t1, p1, s1) {
         return vec2<u32>(k + 1u, 1u);
     }
     if k + 2u >= end {
         return vec2<u32>(k + 2u, 0u);
     }
-    r = acc_sample(acc, ray, k + 2u, t2, p2, s2);
-    tally_sample(tally, r);
-    if (r & SAMPLE_STOP) != 0u {
+    if take_one(acc, tally, ray, k + 2u, t2, p2, s2) {
         return vec2<u32>(k + 2u, 1u);
     }
     if k + 3u >= end {
         return vec2<u32>(k + 3u, 0u);
     }
-    r = acc_sample(acc, ray, k + 3u, t3, p3, s3);
-    tally_sample(tally, r);
-    if (r & SAMPLE_STOP) != 0u {
+    if take_one(acc, tally, ray, k + 3u, t3, p3, s3) {
         return vec2<u32>(k + 3u, 1u);
     }
     return vec2<u32>(k + 4u, 0u);
