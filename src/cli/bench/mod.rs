@@ -139,6 +139,11 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
                 } else {
                     config.warmup_frames
                 },
+                if index == 0 {
+                    run::SETTLE_TIME
+                } else {
+                    run::WARMUP_TIME
+                },
             ) {
                 Ok(record) => results.runs.push(record),
                 Err(e) => {

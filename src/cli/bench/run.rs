@@ -95,11 +95,18 @@ pub fn plan(config: &BenchConfig, spec: &DatasetSpec) -> Vec<Planned> {
 }
 
 /// The shortest warm-up before a run is timed.
-const WARMUP_TIME: Duration = Duration::from_millis(250);
-/// The most warm-up frames spent reaching [`WARMUP_TIME`].
+pub const WARMUP_TIME: Duration = Duration::from_millis(250);
+/// The shortest warm-up of a dataset's first run, right after its upload: the GPU idled while
+/// the volume was read or generated, and on the H200 a few 512³ first runs still came out 3–4×
+/// slow after 250 ms (docs/benchmarks/README.md, the H200 runs of 2026-12-03).
+pub const SETTLE_TIME: Duration = Duration::from_secs(1);
+/// The most warm-up frames spent reaching the warm-up time.
 const WARMUP_MAX_FRAMES: u32 = 5000;
+/// Warm-up frames submitted between two waits: the GPU has the next frames queued while the
+/// CPU waits, instead of idling between frames as the timed passes make it.
+const WARMUP_BATCH: u32 = 8;
 
-/// Runs `planned` over `cameras` after `warmup` frames (and [`WARMUP_TIME`]): the timing pass, the render + read-back
+/// Runs `planned` over `cameras` after `warmup` frames and `warmup_time`: the timing pass, the render + read-back
 /// pass, then the statistics pass (itself warmed up once so that building its pipeline is not in
 /// the first frame).
 pub fn measure(
@@ -109,6 +116,7 @@ pub fn measure(
     planned: &Planned,
     cameras: &[(Camera, f64)],
     warmup: u32,
+    warmup_time: Duration,
 ) -> Result<RunRecord, RenderError> {
     let request = |camera, stats| FrameRequest {
         camera,
@@ -119,15 +127,30 @@ pub fn measure(
     let Some((first, _)) = cameras.first() else {
         return Err(RenderError::NoVolume);
     };
-    let mut path = String::new();
-    // At least `warmup` frames and WARMUP_TIME: an idle GPU clocks down (the H200 idles at a sixth
-    // of its clock), and a few sub-millisecond frames do not bring it back up.
+    // At least `warmup` frames and `warmup_time`: an idle GPU clocks down (the H200 idles at a
+    // sixth of its clock), and a few sub-millisecond frames do not bring it back up. The first
+    // frame builds the pipeline and names the path; the rest go in batches without a wait.
     let started = Instant::now();
-    let mut warmed = 0u32;
-    while warmed < warmup.max(1) || (started.elapsed() < WARMUP_TIME && warmed < WARMUP_MAX_FRAMES)
-    {
-        path = timed_frame(renderer, &request(first, false))?.2;
-        warmed += 1;
+    // A batch never runs much past the warm-up time: its size follows the last frames' time
+    // (the first frame's, pipeline build included, is an overestimate).
+    let path = timed_frame(renderer, &request(first, false))?.2;
+    let mut per_frame = started.elapsed().as_secs_f64();
+    let mut warmed = 1u32;
+    while warmed < warmup || (started.elapsed() < warmup_time && warmed < WARMUP_MAX_FRAMES) {
+        let left = warmup_time.saturating_sub(started.elapsed()).as_secs_f64();
+        let by_time = (left / per_frame.max(1e-6))
+            .ceil()
+            .min(f64::from(WARMUP_BATCH)) as u32;
+        let batch = by_time
+            .max(warmup.saturating_sub(warmed))
+            .clamp(1, WARMUP_BATCH);
+        let batch_started = Instant::now();
+        for _ in 0..batch {
+            renderer.render(&request(first, false))?;
+        }
+        renderer.collect_results(true);
+        per_frame = batch_started.elapsed().as_secs_f64() / f64::from(batch);
+        warmed += batch;
     }
     let mut frames = Vec::with_capacity(cameras.len());
     for (view, (camera, azimuth)) in cameras.iter().enumerate() {
