@@ -109,12 +109,16 @@ pub fn unsuitable(adapter: &wgpu::Adapter) -> Option<String> {
 }
 
 impl GpuContext {
-    /// Bytes of the largest buffer a shader can bind as storage whole (the smaller of the
+    /// Bytes of a storage buffer holding `bytes_per_pixel` for each pixel of an image of `size`,
+    /// or `None` when that is empty or more than a shader can bind whole (the smaller of the
     /// binding and buffer limits).
-    pub fn largest_storage_buffer(&self) -> u64 {
-        self.limits
+    pub fn per_pixel_storage_bytes(&self, size: [u32; 2], bytes_per_pixel: u64) -> Option<u64> {
+        let bytes = u64::from(size[0]) * u64::from(size[1]) * bytes_per_pixel;
+        let largest = self
+            .limits
             .max_storage_buffer_binding_size
-            .min(self.limits.max_buffer_size)
+            .min(self.limits.max_buffer_size);
+        (bytes > 0 && bytes <= largest).then_some(bytes)
     }
 
     /// Creates a device without a window. Prefers Vulkan (on data-centre GPUs the GL backend

@@ -36,8 +36,7 @@ impl Rgba8Reader {
     /// Bytes of the packed image of `size` pixels, or `None` when it is empty or larger than
     /// the device's largest storage buffer (128 MiB by default: 33.5 M pixels).
     pub fn packed_bytes(ctx: &GpuContext, size: [u32; 2]) -> Option<u64> {
-        let bytes = u64::from(size[0]) * u64::from(size[1]) * 4;
-        (bytes > 0 && bytes <= ctx.largest_storage_buffer()).then_some(bytes)
+        ctx.per_pixel_storage_bytes(size, 4)
     }
 
     /// Quantises `image` (an RGBA texture of `size` pixels that shaders can sample) to 8 bits per

@@ -129,18 +129,17 @@ pub fn measure(
     };
     // At least `warmup` frames and `warmup_time`: an idle GPU clocks down (the H200 idles at a
     // sixth of its clock), and a few sub-millisecond frames do not bring it back up. The first
-    // frame builds the pipeline and names the path; the rest go in batches without a wait.
+    // frame builds the pipeline and names the path; the rest go in batches without a wait, each
+    // sized by the last frames' time so as not to run much past the warm-up time (the first
+    // frame's, pipeline build included, is an overestimate).
     let started = Instant::now();
-    // A batch never runs much past the warm-up time: its size follows the last frames' time
-    // (the first frame's, pipeline build included, is an overestimate).
     let path = timed_frame(renderer, &request(first, false))?.2;
     let mut per_frame = started.elapsed().as_secs_f64();
     let mut warmed = 1u32;
     while warmed < warmup || (started.elapsed() < warmup_time && warmed < WARMUP_MAX_FRAMES) {
         let left = warmup_time.saturating_sub(started.elapsed()).as_secs_f64();
-        let by_time = (left / per_frame.max(1e-6))
-            .ceil()
-            .min(f64::from(WARMUP_BATCH)) as u32;
+        // `as` saturates (and takes NaN to 0); the clamp bounds it.
+        let by_time = (left / per_frame.max(1e-6)).ceil() as u32;
         let batch = by_time
             .max(warmup.saturating_sub(warmed))
             .clamp(1, WARMUP_BATCH);

@@ -62,8 +62,7 @@ impl Accumulator {
     /// Bytes of the per-pixel sums for `size`, checked against the device's limits: `None` when
     /// the image is too large to refine.
     pub fn sum_bytes(ctx: &GpuContext, size: [u32; 2]) -> Option<u64> {
-        let bytes = u64::from(size[0]) * u64::from(size[1]) * 16;
-        (bytes > 0 && bytes <= ctx.largest_storage_buffer()).then_some(bytes)
+        ctx.per_pixel_storage_bytes(size, 16)
     }
 
     /// Records a pass that adds `latest` (the output texture, `size` pixels) to the mean;
