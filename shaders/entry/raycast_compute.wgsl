@@ -43,15 +43,94 @@ fn box_segment(px: vec2<u32>) -> array<vec4<f32>, 2> {
     return array<vec4<f32>, 2>(vec4<f32>(entry, hit), vec4<f32>(exit, hit));
 }
 
-// One invocation per pixel of the rows dispatched: the whole image, or one band of rows starting
-// at `frame.row_offset` (a long frame is rendered in bands so that the window stays responsive).
-@compute @workgroup_size(WORKGROUP, WORKGROUP)
-fn cs_raycast(@builtin(global_invocation_id) id: vec3<u32>) {
+// The pixel of invocation `id`, and whether it lies in the rows dispatched: the whole image, or
+// one band of rows starting at `frame.row_offset` (a long frame is rendered in bands so that the
+// window stays responsive).
+fn pixel_of(id: vec3<u32>) -> vec3<u32> {
     let size = vec2<u32>(frame.viewport);
     let px = vec2<u32>(id.x, id.y + frame.row_offset);
-    if any(px >= size) || px.y >= frame.row_end {
+    let inside = all(px < size) && px.y < frame.row_end;
+    return vec3<u32>(px, u32(inside));
+}
+
+#ifdef RAY_SPLIT
+// Each pixel's ray in RAY_PARTS parts, one invocation each (the workgroup's z), joined in
+// order through workgroup memory: a ray's samples are taken by several invocations at once,
+// so that a frame of few rays, or of rays of very different lengths, is not as long as its
+// longest ray (src/render/raycast/variant.rs says which variants do this).
+var<workgroup> parts: array<Acc, WORKGROUP * WORKGROUP * RAY_PARTS>;
+#ifdef LEAP_RUNS
+// Whether a part's share of the priming settled its pixel.
+var<workgroup> settled_parts: array<u32, WORKGROUP * WORKGROUP * RAY_PARTS>;
+#endif
+
+// The parts of the pixel whose first part is in `slot`, joined in order.
+fn joined_parts(slot: u32) -> Acc {
+    var joined = parts[slot];
+    for (var j = 1u; j < RAY_PARTS; j++) {
+        joined = acc_combine(joined, parts[slot + j]);
+    }
+    return joined;
+}
+
+@compute @workgroup_size(WORKGROUP, WORKGROUP, RAY_PARTS)
+fn cs_raycast(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
+    let pixel = pixel_of(id);
+    let px = pixel.xy;
+    let pixel_slot = local.x + WORKGROUP * local.y;
+    let slot = pixel_slot * RAY_PARTS;
+    var ray: Ray;
+    var hit = false;
+    if pixel.z != 0u {
+        let segment = box_segment(px);
+        if segment[0].w > 0.0 {
+            hit = true;
+            ray = ray_between(segment[0].xyz, segment[1].xyz, px);
+        }
+    }
+    var acc = acc_init();
+    var primes = 0u;
+    var settled = false;
+#ifdef LEAP_RUNS
+    // The parts share the ray's priming: each takes its share, then all start from the join.
+    var primed = vec2<u32>(0u);
+    if hit && ray.length_mm > 0.0 {
+        primed = acc_prime(&acc, ray, local.z, RAY_PARTS);
+    }
+    primes = primed.x;
+    parts[slot + local.z] = acc;
+    settled_parts[slot + local.z] = primed.y;
+    workgroupBarrier();
+    if hit {
+        acc = joined_parts(slot);
+        for (var j = 0u; j < RAY_PARTS; j++) {
+            settled = settled || settled_parts[slot + j] != 0u;
+        }
+    }
+    workgroupBarrier();
+#endif
+    if hit {
+        acc = march_part(ray, local.z, pixel_slot, acc, primes, settled);
+    }
+    parts[slot + local.z] = acc;
+    workgroupBarrier();
+    if pixel.z != 0u && local.z == 0u {
+        var color = frame.background;
+        if hit {
+            color = acc_finish(joined_parts(slot), ray);
+        }
+        textureStore(out_tex, px, color);
+    }
+}
+#else
+// One invocation per pixel of the rows dispatched.
+@compute @workgroup_size(WORKGROUP, WORKGROUP)
+fn cs_raycast(@builtin(global_invocation_id) id: vec3<u32>) {
+    let pixel = pixel_of(id);
+    if pixel.z == 0u {
         return;
     }
+    let px = pixel.xy;
     let segment = box_segment(px);
     var color = frame.background;
     if segment[0].w > 0.0 {
@@ -59,3 +138,4 @@ fn cs_raycast(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     textureStore(out_tex, px, color);
 }
+#endif

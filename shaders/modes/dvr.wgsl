@@ -55,6 +55,25 @@ fn acc_leap_target(k: u32, after: u32) -> u32 {
 }
 #endif
 
+#ifdef RAY_SPLIT
+// Two parts of a ray composited front to back (never with PREINTEGRATED). Where the front part
+// is opaque enough to have ended the whole ray's loop, the back part is dropped, as that loop
+// never took it.
+fn acc_combine(front: Acc, back: Acc) -> Acc {
+#ifdef EARLY_TERMINATION
+    if front.color.a > frame.termination_alpha {
+        return front;
+    }
+#endif
+    return Acc(front.color + (1.0 - front.color.a) * back.color);
+}
+
+// A part of a ray needs nothing from before it.
+fn acc_enter(acc: ptr<function, Acc>, ray: Ray, first: u32) -> u32 {
+    return 0u;
+}
+#endif
+
 fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32 {
 #ifdef PREINTEGRATED
     let back = segment_end(s);

@@ -37,8 +37,40 @@ fn acc_leap_target(k: u32, after: u32) -> u32 {
     return select(k, after - 1u, after - 1u > k);
 }
 // Nothing to learn before the march.
-fn acc_prime(acc: ptr<function, Acc>, ray: Ray) -> vec2<u32> {
+fn acc_prime(acc: ptr<function, Acc>, ray: Ray, part: u32, parts: u32) -> vec2<u32> {
     return vec2<u32>(0u);
+}
+#endif
+
+#ifdef RAY_SPLIT
+// The first crossing of two parts of a ray: the front part's where it has one.
+fn acc_combine(front: Acc, back: Acc) -> Acc {
+    if front.hit {
+        return front;
+    }
+    return back;
+}
+
+// A part starting at sample `first` takes up what the whole ray's loop would hold there: the
+// side of the last sample before it that is not missing (so that a crossing between the two
+// parts is bracketed by the same two samples). Returns how many samples it read.
+fn acc_enter(acc: ptr<function, Acc>, ray: Ray, first: u32) -> u32 {
+    var k = first;
+    loop {
+        if k == 0u {
+            break;
+        }
+        k -= 1u;
+        let t = sample_distance(ray, k);
+        let d = sample_value(ray.entry + ray.box_per_mm * t) - frame.iso_threshold;
+        if d + frame.iso_threshold >= MISSING_BELOW {
+            (*acc).side = select(-1.0, 1.0, d >= 0.0);
+            (*acc).prev_t = t;
+            (*acc).prev_d = d;
+            break;
+        }
+    }
+    return first - k;
 }
 #endif
 

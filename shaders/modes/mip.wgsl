@@ -40,11 +40,12 @@ fn acc_leap_target(k: u32, after: u32) -> u32 {
 // the ray's first block on, where otherwise the running maximum starts from nothing. They are
 // samples of the ray's own grid, so the result stays exactly the plain strategy's. Returns how
 // many were taken and whether the pixel is already settled (the first sample saturates: the
-// common MinIP case, where a ray entering through air ends at once).
-fn acc_prime(acc: ptr<function, Acc>, ray: Ray) -> vec2<u32> {
+// common MinIP case, where a ray entering through air ends at once). With RAY_SPLIT the parts
+// of a ray share the priming: part `part` of `parts` takes every parts-th of those samples.
+fn acc_prime(acc: ptr<function, Acc>, ray: Ray, part: u32, parts: u32) -> vec2<u32> {
     let n = min(MIP_PRIME_SAMPLES, ray.count);
     var taken = 0u;
-    for (var j = 0u; j <= n; j++) {
+    for (var j = part; j <= n; j += parts) {
         var k = 0u;
         if j > 0u {
             k = ((2u * j - 1u) * ray.count) / (2u * n);
@@ -57,6 +58,22 @@ fn acc_prime(acc: ptr<function, Acc>, ray: Ray) -> vec2<u32> {
         }
     }
     return vec2<u32>(taken, 0u);
+}
+#endif
+
+#ifdef RAY_SPLIT
+// The extreme of two parts of a ray.
+fn acc_combine(front: Acc, back: Acc) -> Acc {
+#ifdef MODE_MINIP
+    return Acc(min(front.extreme, back.extreme), front.seen || back.seen);
+#else
+    return Acc(max(front.extreme, back.extreme), front.seen || back.seen);
+#endif
+}
+
+// A part of a ray needs nothing from before it.
+fn acc_enter(acc: ptr<function, Acc>, ray: Ray, first: u32) -> u32 {
+    return 0u;
 }
 #endif
 

@@ -25,8 +25,20 @@ fn acc_leap_target(k: u32, after: u32) -> u32 {
     return after;
 }
 // Nothing to learn before the march.
-fn acc_prime(acc: ptr<function, Acc>, ray: Ray) -> vec2<u32> {
+fn acc_prime(acc: ptr<function, Acc>, ray: Ray, part: u32, parts: u32) -> vec2<u32> {
     return vec2<u32>(0u);
+}
+#endif
+
+#ifdef RAY_SPLIT
+// The integral over two parts of a ray.
+fn acc_combine(front: Acc, back: Acc) -> Acc {
+    return Acc(front.integral_mm + back.integral_mm);
+}
+
+// A part of a ray needs nothing from before it.
+fn acc_enter(acc: ptr<function, Acc>, ray: Ray, first: u32) -> u32 {
+    return 0u;
 }
 #endif
 

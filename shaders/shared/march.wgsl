@@ -16,10 +16,19 @@
 //       (reads `node_empty` or `minmax` of leap/leap.wgsl)
 //   fn acc_leap_target(k: u32, after: u32) -> u32
 //       where a leap from sample k lands, given the first sample `after` past the region
-//   fn acc_prime(acc: ptr<function, Acc>, ray: Ray) -> vec2<u32>
+//   fn acc_prime(acc: ptr<function, Acc>, ray: Ray, part: u32, parts: u32) -> vec2<u32>
 //       (modes that walk in block runs, LEAP_RUNS: all but DVR) before the march: samples of
 //       the ray's grid that sharpen the leap predicate from the first block on (MIP's lower
-//       bound); returns how many, and 1 where the pixel is settled; (0, 0) for most modes
+//       bound); returns how many, and 1 where the pixel is settled; (0, 0) for most modes.
+//       With RAY_SPLIT, part `part` of `parts` takes its share of them and every part starts
+//       from the join of all shares (so only a mode whose acc_combine is idempotent, a maximum
+//       or a minimum, may prime); otherwise (0, 1)
+// and, for variants that split each ray into parts marched by several invocations (RAY_SPLIT,
+// compute path only), how two consecutive parts' gatherings join:
+//   fn acc_combine(front: Acc, back: Acc) -> Acc
+//   fn acc_enter(acc: ptr<function, Acc>, ray: Ray, first: u32) -> u32
+//       a part starting at grid sample `first` takes up what the whole ray would hold there
+//       (isosurfaces: the side of the sample before); returns the samples it read
 // and, for pre-integrated DVR only (PREINTEGRATED), the segment hooks:
 //   fn acc_start(acc, ray)           the entry value starts the first segment
 //   fn acc_resume(acc, t, s)         after a leap, the sample at t starts the next segment
@@ -105,153 +114,235 @@ fn take_batch(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray, k:
 }
 #endif
 
-// Casts the ray from `entry` to `exit` (box coordinates); returns the pixel colour.
-fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
+// The ray of pixel `px` from `entry` to `exit` (box coordinates); its direction and count are
+// left at zero when it has no length.
+fn ray_between(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> Ray {
     let segment = exit - entry;
     let segment_mm = segment * frame.extent_mm;
     var ray: Ray;
     ray.entry = entry;
     ray.offset = sample_offset_of(px);
     ray.length_mm = length(segment_mm);
-    var acc = acc_init();
-    var tally = tally_new();
     if ray.length_mm > 0.0 {
         ray.box_per_mm = segment / ray.length_mm;
         ray.dir_world = segment_mm / ray.length_mm;
         ray.count = u32(ceil(ray.length_mm / frame.step_mm));
+    }
+    return ray;
+}
+
+#ifdef RAY_SPLIT
+// The invocation's part of its pixel's ray (set by the compute entry point), and its pixel's
+// slot in the workgroup.
+var<private> split_part: u32;
+var<private> split_pixel: u32;
+#ifdef EARLY_TERMINATION
+// Per pixel of the workgroup, one bit per part of its ray that stopped (SAMPLE_STOP).
+var<workgroup> stopped_parts: array<atomic<u32>, WORKGROUP * WORKGROUP>;
+#endif
+#endif
+
+// Whether the samples this invocation takes can still change the pixel: with RAY_SPLIT and
+// EARLY_TERMINATION, not once a part in front of its own has stopped (nothing behind a stopped
+// part changes the pixel: acc_combine drops it); otherwise always.
+fn part_matters() -> bool {
+#ifdef RAY_SPLIT
+#ifdef EARLY_TERMINATION
+    return (atomicLoad(&stopped_parts[split_pixel]) & ((1u << split_part) - 1u)) == 0u;
+#else
+    return true;
+#endif
+#else
+    return true;
+#endif
+}
+
+// Takes or leaps grid samples `first` .. `end` − 1 of `ray` into `acc`: the whole ray, or with
+// RAY_SPLIT one part of it. Returns the sample it stopped at (past `end` where a leap overshot).
+fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray, first: u32, end: u32) -> u32 {
+    let entry = ray.entry;
+    // Leaping walks in one of two ways, chosen per variant by measurement
+    // (src/render/raycast/variant.rs): block runs with LEAP_RUNS (set only with LEAP), else
+    // sample by sample.
+#ifdef LEAP_RUNS
+    // Block runs: each block that can matter is one run of samples in a tight inner loop
+    // (never with PREINTEGRATED: DVR does not set LEAP_RUNS).
+    // (The caller has primed `acc`, acc_prime.)
+    let leap = leap_ray(entry, ray.box_per_mm, ray.offset);
+    var k = first;
+    loop {
+        if k >= end || !part_matters() {
+            break;
+        }
+        let t_k = sample_distance(ray, k);
+        let region = leap_region(leap, entry + ray.box_per_mm * t_k, k, *acc);
+        let next = region.x;
+        let run_end = min(region.y, end);
+        if next != k {
+            tally_leap(tally, min(next, end) - k);
+            k = next;
+            continue;
+        }
+        var stopped = false;
+#ifdef SAMPLE_BATCH
+        loop {
+            let taken = take_batch(acc, tally, ray, k, run_end);
+            k = taken.x;
+            if taken.y != 0u {
+                stopped = true;
+                break;
+            }
+            if k >= run_end {
+                break;
+            }
+        }
+#else
+        loop {
+            let t = sample_distance(ray, k);
+            let p = entry + ray.box_per_mm * t;
+            let result = acc_sample(acc, ray, k, t, p, sample_value(p));
+            tally_sample(tally, result);
+            if (result & SAMPLE_STOP) != 0u {
+                stopped = true;
+                break;
+            }
+            k += 1u;
+            if k >= run_end {
+                break;
+            }
+        }
+#endif
+        if stopped {
+            break;
+        }
+    }
+#else
+    // Sample by sample (DVR, whose rays end early at different samples, and the distance
+    // field): at each sample the leaf block is recomputed, and looked up when it changes.
+    // Block runs measured slower for these (docs/benchmarks/nvidia-h200-leap-walk). RC and
+    // RC-t take this loop without the leaping.
+#ifdef LEAP
+    var leap = leap_ray(entry, ray.box_per_mm, ray.offset);
+#endif
+    var k = first;
+#ifdef SAMPLE_BATCH
+    // Without leaping only (variant.rs): the plain loop four samples at a time.
+    loop {
+        if k >= end || !part_matters() {
+            break;
+        }
+        let taken = take_batch(acc, tally, ray, k, end);
+        k = taken.x;
+        if taken.y != 0u {
+            break;
+        }
+    }
+#else
+    loop {
+        if k >= end || !part_matters() {
+            break;
+        }
+        let t = sample_distance(ray, k);
+        let p = entry + ray.box_per_mm * t;
+#ifdef LEAP
+        let next = leap_from(&leap, p, k, *acc);
+#ifndef PREINTEGRATED
+        if next != k {
+            tally_leap(tally, min(next, end) - k);
+            k = next;
+            continue;
+        }
+#endif
+#endif
+        let result = acc_sample(acc, ray, k, t, p, sample_value(p));
+        tally_sample(tally, result);
+        if (result & SAMPLE_STOP) != 0u {
+            break;
+        }
+#ifdef LEAP
+#ifdef PREINTEGRATED
+        if next != k {
+            // Sample k closed the segment into the empty region; the segments inside it add
+            // nothing, and the region's last sample starts the segment out of it.
+            let last = min(next, end) - 1u;
+            if last > k {
+                let t_last = sample_distance(ray, last);
+                acc_resume(acc, t_last, sample_value(entry + ray.box_per_mm * t_last));
+            }
+            // Samples k + 1 .. next − 1 (sample k was taken; the resumed one is not counted
+            // as a sample, as it is only read, not classified).
+            tally_leap(tally, min(next, end) - k - 1u);
+            k = next;
+            continue;
+        }
+#endif
+#endif
+        k += 1u;
+    }
+#endif
+#endif
+    return k;
+}
+
+// Casts the ray from `entry` to `exit` (box coordinates); returns the pixel colour.
+fn march(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> vec4<f32> {
+    let ray = ray_between(entry, exit, px);
+    var acc = acc_init();
+    var tally = tally_new();
+    if ray.length_mm > 0.0 {
 #ifdef PREINTEGRATED
         acc_start(&acc, ray);
 #endif
-        // Leaping walks in one of two ways, chosen per variant by measurement
-        // (src/render/raycast/variant.rs): block runs with LEAP_RUNS (set only with LEAP), else
-        // sample by sample.
+        var first = 0u;
 #ifdef LEAP_RUNS
-        // Block runs: each block that can matter is one run of samples in a tight inner loop
-        // (never with PREINTEGRATED: DVR does not set LEAP_RUNS).
-        let leap = leap_ray(entry, ray.box_per_mm, ray.offset);
         // A pixel the priming settles takes no more samples.
-        let primed = acc_prime(&acc, ray);
+        let primed = acc_prime(&acc, ray, 0u, 1u);
         for (var j = 0u; j < primed.x; j++) {
             tally_sample(&tally, 0u);
         }
-        var k = select(0u, ray.count, primed.y != 0u);
-        loop {
-            if k >= ray.count {
-                break;
-            }
-            let t_k = sample_distance(ray, k);
-            let region = leap_region(leap, entry + ray.box_per_mm * t_k, k, acc);
-            let next = region.x;
-            let end = min(region.y, ray.count);
-            if next != k {
-                tally_leap(&tally, min(next, ray.count) - k);
-                k = next;
-                continue;
-            }
-            var stopped = false;
-#ifdef SAMPLE_BATCH
-            loop {
-                let taken = take_batch(&acc, &tally, ray, k, end);
-                k = taken.x;
-                if taken.y != 0u {
-                    stopped = true;
-                    break;
-                }
-                if k >= end {
-                    break;
-                }
-            }
-#else
-            loop {
-                let t = sample_distance(ray, k);
-                let p = entry + ray.box_per_mm * t;
-                let result = acc_sample(&acc, ray, k, t, p, sample_value(p));
-                tally_sample(&tally, result);
-                if (result & SAMPLE_STOP) != 0u {
-                    stopped = true;
-                    break;
-                }
-                k += 1u;
-                if k >= end {
-                    break;
-                }
-            }
+        first = select(0u, ray.count, primed.y != 0u);
 #endif
-            if stopped {
-                break;
-            }
-        }
-#else
-        // Sample by sample (DVR, whose rays end early at different samples, and the distance
-        // field): at each sample the leaf block is recomputed, and looked up when it changes.
-        // Block runs measured slower for these (docs/benchmarks/nvidia-h200-leap-walk). RC and
-        // RC-t take this loop without the leaping.
-#ifdef LEAP
-        var leap = leap_ray(entry, ray.box_per_mm, ray.offset);
-#endif
-        var k = 0u;
-#ifdef SAMPLE_BATCH
-        // Without leaping only (variant.rs): the plain loop four samples at a time.
-        loop {
-            if k >= ray.count {
-                break;
-            }
-            let taken = take_batch(&acc, &tally, ray, k, ray.count);
-            k = taken.x;
-            if taken.y != 0u {
-                break;
-            }
-        }
-#else
-        loop {
-            if k >= ray.count {
-                break;
-            }
-            let t = sample_distance(ray, k);
-            let p = entry + ray.box_per_mm * t;
-#ifdef LEAP
-            let next = leap_from(&leap, p, k, acc);
-#ifndef PREINTEGRATED
-            if next != k {
-                tally_leap(&tally, min(next, ray.count) - k);
-                k = next;
-                continue;
-            }
-#endif
-#endif
-            let result = acc_sample(&acc, ray, k, t, p, sample_value(p));
-            tally_sample(&tally, result);
-            if (result & SAMPLE_STOP) != 0u {
-                break;
-            }
-#ifdef LEAP
-#ifdef PREINTEGRATED
-            if next != k {
-                // Sample k closed the segment into the empty region; the segments inside it add
-                // nothing, and the region's last sample starts the segment out of it.
-                let last = min(next, ray.count) - 1u;
-                if last > k {
-                    let t_last = sample_distance(ray, last);
-                    acc_resume(&acc, t_last, sample_value(entry + ray.box_per_mm * t_last));
-                }
-                // Samples k + 1 .. next − 1 (sample k was taken; the resumed one is not counted
-                // as a sample, as it is only read, not classified).
-                tally_leap(&tally, min(next, ray.count) - k - 1u);
-                k = next;
-                continue;
-            }
-#endif
-#endif
-            k += 1u;
-        }
-#endif
-#endif
+        let k = march_samples(&acc, &tally, ray, first, ray.count);
 #ifdef PREINTEGRATED
         if k >= ray.count {
             acc_tail(&acc, ray);
         }
 #endif
     }
-    tally_ray(tally);
+    tally_ray(tally, true);
     return acc_finish(acc, ray);
 }
+
+#ifdef RAY_SPLIT
+// Part `part` (of RAY_PARTS) of `ray`, the pixel in workgroup slot `pixel`: its grid samples
+// count·part/RAY_PARTS .. count·(part + 1)/RAY_PARTS − 1, gathered from `primed` (what the
+// ray's priming found, `primes` samples of it taken by this invocation; nothing more to take
+// where it `settled` the pixel); the parts are joined in order by the mode's acc_combine
+// (src/render/raycast/variant.rs says which variants split). Part 0 counts the ray.
+fn march_part(ray: Ray, part: u32, pixel: u32, primed: Acc, primes: u32, settled: bool) -> Acc {
+    split_part = part;
+    split_pixel = pixel;
+    var acc = primed;
+    var tally = tally_new();
+    for (var j = 0u; j < primes; j++) {
+        tally_sample(&tally, 0u);
+    }
+    if ray.length_mm > 0.0 && !settled {
+        let first = ray.count * part / RAY_PARTS;
+        let end = ray.count * (part + 1u) / RAY_PARTS;
+        let entered = acc_enter(&acc, ray, first);
+        for (var j = 0u; j < entered; j++) {
+            tally_sample(&tally, 0u);
+        }
+        let k = march_samples(&acc, &tally, ray, first, end);
+#ifdef EARLY_TERMINATION
+        if k < end {
+            // Stopped (or gave up behind a stopped part): the parts behind need not go on.
+            atomicOr(&stopped_parts[pixel], 1u << part);
+        }
+#endif
+    }
+    tally_ray(tally, part == 0u);
+    return acc;
+}
+#endif

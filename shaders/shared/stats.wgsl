@@ -51,12 +51,13 @@ fn tally_leap(t: ptr<function, Tally>, skipped: u32) {
 #endif
 }
 
-// The ray ended: add its tallies to the frame's counters.
-fn tally_ray(t: Tally) {
+// The ray (or, with RAY_SPLIT, one part of it) ended: add its tallies to the frame's counters;
+// `counts_ray` for one part of each ray only.
+fn tally_ray(t: Tally, counts_ray: bool) {
 #ifdef STATS
     count(COUNTER_SAMPLES, t.samples);
     count(COUNTER_VISIBLE_SAMPLES, t.contributing);
-    count(COUNTER_RAYS, 1u);
+    count(COUNTER_RAYS, u32(counts_ray));
     count(COUNTER_LEAPS, t.leaps);
     count(COUNTER_LEAPT_SAMPLES, t.leapt);
 #endif

@@ -85,14 +85,14 @@ impl Shared {
         let Some(job) = self.job.as_ref() else {
             return false;
         };
-        let (settings, stats) = (job.settings, job.inputs.stats);
+        let (settings, stats, size) = (job.settings, job.inputs.stats, job.inputs.size_px);
         if !self.ready() {
             if !may_prepare {
                 return false;
             }
             self.preparing = Some(self.preparation());
             let prepared = auto_path::choose(&mut self.renderer, settings.path)
-                .and_then(|_| self.renderer.prepare_pipeline(&settings, stats));
+                .and_then(|_| self.renderer.prepare_pipeline(&settings, stats, size));
             self.preparing = None;
             if let Err(e) = prepared {
                 return self.fail(e);
@@ -103,9 +103,10 @@ impl Shared {
 
     /// Whether the frame in progress can go out without slow CPU work first.
     fn ready(&self) -> bool {
-        self.job
-            .as_ref()
-            .is_none_or(|j| self.renderer.ready_for(&j.settings, j.inputs.stats))
+        self.job.as_ref().is_none_or(|j| {
+            self.renderer
+                .ready_for(&j.settings, j.inputs.stats, j.inputs.size_px)
+        })
     }
 
     /// What the slow work before the frame in progress is.

@@ -49,17 +49,28 @@ fn statistics_code_only_in_statistics_variants() {
         let writable_storage = module.global_variables.iter().any(|(_, g)| {
             matches!(g.space, naga::AddressSpace::Storage { access } if access.contains(naga::StorageAccess::STORE))
         });
-        let atomics = module
-            .types
-            .iter()
-            .any(|(_, t)| matches!(t.inner, naga::TypeInner::Atomic(_)));
+        let atomics_in = |space: naga::AddressSpace| {
+            module
+                .global_variables
+                .iter()
+                .any(|(_, g)| g.space == space && holds_atomics(&module, g.ty))
+        };
         assert_eq!(
             writable_storage, key.stats,
             "{key:?}: writable storage exactly in stats variants"
         );
         assert_eq!(
-            atomics, key.stats,
-            "{key:?}: atomics exactly in stats variants"
+            atomics_in(naga::AddressSpace::Storage {
+                access: naga::StorageAccess::LOAD | naga::StorageAccess::STORE
+            }),
+            key.stats,
+            "{key:?}: counter atomics exactly in stats variants"
+        );
+        // The parts of a split ray tell each other where one stopped, in workgroup memory.
+        assert_eq!(
+            atomics_in(naga::AddressSpace::WorkGroup),
+            key.split && key.strategy.terminates_early(),
+            "{key:?}: workgroup atomics exactly in split variants that stop early"
         );
         let leap_reads = module
             .global_variables
@@ -212,5 +223,17 @@ fn every_gpu_struct_matches_its_wgsl_twin_field_by_field() {
             "{} size",
             rust.rust_name
         );
+    }
+}
+
+/// Whether type `ty` is or holds atomics.
+fn holds_atomics(module: &naga::Module, ty: naga::Handle<naga::Type>) -> bool {
+    match &module.types[ty].inner {
+        naga::TypeInner::Atomic(_) => true,
+        naga::TypeInner::Array { base, .. } => holds_atomics(module, *base),
+        naga::TypeInner::Struct { members, .. } => {
+            members.iter().any(|m| holds_atomics(module, m.ty))
+        }
+        _ => false,
     }
 }

@@ -397,7 +397,12 @@ impl VolumeRenderer {
     ) -> Result<(SubmittedFrame, Option<u32>), RenderError> {
         let settings = request.settings;
         settings.validate()?;
-        let key = PipelineKey::new(settings, self.resolve_path(settings.path)?, request.stats);
+        let key = PipelineKey::new(
+            settings,
+            self.resolve_path(settings.path)?,
+            request.stats,
+            request.size,
+        );
         self.ensure_targets(request.size)?;
         let (first, last) = (rows[0] == 0, rows[1] >= request.size[1]);
         self.refresh_tables(settings);
@@ -560,20 +565,24 @@ impl VolumeRenderer {
 
     /// Whether a frame with `settings` (and statistics when `stats`) can be submitted without
     /// slow work on the CPU first: its path is known (`auto` was timed) and its shader variant is
-    /// compiled. A window keeps such work off its own thread.
-    pub fn ready_for(&self, settings: &RenderSettings, stats: bool) -> bool {
-        self.resolve_path(settings.path)
-            .is_ok_and(|path| self.pipelines.has(&PipelineKey::new(settings, path, stats)))
+    /// compiled, for an image of `size` pixels. A window keeps such work off its own thread.
+    pub fn ready_for(&self, settings: &RenderSettings, stats: bool, size: [u32; 2]) -> bool {
+        self.resolve_path(settings.path).is_ok_and(|path| {
+            self.pipelines
+                .has(&PipelineKey::new(settings, path, stats, size))
+        })
     }
 
     /// Compiles the shader variant a frame with `settings` (and statistics when `stats`) needs,
-    /// if it is not built yet (slow on a CPU driver: a second or so).
+    /// for an image of `size` pixels, if it is not built yet (slow on a CPU driver: a second or
+    /// so).
     pub fn prepare_pipeline(
         &mut self,
         settings: &RenderSettings,
         stats: bool,
+        size: [u32; 2],
     ) -> Result<(), RenderError> {
-        let key = PipelineKey::new(settings, self.resolve_path(settings.path)?, stats);
+        let key = PipelineKey::new(settings, self.resolve_path(settings.path)?, stats, size);
         self.pipelines.for_frame(&self.ctx.device, key)?;
         Ok(())
     }

@@ -27,16 +27,43 @@ pub struct PipelineKey {
     pub mip_color: MipColor,
     /// Pre-integrated classification (DVR only).
     pub preintegrated: bool,
+    /// Whether each ray is split into `RAY_PARTS` parts marched by as many invocations
+    /// ([`PipelineKey::new`] says when).
+    pub split: bool,
 }
 
+/// Images of at most this many pixels split their rays (see [`PipelineKey::new`]): 512 × 512
+/// does (measured faster), 1024 × 1024 and 1920 × 1080 do not (measured slower); sizes between
+/// were not measured.
+pub const SPLIT_MAX_PIXELS: u64 = 1 << 19;
+
 impl PipelineKey {
-    /// The variant for `settings` on `path`.
-    pub fn new(settings: &RenderSettings, path: ConcretePath, stats: bool) -> Self {
+    /// The variant for `settings` on `path`, for an image of `size` pixels.
+    ///
+    /// On the compute path, images of at most [`SPLIT_MAX_PIXELS`] split each ray into
+    /// `RAY_PARTS` parts marched by as many invocations and joined in order (`RAY_SPLIT`,
+    /// shaders/entry/raycast_compute.wgsl): a small image has too few rays to fill a large GPU,
+    /// so a frame lasts as long as its longest rays, and parts shorten those. Measured on an
+    /// H200 (docs/benchmarks/nvidia-h200-ray-split), against one invocation per ray: 512²
+    /// frames took a median 0.56–0.83× the time per mode and strategy (DVR, isosurface, MIP,
+    /// X-ray); at 1024² four parts made DVR and isosurfaces 1.07–1.35× slower (median), at
+    /// 1920 × 1080 1.15–1.48× (more invocations, each paying for a ray's set-up, on a GPU
+    /// already full). MinIP never splits (its rays mostly end at their first sample: up to 4×
+    /// slower split), nor does
+    /// pre-integrated DVR (its segments would have to start across the parts' joints), nor DVR
+    /// lit only where a sample's weight α·(1 − A) passes a threshold (a part does not know the
+    /// A in front of it). Images are those of one invocation per ray, except DVR's with early
+    /// termination: a part behind the one where the whole ray would stop adds what it took before
+    /// it learnt of the stop, less than the 1 − `termination_alpha` of light the stop leaves.
+    pub fn new(settings: &RenderSettings, path: ConcretePath, stats: bool, size: [u32; 2]) -> Self {
         let shading = if settings.mode.can_shade() {
             settings.shading
         } else {
             Shading::Off
         };
+        // Whether DVR lights a sample by its weight in the pixel, α·(1 − A): a part of a split
+        // ray would not know A in front of it.
+        let lit_by_weight = shading == Shading::Phong && settings.light_min_weight > 0.0;
         Self {
             mode: settings.mode,
             strategy: settings.strategy.for_mode(settings.mode),
@@ -54,6 +81,10 @@ impl PipelineKey {
                 MipColor::Window
             },
             preintegrated: settings.preintegrated && settings.mode == Mode::Dvr,
+            split: path == ConcretePath::Compute
+                && settings.mode != Mode::MinIp
+                && !(settings.mode == Mode::Dvr && (settings.preintegrated || lit_by_weight))
+                && u64::from(size[0]) * u64::from(size[1]) <= SPLIT_MAX_PIXELS,
         }
     }
 
@@ -83,9 +114,11 @@ impl PipelineKey {
                                     if settings.validate().is_err() {
                                         continue;
                                     }
-                                    let key = Self::new(&settings, path, stats);
-                                    if !keys.contains(&key) {
-                                        keys.push(key);
+                                    for size in [[512, 512], [1920, 1080]] {
+                                        let key = Self::new(&settings, path, stats, size);
+                                        if !keys.contains(&key) {
+                                            keys.push(key);
+                                        }
                                     }
                                 }
                             }
@@ -135,6 +168,9 @@ impl PipelineKey {
         if self.batches_samples() {
             defines.push("SAMPLE_BATCH");
         }
+        if self.split {
+            defines.push("RAY_SPLIT");
+        }
         if self.strategy == Strategy::RcSDistance {
             defines.push("LEAP_DISTANCE");
         }
@@ -172,6 +208,46 @@ impl PipelineKey {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Rays split on the compute path of small images only, and never where the parts could
+    /// not be joined exactly (MinIP: no gain; pre-integrated DVR; DVR lit by weight).
+    #[test]
+    fn rays_split_only_where_measured_faster_and_joined_exactly() {
+        let small = [512, 512];
+        let large = [1920, 1080];
+        let key =
+            |settings: &RenderSettings, path, size| PipelineKey::new(settings, path, false, size);
+        let plain = RenderSettings::default();
+        assert!(key(&plain, ConcretePath::Compute, small).split);
+        assert!(key(&plain, ConcretePath::Compute, [724, 724]).split);
+        assert!(!key(&plain, ConcretePath::Compute, [725, 725]).split);
+        assert!(!key(&plain, ConcretePath::Compute, large).split);
+        assert!(!key(&plain, ConcretePath::Fragment, small).split);
+        for mode in Mode::ALL {
+            let settings = RenderSettings { mode, ..plain };
+            assert_eq!(
+                key(&settings, ConcretePath::Compute, small).split,
+                mode != Mode::MinIp,
+                "{mode:?}"
+            );
+        }
+        let preintegrated = RenderSettings {
+            preintegrated: true,
+            ..plain
+        };
+        assert!(!key(&preintegrated, ConcretePath::Compute, small).split);
+        let by_weight = RenderSettings {
+            shading: Shading::Phong,
+            light_min_weight: 0.01,
+            ..plain
+        };
+        assert!(!key(&by_weight, ConcretePath::Compute, small).split);
+        let unlit = RenderSettings {
+            shading: Shading::Off,
+            ..by_weight
+        };
+        assert!(key(&unlit, ConcretePath::Compute, small).split);
+    }
 
     /// The batched loop has no leaping test: a variant that leaps sample by sample must never
     /// batch, or it would stop leaping (march.wgsl takes the batch in place of that walk).
