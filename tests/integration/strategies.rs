@@ -50,15 +50,24 @@ fn render(
     common::render_counted(r, camera, settings, [64, 64])
 }
 
-#[test]
-fn early_termination_changes_the_image_by_at_most_one_level_and_saves_samples() {
+/// A renderer holding the dense volume and its transfer function, and the oblique perspective
+/// camera framing it.
+fn dense_oblique() -> (VolumeRenderer, Camera) {
     let volume = dense();
     let mut r = common::renderer();
     r.set_volume(&volume).expect("upload");
     r.set_transfer_function(&tf());
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let (dir, up) = ViewPreset::Oblique.direction_and_up();
-    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    (
+        r,
+        Camera::framing(&bounds, dir, up, ProjectionKind::Perspective),
+    )
+}
+
+#[test]
+fn early_termination_changes_the_image_by_at_most_one_level_and_saves_samples() {
+    let (mut r, camera) = dense_oblique();
     // RC-t's samples with one invocation per ray (the fragment path, measured first).
     let mut whole_ray_samples = None;
     for path in [RenderPath::Fragment, RenderPath::Compute] {
@@ -189,13 +198,7 @@ fn fragment_and_compute_paths_give_the_same_image() {
 /// path does: the same image and the same counts (to a few grazing rays).
 #[test]
 fn large_images_cast_whole_rays_on_both_paths() {
-    let volume = dense();
-    let mut r = common::renderer();
-    r.set_volume(&volume).expect("upload");
-    r.set_transfer_function(&tf());
-    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
-    let (dir, up) = ViewPreset::Oblique.direction_and_up();
-    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    let (mut r, camera) = dense_oblique();
     let size = [800, 700];
     assert!(u64::from(size[0] * size[1]) > SPLIT_MAX_PIXELS);
     for mode in [Mode::Dvr, Mode::Mip] {
