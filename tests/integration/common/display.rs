@@ -25,8 +25,12 @@ impl Xvfb {
         let turn = ONE_AT_A_TIME.lock().unwrap_or_else(|p| p.into_inner());
         // Far from the :99 that scripts/screenshot.sh starts with.
         let number = (150..250)
-            .find(|n| !Path::new(&format!("/tmp/.X{n}-lock")).exists())
+            .find(|&n| !display_taken(n))
             .expect("a free X display number");
+        // A server that died without cleaning up leaves its lock and socket; the socket would
+        // look like the new server's before it is up.
+        let _ = std::fs::remove_file(format!("/tmp/.X{number}-lock"));
+        let _ = std::fs::remove_file(format!("/tmp/.X11-unix/X{number}"));
         let display = format!(":{number}");
         let child = Command::new("Xvfb")
             .args([
@@ -54,6 +58,18 @@ impl Xvfb {
             display,
             _turn: turn,
         }
+    }
+}
+
+/// Whether X display `n` is in use: its lock file names a process that is running (a lock that
+/// cannot be read counts as in use).
+fn display_taken(n: u32) -> bool {
+    match std::fs::read_to_string(format!("/tmp/.X{n}-lock")) {
+        Ok(text) => text
+            .trim()
+            .parse::<u32>()
+            .map_or(true, |pid| Path::new(&format!("/proc/{pid}")).exists()),
+        Err(e) => e.kind() != std::io::ErrorKind::NotFound,
     }
 }
 
@@ -96,6 +112,11 @@ impl Drop for Xvfb {
     fn drop(&mut self) {
         let _ = self.child.kill();
         let _ = self.child.wait();
+        // Killed, the server cannot remove its lock and socket: every run would leave one
+        // display taken until none of the hundred tried is free.
+        let number = self.display.trim_start_matches(':');
+        let _ = std::fs::remove_file(format!("/tmp/.X{number}-lock"));
+        let _ = std::fs::remove_file(format!("/tmp/.X11-unix/X{number}"));
     }
 }
 
