@@ -58,10 +58,10 @@ fn pixel_of(id: vec3<u32>) -> vec3<u32> {
 // order through workgroup memory: a ray's samples are taken by several invocations at once,
 // so that a frame of few rays, or of rays of very different lengths, is not as long as its
 // longest ray (src/render/raycast/variant.rs says which variants do this).
-var<workgroup> parts: array<Acc, WORKGROUP * WORKGROUP * RAY_PARTS>;
+var<workgroup> parts: array<Acc, WORKGROUP * SPLIT_GROUP_ROWS * RAY_PARTS>;
 #ifdef LEAP_RUNS
 // Whether a part's share of the priming settled its pixel.
-var<workgroup> settled_parts: array<u32, WORKGROUP * WORKGROUP * RAY_PARTS>;
+var<workgroup> settled_parts: array<u32, WORKGROUP * SPLIT_GROUP_ROWS * RAY_PARTS>;
 #endif
 
 // The parts of the pixel whose first part is in `slot`, joined in order.
@@ -73,7 +73,7 @@ fn joined_parts(slot: u32) -> Acc {
     return joined;
 }
 
-@compute @workgroup_size(WORKGROUP, WORKGROUP, RAY_PARTS)
+@compute @workgroup_size(WORKGROUP, SPLIT_GROUP_ROWS, RAY_PARTS)
 fn cs_raycast(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invocation_id) local: vec3<u32>) {
     let pixel = pixel_of(id);
     let px = pixel.xy;

@@ -138,7 +138,7 @@ var<private> split_part: u32;
 var<private> split_pixel: u32;
 #ifdef EARLY_TERMINATION
 // Per pixel of the workgroup, one bit per part of its ray that stopped (SAMPLE_STOP).
-var<workgroup> stopped_parts: array<atomic<u32>, WORKGROUP * WORKGROUP>;
+var<workgroup> stopped_parts: array<atomic<u32>, WORKGROUP * SPLIT_GROUP_ROWS>;
 #endif
 #endif
 

@@ -10,8 +10,11 @@ use super::volume_texture::MISSING_BELOW;
 /// Compute workgroup edge of the ray loop and the accumulation pass (8 × 8 invocations).
 pub const WORKGROUP: u32 = 8;
 /// Parts each ray is split into, one invocation each, by the compute variants that split rays
-/// (`PipelineKey::split`): the ray loop's workgroup is `WORKGROUP² × RAY_PARTS`.
+/// (`PipelineKey::split`): the ray loop's workgroup is `WORKGROUP × SPLIT_GROUP_ROWS` pixels ×
+/// `RAY_PARTS`.
 pub const RAY_PARTS: u32 = 4;
+/// Pixel rows per workgroup of a split ray loop: `WORKGROUP` pixels wide, 256 invocations in all.
+pub const SPLIT_GROUP_ROWS: u32 = 256 / (WORKGROUP * RAY_PARTS);
 /// Workgroup edge of the 3D builders (min/max pyramid, distance field): 4 × 4 × 4 nodes.
 pub const BUILD_WORKGROUP: u32 = 4;
 /// Workgroup edge of the emptiness-table build: 16 × 16 entries.
@@ -33,6 +36,7 @@ fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
     let mut constants = vec![
         ("WORKGROUP", "u32", u(WORKGROUP)),
         ("RAY_PARTS", "u32", u(RAY_PARTS)),
+        ("SPLIT_GROUP_ROWS", "u32", u(SPLIT_GROUP_ROWS)),
         ("BUILD_WORKGROUP", "u32", u(BUILD_WORKGROUP)),
         ("TABLE_WORKGROUP", "u32", u(TABLE_WORKGROUP)),
         ("NODE_WORKGROUP", "u32", u(NODE_WORKGROUP)),

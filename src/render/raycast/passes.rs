@@ -32,6 +32,9 @@ pub struct RaycastPasses<'a> {
     /// The image rows to render, `[first, end)`: all of them, or one band of a frame rendered
     /// in bands (the compute path's uniforms carry the first row).
     pub rows: [u32; 2],
+    /// Pixel rows per workgroup of the compute path: `WORKGROUP`, or `SPLIT_GROUP_ROWS` where
+    /// the variant splits rays (`PipelineKey::split`).
+    pub group_rows: u32,
 }
 
 impl RaycastPasses<'_> {
@@ -54,7 +57,11 @@ impl RaycastPasses<'_> {
                 self.set_optional_groups(|index, group| pass.set_bind_group(index, group, &[]));
                 let width = self.targets.size[0];
                 let height = self.rows[1] - self.rows[0];
-                pass.dispatch_workgroups(width.div_ceil(WORKGROUP), height.div_ceil(WORKGROUP), 1);
+                pass.dispatch_workgroups(
+                    width.div_ceil(WORKGROUP),
+                    height.div_ceil(self.group_rows),
+                    1,
+                );
             }
         }
     }

@@ -25,7 +25,7 @@ use super::targets::Targets;
 use super::uniforms::FrameGeometry;
 use super::variant::PipelineKey;
 use super::volume::{FrameShared, GpuVolume};
-use crate::render::gpu_data::FrameUniforms;
+use crate::render::gpu_data::{FrameUniforms, SPLIT_GROUP_ROWS, WORKGROUP};
 
 /// Why a frame could not be rendered.
 #[derive(Debug, thiserror::Error)]
@@ -459,6 +459,11 @@ impl VolumeRenderer {
             near_cap: geometry.needs_near_cap,
             background: settings.background,
             rows,
+            group_rows: if key.split {
+                SPLIT_GROUP_ROWS
+            } else {
+                WORKGROUP
+            },
         };
         passes.record(&mut encoder, slot.as_ref().map(|s| (&m.probes, s)));
         // In the frame's own submission: a separate one upsets lavapipe's timestamps of every
