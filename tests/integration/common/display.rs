@@ -9,6 +9,10 @@ use std::time::{Duration, Instant};
 /// server had taken it, and two windows on a CPU driver would slow each other down.
 static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
+/// The display number this process last started a server on (149 before the first: the search
+/// starts at :150).
+static LAST_DISPLAY: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(149);
+
 /// A virtual X server on a free display, stopped when dropped; while it runs, no other window
 /// test does.
 pub struct Xvfb {
@@ -19,14 +23,19 @@ pub struct Xvfb {
 }
 
 impl Xvfb {
-    /// Starts one on the first free display from :150 (waiting for any other window test to
-    /// finish); panics without `Xvfb`.
+    /// Starts one on the first free display from :150 on, after the last one this process used
+    /// (waiting for any other window test to finish); panics without `Xvfb`.
     pub fn start() -> Self {
         let turn = ONE_AT_A_TIME.lock().unwrap_or_else(|p| p.into_inner());
         // Far from the :99 that scripts/screenshot.sh starts with.
-        let number = (150..250)
+        // From the display after the last one this process used: a server started at once on
+        // the number of one just killed failed to come up within 10 s once in CI.
+        let after = LAST_DISPLAY.load(std::sync::atomic::Ordering::Relaxed);
+        let number = (1..=100)
+            .map(|i| 150 + (after + i - 150) % 100)
             .find(|&n| !display_taken(n))
             .expect("a free X display number");
+        LAST_DISPLAY.store(number, std::sync::atomic::Ordering::Relaxed);
         // A server that died without cleaning up leaves its lock and socket; the socket would
         // look like the new server's before it is up.
         let _ = std::fs::remove_file(format!("/tmp/.X{number}-lock"));
