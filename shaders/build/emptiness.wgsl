@@ -84,9 +84,19 @@ fn flag_nodes(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let m = minmax[i];
+    if params.rule == RULE_ISO {
+        // Bit 0: every value below the iso value; bit 1: every value at or above it (both where
+        // the node holds no finite value).
+        var sides = 3u;
+        if m.x <= m.y {
+            sides = u32(m.y < params.threshold) | (u32(m.x >= params.threshold) << 1u);
+        }
+        node_empty[i] = sides;
+        return;
+    }
     var empty = 1u;
     if m.x <= m.y {
-        if params.rule == 1u {
+        if params.rule == RULE_AT_MOST {
             empty = u32(m.y <= params.threshold);
         } else {
             empty = table[bin(m.y) * TABLE_SIZE + bin(m.x)];

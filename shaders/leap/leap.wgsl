@@ -8,7 +8,7 @@
 // The exit is the exact ray/box exit, so the samples taken are exactly the plain strategy's
 // samples that can change the image. Two ways to walk (shared/march.wgsl): block runs
 // (leap_region: one question per block, then its samples without any) and sample by sample
-// (leap_from: the block is recomputed at each sample and asked about when it changes).
+// (leap_from: asks again at the first sample past the region the last answer covered).
 
 #include "leap/pyramid.wgsl"
 
@@ -18,6 +18,15 @@
 @group(3) @binding(2) var<storage, read> block_distance: array<u32>;
 #endif
 @group(3) @binding(3) var<storage, read> minmax: array<vec2<f32>>;
+
+#ifdef LEAP_DISTANCE
+// acc_reach of the modes whose field is built from emptiness flags (DVR, X-ray): `to_matter`
+// the distance to the nearest block that can matter (0: this one can), `to_empty` to the nearest
+// that cannot.
+fn reach_two_sided(to_matter: u32, to_empty: u32) -> vec2<u32> {
+    return vec2<u32>(select(to_empty, to_matter, to_matter != 0u), u32(to_matter == 0u));
+}
+#endif
 
 // Whether node range `m` (min, max) holds no finite voxel: every sample there is missing.
 fn holds_no_finite_voxel(m: vec2<f32>) -> bool {
@@ -32,15 +41,16 @@ struct LeapRay {
     mm_per_vox: vec3<f32>,
     // The ray's first-sample offset (Ray.offset).
     offset: f32,
-    // Sample by sample: the leaf block of the last sample looked up.
-    block: vec3<u32>,
+    // Sample by sample: the first grid sample past the region that can matter where the last
+    // lookup found one (the samples before it are taken without asking).
+    until: u32,
 }
 
 fn leap_ray(entry: vec3<f32>, box_per_mm: vec3<f32>, offset: f32) -> LeapRay {
     let dims = frame.volume_dims;
     let d = box_per_mm * dims;
     let inv = select(1.0 / d, vec3<f32>(3.0e38), d == vec3<f32>(0.0));
-    return LeapRay(entry * dims, inv, offset, vec3<u32>(0xffffffffu));
+    return LeapRay(entry * dims, inv, offset, 0u);
 }
 
 // Distance (mm from the entry) at which the ray leaves the box [lo, hi), given in voxel units
@@ -67,8 +77,8 @@ fn leaf_block(p: vec3<f32>) -> vec3<u32> {
 }
 
 // What a leaf block is to a ray holding `acc`: whether it can matter, and a box in voxel units:
-// the block itself where it can, else the largest region known around it that cannot change the
-// pixel.
+// where it can, the block itself (with LEAP_DISTANCE the cube of blocks around it that all can),
+// else the largest region known around it that cannot change the pixel.
 struct Region {
     matters: bool,
     lo: vec3<f32>,
@@ -80,12 +90,15 @@ fn region_of(block: vec3<u32>, acc: Acc) -> Region {
     let dims = frame.volume_dims;
     let brick = f32(leaf.brick_vox);
 #ifdef LEAP_DISTANCE
-    let d = block_distance[block.x + leaf.nodes.x * (block.y + leaf.nodes.y * block.z)];
-    // d = 0: the block can matter; d > 0: the cube of d − 1 blocks around it cannot.
-    let reach = i32(max(d, 1u) - 1u);
+    // The field's two sides (build/distance.wgsl), read by the mode (acc_reach): the cube of
+    // d − 1 blocks around this one is all of one kind, all mattering (then the ray takes every
+    // sample up to the cube's exit without asking again) or all not.
+    let v = block_distance[block.x + leaf.nodes.x * (block.y + leaf.nodes.y * block.z)];
+    let answer = acc_reach(acc, v & ((1u << DISTANCE_FULL_SHIFT) - 1u), v >> DISTANCE_FULL_SHIFT);
+    let reach = i32(max(answer.x, 1u) - 1u);
     let lo = vec3<f32>(max(vec3<i32>(block) - reach, vec3<i32>(0))) * brick;
     let hi = min(vec3<f32>(block + vec3<u32>(u32(reach) + 1u)) * brick, dims);
-    return Region(d == 0u, lo, hi);
+    return Region(answer.y != 0u, lo, hi);
 #else
     if !acc_skips(acc, node_index(leaf, block)) {
         return Region(true, vec3<f32>(block) * brick, min(vec3<f32>(block + 1u) * brick, dims));
@@ -123,17 +136,17 @@ fn leap_region(ray: LeapRay, p: vec3<f32>, k: u32, acc: Acc) -> vec2<u32> {
 
 // Sample by sample: where the ray goes from sample k at box position p, holding `acc`: k itself
 // (sample it), or where its mode lands past a region that cannot change the pixel. Asks only
-// where the sample lies in another leaf block than the last one asked about.
+// where the sample lies past the region the last question found can matter (its leaf block, or
+// with LEAP_DISTANCE the cube of such blocks around it).
 fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32, acc: Acc) -> u32 {
-    let block = leaf_block(p);
-    if all(block == (*ray).block) {
+    if k < (*ray).until {
         return k;
     }
-    (*ray).block = block;
-    let region = region_of(block, acc);
-    if region.matters {
-        return k;
-    }
+    let region = region_of(leaf_block(p), acc);
     let after = first_sample_after(exit_distance(*ray, region.lo, region.hi), k, (*ray).offset);
+    if region.matters {
+        (*ray).until = after;
+        return k;
+    }
     return acc_leap_target(k, after);
 }

@@ -53,6 +53,13 @@ fn acc_skips(acc: Acc, node: u32) -> bool {
 fn acc_leap_target(k: u32, after: u32) -> u32 {
     return after;
 }
+
+#ifdef LEAP_DISTANCE
+// The field is built from the emptiness flags: two-sided.
+fn acc_reach(acc: Acc, low: u32, high: u32) -> vec2<u32> {
+    return reach_two_sided(low, high);
+}
+#endif
 #endif
 
 #ifdef RAY_SPLIT

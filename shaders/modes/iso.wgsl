@@ -36,6 +36,21 @@ fn acc_skips(acc: Acc, node: u32) -> bool {
 fn acc_leap_target(k: u32, after: u32) -> u32 {
     return select(k, after - 1u, after - 1u > k);
 }
+#ifdef LEAP_DISTANCE
+// The field's sides (RULE_ISO flags): `below` the distance to the nearest block not wholly below
+// the iso value, `above` to the nearest not wholly at or above it. A ray below skips cubes of
+// blocks wholly below, a ray above cubes wholly above, and before its first sample either.
+fn acc_reach(acc: Acc, below: u32, above: u32) -> vec2<u32> {
+    var d = max(below, above);
+    if acc.side < 0.0 {
+        d = below;
+    } else if acc.side > 0.0 {
+        d = above;
+    }
+    return vec2<u32>(d, u32(d == 0u));
+}
+#endif
+
 // Nothing to learn before the march.
 fn acc_prime(acc: ptr<function, Acc>, ray: Ray, part: u32, parts: u32) -> vec2<u32> {
     return vec2<u32>(0u);

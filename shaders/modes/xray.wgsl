@@ -24,6 +24,14 @@ fn acc_skips(acc: Acc, node: u32) -> bool {
 fn acc_leap_target(k: u32, after: u32) -> u32 {
     return after;
 }
+
+#ifdef LEAP_DISTANCE
+// The field is built from the emptiness flags (what lies at or below the window's low end):
+// two-sided.
+fn acc_reach(acc: Acc, low: u32, high: u32) -> vec2<u32> {
+    return reach_two_sided(low, high);
+}
+#endif
 // Nothing to learn before the march.
 fn acc_prime(acc: ptr<function, Acc>, ray: Ray, part: u32, parts: u32) -> vec2<u32> {
     return vec2<u32>(0u);

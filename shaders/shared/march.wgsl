@@ -16,6 +16,10 @@
 //       (reads `node_empty` or `minmax` of leap/leap.wgsl)
 //   fn acc_leap_target(k: u32, after: u32) -> u32
 //       where a leap from sample k lands, given the first sample `after` past the region
+//   fn acc_reach(acc: Acc, low: u32, high: u32) -> vec2<u32>
+//       (LEAP_DISTANCE) what the block's two field distances (build/distance.wgsl) mean to the
+//       ray: x the distance d (the cube of d − 1 blocks around it is all of one kind), y 1
+//       where that kind can matter
 //   fn acc_prime(acc: ptr<function, Acc>, ray: Ray, part: u32, parts: u32) -> vec2<u32>
 //       (modes that walk in block runs, LEAP_RUNS: all but DVR) before the march: samples of
 //       the ray's grid that sharpen the leap predicate from the first block on (MIP's lower
@@ -166,7 +170,8 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
     // sample by sample.
 #ifdef LEAP_RUNS
     // Block runs: each block that can matter is one run of samples in a tight inner loop
-    // (never with PREINTEGRATED: DVR does not set LEAP_RUNS).
+    // (with the distance field, each cube of such blocks; never with PREINTEGRATED: DVR does
+    // not set LEAP_RUNS).
     // (The caller has primed `acc`, acc_prime.)
     let leap = leap_ray(entry, ray.box_per_mm, ray.offset);
     var k = first;
@@ -217,10 +222,11 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
         }
     }
 #else
-    // Sample by sample (DVR, whose rays end early at different samples, and the distance
-    // field): at each sample the leaf block is recomputed, and looked up when it changes.
-    // Block runs measured slower for these (docs/benchmarks/nvidia-h200-leap-walk). RC and
-    // RC-t take this loop without the leaping.
+    // Sample by sample (DVR, whose rays end early at different samples): a lookup where the
+    // sample passes the region the last one found can matter (a leaf block; with the distance
+    // field, the cube of such blocks around it). Block runs measured slower for DVR
+    // (docs/benchmarks/nvidia-h200-leap-walk, nvidia-h200-two-sided). RC and RC-t take this
+    // loop without the leaping.
 #ifdef LEAP
     var leap = leap_ray(entry, ray.box_per_mm, ray.offset);
 #endif

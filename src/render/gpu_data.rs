@@ -3,7 +3,10 @@
 //! hands to WGSL, each listed in [`layouts`] with its WGSL twin so that a test can check every
 //! field's name, offset and type against naga's reflection of the shader.
 
-use crate::accel::{distance::MAX_DISTANCE, emptiness::TABLE_SIZE};
+use crate::accel::{
+    distance::{FULL_SHIFT, MAX_DISTANCE},
+    emptiness::TABLE_SIZE,
+};
 
 use super::volume_texture::MISSING_BELOW;
 
@@ -47,6 +50,10 @@ fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
         ),
         ("TABLE_SIZE", "u32", u(TABLE_SIZE as u32)),
         ("MAX_DISTANCE", "u32", u(MAX_DISTANCE)),
+        ("DISTANCE_FULL_SHIFT", "u32", u(FULL_SHIFT)),
+        ("RULE_AT_MOST", "u32", u(RULE_AT_MOST)),
+        ("RULE_ISO", "u32", u(RULE_ISO)),
+        ("SIDES_ISO", "u32", u(SIDES_ISO)),
         ("MISSING_BELOW", "f32", format!("{MISSING_BELOW:?}")),
         ("SLAB_MIP", "u32", u(SLAB_MIP)),
         ("SLAB_MINIP", "u32", u(SLAB_MINIP)),
@@ -185,7 +192,7 @@ pub fn layouts() -> Vec<StructLayout> {
             lut_size, node_count, rule, threshold,
         }),
         layout!(DistanceParams = "DistanceParams" in "build/distance.wgsl" {
-            leaf_level, axis, _pad0, _pad1,
+            leaf_level, axis, sides, _pad1,
         }),
         layout!(AccumulateParams = "AccumulateParams" in "entry/accumulate.wgsl" {
             count, width, height, _pad0,
@@ -332,6 +339,9 @@ pub struct BuildParams {
 pub const RULE_TRANSFER: u32 = 0;
 /// X-ray: empty where no value lies above `threshold`.
 pub const RULE_AT_MOST: u32 = 1;
+/// Isosurfaces: two bits per node, 1 where every value lies below `threshold` (the iso value),
+/// 2 where every value lies at or above it (3: no finite value).
+pub const RULE_ISO: u32 = 2;
 
 /// Parameters of the emptiness-table and node-flag passes (`EmptinessParams`).
 #[repr(C)]
@@ -341,9 +351,10 @@ pub struct EmptinessParams {
     pub lut_size: u32,
     /// Nodes of all pyramid levels.
     pub node_count: u32,
-    /// [`RULE_TRANSFER`] or [`RULE_AT_MOST`].
+    /// [`RULE_TRANSFER`], [`RULE_AT_MOST`] or [`RULE_ISO`].
     pub rule: u32,
-    /// The normalised value at or below which a node is empty under [`RULE_AT_MOST`].
+    /// The normalised value at or below which a node is empty under [`RULE_AT_MOST`]; the iso
+    /// value under [`RULE_ISO`].
     pub threshold: f32,
 }
 
@@ -355,11 +366,18 @@ pub struct DistanceParams {
     pub leaf_level: u32,
     /// The axis this pass runs along (0, 1, 2).
     pub axis: u32,
+    /// What the two sides of the field measure: [`SIDES_EMPTY_FULL`] or [`SIDES_ISO`].
+    pub sides: u32,
     /// Padding to 16 bytes.
-    pub _pad0: u32,
-    /// Padding.
     pub _pad1: u32,
 }
+
+/// Distance field from 0/1 emptiness flags: low bits the distance to the nearest non-empty
+/// block, high bits to the nearest empty one (`accel::distance::two_sided`).
+pub const SIDES_EMPTY_FULL: u32 = 0;
+/// Distance field from [`RULE_ISO`] flags: low bits the distance to the nearest block not wholly
+/// below the iso value, high bits to the nearest not wholly at or above it.
+pub const SIDES_ISO: u32 = 1;
 
 /// Parameters of one accumulation pass of progressive refinement (`AccumulateParams`).
 #[repr(C)]

@@ -79,8 +79,10 @@ pub enum Strategy {
     RcS,
     /// RC-s with a distance field over blocks: one step clears the whole cube of blocks the
     /// field proves empty (beyond the paper). The default: fastest on every dataset of the
-    /// benchmark. The field leaps by the transfer function or the X-ray window; isosurfaces,
-    /// MIP and MinIP leap by the octree as RC-s does.
+    /// benchmark. The field is two-sided: a ray also takes every sample of a cube of blocks
+    /// that all matter without asking about each. It leaps by the transfer function, the X-ray
+    /// window or the iso value (one field per side of it); MIP and MinIP leap by the octree as
+    /// RC-s does.
     #[value(name = "rc-s-df")]
     RcSDistance,
 }
@@ -106,10 +108,13 @@ impl Strategy {
         matches!(self, Self::RcS | Self::RcSDistance)
     }
 
-    /// The strategy `mode` runs with: the distance field exists for DVR and the X-ray modes;
-    /// the other modes leap by the min/max octree (RC-s) instead.
+    /// The strategy `mode` runs with: the distance field exists for DVR, isosurfaces and the
+    /// X-ray modes; MIP and MinIP leap by the min/max octree (RC-s) instead.
     pub fn for_mode(self, mode: Mode) -> Self {
-        let df_modes = matches!(mode, Mode::Dvr | Mode::Xray | Mode::XrayAttenuation);
+        let df_modes = matches!(
+            mode,
+            Mode::Dvr | Mode::Iso | Mode::Xray | Mode::XrayAttenuation
+        );
         if self == Self::RcSDistance && !df_modes {
             Self::RcS
         } else {

@@ -124,8 +124,9 @@ fn strategy_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
         }
         if in_use != *strategy {
             ui.label("(RC-s in this mode)").on_hover_text(
-                "The distance field leaps by the transfer function or the window, which \
-                 isosurfaces, MIP and MinIP do not use",
+                "The distance field is built beforehand from the transfer function, the \
+                 window or the iso value; what MIP and MinIP can skip depends on the extreme \
+                 each ray has found so far, so they leap by the octree",
             );
         }
     });

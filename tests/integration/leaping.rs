@@ -3,14 +3,14 @@
 
 use crate::common;
 
-use leapview::accel::distance::chebyshev;
+use leapview::accel::distance::{sides, two_sided};
 use leapview::accel::emptiness::{OpacityIndex, TABLE_SIZE, table_says_empty};
 use leapview::accel::pyramid::{MinMax, build_cpu, normalized_values};
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::counters::FrameCounters;
 use leapview::render::VolumeRenderer;
 use leapview::render::readback::read_buffer;
-use leapview::settings::{RenderPath, RenderSettings, Strategy};
+use leapview::settings::{IsoSettings, Mode, RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace, lut};
 use leapview::volume::{Samples, ValueMapping, Volume, synthetic};
 
@@ -129,7 +129,45 @@ fn gpu_structures_equal_the_cpu_references() {
             .map(|&f| f == 1)
             .collect();
         let gpu_distance = read_u32(&r, &leap.distance[0], leaf.count());
-        assert_eq!(gpu_distance, chebyshev(leaf.nodes, &empty), "block {block}");
+        assert_eq!(gpu_distance, two_sided(leaf.nodes, &empty), "block {block}");
+
+        // Isosurfaces: per-node side bits from the GPU's min/max and the iso value, and the
+        // per-side field over the leaf level.
+        let iso = RenderSettings {
+            mode: Mode::Iso,
+            iso: IsoSettings {
+                value: Some(200.0),
+                ..IsoSettings::default()
+            },
+            ..settings
+        };
+        render(&mut r, &camera, iso);
+        let leap = r.leap_structures().expect("built");
+        let threshold = iso.iso.threshold(volume.normalization_range()) as f32;
+        let bits = read_u32(&r, &leap.node_empty, n);
+        for (i, g) in gpu_minmax.iter().enumerate() {
+            let expected = if g[0] > g[1] {
+                3
+            } else {
+                u32::from(g[1] < threshold) | (u32::from(g[0] >= threshold) << 1)
+            };
+            assert_eq!(bits[i], expected, "iso node {i}: {g:?} against {threshold}");
+        }
+        let leaf_bits = &bits[leaf.offset as usize..(leaf.offset + leaf.count()) as usize];
+        let below: Vec<bool> = leaf_bits.iter().map(|b| b & 1 != 0).collect();
+        let above: Vec<bool> = leaf_bits.iter().map(|b| b & 2 != 0).collect();
+        assert!(
+            below.contains(&true) && below.contains(&false),
+            "block {block}"
+        );
+        // (Only small blocks fit wholly inside the blob.)
+        assert!(block > 4 || above.contains(&true), "block {block}");
+        let gpu_sides = read_u32(&r, &leap.distance[0], leaf.count());
+        assert_eq!(
+            gpu_sides,
+            sides(leaf.nodes, &below, &above),
+            "iso, block {block}"
+        );
     }
 }
 

@@ -7,7 +7,7 @@ use crate::common;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::counters::FrameCounters;
 use leapview::render::VolumeRenderer;
-use leapview::settings::{RenderPath, RenderSettings, Strategy};
+use leapview::settings::{IsoSettings, Mode, RenderPath, RenderSettings, Strategy};
 use leapview::transfer::TransferFunction;
 use leapview::transfer::presets::preset;
 use leapview::volume::load_volume;
@@ -132,4 +132,56 @@ fn preintegrated_leaping_equals_rc_t_on_every_shared_scan() {
             }
         }
     });
+}
+
+/// Isosurfaces leap by the octree (RC-s) and by the per-side distance field (RC-s-df, the field
+/// rebuilt for each iso value): on every shared scan, at a low, the middle and a high iso value,
+/// both paths, the image must be RC-t's and the crossings found the same (leaping lands on the
+/// last sample before each crossing, so the bracket is RC-t's), from fewer samples.
+#[test]
+fn isosurface_leaping_equals_rc_t_on_every_shared_scan() {
+    let mut r = common::renderer();
+    let dir = common::data_dir();
+    let mut saved = [(0u64, 0u64); 2];
+    for scan in SCANS {
+        let volume =
+            load_volume(&dir.join(scan), &Default::default()).unwrap_or_else(|e| panic!("{e}"));
+        r.set_volume(&volume).expect("upload");
+        let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+        let range = volume.normalization_range();
+        let (d, up) = ViewPreset::Oblique.direction_and_up();
+        let camera = Camera::framing(&bounds, d, up, ProjectionKind::Perspective);
+        for fraction in [0.15, 0.5, 0.7] {
+            for path in [RenderPath::Fragment, RenderPath::Compute] {
+                let base = RenderSettings {
+                    path,
+                    mode: Mode::Iso,
+                    iso: IsoSettings {
+                        value: Some(range.denormalize(fraction)),
+                        ..IsoSettings::default()
+                    },
+                    ..RenderSettings::default()
+                };
+                let ((rct, rct_counts), leaping) = rct_and_leaping(&mut r, &camera, base);
+                for (i, (strategy, (rcs, counts))) in leaping.into_iter().enumerate() {
+                    let label = format!("iso-{scan}-{fraction}-{path:?}-{strategy:?}");
+                    common::assert_close(&label, &rcs, &rct, 1.0 / 255.0, 0.0);
+                    assert_eq!(
+                        counts.visible_samples, rct_counts.visible_samples,
+                        "{label}: the crossings found"
+                    );
+                    assert!(counts.samples <= rct_counts.samples, "{label}");
+                    saved[i].0 += counts.samples;
+                    saved[i].1 += rct_counts.samples;
+                }
+            }
+        }
+    }
+    for (strategy, (taken, rct)) in [Strategy::RcS, Strategy::RcSDistance].iter().zip(saved) {
+        eprintln!("iso {strategy:?}: {taken} samples where RC-t took {rct}");
+        assert!(
+            taken * 2 < rct,
+            "{strategy:?} took {taken} samples, RC-t {rct}"
+        );
+    }
 }

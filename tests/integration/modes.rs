@@ -181,14 +181,10 @@ fn leaping_is_exact_in_every_mode() {
                     },
                     [48, 48],
                 );
-                let mut leapers = vec![Strategy::RcS];
-                if matches!(
-                    settings.mode,
-                    Mode::Dvr | Mode::Xray | Mode::XrayAttenuation
-                ) {
-                    leapers.push(Strategy::RcSDistance);
-                }
-                for strategy in leapers {
+                let leapers = [Strategy::RcS, Strategy::RcSDistance];
+                // RC-s-df where the mode has a distance field (DVR, isosurfaces, X-ray).
+                let leapers = leapers.iter().filter(|s| s.for_mode(settings.mode) == **s);
+                for &strategy in leapers {
                     let leapt = render(
                         &mut r,
                         &camera,

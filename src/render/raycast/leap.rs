@@ -8,7 +8,8 @@ use crate::accel::pyramid::Pyramid;
 use crate::render::context::GpuContext;
 use crate::render::gpu_data::{
     BUILD_WORKGROUP, BuildParams, DistanceParams, EmptinessParams, LevelInfo,
-    MAX_WORKGROUPS_PER_DIMENSION, NODE_WORKGROUP, RULE_AT_MOST, RULE_TRANSFER, TABLE_WORKGROUP,
+    MAX_WORKGROUPS_PER_DIMENSION, NODE_WORKGROUP, RULE_AT_MOST, RULE_ISO, RULE_TRANSFER,
+    SIDES_EMPTY_FULL, SIDES_ISO, TABLE_WORKGROUP,
 };
 use crate::render::probe::{ProbePool, ProbeSlot};
 use crate::render::shader::{ShaderError, compose, compute_pipeline, shader_module};
@@ -99,6 +100,9 @@ pub enum FlagRule {
     Transfer(u64),
     /// X-ray: no value above the window's low end (normalised, as f32 bits).
     AtMost(u32),
+    /// Isosurfaces with the distance field: every value on one side of the iso value
+    /// (normalised, as f32 bits); two bits per node (`RULE_ISO`).
+    Iso(u32),
 }
 
 /// The leaping structures of one volume.
@@ -108,12 +112,13 @@ pub struct LeapStructures {
     level_buffer: wgpu::Buffer,
     /// Per-node (min, max) of normalised values, all levels (vec2<f32>).
     pub minmax: wgpu::Buffer,
-    /// Per-node emptiness flags (u32 0/1), all levels.
+    /// Per-node emptiness flags (u32 0/1; two side bits under [`FlagRule::Iso`]), all levels.
     pub node_empty: wgpu::Buffer,
     /// The emptiness table, `TABLE_SIZE²` u32 (1 = empty), indexed `max_bin * TABLE_SIZE + min_bin`.
     pub table: wgpu::Buffer,
     prefix: wgpu::Buffer,
-    /// Distance field over the leaf level (u32 per block), and its ping-pong partner.
+    /// Two-sided distance field over the leaf level (u32 per block, `accel::distance::sides`),
+    /// and its ping-pong partner.
     pub distance: [wgpu::Buffer; 2],
     level_params: Vec<wgpu::Buffer>,
     emptiness_params: wgpu::Buffer,
@@ -262,6 +267,7 @@ impl LeapStructures {
         let (rule_code, threshold) = match rule {
             FlagRule::Transfer(_) => (RULE_TRANSFER, 0.0),
             FlagRule::AtMost(bits) => (RULE_AT_MOST, f32::from_bits(bits)),
+            FlagRule::Iso(bits) => (RULE_ISO, f32::from_bits(bits)),
         };
         let params = EmptinessParams {
             lut_size,
@@ -338,7 +344,10 @@ impl LeapStructures {
                 bytemuck::bytes_of(&DistanceParams {
                     leaf_level: leaf,
                     axis,
-                    _pad0: 0,
+                    sides: match self.flags_for {
+                        Some(FlagRule::Iso(_)) => SIDES_ISO,
+                        _ => SIDES_EMPTY_FULL,
+                    },
                     _pad1: 0,
                 }),
             );
@@ -395,6 +404,8 @@ pub struct LeapRequest<'a> {
     pub lut: &'a TableTexture,
     /// The window's low end, normalised (X-ray leaps over what lies below it).
     pub window_lo: f32,
+    /// The iso value, normalised (isosurfaces with the distance field leap by it).
+    pub iso_threshold: f32,
     /// The volume's texture (the pyramid is built from it).
     pub volume: &'a wgpu::TextureView,
 }
@@ -413,9 +424,9 @@ pub struct Builds {
 impl LeapStructures {
     /// Records whatever the structures still need for this frame and returns the levels the ray
     /// loop uses: the pyramid once per volume; node flags when the rule they follow changed
-    /// (DVR: the transfer function; X-ray with the distance field: the window); the distance
-    /// field when its flags or the block size changed. MIP, MinIP, isosurfaces and octree X-ray
-    /// read the min/max pyramid directly. The rebuild is timed into `probe` when given.
+    /// (DVR: the transfer function; X-ray with the distance field: the window; isosurfaces with
+    /// it: the iso value); the distance field when its flags or the block size changed. MIP,
+    /// MinIP, octree isosurfaces and octree X-ray read the min/max pyramid directly. The rebuild is timed into `probe` when given.
     pub fn prepare(
         &mut self,
         ctx: &GpuContext,
@@ -441,6 +452,7 @@ impl LeapStructures {
             Mode::Xray | Mode::XrayAttenuation if distance => {
                 FlagRule::AtMost(request.window_lo.to_bits())
             }
+            Mode::Iso if distance => FlagRule::Iso(request.iso_threshold.to_bits()),
             _ => return (levels, builds),
         };
         builds.flags = self.flags_for != Some(rule);

@@ -432,6 +432,7 @@ impl VolumeRenderer {
                 transfer_generation: self.transfer.generation(),
                 lut: self.transfer.lut(),
                 window_lo: uniforms.window_lo,
+                iso_threshold: uniforms.iso_threshold,
                 volume: &volume.texture.view,
             };
             let probe = slot.as_ref().map(|s| (&mut m.probes, s));

@@ -156,11 +156,13 @@ impl PipelineKey {
         if self.strategy.leaps() {
             defines.push("LEAP");
             // How the leaping loop walks (shaders/shared/march.wgsl), chosen by measurement on
-            // an H200 (docs/benchmarks/nvidia-h200-leap-walk): block runs for the octree's MIP,
-            // MinIP, isosurface and X-ray (MIP 1.1-2x faster); sample by sample for DVR (block
-            // runs up to 1.55x slower: its rays end early, at different samples) and for the
-            // distance field (X-ray up to 1.4x slower in runs). Never with PREINTEGRATED (DVR
-            // only), and DVR's mode module has no acc_prime.
+            // an H200: block runs for MIP, MinIP, isosurfaces and X-ray (octree MIP 1.1-2x
+            // faster, docs/benchmarks/nvidia-h200-leap-walk; X-ray with the two-sided distance
+            // field: median frame time 0.89x at 512², 0.97x at 1080p, from 0.80x to 1.17x,
+            // docs/benchmarks/nvidia-h200-two-sided); sample by sample for DVR (octree runs up to
+            // 1.55x slower, its rays end early at different samples; distance-field runs
+            // 1.19-1.88x slower). Never with PREINTEGRATED (DVR only), and DVR's mode module has
+            // no acc_prime.
             if self.walks_in_runs() {
                 defines.push("LEAP_RUNS");
             }
@@ -192,7 +194,7 @@ impl PipelineKey {
 
     /// Whether a leaping variant walks in block runs (LEAP_RUNS) rather than sample by sample.
     fn walks_in_runs(&self) -> bool {
-        self.strategy.leaps() && self.mode != Mode::Dvr && self.strategy != Strategy::RcSDistance
+        self.strategy.leaps() && self.mode != Mode::Dvr
     }
 
     /// The composed WGSL of this variant.
