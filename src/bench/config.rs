@@ -289,8 +289,8 @@ impl BenchConfig {
         self.rebuild_repeats = self.rebuild_repeats.min(3);
     }
 
-    /// Whether `strategy` can run in `mode` (the distance field leaps by the transfer function
-    /// or the window, so it exists for DVR and the X-ray modes only).
+    /// Whether `strategy` can run in `mode` (the distance field leaps by the transfer function,
+    /// the window or the iso value, so it exists for DVR, isosurfaces and the X-ray modes only).
     pub fn runs_in(strategy: Strategy, mode: Mode) -> bool {
         strategy.for_mode(mode) == strategy
     }
