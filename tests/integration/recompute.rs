@@ -1,12 +1,13 @@
 //! Nothing is recomputed that did not change: a camera move only re-renders, a transfer-function
 //! edit re-bakes the lookup table and rebuilds the emptiness flags only, the min/max pyramid is
-//! built once per volume, modes that leap by the pyramid alone rebuild nothing.
+//! built once per volume, modes that leap by the pyramid alone rebuild nothing, the isosurface
+//! field follows the iso value only.
 
 use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::render::{FrameRequest, VolumeRenderer, WorkCounts};
-use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
+use leapview::settings::{IsoSettings, Mode, RenderPath, RenderSettings, Strategy};
 use leapview::transfer::presets::preset;
 use leapview::volume::synthetic;
 
@@ -136,13 +137,47 @@ fn each_change_recomputes_only_what_depends_on_it() {
     };
     assert_eq!(step(&mut r, &side, &settings), tf_edit_df);
 
-    // Strategies without leaping touch no leaping structure.
-    settings.strategy = Strategy::RcT;
+    // Isosurfaces with the distance field: a field per side of the iso value, built when first
+    // needed and when the iso value changes; a camera move or a TF edit (the TF only colours the
+    // surface) rebuilds nothing of it.
+    settings.mode = Mode::Iso;
+    let iso_field = WorkCounts {
+        flag_builds: 1,
+        distance_builds: 1,
+        ..FRAME
+    };
+    assert_eq!(step(&mut r, &side, &settings), iso_field, "iso: its field");
+    assert_eq!(
+        step(&mut r, &oblique, &settings),
+        FRAME,
+        "iso: a camera move"
+    );
     r.set_transfer_function(&preset("ct-bone").expect("preset"));
     let lut_only = WorkCounts {
         lut_bakes: 1,
         ..FRAME
     };
+    assert_eq!(
+        step(&mut r, &oblique, &settings),
+        lut_only,
+        "iso: a TF edit"
+    );
+    settings.iso = IsoSettings {
+        value: Some(volume.normalization_range().denormalize(0.3)),
+        ..settings.iso
+    };
+    assert_eq!(
+        step(&mut r, &oblique, &settings),
+        iso_field,
+        "iso: a new iso value"
+    );
+    settings.mode = Mode::Dvr;
+    r.set_transfer_function(&preset("ct-angio").expect("preset"));
+    assert_eq!(step(&mut r, &side, &settings), tf_edit_df, "back to DVR");
+
+    // Strategies without leaping touch no leaping structure.
+    settings.strategy = Strategy::RcT;
+    r.set_transfer_function(&preset("ct-bone").expect("preset"));
     assert_eq!(step(&mut r, &side, &settings), lut_only);
 
     // Pre-integration: its table is built when first needed and after a TF edit, not for a new
