@@ -1,9 +1,9 @@
-//! What a frame counted: samples taken, samples that could change the pixel, rays, leaps and
-//! the grid samples leapt. Filled by the GPU's statistics variants (`render::probe`) and by the
+//! What a frame counted: samples taken, samples that could change the pixel, rays, leaps, the
+//! grid samples leapt and the leaping structure's lookups. Filled by the GPU's statistics variants (`render::probe`) and by the
 //! CPU reference ray caster (`reference`), so the two are compared in one type.
 
 /// Per-frame sample statistics (a GPU statistics variant's, or the CPU reference's, which does
-/// not leap and leaves `leaps` and `leapt_samples` at 0).
+/// not leap and leaves `leaps`, `leapt_samples` and `lookups` at 0).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct FrameCounters {
     /// Samples taken (volume reads classified through the transfer function).
@@ -17,6 +17,10 @@ pub struct FrameCounters {
     /// Grid samples skipped by leaping (RC-s): with the samples taken, what RC-t takes (MIP and
     /// MinIP also take up to five samples per ray before the march, to prime their leaping).
     pub leapt_samples: u64,
+    /// Questions the leaping loop asked of its structure (RC-s): one per leaf block, or cube of
+    /// blocks with the distance field, entered; the octree's climb to a coarser empty node
+    /// counts as one. What leaping pays for the samples it removes.
+    pub lookups: u64,
 }
 
 impl FrameCounters {
@@ -40,6 +44,7 @@ impl FrameCounters {
         self.rays += other.rays;
         self.leaps += other.leaps;
         self.leapt_samples += other.leapt_samples;
+        self.lookups += other.lookups;
     }
 
     /// Share of the grid samples before each ray's end that leaping skipped (0 without

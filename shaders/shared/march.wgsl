@@ -180,6 +180,7 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
             break;
         }
         let t_k = sample_distance(ray, k);
+        tally_lookup(tally);
         let region = leap_region(leap, entry + ray.box_per_mm * t_k, k, *acc);
         let next = region.x;
         let run_end = min(region.y, end);
@@ -251,6 +252,9 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
         let t = sample_distance(ray, k);
         let p = entry + ray.box_per_mm * t;
 #ifdef LEAP
+        if k >= leap.until {
+            tally_lookup(tally);
+        }
         let next = leap_from(&leap, p, k, *acc);
 #ifndef PREINTEGRATED
         if next != k {

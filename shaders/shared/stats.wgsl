@@ -11,6 +11,8 @@ struct Tally {
     leaps: u32,
     // Grid samples skipped by leaping (with the samples taken, what RC-t takes).
     leapt: u32,
+    // Questions asked of the leaping structure.
+    lookups: u32,
 #else
     unused: u32,
 #endif
@@ -51,6 +53,13 @@ fn tally_leap(t: ptr<function, Tally>, skipped: u32) {
 #endif
 }
 
+// The ray asked its leaping structure about the block (or cube) it entered.
+fn tally_lookup(t: ptr<function, Tally>) {
+#ifdef STATS
+    (*t).lookups += 1u;
+#endif
+}
+
 // The ray (or, with RAY_SPLIT, one part of it) ended: add its tallies to the frame's counters;
 // `counts_ray` for one part of each ray only.
 fn tally_ray(t: Tally, counts_ray: bool) {
@@ -60,5 +69,6 @@ fn tally_ray(t: Tally, counts_ray: bool) {
     count(COUNTER_RAYS, u32(counts_ray));
     count(COUNTER_LEAPS, t.leaps);
     count(COUNTER_LEAPT_SAMPLES, t.leapt);
+    count(COUNTER_LOOKUPS, t.lookups);
 #endif
 }

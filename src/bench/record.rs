@@ -94,6 +94,10 @@ pub struct FrameRecord {
     pub rays: u64,
     /// Empty regions leapt.
     pub leaps: u64,
+    /// Lookups in the leaping structure (`FrameCounters::lookups`); `None` in records made
+    /// before it was counted.
+    #[serde(default)]
+    pub lookups: Option<u64>,
 }
 
 /// One run: a dataset under one combination of settings, over the whole orbit.

@@ -58,6 +58,10 @@ pub struct RunSummary {
     pub oracle_ratio: Option<f64>,
     /// Empty regions leapt per frame.
     pub leaps_per_frame: f64,
+    /// Lookups in the leaping structure per ray (`None` without rays, or in records made before
+    /// lookups were counted).
+    #[serde(default)]
+    pub lookups_per_ray: Option<f64>,
     /// Sample step, voxels.
     pub step_vox: f64,
     /// Transfer function.
@@ -83,6 +87,7 @@ impl RunSummary {
                 visible_samples: f.visible_samples,
                 rays: f.rays,
                 leaps: f.leaps,
+                lookups: f.lookups.unwrap_or(0),
                 ..FrameCounters::default()
             });
         }
@@ -100,6 +105,8 @@ impl RunSummary {
             samples_per_pixel: total.samples_per_pixel([run.key.width, run.key.height], n),
             oracle_ratio: total.oracle_ratio(),
             leaps_per_frame: total.leaps as f64 / n as f64,
+            lookups_per_ray: (total.rays > 0 && run.frames.iter().all(|f| f.lookups.is_some()))
+                .then(|| total.lookups as f64 / total.rays as f64),
             step_vox: run.step_vox,
             tf: run.tf.clone(),
         })

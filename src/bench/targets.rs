@@ -41,6 +41,9 @@ pub struct AgainstRcT {
     pub wall_ms: Option<f64>,
     /// RC-t's median wall time, render + read-back, milliseconds.
     pub rct_wall_ms: Option<f64>,
+    /// Its lookups in the leaping structure per ray: what it pays for the samples it removes.
+    #[serde(default)]
+    pub lookups_per_ray: Option<f64>,
 }
 
 /// Every non-sweep leaping run that has an RC-t run beside it, in run order.
@@ -77,6 +80,7 @@ pub fn against_rc_t(runs: &[RunSummary]) -> Vec<AgainstRcT> {
             floor_ms,
             wall_ms: run.wall_median_ms,
             rct_wall_ms: rct.wall_median_ms,
+            lookups_per_ray: run.lookups_per_ray,
         });
     }
     rows
@@ -199,15 +203,16 @@ pub fn markdown(rows: &[AgainstRcT]) -> String {
     let mut md = String::from(
         "\n## Leaping against RC-t\n\nSame frames; rate = samples taken per second of frame time; \
          oracle floor = the oracle's samples at RC-t's rate; wall = render + read-back of the \
-         image, median ms.\n\n\
+         image, median ms; lookups = questions the leaping loop asked of its structure per ray \
+         (one per block, or cube of blocks with the distance field, entered).\n\n\
          | dataset | mode | path | size | strategy | fps / RC-t | rate / RC-t | samples / oracle \
-         | floor ms | ms / floor | wall ms | RC-t wall ms |\n\
-         |---|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n",
+         | floor ms | ms / floor | wall ms | RC-t wall ms | lookups / ray |\n\
+         |---|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {}×{} | {} | {:.2} | {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {}×{} | {} | {:.2} | {} | {} | {} | {} | {} | {} | {} |",
             r.dataset,
             r.mode,
             r.path,
@@ -220,7 +225,8 @@ pub fn markdown(rows: &[AgainstRcT]) -> String {
             opt(r.floor_ms, 3),
             opt(r.over_floor, 2),
             opt(r.wall_ms, 3),
-            opt(r.rct_wall_ms, 3)
+            opt(r.rct_wall_ms, 3),
+            opt(r.lookups_per_ray, 1)
         );
     }
     md
@@ -254,6 +260,7 @@ mod tests {
             oracle_ratio: Some(samples / visible),
             samples_per_pixel: samples / 64.0,
             leaps_per_frame: 0.0,
+            lookups_per_ray: None,
             step_vox: 0.5,
             tf: "t".into(),
         }

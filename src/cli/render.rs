@@ -200,6 +200,12 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
                 c.leapt_samples,
                 100.0 * c.share_leapt().unwrap_or(0.0)
             );
+            outln!(
+                out,
+                "lookups: {} ({:.1} per ray: questions asked of the leaping structure)",
+                c.lookups,
+                c.lookups as f64 / c.rays.max(1) as f64
+            );
             if let Some(ms) = first.rebuild_ms {
                 outln!(
                     out,

@@ -30,8 +30,8 @@ pub const MAX_WORKGROUPS_PER_DIMENSION: u32 = 65535;
 
 /// Number of 64-bit counters in the statistics buffer, in the order of
 /// [`crate::counters::FrameCounters`]'s fields: samples, visible samples, rays, leaps, samples
-/// leapt (the `COUNTER_*` indices in WGSL).
-pub const COUNTERS: usize = 5;
+/// leapt, lookups (the `COUNTER_*` indices in WGSL).
+pub const COUNTERS: usize = 6;
 
 /// The constants WGSL shares with Rust, as `(name, WGSL type, value)`.
 fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
@@ -66,8 +66,9 @@ fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
         "COUNTER_RAYS",
         "COUNTER_LEAPS",
         "COUNTER_LEAPT_SAMPLES",
+        "COUNTER_LOOKUPS",
     ];
-    const { assert!(COUNTERS == 5, "one name per counter") };
+    const { assert!(COUNTERS == 6, "one name per counter") };
     for (index, name) in counters.into_iter().enumerate() {
         constants.push((name, "u32", u(index as u32)));
     }

@@ -249,6 +249,7 @@ impl ProbePool {
                         rays: ticks(c + 2),
                         leaps: ticks(c + 3),
                         leapt_samples: ticks(c + 4),
+                        lookups: ticks(c + 5),
                     });
                     drop(data);
                     probe.readback.unmap();

@@ -293,6 +293,7 @@ mod tests {
             rays: 1000,
             leaps: 1500,
             leapt_samples: 6_000_000,
+            lookups: 2500,
         };
         let readout = Readout {
             fps: Some(30),

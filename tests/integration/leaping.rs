@@ -286,3 +286,64 @@ fn leaping_skips_most_samples_of_a_sparse_volume() {
         assert!(rcs.leaps > 0);
     }
 }
+
+/// The two-sided distance field: where no block can be skipped (X-ray with the window's low end
+/// below every value), a ray asks the field once (at most twice) and takes its samples in one
+/// cube, while the octree asks at every block it enters; both take RC-t's samples and draw its
+/// image. Counted by the statistics variants' `lookups`.
+#[test]
+fn a_volume_with_nothing_to_skip_costs_the_field_one_lookup_per_ray() {
+    let volume = odd_volume();
+    let mut r = common::renderer();
+    r.set_volume(&volume).expect("upload");
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let (dir, up) = ViewPreset::Oblique.direction_and_up();
+    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    let render_with = |r: &mut VolumeRenderer, strategy| {
+        let settings = RenderSettings {
+            mode: Mode::Xray,
+            // The fragment path: one invocation per ray (the compute path splits small images).
+            path: RenderPath::Fragment,
+            strategy,
+            block_vox: 4,
+            window: Some([-10.0, 1000.0]),
+            ..RenderSettings::default()
+        };
+        render(r, &camera, settings)
+    };
+    let (rct, rct_counts) = render_with(&mut r, Strategy::RcT);
+    let (octree, octree_counts) = render_with(&mut r, Strategy::RcS);
+    let (field, field_counts) = render_with(&mut r, Strategy::RcSDistance);
+    for (name, image, counts) in [
+        ("RC-s", &octree, octree_counts),
+        ("RC-s-df", &field, field_counts),
+    ] {
+        common::assert_close(name, image, &rct, 1.0 / 255.0, 0.0);
+        assert_eq!(
+            counts.samples, rct_counts.samples,
+            "{name}: nothing to skip"
+        );
+        assert_eq!(counts.leaps, 0, "{name}");
+    }
+    assert!(field_counts.rays > 1000);
+    // The field: one lookup per ray, and a second for the rays whose last sample, clamped to
+    // the exit, lies at (not before) the cube's exit face.
+    assert!(
+        field_counts.lookups >= field_counts.rays && field_counts.lookups <= 2 * field_counts.rays,
+        "field {} lookups for {} rays",
+        field_counts.lookups,
+        field_counts.rays
+    );
+    eprintln!(
+        "lookups per ray: field {:.2}, octree {:.2}",
+        field_counts.lookups as f64 / field_counts.rays as f64,
+        octree_counts.lookups as f64 / octree_counts.rays as f64
+    );
+    // The octree: one per leaf block entered (13 blocks on the longest axis).
+    assert!(
+        octree_counts.lookups > 4 * octree_counts.rays,
+        "octree {} lookups for {} rays",
+        octree_counts.lookups,
+        octree_counts.rays
+    );
+}

@@ -187,7 +187,9 @@ fn fragment_and_compute_paths_give_the_same_image() {
                 common::assert_close(&label, &comp, &frag, tolerance, share);
                 assert_eq!(fc.rays, cc.rays, "{label}");
                 if same_counts {
-                    assert_eq!(fc, cc, "{label}");
+                    // Lookups excepted: each part of a split ray asks the field on its own.
+                    let no_lookups = |c: FrameCounters| FrameCounters { lookups: 0, ..c };
+                    assert_eq!(no_lookups(fc), no_lookups(cc), "{label}");
                 }
             }
         }

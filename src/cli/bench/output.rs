@@ -8,7 +8,7 @@ use anyhow::Context;
 use leapview::bench::{BenchResults, Summary};
 
 /// Header of `frames.csv`.
-const CSV_HEADER: &str = "dataset,mode,strategy,path,width,height,block_vox,sweep,view,azimuth_deg,ms,stats_ms,samples,visible_samples,rays,leaps,samples_per_pixel,wall_ms";
+const CSV_HEADER: &str = "dataset,mode,strategy,path,width,height,block_vox,sweep,view,azimuth_deg,ms,stats_ms,samples,visible_samples,rays,leaps,samples_per_pixel,wall_ms,lookups";
 
 /// `frames.csv`: one row per timed view of every run.
 pub fn frames_csv(results: &BenchResults) -> String {
@@ -20,7 +20,7 @@ pub fn frames_csv(results: &BenchResults) -> String {
         for f in &run.frames {
             let _ = writeln!(
                 csv,
-                "{},{},{},{},{},{},{},{},{},{:.1},{:.4},{},{},{},{},{},{:.3},{}",
+                "{},{},{},{},{},{},{},{},{},{:.1},{:.4},{},{},{},{},{},{:.3},{},{}",
                 k.dataset,
                 k.mode,
                 k.strategy,
@@ -38,7 +38,8 @@ pub fn frames_csv(results: &BenchResults) -> String {
                 f.rays,
                 f.leaps,
                 f.samples as f64 / pixels,
-                f.wall_ms.map_or(String::new(), |m| format!("{m:.4}"))
+                f.wall_ms.map_or(String::new(), |m| format!("{m:.4}")),
+                f.lookups.map_or(String::new(), |l| l.to_string())
             );
         }
     }

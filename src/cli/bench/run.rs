@@ -164,6 +164,7 @@ pub fn measure(
             visible_samples: 0,
             rays: 0,
             leaps: 0,
+            lookups: None,
         });
     }
     // Render + read-back as peers time it, in a pass of its own: waiting for each image between
@@ -180,6 +181,7 @@ pub fn measure(
         frame.visible_samples = c.visible_samples;
         frame.rays = c.rays;
         frame.leaps = c.leaps;
+        frame.lookups = Some(c.lookups);
     }
     let s = &planned.settings;
     Ok(RunRecord {
