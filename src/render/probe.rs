@@ -52,6 +52,9 @@ struct Probe {
 /// the queue).
 pub struct ProbePool {
     probes: Vec<Probe>,
+    /// Results collected while waiting for a free probe ([`Self::acquire_or_wait`]), handed
+    /// out by the next [`Self::collect`].
+    ready: Vec<FrameResults>,
     /// Storage buffer the statistics variants add to.
     pub counters: wgpu::Buffer,
     timestamp_period_ns: f64,
@@ -103,6 +106,7 @@ impl ProbePool {
         });
         Self {
             probes,
+            ready: Vec::new(),
             counters,
             timestamp_period_ns: queue.get_timestamp_period() as f64,
         }
@@ -119,6 +123,24 @@ impl ProbePool {
         probe.has_counters = has_counters;
         probe.has_rebuild = false;
         Some(ProbeSlot(index))
+    }
+
+    /// Takes a free probe for frame `frame`, waiting for the GPU to finish the frames in flight
+    /// when none is free (their results are kept for the next [`Self::collect`]): for a frame
+    /// whose measurements must not be skipped, such as the last band of a statistics frame,
+    /// which alone carries the frame's counters.
+    pub fn acquire_or_wait(
+        &mut self,
+        device: &wgpu::Device,
+        frame: u64,
+        has_counters: bool,
+    ) -> Option<ProbeSlot> {
+        if let Some(slot) = self.acquire(frame, has_counters) {
+            return Some(slot);
+        }
+        let done = self.collect(device, true);
+        self.ready.extend(done);
+        self.acquire(frame, has_counters)
     }
 
     /// Timestamp writes for a render pass: `first` writes the start, `last` the end.
@@ -225,7 +247,7 @@ impl ProbePool {
         if let Err(e) = device.poll(poll) {
             log::warn!("waiting for the GPU failed: {e}");
         }
-        let mut results = Vec::new();
+        let mut results = std::mem::take(&mut self.ready);
         for probe in &mut self.probes {
             match probe.state.load(Ordering::Acquire) {
                 MAPPED => {

@@ -149,7 +149,10 @@ fn strategy_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
 
     ui.label("Statistics");
     ui.checkbox(&mut state.statistics, "count samples")
-        .on_hover_text("Samples taken, samples with non-zero opacity, regions leapt (slower)");
+        .on_hover_text(
+            "Samples taken, samples with non-zero opacity, regions leapt, lookups in the leaping \
+             structure per ray (slower)",
+        );
     ui.end_row();
 
     ui.label("Interaction");

@@ -140,15 +140,22 @@ impl Readout<'_> {
         }
         if let Some((c, pixels)) = self.counters {
             lines.push(format!(
-                "{} samples ({:.1}/px) · {} visible · ×{:.2} oracle · {} leaps, {:.1} % of \
-                 samples leapt",
+                "{} samples ({:.1}/px) · {} visible · ×{:.2} oracle",
                 compact(c.samples),
                 c.samples as f64 / pixels.max(1) as f64,
                 compact(c.visible_samples),
                 c.samples as f64 / c.visible_samples.max(1) as f64,
-                compact(c.leaps),
-                100.0 * c.share_leapt().unwrap_or(0.0),
             ));
+            // What leaping skipped, and what it paid for that: questions asked of its structure
+            // (a line of its own, only where the strategy leaps).
+            if c.leaps > 0 || c.leapt_samples > 0 || c.lookups > 0 {
+                lines.push(format!(
+                    "{} leaps, {:.1} % of samples leapt · {:.1} lookups/ray",
+                    compact(c.leaps),
+                    100.0 * c.share_leapt().unwrap_or(0.0),
+                    c.lookups as f64 / c.rays.max(1) as f64,
+                ));
+            }
         }
         if let Some(ms) = self.rebuild_ms {
             lines.push(format!("leaping structures rebuilt in {ms:.3} ms GPU"));
@@ -315,10 +322,13 @@ mod tests {
         let lines = readout.lines();
         assert_eq!(
             lines[2],
-            "2.00 M samples (2.0/px) · 500.0 k visible · ×4.00 oracle · 1.5 k leaps, 75.0 % of \
-             samples leapt"
+            "2.00 M samples (2.0/px) · 500.0 k visible · ×4.00 oracle"
         );
-        assert_eq!(lines[3], "leaping structures rebuilt in 0.250 ms GPU");
+        assert_eq!(
+            lines[3],
+            "1.5 k leaps, 75.0 % of samples leapt · 2.5 lookups/ray"
+        );
+        assert_eq!(lines[4], "leaping structures rebuilt in 0.250 ms GPU");
     }
 
     #[test]

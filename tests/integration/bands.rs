@@ -113,3 +113,51 @@ fn a_banded_frame_starts_and_joins_the_refinement_mean() {
     assert_eq!(mean, Some(2), "and adds to it");
     assert_eq!(r.read_refined().expect("mean"), whole);
 }
+
+/// The window's pump submits bands without waiting for their measurements, so more bands are in
+/// flight than there are probes: a statistics frame's last band, which alone carries the
+/// frame's counters, must still get one (it waits), and the results of the bands before it that
+/// were collected meanwhile are not lost.
+#[test]
+fn a_statistics_frame_keeps_its_counters_when_its_bands_outrun_the_probes() {
+    let volume = synthetic::vessel_tree(48, 3).expect("volume");
+    let mut r = common::renderer();
+    r.set_volume(&volume).expect("upload");
+    r.set_transfer_function(&preset("mr-angio").expect("preset"));
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let (dir, up) = ViewPreset::Oblique.direction_and_up();
+    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    let settings = RenderSettings {
+        path: RenderPath::Compute,
+        strategy: Strategy::RcSDistance,
+        ..RenderSettings::default()
+    };
+    let request = FrameRequest {
+        camera: &camera,
+        size: [40, 48],
+        settings: &settings,
+        stats: true,
+    };
+    let (_, whole) = r.render_and_wait(&request).expect("render");
+    // Twelve bands of four rows, none waited for.
+    let mut submitted = Vec::new();
+    for first in (0..48).step_by(4) {
+        let (frame, _) = r
+            .render_band(&request, [first, first + 4], None)
+            .expect("band");
+        submitted.push(frame.frame);
+    }
+    let results = r.collect_results(true);
+    let last = results
+        .iter()
+        .find(|x| Some(&x.frame) == submitted.last())
+        .expect("the last band's measurements");
+    assert!(whole.counters.is_some_and(|c| c.samples > 0));
+    assert_eq!(last.counters, whole.counters, "the frame's counters");
+    // What was collected while the last band waited comes back too: more bands than probes.
+    let measured = results
+        .iter()
+        .filter(|x| submitted.contains(&x.frame))
+        .count();
+    assert!(measured > 4, "{measured} of 12 bands measured");
+}

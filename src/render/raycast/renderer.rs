@@ -142,11 +142,13 @@ struct Measurements {
 impl Measurements {
     /// Counts a new submission and takes a probe for it (none when all are in flight); clears
     /// the counters of a statistics frame when `first` (the first band of a frame rendered in
-    /// bands: the counters add up over its bands).
+    /// bands: the counters add up over its bands). The `last` band of a statistics frame
+    /// carries the frame's counters, so it waits for a probe rather than go without.
     fn begin(
         &mut self,
+        device: &wgpu::Device,
         stats: bool,
-        first: bool,
+        [first, last]: [bool; 2],
         encoder: &mut wgpu::CommandEncoder,
     ) -> Option<ProbeSlot> {
         self.frames_submitted += 1;
@@ -154,7 +156,12 @@ impl Measurements {
         if stats && first {
             self.probes.clear_counters(encoder);
         }
-        self.probes.acquire(self.frames_submitted, stats)
+        if stats && last {
+            self.probes
+                .acquire_or_wait(device, self.frames_submitted, stats)
+        } else {
+            self.probes.acquire(self.frames_submitted, stats)
+        }
     }
 
     /// Counts what the leaping structures' preparation built.
@@ -425,7 +432,7 @@ impl VolumeRenderer {
                 label: Some("frame"),
             });
         let m = &mut self.measurements;
-        let slot = m.begin(request.stats, first, &mut encoder);
+        let slot = m.begin(&self.ctx.device, request.stats, [first, last], &mut encoder);
         if key.strategy.leaps() {
             let leap_request = LeapRequest {
                 settings,
