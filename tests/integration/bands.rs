@@ -37,15 +37,22 @@ fn banded(
     last
 }
 
-#[test]
-fn a_frame_in_bands_equals_the_whole_frame_on_both_paths() {
-    let volume = synthetic::vessel_tree(48, 3).expect("volume");
+/// A renderer holding `volume` with transfer function `tf`, and an oblique camera framing it.
+fn scene(volume: &leapview::volume::Volume, tf: &str) -> (VolumeRenderer, Camera) {
     let mut r = common::renderer();
-    r.set_volume(&volume).expect("upload");
-    r.set_transfer_function(&preset("mr-angio").expect("preset"));
+    r.set_volume(volume).expect("upload");
+    r.set_transfer_function(&preset(tf).expect("preset"));
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let (dir, up) = ViewPreset::Oblique.direction_and_up();
-    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    (
+        r,
+        Camera::framing(&bounds, dir, up, ProjectionKind::Perspective),
+    )
+}
+
+#[test]
+fn a_frame_in_bands_equals_the_whole_frame_on_both_paths() {
+    let (mut r, camera) = scene(&synthetic::vessel_tree(48, 3).expect("volume"), "mr-angio");
     // 61 rows: neither a multiple of the compute path's 8-row workgroups nor of the bands.
     let size = [53, 61];
     for path in [RenderPath::Compute, RenderPath::Fragment] {
@@ -82,13 +89,7 @@ fn a_frame_in_bands_equals_the_whole_frame_on_both_paths() {
 
 #[test]
 fn a_banded_frame_starts_and_joins_the_refinement_mean() {
-    let volume = synthetic::shepp_logan(32).expect("volume");
-    let mut r = common::renderer();
-    r.set_volume(&volume).expect("upload");
-    r.set_transfer_function(&preset("ct-bone").expect("preset"));
-    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
-    let (dir, up) = ViewPreset::Oblique.direction_and_up();
-    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    let (mut r, camera) = scene(&synthetic::shepp_logan(32).expect("volume"), "ct-bone");
     let size = [40, 37];
     let mut settings = RenderSettings {
         path: RenderPath::Compute,
@@ -120,13 +121,7 @@ fn a_banded_frame_starts_and_joins_the_refinement_mean() {
 /// were collected meanwhile are not lost.
 #[test]
 fn a_statistics_frame_keeps_its_counters_when_its_bands_outrun_the_probes() {
-    let volume = synthetic::vessel_tree(48, 3).expect("volume");
-    let mut r = common::renderer();
-    r.set_volume(&volume).expect("upload");
-    r.set_transfer_function(&preset("mr-angio").expect("preset"));
-    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
-    let (dir, up) = ViewPreset::Oblique.direction_and_up();
-    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    let (mut r, camera) = scene(&synthetic::vessel_tree(48, 3).expect("volume"), "mr-angio");
     let settings = RenderSettings {
         path: RenderPath::Compute,
         strategy: Strategy::RcSDistance,
