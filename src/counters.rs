@@ -1,6 +1,7 @@
 //! What a frame counted: samples taken, samples that could change the pixel, rays, leaps, the
-//! grid samples leapt and the leaping structure's lookups. Filled by the GPU's statistics variants (`render::probe`) and by the
-//! CPU reference ray caster (`reference`), so the two are compared in one type.
+//! grid samples leapt and the leaping structure's lookups. Filled by the GPU's statistics
+//! variants (`render::probe`) and by the CPU reference ray caster (`reference`), so the two are
+//! compared in one type.
 
 /// Per-frame sample statistics (a GPU statistics variant's, or the CPU reference's, which does
 /// not leap and leaves `leaps`, `leapt_samples` and `lookups` at 0).

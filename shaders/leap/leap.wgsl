@@ -124,8 +124,10 @@ fn region_of(block: vec3<u32>, acc: Acc) -> Region {
 // Block runs: what the ray does at sample k (box position p), the first sample of a block run,
 // holding `acc`. x: where it goes, k itself (the block can matter) or where its mode lands past
 // the region that cannot change the pixel; y, where x = k: the first grid sample past the leaf
-// block, so that samples k .. y − 1 are taken without any lookup.
-fn leap_region(ray: LeapRay, p: vec3<f32>, k: u32, acc: Acc) -> vec2<u32> {
+// block (with LEAP_DISTANCE, the cube), so that samples k .. y − 1 are taken without any lookup.
+// Each call is one lookup (counted into `tally`).
+fn leap_region(ray: LeapRay, p: vec3<f32>, k: u32, acc: Acc, tally: ptr<function, Tally>) -> vec2<u32> {
+    tally_lookup(tally);
     let region = region_of(leaf_block(p), acc);
     let after = first_sample_after(exit_distance(ray, region.lo, region.hi), k, ray.offset);
     if region.matters {
@@ -137,11 +139,12 @@ fn leap_region(ray: LeapRay, p: vec3<f32>, k: u32, acc: Acc) -> vec2<u32> {
 // Sample by sample: where the ray goes from sample k at box position p, holding `acc`: k itself
 // (sample it), or where its mode lands past a region that cannot change the pixel. Asks only
 // where the sample lies past the region the last question found can matter (its leaf block, or
-// with LEAP_DISTANCE the cube of such blocks around it).
-fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32, acc: Acc) -> u32 {
+// with LEAP_DISTANCE the cube of such blocks around it); each question is counted into `tally`.
+fn leap_from(ray: ptr<function, LeapRay>, p: vec3<f32>, k: u32, acc: Acc, tally: ptr<function, Tally>) -> u32 {
     if k < (*ray).until {
         return k;
     }
+    tally_lookup(tally);
     let region = region_of(leaf_block(p), acc);
     let after = first_sample_after(exit_distance(*ray, region.lo, region.hi), k, (*ray).offset);
     if region.matters {

@@ -180,8 +180,7 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
             break;
         }
         let t_k = sample_distance(ray, k);
-        tally_lookup(tally);
-        let region = leap_region(leap, entry + ray.box_per_mm * t_k, k, *acc);
+        let region = leap_region(leap, entry + ray.box_per_mm * t_k, k, *acc, tally);
         let next = region.x;
         let run_end = min(region.y, end);
         if next != k {
@@ -252,10 +251,7 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
         let t = sample_distance(ray, k);
         let p = entry + ray.box_per_mm * t;
 #ifdef LEAP
-        if k >= leap.until {
-            tally_lookup(tally);
-        }
-        let next = leap_from(&leap, p, k, *acc);
+        let next = leap_from(&leap, p, k, *acc, tally);
 #ifndef PREINTEGRATED
         if next != k {
             tally_leap(tally, min(next, end) - k);

@@ -296,20 +296,24 @@ impl LeapStructures {
                 entries: &entries,
             })
         };
-        let scan = entries_for(&pipelines.scan, &[0, 1, 2]);
-        let table = entries_for(&pipelines.table, &[0, 2, 3]);
         let flags = entries_for(&pipelines.flags, &[0, 3, 4, 5]);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("emptiness"),
             timestamp_writes: timestamps,
         });
-        pass.set_pipeline(&pipelines.scan);
-        pass.set_bind_group(0, &scan, &[]);
-        pass.dispatch_workgroups(1, 1, 1);
-        pass.set_pipeline(&pipelines.table);
-        pass.set_bind_group(0, &table, &[]);
-        let t = (TABLE_SIZE as u32).div_ceil(TABLE_WORKGROUP);
-        pass.dispatch_workgroups(t, t, 1);
+        // The emptiness table only where the rule reads it: the X-ray window and the iso value
+        // test each node's min/max directly.
+        if rule_code == RULE_TRANSFER {
+            let scan = entries_for(&pipelines.scan, &[0, 1, 2]);
+            let table = entries_for(&pipelines.table, &[0, 2, 3]);
+            pass.set_pipeline(&pipelines.scan);
+            pass.set_bind_group(0, &scan, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+            pass.set_pipeline(&pipelines.table);
+            pass.set_bind_group(0, &table, &[]);
+            let t = (TABLE_SIZE as u32).div_ceil(TABLE_WORKGROUP);
+            pass.dispatch_workgroups(t, t, 1);
+        }
         pass.set_pipeline(&pipelines.flags);
         pass.set_bind_group(0, &flags, &[]);
         let (gx, gy) = groups_for(nodes, NODE_WORKGROUP);
@@ -426,7 +430,8 @@ impl LeapStructures {
     /// loop uses: the pyramid once per volume; node flags when the rule they follow changed
     /// (DVR: the transfer function; X-ray with the distance field: the window; isosurfaces with
     /// it: the iso value); the distance field when its flags or the block size changed. MIP,
-    /// MinIP, octree isosurfaces and octree X-ray read the min/max pyramid directly. The rebuild is timed into `probe` when given.
+    /// MinIP, octree isosurfaces and octree X-ray read the min/max pyramid directly. The rebuild
+    /// is timed into `probe` when given.
     pub fn prepare(
         &mut self,
         ctx: &GpuContext,
