@@ -10,7 +10,7 @@ use leapview::render::VolumeRenderer;
 use leapview::settings::{IsoSettings, Mode, RenderPath, RenderSettings, Strategy};
 use leapview::transfer::TransferFunction;
 use leapview::transfer::presets::preset;
-use leapview::volume::load_volume;
+use leapview::volume::{Volume, load_volume};
 
 const SCANS: [&str; 8] = [
     "ct_bonsai_256x256x256_uint8.nrrd",
@@ -37,15 +37,15 @@ fn transfer_functions() -> Vec<(&'static str, TransferFunction)> {
 
 type Rendered = (leapview::imaging::ImageF32, FrameCounters);
 
-/// Loads and uploads each shared scan in turn and calls `f` with its name and bounds.
-fn each_scan(r: &mut VolumeRenderer, mut f: impl FnMut(&mut VolumeRenderer, &str, &Aabb)) {
+/// Loads and uploads each shared scan in turn and calls `f` with its name, bounds and volume.
+fn each_scan(r: &mut VolumeRenderer, mut f: impl FnMut(&mut VolumeRenderer, &str, &Aabb, &Volume)) {
     let dir = common::data_dir();
     for scan in SCANS {
         let volume =
             load_volume(&dir.join(scan), &Default::default()).unwrap_or_else(|e| panic!("{e}"));
         r.set_volume(&volume).expect("upload");
         let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
-        f(r, scan, &bounds);
+        f(r, scan, &bounds, &volume);
     }
 }
 
@@ -63,11 +63,25 @@ fn rct_and_leaping(
     (rct, leaping)
 }
 
+/// A leaping image within 1/255 of RC-t's, from the same visible samples and no more samples.
+fn assert_leaping_exact(
+    label: &str,
+    (leapt, counts): (&leapview::imaging::ImageF32, FrameCounters),
+    (rct, rct_counts): (&leapview::imaging::ImageF32, FrameCounters),
+) {
+    common::assert_close(label, leapt, rct, 1.0 / 255.0, 0.0);
+    assert_eq!(
+        counts.visible_samples, rct_counts.visible_samples,
+        "{label}"
+    );
+    assert!(counts.samples <= rct_counts.samples, "{label}");
+}
+
 #[test]
 fn rc_s_equals_rc_t_on_every_shared_scan() {
     let mut r = common::renderer();
     let mut saved = (0u64, 0u64);
-    each_scan(&mut r, |r, scan, bounds| {
+    each_scan(&mut r, |r, scan, bounds, _| {
         for (tf_name, tf) in transfer_functions() {
             r.set_transfer_function(&tf);
             for view in [ViewPreset::Oblique, ViewPreset::MinusY] {
@@ -81,12 +95,7 @@ fn rc_s_equals_rc_t_on_every_shared_scan() {
                     let ((rct, rct_counts), leaping) = rct_and_leaping(r, &camera, base);
                     for (strategy, (rcs, counts)) in leaping {
                         let label = format!("{scan}-{tf_name}-{view:?}-{path:?}-{strategy:?}");
-                        common::assert_close(&label, &rcs, &rct, 1.0 / 255.0, 0.0);
-                        assert_eq!(
-                            counts.visible_samples, rct_counts.visible_samples,
-                            "{label}"
-                        );
-                        assert!(counts.samples <= rct_counts.samples, "{label}");
+                        assert_leaping_exact(&label, (&rcs, counts), (&rct, rct_counts));
                         saved.0 += counts.samples;
                         saved.1 += rct_counts.samples;
                     }
@@ -107,7 +116,7 @@ fn rc_s_equals_rc_t_on_every_shared_scan() {
 #[test]
 fn preintegrated_leaping_equals_rc_t_on_every_shared_scan() {
     let mut r = common::renderer();
-    each_scan(&mut r, |r, scan, bounds| {
+    each_scan(&mut r, |r, scan, bounds, _| {
         let (d, up) = ViewPreset::Oblique.direction_and_up();
         let camera = Camera::framing(bounds, d, up, ProjectionKind::Perspective);
         for (tf_name, tf) in transfer_functions().into_iter().skip(1) {
@@ -141,16 +150,11 @@ fn preintegrated_leaping_equals_rc_t_on_every_shared_scan() {
 #[test]
 fn isosurface_leaping_equals_rc_t_on_every_shared_scan() {
     let mut r = common::renderer();
-    let dir = common::data_dir();
     let mut saved = [(0u64, 0u64); 2];
-    for scan in SCANS {
-        let volume =
-            load_volume(&dir.join(scan), &Default::default()).unwrap_or_else(|e| panic!("{e}"));
-        r.set_volume(&volume).expect("upload");
-        let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    each_scan(&mut r, |r, scan, bounds, volume| {
         let range = volume.normalization_range();
         let (d, up) = ViewPreset::Oblique.direction_and_up();
-        let camera = Camera::framing(&bounds, d, up, ProjectionKind::Perspective);
+        let camera = Camera::framing(bounds, d, up, ProjectionKind::Perspective);
         for fraction in [0.15, 0.5, 0.7] {
             for path in [RenderPath::Fragment, RenderPath::Compute] {
                 let base = RenderSettings {
@@ -162,21 +166,17 @@ fn isosurface_leaping_equals_rc_t_on_every_shared_scan() {
                     },
                     ..RenderSettings::default()
                 };
-                let ((rct, rct_counts), leaping) = rct_and_leaping(&mut r, &camera, base);
+                let ((rct, rct_counts), leaping) = rct_and_leaping(r, &camera, base);
                 for (i, (strategy, (rcs, counts))) in leaping.into_iter().enumerate() {
+                    // (Visible samples of an isosurface: the crossings found.)
                     let label = format!("iso-{scan}-{fraction}-{path:?}-{strategy:?}");
-                    common::assert_close(&label, &rcs, &rct, 1.0 / 255.0, 0.0);
-                    assert_eq!(
-                        counts.visible_samples, rct_counts.visible_samples,
-                        "{label}: the crossings found"
-                    );
-                    assert!(counts.samples <= rct_counts.samples, "{label}");
+                    assert_leaping_exact(&label, (&rcs, counts), (&rct, rct_counts));
                     saved[i].0 += counts.samples;
                     saved[i].1 += rct_counts.samples;
                 }
             }
         }
-    }
+    });
     for (strategy, (taken, rct)) in [Strategy::RcS, Strategy::RcSDistance].iter().zip(saved) {
         eprintln!("iso {strategy:?}: {taken} samples where RC-t took {rct}");
         assert!(
