@@ -137,8 +137,10 @@ pub struct BenchConfig {
     pub warmup_frames: u32,
     /// Sample step in units of the smallest voxel spacing.
     pub step_vox: f64,
-    /// Block edge in voxels outside the sweep.
-    pub block_vox: u32,
+    /// Block edge in voxels outside the sweep; absent: each mode's and strategy's default
+    /// (`settings::default_block_vox`), as a user gets it.
+    #[serde(default)]
+    pub block_vox: Option<u32>,
     /// Phong lighting in DVR and isosurface modes.
     pub phong: bool,
     /// Transfer-function changes timed per dataset for the rebuild table.
@@ -197,7 +199,7 @@ impl BenchConfig {
             return invalid("views must be 1 to 3600");
         }
         let blocks = crate::accel::pyramid::BLOCK_SIZES;
-        if !blocks.contains(&self.block_vox)
+        if self.block_vox.is_some_and(|b| !blocks.contains(&b))
             || self.block_sweep.sizes.iter().any(|b| !blocks.contains(b))
         {
             return invalid("block sizes must be 4, 8, 16, 32, 64 or 128");

@@ -223,9 +223,11 @@ pub struct RenderArgs {
     /// Texel precision of the volume texture (auto: exact integers, f32 for floats).
     #[arg(long, value_enum, default_value = "auto")]
     pub precision: leapview::settings::TexturePrecision,
-    /// Edge of the leaping blocks in voxels (RC-s): 4, 8, 16, 32, 64 or 128.
-    #[arg(long, default_value_t = leapview::settings::DEFAULT_BLOCK_VOX)]
-    pub block: u32,
+    /// Edge of the leaping blocks in voxels (RC-s, RC-s-df): 4, 8, 16, 32, 64 or 128 (default:
+    /// the edge measured fastest for the mode and strategy, 16 for the octree in isosurface,
+    /// MIP, MinIP and X-ray modes, else 4).
+    #[arg(long)]
+    pub block: Option<u32>,
     /// Background colour `R,G,B` in 0..1.
     #[arg(long, value_parser = parse_vec3, default_value = "0,0,0")]
     pub background: [f64; 3],

@@ -192,7 +192,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
                 out,
                 "leaps: {} (block {} voxels)",
                 c.leaps,
-                settings.block_vox
+                settings.leaf_block_vox()
             );
             outln!(
                 out,

@@ -180,8 +180,9 @@ pub struct RenderSettings {
     pub preintegrated: bool,
     /// Linear RGB composited behind the volume.
     pub background: [f64; 3],
-    /// Edge of the leaping blocks in voxels (a power of two from 4 to 128).
-    pub block_vox: u32,
+    /// Edge of the leaping blocks in voxels (a power of two from 4 to 128); `None`: the edge
+    /// measured fastest for the mode and the strategy in use ([`default_block_vox`]).
+    pub block_vox: Option<u32>,
     /// Lighting (DVR and isosurface only).
     pub shading: Shading,
     /// Phong coefficients.
@@ -220,7 +221,7 @@ impl Default for RenderSettings {
             opacity_correction: true,
             preintegrated: false,
             background: [0.0; 3],
-            block_vox: DEFAULT_BLOCK_VOX,
+            block_vox: None,
             shading: Shading::Phong,
             phong: Phong::default(),
             light: Light::Headlight,
@@ -235,9 +236,27 @@ impl Default for RenderSettings {
     }
 }
 
-/// Default leaping block edge in voxels: the fastest edge for RC-s-df on every dataset of the
-/// block-size sweep on the H100 (docs/benchmarks, Table 2), 4–26 % ahead of 8³.
+/// Default leaping block edge in voxels for DVR and for the distance field: the fastest edge for
+/// DVR RC-s-df on every dataset of the block-size sweeps on the H100 and the H200
+/// (docs/benchmarks, Table 2), 1–26 % ahead of 8³.
 pub const DEFAULT_BLOCK_VOX: u32 = 4;
+
+/// Default leaping block edge in voxels for the octree (RC-s) in the modes that walk in block
+/// runs (isosurface, MIP, MinIP, X-ray): larger blocks cost fewer octree climbs, which there
+/// cost more than the samples they save (the H200 sweeps in
+/// docs/benchmarks/nvidia-h200-block-edge).
+pub const OCTREE_RUNS_BLOCK_VOX: u32 = 16;
+
+/// The leaf block edge measured fastest for `mode` leaping with `strategy` (the strategy in use,
+/// [`Strategy::for_mode`]): [`OCTREE_RUNS_BLOCK_VOX`] for the octree (RC-s) in every mode but
+/// DVR, else [`DEFAULT_BLOCK_VOX`] (strategies that do not leap ignore it).
+pub fn default_block_vox(mode: Mode, strategy: Strategy) -> u32 {
+    match (mode, strategy.for_mode(mode)) {
+        (Mode::Dvr, _) => DEFAULT_BLOCK_VOX,
+        (_, Strategy::RcS) => OCTREE_RUNS_BLOCK_VOX,
+        _ => DEFAULT_BLOCK_VOX,
+    }
+}
 
 /// Smallest and largest step the renderer accepts, in voxels: below 1/1024 a ray through a 4096³
 /// volume would need tens of millions of samples; above 1024 it would skip whole volumes.
@@ -254,6 +273,13 @@ impl RenderSettings {
         }
     }
 
+    /// The leaf block edge the rays leap by: `block_vox`, or where it is `None` the measured
+    /// default for the mode and strategy ([`default_block_vox`]).
+    pub fn leaf_block_vox(&self) -> u32 {
+        self.block_vox
+            .unwrap_or_else(|| default_block_vox(self.mode, self.strategy))
+    }
+
     /// Checks the numeric knobs, so no frame is ever rendered with a NaN or degenerate step.
     pub fn validate(&self) -> Result<(), SettingsError> {
         let (lo, hi) = STEP_VOX_RANGE;
@@ -263,8 +289,10 @@ impl RenderSettings {
         if !(self.termination_alpha > 0.0 && self.termination_alpha <= 1.0) {
             return Err(SettingsError::Termination(self.termination_alpha));
         }
-        if !crate::accel::pyramid::BLOCK_SIZES.contains(&self.block_vox) {
-            return Err(SettingsError::Block(self.block_vox));
+        if let Some(block) = self.block_vox
+            && !crate::accel::pyramid::BLOCK_SIZES.contains(&block)
+        {
+            return Err(SettingsError::Block(block));
         }
         let p = self.phong;
         if [p.ambient, p.diffuse, p.specular]
@@ -353,4 +381,52 @@ pub enum SettingsError {
     /// A cropping box outside the volume or empty.
     #[error(transparent)]
     Crop(#[from] crop::CropError),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_block_edge_follows_the_mode_and_the_strategy_in_use() {
+        for mode in [Mode::Mip, Mode::MinIp, Mode::Iso, Mode::Xray] {
+            assert_eq!(
+                default_block_vox(mode, Strategy::RcS),
+                OCTREE_RUNS_BLOCK_VOX
+            );
+        }
+        // MIP and MinIP leap by the octree whichever leaping strategy is asked for.
+        assert_eq!(
+            default_block_vox(Mode::Mip, Strategy::RcSDistance),
+            OCTREE_RUNS_BLOCK_VOX
+        );
+        assert_eq!(
+            default_block_vox(Mode::Iso, Strategy::RcSDistance),
+            DEFAULT_BLOCK_VOX
+        );
+        assert_eq!(
+            default_block_vox(Mode::Dvr, Strategy::RcS),
+            DEFAULT_BLOCK_VOX
+        );
+        assert_eq!(
+            default_block_vox(Mode::Mip, Strategy::RcT),
+            DEFAULT_BLOCK_VOX
+        );
+        assert_ne!(OCTREE_RUNS_BLOCK_VOX, DEFAULT_BLOCK_VOX);
+    }
+
+    #[test]
+    fn an_explicit_block_edge_wins_and_a_wrong_one_is_refused() {
+        let mut settings = RenderSettings {
+            mode: Mode::Mip,
+            strategy: Strategy::RcS,
+            ..RenderSettings::default()
+        };
+        assert_eq!(settings.leaf_block_vox(), OCTREE_RUNS_BLOCK_VOX);
+        settings.block_vox = Some(8);
+        assert_eq!(settings.leaf_block_vox(), 8);
+        assert!(settings.validate().is_ok());
+        settings.block_vox = Some(6);
+        assert!(matches!(settings.validate(), Err(SettingsError::Block(6))));
+    }
 }

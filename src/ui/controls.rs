@@ -133,13 +133,17 @@ fn strategy_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
     ui.end_row();
 
     ui.label("Block (voxels)");
+    let auto = crate::settings::default_block_vox(state.render.mode, state.render.strategy);
+    let auto_label = format!("auto ({auto})");
     let block = &mut state.render.block_vox;
     ui.add_enabled_ui(state.render.strategy.leaps(), |ui| {
         ComboBox::from_id_salt("block")
-            .selected_text(block.to_string())
+            .selected_text(block.map_or(auto_label.clone(), |b| b.to_string()))
             .show_ui(ui, |ui| {
+                ui.selectable_value(block, None, auto_label)
+                    .on_hover_text("The edge measured fastest for this mode and strategy");
                 for b in crate::accel::pyramid::BLOCK_SIZES {
-                    ui.selectable_value(block, b, b.to_string());
+                    ui.selectable_value(block, Some(b), b.to_string());
                 }
             })
             .response

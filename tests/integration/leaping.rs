@@ -75,7 +75,7 @@ fn gpu_structures_equal_the_cpu_references() {
     for block in [4u32, 8, 16] {
         let settings = RenderSettings {
             strategy: Strategy::RcSDistance,
-            block_vox: block,
+            block_vox: Some(block),
             ..RenderSettings::default()
         };
         render(&mut r, &camera, settings);
@@ -190,7 +190,7 @@ fn assert_leaping_exact(
         for path in [RenderPath::Fragment, RenderPath::Compute] {
             let base = RenderSettings {
                 path,
-                block_vox: block,
+                block_vox: Some(block),
                 ..RenderSettings::default()
             };
             let (rct, rct_counts) = render(
@@ -305,7 +305,7 @@ fn a_volume_with_nothing_to_skip_costs_the_field_one_lookup_per_ray() {
             // The fragment path: one invocation per ray (the compute path splits small images).
             path: RenderPath::Fragment,
             strategy,
-            block_vox: 4,
+            block_vox: Some(4),
             window: Some([-10.0, 1000.0]),
             ..RenderSettings::default()
         };

@@ -176,7 +176,7 @@ fn leaping_is_exact_in_every_mode() {
                     RenderSettings {
                         path,
                         strategy: Strategy::RcT,
-                        block_vox: 4,
+                        block_vox: Some(4),
                         ..settings
                     },
                     [48, 48],
@@ -191,7 +191,7 @@ fn leaping_is_exact_in_every_mode() {
                         RenderSettings {
                             path,
                             strategy,
-                            block_vox: 4,
+                            block_vox: Some(4),
                             ..settings
                         },
                         [48, 48],
@@ -292,7 +292,7 @@ fn block_runs_take_each_grid_sample_once() {
                 let settings = RenderSettings {
                     path,
                     strategy,
-                    block_vox: 4,
+                    block_vox: Some(4),
                     ..settings
                 };
                 common::render_counted(r, &camera, settings, [48, 48]).1

@@ -73,7 +73,7 @@ fn leaping_is_exact_with_preintegration() {
                 strategy,
                 path,
                 preintegrated: true,
-                block_vox: 4,
+                block_vox: Some(4),
                 ..RenderSettings::default()
             };
             let plain = r

@@ -128,7 +128,7 @@ fn each_change_recomputes_only_what_depends_on_it() {
     };
     assert_eq!(step(&mut r, &oblique, &settings), distance);
     assert_eq!(step(&mut r, &side, &settings), FRAME);
-    settings.block_vox = 16;
+    settings.block_vox = Some(16);
     assert_eq!(step(&mut r, &side, &settings), distance, "a new block size");
     r.set_transfer_function(&preset("ct-angio").expect("preset"));
     let tf_edit_df = WorkCounts {

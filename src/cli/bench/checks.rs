@@ -65,7 +65,7 @@ pub fn rebuilds(
         records.push(RebuildRecord {
             dataset: spec.name.clone(),
             strategy: strategy.label().to_string(),
-            block_vox: config.block_vox,
+            block_vox: settings.leaf_block_vox(),
             ms,
         });
     }

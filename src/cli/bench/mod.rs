@@ -121,7 +121,7 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
                 planned.size[0],
                 planned.size[1],
                 if planned.sweep {
-                    format!(" block {}", s.block_vox)
+                    format!(" block {}", s.leaf_block_vox())
                 } else {
                     String::new()
                 }

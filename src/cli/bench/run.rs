@@ -25,12 +25,13 @@ pub struct Planned {
     pub sweep: bool,
 }
 
-/// The settings of `spec` under `mode`, `strategy`, `path` and `block_vox`.
+/// The settings of `spec` under `mode`, `strategy`, `path` and `block_vox` (`None`: the mode's and
+/// strategy's default edge).
 pub fn settings_for(
     config: &BenchConfig,
     spec: &DatasetSpec,
     (mode, strategy, path): (Mode, Strategy, RenderPath),
-    block_vox: u32,
+    block_vox: Option<u32>,
 ) -> RenderSettings {
     RenderSettings {
         mode,
@@ -82,7 +83,12 @@ pub fn plan(config: &BenchConfig, spec: &DatasetSpec) -> Vec<Planned> {
                     }
                     for &block in &sweep.sizes {
                         runs.push(Planned {
-                            settings: settings_for(config, spec, (mode, strategy, path), block),
+                            settings: settings_for(
+                                config,
+                                spec,
+                                (mode, strategy, path),
+                                Some(block),
+                            ),
                             size: sweep.resolution,
                             sweep: true,
                         });
@@ -192,7 +198,7 @@ pub fn measure(
             path,
             width: planned.size[0],
             height: planned.size[1],
-            block_vox: s.block_vox,
+            block_vox: s.leaf_block_vox(),
             sweep: planned.sweep,
         },
         step_vox: s.step_vox,

@@ -442,7 +442,10 @@ impl LeapStructures {
     ) -> (LeapLevels, Builds) {
         let settings = request.settings;
         // validate() admitted only sizes the pyramid has.
-        let leaf = self.pyramid.level_of_block(settings.block_vox).unwrap_or(0) as u32;
+        let leaf = self
+            .pyramid
+            .level_of_block(settings.leaf_block_vox())
+            .unwrap_or(0) as u32;
         let mut builds = Builds {
             minmax: self.build_minmax(ctx, pipelines, request.volume, encoder),
             ..Builds::default()
