@@ -389,30 +389,26 @@ mod tests {
 
     #[test]
     fn the_default_block_edge_follows_the_mode_and_the_strategy_in_use() {
-        for mode in [Mode::Mip, Mode::MinIp, Mode::Iso, Mode::Xray] {
+        let octree = OCTREE_RUNS_BLOCK_VOX;
+        let cases = [
+            (Mode::Mip, Strategy::RcS, octree),
+            (Mode::MinIp, Strategy::RcS, octree),
+            (Mode::Iso, Strategy::RcS, octree),
+            (Mode::Xray, Strategy::RcS, octree),
+            // MIP and MinIP leap by the octree whichever leaping strategy is asked for.
+            (Mode::Mip, Strategy::RcSDistance, octree),
+            (Mode::Iso, Strategy::RcSDistance, DEFAULT_BLOCK_VOX),
+            (Mode::Dvr, Strategy::RcS, DEFAULT_BLOCK_VOX),
+            (Mode::Mip, Strategy::RcT, DEFAULT_BLOCK_VOX),
+        ];
+        for (mode, strategy, edge) in cases {
             assert_eq!(
-                default_block_vox(mode, Strategy::RcS),
-                OCTREE_RUNS_BLOCK_VOX
+                default_block_vox(mode, strategy),
+                edge,
+                "{mode:?} {strategy:?}"
             );
         }
-        // MIP and MinIP leap by the octree whichever leaping strategy is asked for.
-        assert_eq!(
-            default_block_vox(Mode::Mip, Strategy::RcSDistance),
-            OCTREE_RUNS_BLOCK_VOX
-        );
-        assert_eq!(
-            default_block_vox(Mode::Iso, Strategy::RcSDistance),
-            DEFAULT_BLOCK_VOX
-        );
-        assert_eq!(
-            default_block_vox(Mode::Dvr, Strategy::RcS),
-            DEFAULT_BLOCK_VOX
-        );
-        assert_eq!(
-            default_block_vox(Mode::Mip, Strategy::RcT),
-            DEFAULT_BLOCK_VOX
-        );
-        assert_ne!(OCTREE_RUNS_BLOCK_VOX, DEFAULT_BLOCK_VOX);
+        assert_ne!(octree, DEFAULT_BLOCK_VOX);
     }
 
     #[test]

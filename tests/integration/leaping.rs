@@ -287,6 +287,48 @@ fn leaping_skips_most_samples_of_a_sparse_volume() {
     }
 }
 
+/// Each mode leaps by its own default block edge (`settings::default_block_vox`): MIP's octree
+/// by 16³ blocks, so a default MIP frame counts what an explicit `--block 16` frame counts, and
+/// asks its structure less often than with 4³ blocks, for RC-t's image.
+#[test]
+fn mip_leaps_by_its_default_block_edge() {
+    let volume = synthetic::vessel_tree(96, 3).expect("vessels");
+    let mut r = common::renderer();
+    r.set_volume(&volume).expect("upload");
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let (dir, up) = ViewPreset::Oblique.direction_and_up();
+    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    let render_with = |r: &mut VolumeRenderer, strategy, block_vox| {
+        let settings = RenderSettings {
+            mode: Mode::Mip,
+            path: RenderPath::Fragment,
+            strategy,
+            block_vox,
+            ..RenderSettings::default()
+        };
+        render(r, &camera, settings)
+    };
+    let (rct, _) = render_with(&mut r, Strategy::RcT, None);
+    let (default, default_counts) = render_with(&mut r, Strategy::RcS, None);
+    let (_, sixteen) = render_with(&mut r, Strategy::RcS, Some(16));
+    let (four_image, four) = render_with(&mut r, Strategy::RcS, Some(4));
+    common::assert_close("RC-s default", &default, &rct, 1.0 / 255.0, 0.0);
+    common::assert_close("RC-s 4", &four_image, &rct, 1.0 / 255.0, 0.0);
+    assert_eq!(
+        (
+            default_counts.samples,
+            default_counts.lookups,
+            default_counts.leaps
+        ),
+        (sixteen.samples, sixteen.lookups, sixteen.leaps)
+    );
+    assert!(default_counts.leaps > 0);
+    assert!(
+        default_counts.lookups < four.lookups,
+        "16³: {default_counts:?}, 4³: {four:?}"
+    );
+}
+
 /// The two-sided distance field: where no block can be skipped (X-ray with the window's low end
 /// below every value), a ray asks the field once (at most twice) and takes its samples in one
 /// cube, while the octree asks at every block it enters; both take RC-t's samples and draw its
