@@ -251,10 +251,10 @@ pub const OCTREE_RUNS_BLOCK_VOX: u32 = 16;
 /// [`Strategy::for_mode`]): [`OCTREE_RUNS_BLOCK_VOX`] for the octree (RC-s) in every mode but
 /// DVR, else [`DEFAULT_BLOCK_VOX`] (strategies that do not leap ignore it).
 pub fn default_block_vox(mode: Mode, strategy: Strategy) -> u32 {
-    match (mode, strategy.for_mode(mode)) {
-        (Mode::Dvr, _) => DEFAULT_BLOCK_VOX,
-        (_, Strategy::RcS) => OCTREE_RUNS_BLOCK_VOX,
-        _ => DEFAULT_BLOCK_VOX,
+    if mode != Mode::Dvr && strategy.for_mode(mode) == Strategy::RcS {
+        OCTREE_RUNS_BLOCK_VOX
+    } else {
+        DEFAULT_BLOCK_VOX
     }
 }
 

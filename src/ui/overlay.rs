@@ -147,8 +147,8 @@ impl Readout<'_> {
                 c.samples as f64 / c.visible_samples.max(1) as f64,
             ));
             // What leaping skipped, and what it paid for that: questions asked of its structure
-            // (a line of its own, only where the strategy leaps).
-            if c.leaps > 0 || c.leapt_samples > 0 || c.lookups > 0 {
+            // (a line of its own, only where the strategy leaps: every leap follows a lookup).
+            if c.lookups > 0 {
                 lines.push(format!(
                     "{} leaps, {:.1} % of samples leapt · {:.1} lookups/ray",
                     compact(c.leaps),
