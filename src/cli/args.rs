@@ -42,6 +42,33 @@ pub enum Command {
     /// Write a slice through a volume to a PNG: axial, coronal, sagittal or oblique, in the
     /// patient's frame, grey through a window (what a slice view shows).
     Slice(SliceArgs),
+    /// What the GPU's driver says of each compute ray-casting variant once compiled (registers,
+    /// instructions, spills, shared memory): why one strategy costs more per sample than another.
+    Shaders(ShadersArgs),
+}
+
+/// `leapview shaders`.
+#[derive(Args, Debug)]
+pub struct ShadersArgs {
+    /// Modes (default: all).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub modes: Vec<Mode>,
+    /// Strategies (default: rc-t, rc-s, rc-s-df; MIP and MinIP take rc-s for rc-s-df).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub strategies: Vec<Strategy>,
+    /// Image sizes: the variant depends on the size (rays of images up to 2^19 pixels are split
+    /// into parts).
+    #[arg(long, value_delimiter = ',', value_parser = parse_size, default_values = ["512x512", "1920x1080"])]
+    pub sizes: Vec<[u32; 2]>,
+    /// Unlit DVR and isosurfaces (default: Phong, as the window and the benchmark).
+    #[arg(long)]
+    pub unlit: bool,
+    /// The Vulkan device whose name contains this (default: a discrete GPU first).
+    #[arg(long)]
+    pub device: Option<String>,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// How a thick slab's samples combine (`leapview slice --mode`).

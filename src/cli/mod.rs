@@ -14,6 +14,7 @@ mod measuring;
 pub mod parse;
 mod plotting;
 mod render;
+mod shaders;
 mod slice;
 mod text;
 
@@ -50,6 +51,7 @@ pub fn run(command: Command, raw: &args::RawArgs) -> Result<(), Failure> {
         Command::Accuracy(args) => accuracy::run(*args),
         Command::Generate(args) => generate::run(&args),
         Command::Slice(args) => slice::run(&args, raw),
+        Command::Shaders(args) => shaders::run(&args),
     }
 }
 

@@ -7,6 +7,7 @@
 pub mod context;
 pub mod gpu_data;
 pub mod pack;
+pub mod pipeline_stats;
 pub mod probe;
 pub mod raycast;
 pub mod readback;

@@ -514,3 +514,39 @@ fn orientation_given_on_the_command_line_puts_the_head_up() {
         "{lines:?}"
     );
 }
+
+/// `leapview shaders` prints the driver's statistics of each compute variant where the driver
+/// reports them (VK_KHR_pipeline_executable_properties); where none does (lavapipe of Mesa 22.3)
+/// it says so in one line with status 1, naming the devices there are; a device name that
+/// matches none is bad input (status 2). Never a crash.
+#[test]
+fn shaders_prints_the_drivers_statistics_or_says_why_not() {
+    let o = leapview(&["shaders", "--modes", "dvr,mip", "--sizes", "512x512"]);
+    if o.status.success() {
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            text.contains("| mode | strategy | size | split |"),
+            "{text}"
+        );
+        // DVR: RC-t, RC-s, RC-s-df; MIP: RC-t and RC-s (its variant for rc-s-df too).
+        let rows = text
+            .lines()
+            .filter(|l| l.starts_with("| dvr |") || l.starts_with("| mip |"))
+            .count();
+        assert!(rows >= 5, "{text}");
+    } else {
+        assert_eq!(o.status.code(), Some(1), "{}", common::stderr(&o));
+        let lines = stderr_lines(&o);
+        assert_eq!(lines.len(), 1, "{}", common::stderr(&o));
+        assert!(lines[0].contains("pipeline statistics"), "{}", lines[0]);
+        assert!(lines[0].contains("devices: "), "{}", lines[0]);
+    }
+    let o = leapview(&["shaders", "--device", "no such gpu"]);
+    assert_eq!(o.status.code(), Some(2), "{}", common::stderr(&o));
+    let lines = stderr_lines(&o);
+    assert!(
+        lines.len() == 1 && lines[0].contains("\"no such gpu\""),
+        "{}",
+        common::stderr(&o)
+    );
+}
