@@ -322,6 +322,10 @@ fn anatomical_views_follow_the_orientation() {
             "mr-angio",
             "--projection",
             "orthographic",
+            // One path for every view: `auto` times both in each process and may choose
+            // differently under load, and the paths' pixels need not be equal.
+            "--path",
+            "compute",
             "--view",
             view,
         ]);
@@ -398,6 +402,9 @@ fn a_mirrored_file_renders_as_the_patient_not_their_mirror_image() {
             "mip",
             "--projection",
             "orthographic",
+            // One path for both files (`auto` may choose differently in each process).
+            "--path",
+            "compute",
             "--view",
             view,
         ]);
