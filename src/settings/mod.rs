@@ -129,7 +129,8 @@ impl Strategy {
 /// Which entry point runs the ray loop. Both share the same WGSL marching function.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
 pub enum RenderPath {
-    /// Time both on the adapter once and use the faster.
+    /// Time both on the adapter once and use the faster; on a CPU driver, the compute path
+    /// (`render::raycast::auto_path`).
     Auto,
     /// The paper's single pass: the ray loop runs in the fragment shader of the front faces.
     Fragment,

@@ -189,8 +189,10 @@ fn path_row(ui: &mut egui::Ui, state: &mut ViewerState, path_used: Option<Concre
                 Some(ConcretePath::Compute) => "uses compute",
                 None => "(decided at the first frame)",
             };
-            ui.label(chosen)
-                .on_hover_text("Auto timed both paths once on this GPU and kept the faster");
+            ui.label(chosen).on_hover_text(
+                "Auto timed both paths once on this GPU and kept the faster \
+                     (a CPU driver takes the compute path)",
+            );
         }
     });
     ui.end_row();

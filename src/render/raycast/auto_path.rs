@@ -1,6 +1,10 @@
 //! `--path auto`: time the fragment and compute ray loops on the adapter once and keep the
 //! faster. On data-centre GPUs fragment work runs on a small part of the chip (GPU.md: about 30×
-//! slower), while on desktop GPUs and CPU drivers the two are close.
+//! slower), while on desktop GPUs the two are close. A CPU driver (lavapipe) gets the compute
+//! path without timing: measured faster there (Mesa 22.3, 192², idle: 22 against 38 ms a frame),
+//! and its wall-clock timing, the only one it has, follows the load of other processes, so two
+//! processes rendering one scene chose differently and their images differed by one 8-bit level
+//! in a few pixels (the paths find the box's entry differently).
 //!
 //! This is a caller of [`VolumeRenderer`], not a part of it: whoever renders with
 //! [`RenderPath::Auto`] runs [`choose`] once (after a volume is loaded); the renderer itself
@@ -30,7 +34,11 @@ pub fn choose(
     if let Some(chosen) = renderer.auto_path() {
         return Ok(chosen);
     }
-    let chosen = measure(renderer)?;
+    let chosen = if renderer.context().adapter_info.device_type == wgpu::DeviceType::Cpu {
+        ConcretePath::Compute
+    } else {
+        measure(renderer)?
+    };
     renderer.set_auto_path(chosen);
     Ok(chosen)
 }
@@ -41,9 +49,6 @@ fn measure(renderer: &mut VolumeRenderer) -> Result<ConcretePath, RenderError> {
     let bounds = Aabb::of_volume(dims, spacing);
     let (dir, up) = ViewPreset::Oblique.direction_and_up();
     let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
-    // A CPU driver's timestamps are not to be trusted (lavapipe, Mesa 22.3: 0.07 ms for a 56 ms
-    // frame when the window's thread drew meanwhile); its frames are long enough for the clock.
-    let wall_clock = renderer.context().adapter_info.device_type == wgpu::DeviceType::Cpu;
     let mut best = (ConcretePath::Compute, f64::INFINITY);
     for (path, setting) in [
         (ConcretePath::Compute, RenderPath::Compute),
@@ -65,10 +70,8 @@ fn measure(renderer: &mut VolumeRenderer) -> Result<ConcretePath, RenderError> {
             let start = Instant::now();
             let (_, results) = renderer.render_and_wait(&request)?;
             let wall_ms = start.elapsed().as_secs_f64() * 1e3;
-            times.push(match results.gpu_ms {
-                Some(ms) if !wall_clock => ms,
-                _ => wall_ms,
-            });
+            // The wall clock where the adapter has no timestamps.
+            times.push(results.gpu_ms.unwrap_or(wall_ms));
         }
         times.sort_by(f64::total_cmp);
         let median = times[FRAMES / 2];
