@@ -159,6 +159,8 @@ mod tests {
             .into_iter()
             .filter(|k| k.path == ConcretePath::Compute)
             .collect();
+        // Six modes, four strategies, split or not, statistics or not, lit or not: far more
+        // than 20 distinct compute variants; fewer would mean the filter lost them.
         assert!(keys.len() > 20, "{}", keys.len());
         for offer in offers() {
             let options = spirv_options(&offer);
@@ -167,7 +169,9 @@ mod tests {
                 let (words, layouts) = spirv_of(&source, "cs_raycast", &options)
                     .unwrap_or_else(|e| panic!("{key:?}: {e}"));
                 assert_eq!(words.first(), Some(&0x0723_0203), "SPIR-V magic");
-                assert!(words.len() > 1000, "{key:?}: {} words", words.len());
+                // A whole ray caster: 3976 to 10320 words over these variants (naga 30); a
+                // tenth of the smallest would be a module missing its loop.
+                assert!(words.len() > 400, "{key:?}: {} words", words.len());
                 let kind = |group: usize, binding: u32| {
                     layouts.get(group).and_then(|g| {
                         g.iter()
