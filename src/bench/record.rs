@@ -177,7 +177,9 @@ pub struct BenchResults {
 
 impl BenchResults {
     /// Appends `other`'s datasets, runs, rebuilds, checks and skips (for merging partial runs);
-    /// the environment's command lines are joined.
+    /// the environment's command lines are joined. Rebuilds of one dataset, strategy and block
+    /// edge timed by several parts (each part times them: a compute part and a fragment part of
+    /// the same datasets) are pooled into one record, so the report lists each once.
     pub fn merge(&mut self, other: Self) {
         if self.environment.adapter.is_empty() {
             self.environment = other.environment;
@@ -191,8 +193,58 @@ impl BenchResults {
             }
         }
         self.runs.extend(other.runs);
-        self.rebuilds.extend(other.rebuilds);
+        for rebuild in other.rebuilds {
+            let same = |o: &&mut RebuildRecord| {
+                (&o.dataset, &o.strategy, o.block_vox)
+                    == (&rebuild.dataset, &rebuild.strategy, rebuild.block_vox)
+            };
+            match self.rebuilds.iter_mut().find(same) {
+                Some(pooled) => pooled.ms.extend(&rebuild.ms),
+                None => self.rebuilds.push(rebuild),
+            }
+        }
         self.image_checks.extend(other.image_checks);
         self.skipped.extend(other.skipped);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rebuild(dataset: &str, strategy: &str, ms: &[f64]) -> RebuildRecord {
+        RebuildRecord {
+            dataset: dataset.into(),
+            strategy: strategy.into(),
+            block_vox: 4,
+            ms: ms.to_vec(),
+        }
+    }
+
+    /// Two parts that timed the same rebuilds merge into one record each, their timings pooled;
+    /// a rebuild only one part timed stays as it was.
+    #[test]
+    fn merged_parts_pool_the_rebuilds_they_both_timed() {
+        let part = |rebuilds| BenchResults {
+            rebuilds,
+            ..BenchResults::default()
+        };
+        let mut merged = BenchResults::default();
+        merged.merge(part(vec![
+            rebuild("head", "RC-s", &[0.031, 0.032]),
+            rebuild("head", "RC-s-df", &[0.086]),
+        ]));
+        merged.merge(part(vec![
+            rebuild("head", "RC-s", &[0.033]),
+            rebuild("vessels", "RC-s", &[0.041]),
+        ]));
+        assert_eq!(
+            merged.rebuilds,
+            vec![
+                rebuild("head", "RC-s", &[0.031, 0.032, 0.033]),
+                rebuild("head", "RC-s-df", &[0.086]),
+                rebuild("vessels", "RC-s", &[0.041]),
+            ]
+        );
     }
 }
