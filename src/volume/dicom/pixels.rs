@@ -5,7 +5,6 @@
 
 use std::path::Path;
 
-use dicom_dictionary_std::uids;
 use dicom_pixeldata::PixelDecoder;
 use dicom_transfer_syntax_registry::{TransferSyntaxIndex, TransferSyntaxRegistry};
 
@@ -308,17 +307,6 @@ pub(crate) fn error_chain(e: &dyn std::error::Error) -> String {
         source = s.source();
     }
     text
-}
-
-/// Explicit VR big endian: retired from the standard, still in old archives.
-const EXPLICIT_VR_BIG_ENDIAN: &str = "1.2.840.10008.1.2.2";
-
-/// Whether `uid` is one of the uncompressed transfer syntaxes.
-pub fn is_uncompressed(uid: &str) -> bool {
-    matches!(
-        uid,
-        uids::IMPLICIT_VR_LITTLE_ENDIAN | uids::EXPLICIT_VR_LITTLE_ENDIAN | EXPLICIT_VR_BIG_ENDIAN
-    )
 }
 
 #[cfg(test)]

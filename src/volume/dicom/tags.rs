@@ -37,6 +37,17 @@ fn not_an_image(sop_class: &str) -> Option<&'static str> {
     })
 }
 
+/// Explicit VR big endian: retired from the standard, still in old archives.
+const EXPLICIT_VR_BIG_ENDIAN: &str = "1.2.840.10008.1.2.2";
+
+/// Whether `uid` is one of the uncompressed transfer syntaxes.
+fn is_uncompressed(uid: &str) -> bool {
+    matches!(
+        uid,
+        uids::IMPLICIT_VR_LITTLE_ENDIAN | uids::EXPLICIT_VR_LITTLE_ENDIAN | EXPLICIT_VR_BIG_ENDIAN
+    )
+}
+
 /// A DICOM text value without its padding (spaces, NULs).
 pub(crate) fn trimmed(s: &str) -> String {
     s.trim_matches(|c: char| c.is_whitespace() || c == '\0')
@@ -223,7 +234,7 @@ pub fn contents(
         * u64::from(pixel.samples_per_pixel)
         * u64::from(pixel.bits_allocated.div_ceil(8));
     // An encapsulated frame takes at least an 8-byte item header; a native one its bytes.
-    let most = if super::pixels::is_uncompressed(&ts) {
+    let most = if is_uncompressed(&ts) {
         file_bytes / frame_bytes.max(1)
     } else {
         file_bytes / 8
