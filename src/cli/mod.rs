@@ -1,5 +1,5 @@
-//! The command line: `render`, `info`, `bench`, `accuracy`, `generate` and `slice` (the window is opened from
-//! `main`).
+//! The command line: `render`, `info`, `bench`, `accuracy`, `generate`, `slice` and `shaders` (the window
+//! is opened from `main`).
 //! Input problems (a bad volume or transfer-function file, a bad flag) are [`Failure::BadInput`]
 //! and exit with status 2.
 

@@ -41,7 +41,7 @@ pub enum VolumeError {
 
     /// A DICOM file, folder or series that cannot be read.
     #[error(transparent)]
-    Dicom(super::dicom::DicomError),
+    Dicom(super::dicom::error::DicomError),
 
     /// The file does not exist.
     #[error("no such file")]
@@ -336,10 +336,10 @@ fn fmt_found_more(declared: u64, found: u64, exact: bool) -> String {
     }
 }
 
-impl From<super::dicom::DicomError> for VolumeError {
-    fn from(e: super::dicom::DicomError) -> Self {
+impl From<super::dicom::error::DicomError> for VolumeError {
+    fn from(e: super::dicom::error::DicomError) -> Self {
         match e {
-            super::dicom::DicomError::Cancelled => Self::Cancelled,
+            super::dicom::error::DicomError::Cancelled => Self::Cancelled,
             e => Self::Dicom(e),
         }
     }
