@@ -5,15 +5,13 @@
 use anyhow::anyhow;
 use leapview::render::PipelineKey;
 use leapview::render::pipeline_stats::{Executable, PipelineStatsError, StatsDevice};
+use leapview::render::raycast::variant::COMPUTE_ENTRY;
 use leapview::settings::effects::Shading;
 use leapview::settings::{ConcretePath, Mode, RenderSettings, Strategy};
 
 use super::Failure;
 use super::args::ShadersArgs;
 use super::text::{outln, print_stdout};
-
-/// The compute entry point of the ray-casting shader.
-const ENTRY: &str = "cs_raycast";
 
 /// One variant and what the driver said of it.
 #[derive(serde::Serialize)]
@@ -71,13 +69,15 @@ pub fn run(args: &ShadersArgs) -> Result<(), Failure> {
     let mut rows = Vec::new();
     for (key, size) in variants(args) {
         let source = key.source().map_err(|e| Failure::Other(e.into()))?;
-        let executables = device.compute_statistics(&source, ENTRY).map_err(|e| {
-            Failure::Other(anyhow!(
-                "{} {}: {e}",
-                key.mode.label(),
-                key.strategy.label()
-            ))
-        })?;
+        let executables = device
+            .compute_statistics(&source, COMPUTE_ENTRY)
+            .map_err(|e| {
+                Failure::Other(anyhow!(
+                    "{} {}: {e}",
+                    key.mode.label(),
+                    key.strategy.label()
+                ))
+            })?;
         rows.push(Row {
             mode: key.mode.label(),
             strategy: key.strategy.label(),

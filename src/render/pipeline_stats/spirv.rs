@@ -125,6 +125,7 @@ pub(super) fn spirv_of(
 mod tests {
     use super::*;
     use crate::render::PipelineKey;
+    use crate::render::raycast::variant::COMPUTE_ENTRY;
     use crate::settings::ConcretePath;
 
     /// A Vulkan 1.3 device with every robustness feature wgpu turns on, and a 1.1 device
@@ -166,7 +167,7 @@ mod tests {
             let options = spirv_options(&offer);
             for key in &keys {
                 let source = key.source().expect("composes");
-                let (words, layouts) = spirv_of(&source, "cs_raycast", &options)
+                let (words, layouts) = spirv_of(&source, COMPUTE_ENTRY, &options)
                     .unwrap_or_else(|e| panic!("{key:?}: {e}"));
                 assert_eq!(words.first(), Some(&0x0723_0203), "SPIR-V magic");
                 // A whole ray caster: 3976 to 10320 words over these variants (naga 30); a

@@ -176,7 +176,7 @@ fn build(
                 label: Some(&label),
                 layout: Some(&layout),
                 module: &module,
-                entry_point: Some("cs_raycast"),
+                entry_point: Some(super::variant::COMPUTE_ENTRY),
                 compilation_options: Default::default(),
                 cache: None,
             },

@@ -32,6 +32,9 @@ pub struct PipelineKey {
     pub split: bool,
 }
 
+/// The compute entry point of every ray-casting variant (shaders/entry/raycast_compute.wgsl).
+pub const COMPUTE_ENTRY: &str = "cs_raycast";
+
 /// Images of at most this many pixels split their rays (see [`PipelineKey::new`]): 512 × 512
 /// does (measured faster), 1024 × 1024 and 1920 × 1080 do not (measured slower); sizes between
 /// were not measured.
