@@ -389,3 +389,75 @@ fn a_volume_with_nothing_to_skip_costs_the_field_one_lookup_per_ray() {
         octree_counts.rays
     );
 }
+
+/// An isosurface ray that leaps lands on the last sample of the region it leapt (that sample
+/// brackets a crossing just past the region) and takes it without asking about it again: every
+/// lookup either leaps or starts the run where the surface can lie. The scene: a 64³ volume, zero
+/// but for a slab at its far end (z ≥ 48), seen along +z, iso value half the slab's; each ray
+/// leaps the empty space in a few regions, then asks about at most two blocks at the slab's face
+/// (one holding the crossing, and perhaps the one before, which its one-voxel margin makes not
+/// empty). Asking again at each landing sample (as before) costs one more lookup per leap. Both
+/// leaping strategies draw RC-t's image.
+#[test]
+fn an_isosurface_ray_asks_once_per_region() {
+    let n = 64u32;
+    let mut v = vec![0.0f32; (n * n * n) as usize];
+    for (i, value) in v.iter_mut().enumerate() {
+        if i as u32 / (n * n) >= 48 {
+            *value = 100.0;
+        }
+    }
+    let volume = Volume::new(
+        "slab",
+        [n, n, n],
+        [1.0, 1.0, 1.0],
+        Samples::F32(v),
+        ValueMapping::IDENTITY,
+    )
+    .expect("valid");
+    let mut r = common::renderer();
+    r.set_volume(&volume).expect("upload");
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let (dir, up) = ViewPreset::PlusZ.direction_and_up();
+    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    let render_with = |r: &mut VolumeRenderer, strategy| {
+        let settings = RenderSettings {
+            mode: Mode::Iso,
+            // One invocation per ray (the compute path splits small images).
+            path: RenderPath::Fragment,
+            strategy,
+            block_vox: Some(4),
+            iso: IsoSettings {
+                value: Some(50.0),
+                ..IsoSettings::default()
+            },
+            ..RenderSettings::default()
+        };
+        render(r, &camera, settings)
+    };
+    let (rct, _) = render_with(&mut r, Strategy::RcT);
+    for strategy in [Strategy::RcS, Strategy::RcSDistance] {
+        let (image, counts) = render_with(&mut r, strategy);
+        let name = strategy.label();
+        common::assert_close(name, &image, &rct, 1.0 / 255.0, 0.0);
+        assert!(counts.rays > 1000, "{name}: {} rays", counts.rays);
+        assert!(
+            counts.leaps >= counts.rays,
+            "{name}: {} leaps for {} rays",
+            counts.leaps,
+            counts.rays
+        );
+        assert!(
+            counts.lookups <= counts.leaps + 2 * counts.rays,
+            "{name}: {} lookups for {} leaps of {} rays",
+            counts.lookups,
+            counts.leaps,
+            counts.rays
+        );
+        eprintln!(
+            "{name}: per ray {:.2} lookups, {:.2} leaps",
+            counts.lookups as f64 / counts.rays as f64,
+            counts.leaps as f64 / counts.rays as f64
+        );
+    }
+}
