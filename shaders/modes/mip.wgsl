@@ -35,6 +35,16 @@ fn acc_leap_target(k: u32, after: u32) -> u32 {
     return after;
 }
 
+// Every region can be asked about from the ray's first sample on.
+fn acc_needs_sample(acc: Acc) -> bool {
+    return false;
+}
+
+// Leaps land past the region: never called.
+fn acc_landing_waits(acc: Acc) -> bool {
+    return false;
+}
+
 // A lower bound before the march: the ray's first sample, then MIP_PRIME_SAMPLES samples of its
 // grid spread along it. Blocks whose maximum (MinIP: minimum) cannot beat them are skipped from
 // the ray's first block on, where otherwise the running maximum starts from nothing. They are

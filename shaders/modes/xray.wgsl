@@ -32,6 +32,16 @@ fn acc_reach(acc: Acc, low: u32, high: u32) -> vec2<u32> {
     return reach_two_sided(low, high);
 }
 #endif
+// Every region can be asked about from the ray's first sample on.
+fn acc_needs_sample(acc: Acc) -> bool {
+    return false;
+}
+
+// Leaps land past the region: never called.
+fn acc_landing_waits(acc: Acc) -> bool {
+    return false;
+}
+
 // Nothing to learn before the march.
 fn acc_prime(acc: ptr<function, Acc>, ray: Ray, part: u32, parts: u32) -> vec2<u32> {
     return vec2<u32>(0u);

@@ -79,7 +79,8 @@ struct Frame {
     // rows, or the whole image.
     row_offset: u32,
     row_end: u32,
-    _pad0: u32,
+    // 1 where every voxel is finite (no sample decodes as missing), else 0.
+    all_finite: u32,
     _pad1: u32,
 }
 

@@ -27,6 +27,15 @@
 //       With RAY_SPLIT, part `part` of `parts` takes its share of them and every part starts
 //       from the join of all shares (so only a mode whose acc_combine is idempotent, a maximum
 //       or a minimum, may prime); otherwise (0, 1)
+//   fn acc_needs_sample(acc: Acc) -> bool
+//       (LEAP_RUNS) whether the ray must take its next sample before it may ask about any region
+//       (isosurfaces: until a finite sample has given it its side); false in most modes
+//   fn acc_landing_waits(acc: Acc) -> bool
+//       (LEAP_RUNS) where a leap lands on a sample inside the region it leapt (acc_leap_target
+//       before the region's end: isosurfaces), whether that sample may wait until the lookup
+//       past the region says what follows can matter: true only where taking it cannot change
+//       what the ray skips (isosurfaces: once the ray knows its side); false in modes that land
+//       past the region
 // and, for variants that split each ray into parts marched by several invocations (RAY_SPLIT,
 // compute path only), how two consecutive parts' gatherings join:
 //   fn acc_combine(front: Acc, back: Acc) -> Acc
@@ -63,6 +72,11 @@
 #endif
 #ifdef LEAP
 #include "leap/leap.wgsl"
+#endif
+
+#ifdef LEAP_RUNS
+// No sample waits to be taken (march_samples).
+const NO_LANDING: u32 = 0xffffffffu;
 #endif
 
 #ifdef SAMPLE_BATCH
@@ -175,27 +189,52 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
     // (The caller has primed `acc`, acc_prime.)
     let leap = leap_ray(entry, ray.box_per_mm, ray.offset);
     var k = first;
+    // A sample the ray leapt to but has not taken (NO_LANDING: none): the last of a region that
+    // cannot change the pixel, which isosurfaces land on (it brackets a crossing just past the
+    // region). It is the sample before k, and is taken first in k's run where k's region can
+    // matter; where that region cannot either, the ray leaps on without it.
+    var landing = NO_LANDING;
     loop {
         if k >= end || !part_matters() {
             break;
+        }
+        if acc_needs_sample(*acc) {
+            // Sample by sample, without a question, until the mode may ask (no sample waits:
+            // one waits only once the mode may ask).
+            let t = sample_distance(ray, k);
+            let result = acc_sample(acc, ray, k, t, entry + ray.box_per_mm * t, sample_value(entry + ray.box_per_mm * t));
+            tally_sample(tally, result);
+            if (result & SAMPLE_STOP) != 0u {
+                break;
+            }
+            k += 1u;
+            continue;
         }
         let t_k = sample_distance(ray, k);
         let region = leap_region(leap, entry + ray.box_per_mm * t_k, k, *acc, tally);
         let next = region.x;
         let run_end = min(region.y, end);
         if next != k {
-            tally_leap(tally, min(next, end) - k);
+            let leapt_from = select(k, landing, landing != NO_LANDING);
+            tally_leap(tally, min(next, end) - leapt_from);
+            landing = NO_LANDING;
             k = next;
-            // Where the mode lands inside the region it leapt (isosurfaces: on the region's last
-            // sample, which brackets the crossing after it), the samples from there to the
-            // region's end are a run taken without a question. Asking again at the landing
-            // sample, as before, cost a lookup per leap: it found the same region (the octree) or
-            // at times, with the distance field, a cube reaching further, which saved samples
-            // but not the time (docs/benchmarks/nvidia-h200-iso-landing: 0.77-0.90x the frame
-            // time without it).
             if k >= run_end {
                 continue;
             }
+            // Landed inside the region, on its last sample. Asking about it again (as before
+            // e9c2c1e) cost a lookup per leap; the lookup past the region decides whether it is
+            // needed (docs/benchmarks/nvidia-h200-iso-landing), unless the mode must take it
+            // now, or the part ends with the region (then it is taken as the part's last run).
+            if run_end < end && acc_landing_waits(*acc) {
+                landing = k;
+                k = run_end;
+                continue;
+            }
+        } else if landing != NO_LANDING {
+            // k's region can matter: the run starts at the sample before it.
+            k = landing;
+            landing = NO_LANDING;
         }
         var stopped = false;
 #ifdef SAMPLE_BATCH

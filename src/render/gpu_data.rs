@@ -181,7 +181,7 @@ pub fn layouts() -> Vec<StructLayout> {
             phong_ambient, phong_diffuse, phong_specular, phong_shininess, window_lo, window_hi,
             saturation, xray_density_per_mm, iso_threshold, steps_per_d0, depth_units_per_mm,
             iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight, row_offset,
-            row_end, _pad0, _pad1,
+            row_end, all_finite, _pad1,
         }),
         layout!(LevelInfo = "LevelInfo" in "leap/pyramid.wgsl" {
             nodes, offset, brick_vox, _pad0, _pad1, _pad2,
@@ -298,9 +298,9 @@ pub struct FrameUniforms {
     pub row_offset: u32,
     /// The end of the compute path's rows (exclusive): the band's last row + 1, or the height.
     pub row_end: u32,
+    /// 1 where every voxel of the volume is finite (no sample decodes as missing), else 0.
+    pub all_finite: u32,
     /// Padding to 16 bytes.
-    pub _pad0: u32,
-    /// Padding.
     pub _pad1: u32,
 }
 

@@ -73,6 +73,8 @@ pub struct SampleDecoding {
     pub lut_depth_unit: f32,
     /// The volume's normalisation range (data units ↔ normalised values).
     pub range: crate::volume::ValueRange,
+    /// Whether every voxel is finite, so that no sample decodes as missing.
+    pub all_finite: bool,
 }
 
 /// Builds the uniforms of one frame.
@@ -138,7 +140,7 @@ pub fn frame_uniforms(
         light_min_weight: settings.light_min_weight as f32,
         row_offset: 0,
         row_end: size[1],
-        _pad0: 0,
+        all_finite: u32::from(decoding.all_finite),
         _pad1: 0,
     }
 }

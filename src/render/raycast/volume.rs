@@ -34,6 +34,8 @@ pub struct GpuVolume {
     pub spacing_mm: [f64; 3],
     /// The value range normalised values run over.
     pub range: ValueRange,
+    /// Whether every voxel is finite (`Volume::non_finite_count` is 0).
+    pub all_finite: bool,
     /// Group 0 of every ray-casting pipeline.
     pub frame_group: wgpu::BindGroup,
     /// The min/max pyramid, node flags and distance field (built lazily).
@@ -74,6 +76,7 @@ impl GpuVolume {
             dims: volume.dims(),
             spacing_mm: volume.spacing_mm(),
             range: volume.normalization_range(),
+            all_finite: volume.non_finite_count() == 0,
             frame_group,
             leap,
             leap_group,
@@ -97,6 +100,7 @@ impl GpuVolume {
             lut_size: lut_entries,
             lut_depth_unit,
             range: self.range,
+            all_finite: self.all_finite,
         };
         frame_uniforms(
             geometry,
