@@ -23,13 +23,14 @@ fn acc_init() -> Acc {
 
 #ifdef LEAP
 // A node is skipped where it lies wholly on the side of the iso value the ray is already on, or
-// holds no finite value. (A ray without a side asks nothing, acc_needs_sample; the clauses for
-// side 0 are never reached.)
+// holds no finite value. A ray without a side yet skips only the latter: a region wholly above,
+// a gap of missing voxels and one wholly below hold a crossing that plain ray casting finds across
+// the gap (and such a ray asks nothing anyway, acc_needs_sample).
 fn acc_skips(acc: Acc, node: u32) -> bool {
     let m = minmax[node];
     let iso = frame.iso_threshold;
-    return holds_no_finite_voxel(m) || (m.y < iso && acc.side <= 0.0)
-        || (m.x >= iso && acc.side >= 0.0);
+    return holds_no_finite_voxel(m) || (m.y < iso && acc.side < 0.0)
+        || (m.x >= iso && acc.side > 0.0);
 }
 
 // Land on the region's last sample, so the crossing after it is bracketed by the same two
@@ -40,34 +41,30 @@ fn acc_leap_target(k: u32, after: u32) -> u32 {
 #ifdef LEAP_DISTANCE
 // The field's sides (RULE_ISO flags): `below` the distance to the nearest block not wholly below
 // the iso value, `above` to the nearest not wholly at or above it. A ray below skips cubes of
-// blocks wholly below, a ray above cubes wholly above (a ray without a side asks nothing).
+// blocks wholly below, a ray above cubes wholly above; for a ray without a side (which asks
+// nothing, acc_needs_sample) the block can matter.
 fn acc_reach(acc: Acc, below: u32, above: u32) -> vec2<u32> {
-    var d = max(below, above);
-    if acc.side < 0.0 {
-        d = below;
-    } else if acc.side > 0.0 {
-        d = above;
+    if acc.side == 0.0 {
+        return vec2<u32>(1u, 1u);
     }
+    let d = select(above, below, acc.side < 0.0);
     return vec2<u32>(d, u32(d == 0u));
 }
 #endif
 
-// A ray without a side (no finite sample taken yet) takes its samples one by one: skipping a
-// region before it knows its side could skip a crossing (a region wholly above, a gap of
-// missing voxels, then one wholly below: plain ray casting finds the crossing across the gap).
-// Usually the ray's first sample gives the side.
+// A ray without a side (no finite sample taken yet) takes its samples one by one rather than a
+// block's run (it could skip only regions of missing voxels, acc_skips). Usually the ray's first
+// sample gives the side.
 fn acc_needs_sample(acc: Acc) -> bool {
     return acc.side == 0.0;
 }
 
-// The landing sample lies in a region wholly on the ray's side (or holding no finite value), so
-// taking it leaves the side, and so what the ray skips, as it is: it may wait, unless the ray has
-// no side yet (before its first sample either kind of region is skipped, and the landing sample
-// sets the side that decides the next), or the volume has missing voxels: a sample that does
-// not wait may be the last finite one before a crossing past missing samples, which plain ray
-// casting brackets with it.
+// The landing sample lies in a region the ray skips by its side (or holding no finite value), so
+// taking it leaves the side, and so what the ray skips, as it is: it may wait, unless the volume
+// has missing voxels: a sample that does not wait may be the last finite one before a crossing
+// past missing samples, which plain ray casting brackets with it.
 fn acc_landing_waits(acc: Acc) -> bool {
-    return acc.side != 0.0 && frame.all_finite != 0u;
+    return frame.all_finite != 0u;
 }
 
 // Nothing to learn before the march.

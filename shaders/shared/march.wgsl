@@ -33,9 +33,9 @@
 //   fn acc_landing_waits(acc: Acc) -> bool
 //       (LEAP_RUNS) where a leap lands on a sample inside the region it leapt (acc_leap_target
 //       before the region's end: isosurfaces), whether that sample may wait until the lookup
-//       past the region says what follows can matter: true only where taking it cannot change
-//       what the ray skips (isosurfaces: once the ray knows its side); false in modes that land
-//       past the region
+//       past the region says what follows can matter: true only where leaving it out changes
+//       neither what the ray skips nor the samples that bracket a crossing (isosurfaces: in
+//       volumes without missing voxels); false in modes that land past the region
 // and, for variants that split each ray into parts marched by several invocations (RAY_SPLIT,
 // compute path only), how two consecutive parts' gatherings join:
 //   fn acc_combine(front: Acc, back: Acc) -> Acc
@@ -198,43 +198,37 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
         if k >= end || !part_matters() {
             break;
         }
-        if acc_needs_sample(*acc) {
-            // Sample by sample, without a question, until the mode may ask (no sample waits:
-            // one waits only once the mode may ask).
-            let t = sample_distance(ray, k);
-            let result = acc_sample(acc, ray, k, t, entry + ray.box_per_mm * t, sample_value(entry + ray.box_per_mm * t));
-            tally_sample(tally, result);
-            if (result & SAMPLE_STOP) != 0u {
-                break;
+        // Where the mode may not ask yet (acc_needs_sample), a run of one sample without a
+        // question (no sample waits then: one waits only once the mode may ask).
+        var run_end = k + 1u;
+        if !acc_needs_sample(*acc) {
+            let t_k = sample_distance(ray, k);
+            let region = leap_region(leap, entry + ray.box_per_mm * t_k, k, *acc, tally);
+            let next = region.x;
+            run_end = min(region.y, end);
+            if next != k {
+                let leapt_from = select(k, landing, landing != NO_LANDING);
+                tally_leap(tally, min(next, end) - leapt_from);
+                landing = NO_LANDING;
+                k = next;
+                if k >= run_end {
+                    continue;
+                }
+                // Landed inside the region, on its last sample. Asking about it again (as
+                // before e9c2c1e) cost a lookup per leap; the lookup past the region decides
+                // whether it is needed (docs/benchmarks/nvidia-h200-iso-landing), unless the
+                // mode must take it now, or the part ends with the region (then it is taken as
+                // the part's last run).
+                if run_end < end && acc_landing_waits(*acc) {
+                    landing = k;
+                    k = run_end;
+                    continue;
+                }
+            } else if landing != NO_LANDING {
+                // k's region can matter: the run starts at the sample before it.
+                k = landing;
+                landing = NO_LANDING;
             }
-            k += 1u;
-            continue;
-        }
-        let t_k = sample_distance(ray, k);
-        let region = leap_region(leap, entry + ray.box_per_mm * t_k, k, *acc, tally);
-        let next = region.x;
-        let run_end = min(region.y, end);
-        if next != k {
-            let leapt_from = select(k, landing, landing != NO_LANDING);
-            tally_leap(tally, min(next, end) - leapt_from);
-            landing = NO_LANDING;
-            k = next;
-            if k >= run_end {
-                continue;
-            }
-            // Landed inside the region, on its last sample. Asking about it again (as before
-            // e9c2c1e) cost a lookup per leap; the lookup past the region decides whether it is
-            // needed (docs/benchmarks/nvidia-h200-iso-landing), unless the mode must take it
-            // now, or the part ends with the region (then it is taken as the part's last run).
-            if run_end < end && acc_landing_waits(*acc) {
-                landing = k;
-                k = run_end;
-                continue;
-            }
-        } else if landing != NO_LANDING {
-            // k's region can matter: the run starts at the sample before it.
-            k = landing;
-            landing = NO_LANDING;
         }
         var stopped = false;
 #ifdef SAMPLE_BATCH
