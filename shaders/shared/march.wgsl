@@ -79,6 +79,17 @@
 const NO_LANDING: u32 = 0xffffffffu;
 #endif
 
+#ifdef LEAP_RUNS
+// Takes grid sample k of `ray`; whether it stops the ray.
+fn take_sample(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray, k: u32) -> bool {
+    let t = sample_distance(ray, k);
+    let p = ray.entry + ray.box_per_mm * t;
+    let r = acc_sample(acc, ray, k, t, p, sample_value(p));
+    tally_sample(tally, r);
+    return (r & SAMPLE_STOP) != 0u;
+}
+#endif
+
 #ifdef SAMPLE_BATCH
 // Sample k of the batch (value s already read); whether it stops the ray.
 fn take_one(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> bool {
@@ -198,37 +209,42 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
         if k >= end || !part_matters() {
             break;
         }
-        // Where the mode may not ask yet (acc_needs_sample), a run of one sample without a
-        // question (no sample waits then: one waits only once the mode may ask).
-        var run_end = k + 1u;
-        if !acc_needs_sample(*acc) {
-            let t_k = sample_distance(ray, k);
-            let region = leap_region(leap, entry + ray.box_per_mm * t_k, k, *acc, tally);
-            let next = region.x;
-            run_end = min(region.y, end);
-            if next != k {
-                let leapt_from = select(k, landing, landing != NO_LANDING);
-                tally_leap(tally, min(next, end) - leapt_from);
-                landing = NO_LANDING;
-                k = next;
-                if k >= run_end {
-                    continue;
-                }
-                // Landed inside the region, on its last sample. Asking about it again (as
-                // before e9c2c1e) cost a lookup per leap; the lookup past the region decides
-                // whether it is needed (docs/benchmarks/nvidia-h200-iso-landing), unless the
-                // mode must take it now, or the part ends with the region (then it is taken as
-                // the part's last run).
-                if run_end < end && acc_landing_waits(*acc) {
-                    landing = k;
-                    k = run_end;
-                    continue;
-                }
-            } else if landing != NO_LANDING {
-                // k's region can matter: the run starts at the sample before it.
-                k = landing;
-                landing = NO_LANDING;
+        if acc_needs_sample(*acc) {
+            // Where the mode may not ask yet, one sample without a question (no sample waits
+            // then: one waits only once the mode may ask). Not a run of one through the batch
+            // below: on the H200 that took a 512² isosurface invocation from 48 registers to 60
+            // and its frames to 1.03× as long (docs/benchmarks/nvidia-h200-iso-landing/review).
+            if take_sample(acc, tally, ray, k) {
+                break;
             }
+            k += 1u;
+            continue;
+        }
+        let t_k = sample_distance(ray, k);
+        let region = leap_region(leap, entry + ray.box_per_mm * t_k, k, *acc, tally);
+        let next = region.x;
+        let run_end = min(region.y, end);
+        if next != k {
+            let leapt_from = select(k, landing, landing != NO_LANDING);
+            tally_leap(tally, min(next, end) - leapt_from);
+            landing = NO_LANDING;
+            k = next;
+            if k >= run_end {
+                continue;
+            }
+            // Landed inside the region, on its last sample. Asking about it again (as before
+            // e9c2c1e) cost a lookup per leap; the lookup past the region decides whether it is
+            // needed (docs/benchmarks/nvidia-h200-iso-landing), unless the mode must take it
+            // now, or the part ends with the region (then it is taken as the part's last run).
+            if run_end < end && acc_landing_waits(*acc) {
+                landing = k;
+                k = run_end;
+                continue;
+            }
+        } else if landing != NO_LANDING {
+            // k's region can matter: the run starts at the sample before it.
+            k = landing;
+            landing = NO_LANDING;
         }
         var stopped = false;
 #ifdef SAMPLE_BATCH
@@ -245,11 +261,7 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
         }
 #else
         loop {
-            let t = sample_distance(ray, k);
-            let p = entry + ray.box_per_mm * t;
-            let result = acc_sample(acc, ray, k, t, p, sample_value(p));
-            tally_sample(tally, result);
-            if (result & SAMPLE_STOP) != 0u {
+            if take_sample(acc, tally, ray, k) {
                 stopped = true;
                 break;
             }
