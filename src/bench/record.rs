@@ -156,6 +156,10 @@ pub struct Skipped {
     pub reason: String,
     /// Whether the configuration marked it optional (otherwise the skip is a failure).
     pub optional: bool,
+    /// Whether its input was unusable (its file, its transfer function, or its size against the
+    /// GPU's limits), rather than a run failing on the GPU.
+    #[serde(default)]
+    pub bad_input: bool,
 }
 
 /// Everything a benchmark run measured.

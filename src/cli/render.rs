@@ -18,12 +18,10 @@ const TIMED_FRAMES: usize = 5;
 
 /// Maps a renderer error to a failure: volumes or images past the GPU's limits are bad input.
 fn render_failure(e: RenderError) -> Failure {
-    match e {
-        RenderError::Volume(_)
-        | RenderError::ImageSize { .. }
-        | RenderError::TargetsRefused { .. }
-        | RenderError::Settings(_) => Failure::BadInput(e.into()),
-        other => Failure::Other(other.into()),
+    if e.is_bad_input() {
+        Failure::BadInput(e.into())
+    } else {
+        Failure::Other(e.into())
     }
 }
 

@@ -130,3 +130,63 @@ fn quick_bench_writes_consistent_outputs() {
     );
     assert_eq!(summary.rebuilds.len(), 2);
 }
+
+/// A configuration of one dataset whose transfer-function file is missing, `optional` or not.
+fn config_with_a_missing_tf(optional: bool) -> String {
+    serde_json::json!({
+        "datasets": [{
+            "name": "lost_tf",
+            "source": {"kind": "vessel-tree", "n": 16, "seed": 3},
+            "tf": "tf/no-such-file.json",
+            "why": "its transfer function is not there",
+            "optional": optional
+        }],
+        "modes": ["dvr"],
+        "strategies": ["rc-t", "rc-s-df"],
+        "paths": ["compute"],
+        "resolutions": [[16, 16]],
+        "views": 1,
+        "elevation_deg": 20,
+        "warmup_frames": 1,
+        "step_vox": 0.5,
+        "phong": false,
+        "rebuild_repeats": 1,
+        "image_check_size": [16, 16],
+        "block_sweep": {"datasets": [], "sizes": [4], "modes": ["dvr"], "resolution": [16, 16]}
+    })
+    .to_string()
+}
+
+#[test]
+fn a_dataset_that_cannot_be_measured_fails_the_run_unless_optional() {
+    for optional in [false, true] {
+        let dir = common::TempDir::new("bench-missing-tf");
+        let config = dir.write("config.json", config_with_a_missing_tf(optional).as_bytes());
+        let out = dir.path().join("out");
+        let output = Command::new(env!("CARGO_BIN_EXE_leapview"))
+            .args(["bench", "--config"])
+            .arg(&config)
+            .arg("--data-dir")
+            .arg(dir.path())
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .expect("run leapview bench");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        // The results are written either way, the skip recorded with its reason.
+        let tables = read(&out.join("tables.md"));
+        assert!(tables.contains("no-such-file.json"), "{tables}");
+        if optional {
+            assert!(output.status.success(), "{stderr}");
+            assert!(stderr.contains("no leaping images to check"), "{stderr}");
+        } else {
+            // A missing file is bad input: status 2, naming the dataset.
+            assert_eq!(output.status.code(), Some(2), "{stderr}");
+            assert!(
+                stderr.contains("FAILED: lost_tf") && stderr.contains("not measured (lost_tf)"),
+                "{stderr}"
+            );
+            assert!(!stderr.contains("image check: all"), "{stderr}");
+        }
+    }
+}

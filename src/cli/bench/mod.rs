@@ -78,23 +78,24 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
     for spec in &config.datasets {
         let runs = run::plan(&config, spec);
         progress.show(&format!("{}: loading", spec.name));
-        let skip = |reason: String| Skipped {
+        let skip = |reason: String, bad_input: bool| Skipped {
             dataset: spec.name.clone(),
             reason,
             optional: spec.optional,
+            bad_input,
         };
         let loaded = match datasets::load(spec, &args.data_dir, &config_dir, max_3d) {
             Ok(l) => l,
             Err(e) => {
                 progress.note(&format!("skipping {}: {e:#}", spec.name));
-                results.skipped.push(skip(format!("{e:#}")));
+                results.skipped.push(skip(format!("{e:#}"), true));
                 progress.advance(runs.len() as u64 + 1);
                 continue;
             }
         };
         if let Err(e) = renderer.set_volume(&loaded.volume) {
             progress.note(&format!("skipping {}: {e}", spec.name));
-            results.skipped.push(skip(e.to_string()));
+            results.skipped.push(skip(e.to_string(), e.is_bad_input()));
             progress.advance(runs.len() as u64 + 1);
             continue;
         }
@@ -103,7 +104,7 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
             && let Err(e) = auto_path::choose(&mut renderer, RenderPath::Auto)
         {
             progress.note(&format!("skipping {}: {e}", spec.name));
-            results.skipped.push(skip(e.to_string()));
+            results.skipped.push(skip(e.to_string(), false));
             progress.advance(runs.len() as u64 + 1);
             continue;
         }
@@ -156,7 +157,7 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
                         planned.size[1]
                     );
                     progress.note(&format!("{}: {what}", spec.name));
-                    results.skipped.push(skip(what));
+                    results.skipped.push(skip(what, false));
                 }
             }
             progress.advance(1);
@@ -172,7 +173,7 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
             Ok(c) => results.image_checks.extend(c),
             Err(e) => results
                 .skipped
-                .push(skip(format!("rebuild/image check: {e}"))),
+                .push(skip(format!("rebuild/image check: {e}"), false)),
         }
         progress.advance(1);
         output::write_all(&out, &results, false)?;
@@ -182,10 +183,13 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
     finish(&out, &summary)
 }
 
-/// Prints where the results are and fails loudly when an image check failed.
+/// Prints where the results are and fails loudly when an image check failed or a dataset the
+/// configuration does not mark optional was not measured (status 2 where each such dataset's
+/// input was unusable, else 1), after the results are written.
 fn finish(out: &Path, summary: &leapview::bench::Summary) -> Result<(), Failure> {
     eprintln!("results in {}", out.display());
-    for s in summary.skipped.iter().filter(|s| !s.optional) {
+    let failed: Vec<_> = summary.skipped.iter().filter(|s| !s.optional).collect();
+    for s in &failed {
         eprintln!("FAILED: {}: {}", s.dataset, s.reason);
     }
     if summary.image_check_failures > 0 {
@@ -196,10 +200,28 @@ fn finish(out: &Path, summary: &leapview::bench::Summary) -> Result<(), Failure>
             out.join("tables.md").display()
         )));
     }
-    eprintln!(
-        "image check: all {} leaping images within 1/255 of RC-t",
-        summary.image_checks.len()
-    );
+    if !failed.is_empty() {
+        let mut names: Vec<&str> = failed.iter().map(|s| s.dataset.as_str()).collect();
+        names.dedup();
+        let error = anyhow::anyhow!(
+            "{} of the configuration's datasets not measured ({}): see FAILED above",
+            names.len(),
+            names.join(", ")
+        );
+        return Err(if failed.iter().all(|s| s.bad_input) {
+            Failure::BadInput(error)
+        } else {
+            Failure::Other(error)
+        });
+    }
+    if summary.image_checks.is_empty() {
+        eprintln!("image check: no leaping images to check");
+    } else {
+        eprintln!(
+            "image check: all {} leaping images within 1/255 of RC-t",
+            summary.image_checks.len()
+        );
+    }
     Ok(())
 }
 

@@ -82,6 +82,20 @@ pub enum RenderError {
     Gpu(String),
 }
 
+impl RenderError {
+    /// Whether the caller's input is at fault (a volume or an image past the GPU's limits, a
+    /// setting out of range) rather than the GPU or the program: the command line's status 2.
+    pub fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            Self::Volume(_)
+                | Self::ImageSize { .. }
+                | Self::TargetsRefused { .. }
+                | Self::Settings(_)
+        )
+    }
+}
+
 /// One frame to render.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameRequest<'a> {
