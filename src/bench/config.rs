@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use clap::ValueEnum;
 use serde::{Deserialize, Serialize};
 
+use crate::settings::effects::Shading;
 use crate::settings::{Mode, RenderPath, Strategy};
 
 /// Why a configuration cannot be used.
@@ -162,6 +163,10 @@ pub struct Filters {
     pub strategies: Option<Vec<Strategy>>,
     /// Paths.
     pub paths: Option<Vec<RenderPath>>,
+    /// Block edge of every run outside the sweep, in place of the configuration's.
+    pub block_vox: Option<u32>,
+    /// Lighting (the configuration's `phong`), on or off.
+    pub shading: Option<Shading>,
 }
 
 /// Edge of the generated volumes in a quick run: small enough for a CPU driver.
@@ -238,7 +243,8 @@ impl BenchConfig {
             })
     }
 
-    /// Keeps only what `filters` names (the sweep keeps only remaining datasets).
+    /// Keeps only what `filters` names (the sweep keeps only remaining datasets) and takes its
+    /// block edge and lighting where it gives them; the result is validated again.
     pub fn narrow(&mut self, filters: &Filters) -> Result<(), ConfigError> {
         if let Some(names) = &filters.datasets {
             for name in names {
@@ -257,12 +263,18 @@ impl BenchConfig {
         if let Some(paths) = &filters.paths {
             self.paths.retain(|p| paths.contains(p));
         }
+        if let Some(block) = filters.block_vox {
+            self.block_vox = Some(block);
+        }
+        if let Some(shading) = filters.shading {
+            self.phong = shading == Shading::Phong;
+        }
         if self.modes.is_empty() || self.strategies.is_empty() || self.paths.is_empty() {
             return Err(ConfigError::Invalid(
                 "the filters leave no mode, strategy or path to run".into(),
             ));
         }
-        Ok(())
+        self.validate()
     }
 
     /// The quick variant for CPU drivers and CI: the swept datasets and the generated ones
@@ -378,6 +390,31 @@ mod tests {
         assert!(matches!(
             config.narrow(&bad),
             Err(ConfigError::UnknownDataset { .. })
+        ));
+    }
+
+    #[test]
+    fn the_command_line_sets_the_block_edge_and_lighting_and_a_bad_edge_is_refused() {
+        let mut config = committed();
+        assert!(config.phong && config.block_vox.is_none());
+        let overrides = Filters {
+            block_vox: Some(8),
+            shading: Some(Shading::Off),
+            ..Filters::default()
+        };
+        config.narrow(&overrides).expect("narrow");
+        assert_eq!(config.block_vox, Some(8));
+        assert!(!config.phong);
+        // Left out, the configuration's own stay.
+        config.narrow(&Filters::default()).expect("narrow");
+        assert_eq!(config.block_vox, Some(8));
+        let bad = Filters {
+            block_vox: Some(3),
+            ..Filters::default()
+        };
+        assert!(matches!(
+            config.narrow(&bad),
+            Err(ConfigError::Invalid(m)) if m.contains("block sizes")
         ));
     }
 }

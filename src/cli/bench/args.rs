@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use leapview::settings::effects::Shading;
 use leapview::settings::{Mode, RenderPath, Strategy};
 
 /// `leapview bench`: Tables 1 and 2 of the paper, rebuild times and an image check.
@@ -32,8 +33,15 @@ pub struct BenchArgs {
     /// Only these paths.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub paths: Option<Vec<RenderPath>>,
+    /// Block edge in voxels of every run outside the block-size sweep (4, 8, 16, 32, 64 or 128),
+    /// in place of the configuration's `block_vox` (absent there: each mode's default).
+    #[arg(long)]
+    pub block: Option<u32>,
+    /// Lighting in DVR and isosurfaces, in place of the configuration's `phong`.
+    #[arg(long, value_enum)]
+    pub shading: Option<Shading>,
     /// Render nothing: merge the `frames.json` of these earlier output folders (comma-separated)
     /// and write the report into --out.
-    #[arg(long, value_delimiter = ',', conflicts_with_all = ["quick", "datasets", "modes", "strategies", "paths"])]
+    #[arg(long, value_delimiter = ',', conflicts_with_all = ["quick", "datasets", "modes", "strategies", "paths", "block", "shading"])]
     pub merge: Option<Vec<PathBuf>>,
 }

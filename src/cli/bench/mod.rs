@@ -47,6 +47,8 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
         modes: args.modes.clone(),
         strategies: args.strategies.clone(),
         paths: args.paths.clone(),
+        block_vox: args.block,
+        shading: args.shading,
     };
     config
         .narrow(&filters)
