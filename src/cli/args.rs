@@ -63,6 +63,10 @@ pub struct ShadersArgs {
     /// Unlit DVR and isosurfaces (default: Phong, as the window and the benchmark).
     #[arg(long)]
     pub unlit: bool,
+    /// Ray-loop paths: the compute shader, the fragment shader of the paper's single pass (its
+    /// variant does not depend on the image size), or both (`auto` is not a path here).
+    #[arg(long, value_enum, value_delimiter = ',', default_values = ["compute", "fragment"])]
+    pub paths: Vec<leapview::settings::RenderPath>,
     /// The Vulkan device whose name contains this (default: a discrete GPU first).
     #[arg(long)]
     pub device: Option<String>,

@@ -1,13 +1,21 @@
-//! `leapview shaders`: the driver's statistics of each compute ray-casting variant (registers,
-//! instructions, spills), one row per variant, for the variants the window and the benchmark
-//! use (their default settings, the given modes, strategies and image sizes).
+//! `leapview shaders`: the driver's statistics of each ray-casting variant (registers,
+//! instructions, spills), one row per variant and executable, for the variants the window and
+//! the benchmark use (their default settings, the given modes, strategies, paths and image
+//! sizes): compute pipelines, and the fragment path's graphics pipelines (the proxy's vertex
+//! stage and the ray loop's fragment stage).
 
 use anyhow::anyhow;
 use leapview::render::PipelineKey;
-use leapview::render::pipeline_stats::{Executable, PipelineStatsError, StatsDevice};
+use leapview::render::pipeline_stats::{Executable, PipelineStatsError, Stages, StatsDevice};
 use leapview::render::raycast::variant::COMPUTE_ENTRY;
 use leapview::settings::effects::Shading;
-use leapview::settings::{ConcretePath, Mode, RenderSettings, Strategy};
+use leapview::settings::{ConcretePath, Mode, RenderPath, RenderSettings, Strategy};
+
+/// The fragment path's entry points (shaders/shared/proxy.wgsl, shaders/entry/raycast_fragment.wgsl).
+const FRAGMENT_STAGES: Stages<'static> = Stages::Graphics {
+    vertex: "vs_proxy",
+    fragment: "fs_raycast",
+};
 
 use super::Failure;
 use super::args::ShadersArgs;
@@ -18,7 +26,9 @@ use super::text::{outln, print_stdout};
 struct Row {
     mode: &'static str,
     strategy: &'static str,
-    size: [u32; 2],
+    path: &'static str,
+    /// The image size the variant is for (`None`: any; the fragment path's do not depend on it).
+    size: Option<[u32; 2]>,
     /// Rays split into parts (images up to 2^19 pixels).
     split: bool,
     /// The preprocessor symbols it was compiled with.
@@ -26,8 +36,34 @@ struct Row {
     executables: Vec<Executable>,
 }
 
-/// The distinct variants asked for, in the order asked.
-fn variants(args: &ShadersArgs) -> Vec<(PipelineKey, [u32; 2])> {
+/// A variant and the image size it is for (`None` where it does not depend on it).
+type Variant = (PipelineKey, Option<[u32; 2]>);
+
+/// The distinct variants asked for, in the order asked (by path, then size, mode and strategy).
+fn variants(args: &ShadersArgs) -> Result<Vec<Variant>, Failure> {
+    let mut keys: Vec<Variant> = Vec::new();
+    for &path in &args.paths {
+        let path = match path {
+            RenderPath::Compute => ConcretePath::Compute,
+            RenderPath::Fragment => ConcretePath::Fragment,
+            RenderPath::Auto => {
+                return Err(Failure::BadInput(anyhow!(
+                    "--paths takes compute and fragment: auto chooses between them when rendering"
+                )));
+            }
+        };
+        for (key, size) in variants_on(args, path) {
+            if !keys.iter().any(|(k, _)| *k == key) {
+                let size = (path == ConcretePath::Compute).then_some(size);
+                keys.push((key, size));
+            }
+        }
+    }
+    Ok(keys)
+}
+
+/// The distinct variants asked for on `path`, in the order asked.
+fn variants_on(args: &ShadersArgs, path: ConcretePath) -> Vec<(PipelineKey, [u32; 2])> {
     let modes = if args.modes.is_empty() {
         Mode::ALL.to_vec()
     } else {
@@ -50,7 +86,7 @@ fn variants(args: &ShadersArgs) -> Vec<(PipelineKey, [u32; 2])> {
                 if args.unlit {
                     settings.shading = Shading::Off;
                 }
-                let key = PipelineKey::new(&settings, ConcretePath::Compute, false, size);
+                let key = PipelineKey::new(&settings, path, false, size);
                 if !keys.iter().any(|(k, _)| *k == key) {
                     keys.push((key, size));
                 }
@@ -62,25 +98,29 @@ fn variants(args: &ShadersArgs) -> Vec<(PipelineKey, [u32; 2])> {
 
 /// Runs the command.
 pub fn run(args: &ShadersArgs) -> Result<(), Failure> {
+    let variants = variants(args)?;
     let device = StatsDevice::open(args.device.as_deref()).map_err(|e| match e {
         PipelineStatsError::NoSuchDevice { .. } => Failure::BadInput(e.into()),
         other => Failure::Other(other.into()),
     })?;
     let mut rows = Vec::new();
-    for (key, size) in variants(args) {
+    for (key, size) in variants {
         let source = key.source().map_err(|e| Failure::Other(e.into()))?;
-        let executables = device
-            .compute_statistics(&source, COMPUTE_ENTRY)
-            .map_err(|e| {
-                Failure::Other(anyhow!(
-                    "{} {}: {e}",
-                    key.mode.label(),
-                    key.strategy.label()
-                ))
-            })?;
+        let (stages, path) = match key.path {
+            ConcretePath::Compute => (Stages::Compute(COMPUTE_ENTRY), "compute"),
+            ConcretePath::Fragment => (FRAGMENT_STAGES, "fragment"),
+        };
+        let executables = device.statistics(&source, stages).map_err(|e| {
+            Failure::Other(anyhow!(
+                "{} {} {path}: {e}",
+                key.mode.label(),
+                key.strategy.label()
+            ))
+        })?;
         rows.push(Row {
             mode: key.mode.label(),
             strategy: key.strategy.label(),
+            path,
             size,
             split: key.split,
             defines: key.defines(),
@@ -119,16 +159,17 @@ fn table(device: &str, driver: &str, rows: &[Row]) -> String {
     let mut out = String::new();
     outln!(
         out,
-        "Compute ray-casting variants on {device} ({driver}), as the driver compiled them:\n"
+        "Ray-casting variants on {device} ({driver}), as the driver compiled them (the fragment \
+         path's for any image size):\n"
     );
     outln!(
         out,
-        "| mode | strategy | size | split | executable | subgroup | {} |",
+        "| mode | strategy | path | size | split | executable | subgroup | {} |",
         names.join(" | ")
     );
     outln!(
         out,
-        "|---|---|---|---|---|---:|{}",
+        "|---|---|---|---|---|---|---:|{}",
         "---:|".repeat(names.len())
     );
     for row in rows {
@@ -142,13 +183,16 @@ fn table(device: &str, driver: &str, rows: &[Row]) -> String {
                         .map_or_else(|| "–".to_string(), |s| s.value.to_string())
                 })
                 .collect();
+            let size = row
+                .size
+                .map_or_else(|| "any".to_string(), |[w, h]| format!("{w}×{h}"));
             outln!(
                 out,
-                "| {} | {} | {}×{} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} |",
                 row.mode,
                 row.strategy,
-                row.size[0],
-                row.size[1],
+                row.path,
+                size,
                 if row.split { "yes" } else { "no" },
                 exe.name,
                 exe.subgroup_size,

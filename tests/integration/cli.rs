@@ -522,25 +522,28 @@ fn orientation_given_on_the_command_line_puts_the_head_up() {
     );
 }
 
-/// `leapview shaders` prints the driver's statistics of each compute variant where the driver
-/// reports them (VK_KHR_pipeline_executable_properties); where none does (lavapipe of Mesa 22.3)
-/// it says so in one line with status 1, naming the devices there are; a device name that
-/// matches none is bad input (status 2). Never a crash.
+/// `leapview shaders` prints the driver's statistics of each compute and fragment variant where
+/// the driver reports them (VK_KHR_pipeline_executable_properties); where none does (lavapipe of
+/// Mesa 22.3) it says so in one line with status 1, naming the devices there are; a device name
+/// that matches none, or `auto` as a path, is bad input (status 2). Never a crash.
 #[test]
 fn shaders_prints_the_drivers_statistics_or_says_why_not() {
     let o = leapview(&["shaders", "--modes", "dvr,mip", "--sizes", "512x512"]);
     if o.status.success() {
         let text = String::from_utf8_lossy(&o.stdout);
         assert!(
-            text.contains("| mode | strategy | size | split |"),
+            text.contains("| mode | strategy | path | size | split |"),
             "{text}"
         );
-        // DVR: RC-t, RC-s, RC-s-df; MIP: RC-t and RC-s (its variant for rc-s-df too).
-        let rows = text
-            .lines()
-            .filter(|l| l.starts_with("| dvr |") || l.starts_with("| mip |"))
-            .count();
-        assert!(rows >= 5, "{text}");
+        // Per path, DVR: RC-t, RC-s, RC-s-df; MIP: RC-t and RC-s (its variant for rc-s-df
+        // too); the fragment path's graphics pipelines have a vertex and a fragment executable.
+        let rows = |path: &str| {
+            text.lines()
+                .filter(|l| l.starts_with("| dvr |") || l.starts_with("| mip |"))
+                .filter(|l| l.contains(&format!("| {path} |")))
+                .count()
+        };
+        assert!(rows("compute") >= 5 && rows("fragment") >= 5, "{text}");
     } else {
         assert_eq!(o.status.code(), Some(1), "{}", common::stderr(&o));
         let lines = stderr_lines(&o);
@@ -548,6 +551,13 @@ fn shaders_prints_the_drivers_statistics_or_says_why_not() {
         assert!(lines[0].contains("pipeline statistics"), "{}", lines[0]);
         assert!(lines[0].contains("devices: "), "{}", lines[0]);
     }
+    let o = leapview(&["shaders", "--paths", "auto"]);
+    assert_eq!(o.status.code(), Some(2), "{}", common::stderr(&o));
+    assert!(
+        common::stderr(&o).contains("--paths takes compute and fragment"),
+        "{}",
+        common::stderr(&o)
+    );
     let o = leapview(&["shaders", "--device", "no such gpu"]);
     assert_eq!(o.status.code(), Some(2), "{}", common::stderr(&o));
     let lines = stderr_lines(&o);

@@ -6,7 +6,7 @@ use std::ffi::{CStr, CString, c_char};
 use ash::vk;
 use naga::back::spv;
 
-use super::spirv::{Offer, spirv_of, spirv_options};
+use super::spirv::{Offer, Stages, spirv_of, spirv_options};
 use super::{Executable, PipelineStatsError, StatValue, Statistic};
 
 /// A Vulkan device of its own that reports pipeline statistics.
@@ -19,6 +19,17 @@ pub struct StatsDevice {
     name: String,
     driver: String,
     options: spv::Options<'static>,
+}
+
+/// A colour format of wgpu's as Vulkan names it (the renderer's output format among them: the
+/// colour attachment a fragment ray-casting pipeline is compiled for).
+fn vk_format(format: wgpu::TextureFormat) -> Option<vk::Format> {
+    match format {
+        wgpu::TextureFormat::Rgba16Float => Some(vk::Format::R16G16B16A16_SFLOAT),
+        wgpu::TextureFormat::Rgba32Float => Some(vk::Format::R32G32B32A32_SFLOAT),
+        wgpu::TextureFormat::Rgba8Unorm => Some(vk::Format::R8G8B8A8_UNORM),
+        _ => None,
+    }
 }
 
 fn vk_err(what: &'static str) -> impl Fn(vk::Result) -> PipelineStatsError {
@@ -219,26 +230,39 @@ impl StatsDevice {
         &self.driver
     }
 
-    /// Compiles `wgsl`'s compute entry point `entry` and returns what the driver says of it.
-    pub fn compute_statistics(
+    /// Compiles `wgsl`'s entry points `stages` into a pipeline (a graphics pipeline drawing
+    /// triangles without vertex buffers into one colour attachment of the renderer's output
+    /// format, as the fragment ray-casting path does) and returns what the driver says of each of
+    /// its executables.
+    pub fn statistics(
         &self,
         wgsl: &str,
-        entry: &str,
+        stages: Stages<'_>,
     ) -> Result<Vec<Executable>, PipelineStatsError> {
-        let (words, layouts) = spirv_of(wgsl, entry, &self.options)?;
+        let output = crate::render::texture::OUTPUT_FORMAT;
+        let color = vk_format(output).ok_or_else(|| {
+            PipelineStatsError::Shader(format!(
+                "the output format {output:?} has no Vulkan name here"
+            ))
+        })?;
+        let (words, layouts) = spirv_of(wgsl, stages, &self.options)?;
         let mut made = Made::new(&self.device);
-        let result = self.build_and_ask(&words, &layouts, entry, &mut made);
+        let result = self
+            .build(&words, &layouts, stages, color, &mut made)
+            .and_then(|pipeline| self.ask(pipeline));
         made.destroy();
         result
     }
 
-    fn build_and_ask(
+    /// Creates the layouts, the module and the pipeline (all owned by `made`).
+    fn build(
         &self,
         words: &[u32],
         layouts: &[Vec<vk::DescriptorSetLayoutBinding<'static>>],
-        entry: &str,
+        stages: Stages<'_>,
+        color: vk::Format,
         made: &mut Made<'_>,
-    ) -> Result<Vec<Executable>, PipelineStatsError> {
+    ) -> Result<vk::Pipeline, PipelineStatsError> {
         let device = &self.device;
         for bindings in layouts {
             let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(bindings);
@@ -249,43 +273,128 @@ impl StatsDevice {
         }
         let info = vk::PipelineLayoutCreateInfo::default().set_layouts(&made.set_layouts);
         // SAFETY: as above.
-        made.layout = Some(
-            unsafe { device.create_pipeline_layout(&info, None) }
-                .map_err(vk_err("vkCreatePipelineLayout"))?,
-        );
+        let layout = unsafe { device.create_pipeline_layout(&info, None) }
+            .map_err(vk_err("vkCreatePipelineLayout"))?;
+        made.layout = Some(layout);
         let info = vk::ShaderModuleCreateInfo::default().code(words);
         // SAFETY: SPIR-V written and validated by naga.
-        made.module = Some(
-            unsafe { device.create_shader_module(&info, None) }
-                .map_err(vk_err("vkCreateShaderModule"))?,
-        );
-        let name = CString::new(entry).map_err(|e| PipelineStatsError::Shader(e.to_string()))?;
-        let (Some(module), Some(layout)) = (made.module, made.layout) else {
-            return Err(PipelineStatsError::Shader("no module".into()));
-        };
-        let stage = vk::PipelineShaderStageCreateInfo::default()
-            .stage(vk::ShaderStageFlags::COMPUTE)
-            .module(module)
-            .name(&name);
-        let info = vk::ComputePipelineCreateInfo::default()
-            .flags(vk::PipelineCreateFlags::CAPTURE_STATISTICS_KHR)
-            .stage(stage)
-            .layout(layout);
-        // SAFETY: as above.
-        let pipelines =
-            unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }
+        let module = unsafe { device.create_shader_module(&info, None) }
+            .map_err(vk_err("vkCreateShaderModule"))?;
+        made.module = Some(module);
+        let c_name =
+            |name: &str| CString::new(name).map_err(|e| PipelineStatsError::Shader(e.to_string()));
+        let pipelines = match stages {
+            Stages::Compute(entry) => {
+                let name = c_name(entry)?;
+                let stage = vk::PipelineShaderStageCreateInfo::default()
+                    .stage(vk::ShaderStageFlags::COMPUTE)
+                    .module(module)
+                    .name(&name);
+                let info = vk::ComputePipelineCreateInfo::default()
+                    .flags(vk::PipelineCreateFlags::CAPTURE_STATISTICS_KHR)
+                    .stage(stage)
+                    .layout(layout);
+                // SAFETY: as above.
+                unsafe { device.create_compute_pipelines(vk::PipelineCache::null(), &[info], None) }
+                    .map_err(|(_, result)| PipelineStatsError::Vulkan {
+                        what: "vkCreateComputePipelines",
+                        result,
+                    })?
+            }
+            Stages::Graphics { vertex, fragment } => {
+                let render_pass = self.render_pass(color)?;
+                made.render_pass = Some(render_pass);
+                let (vertex, fragment) = (c_name(vertex)?, c_name(fragment)?);
+                let shader_stages = [
+                    vk::PipelineShaderStageCreateInfo::default()
+                        .stage(vk::ShaderStageFlags::VERTEX)
+                        .module(module)
+                        .name(&vertex),
+                    vk::PipelineShaderStageCreateInfo::default()
+                        .stage(vk::ShaderStageFlags::FRAGMENT)
+                        .module(module)
+                        .name(&fragment),
+                ];
+                let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+                let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+                    .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+                let viewport = vk::PipelineViewportStateCreateInfo::default()
+                    .viewport_count(1)
+                    .scissor_count(1);
+                // As the renderer's proxy pipelines: counter-clockwise front faces, back faces
+                // culled for the ray-casting pass (`raycast/pipelines.rs`).
+                let raster = vk::PipelineRasterizationStateCreateInfo::default()
+                    .polygon_mode(vk::PolygonMode::FILL)
+                    .cull_mode(vk::CullModeFlags::BACK)
+                    .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+                    .line_width(1.0);
+                let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+                    .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+                let attachments = [vk::PipelineColorBlendAttachmentState::default()
+                    .color_write_mask(vk::ColorComponentFlags::RGBA)];
+                let blend =
+                    vk::PipelineColorBlendStateCreateInfo::default().attachments(&attachments);
+                let dynamic = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+                let dynamic =
+                    vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic);
+                let info = vk::GraphicsPipelineCreateInfo::default()
+                    .flags(vk::PipelineCreateFlags::CAPTURE_STATISTICS_KHR)
+                    .stages(&shader_stages)
+                    .vertex_input_state(&vertex_input)
+                    .input_assembly_state(&assembly)
+                    .viewport_state(&viewport)
+                    .rasterization_state(&raster)
+                    .multisample_state(&multisample)
+                    .color_blend_state(&blend)
+                    .dynamic_state(&dynamic)
+                    .layout(layout)
+                    .render_pass(render_pass)
+                    .subpass(0);
+                // SAFETY: as above; the render pass is compatible (one colour attachment).
+                unsafe {
+                    device.create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+                }
                 .map_err(|(_, result)| PipelineStatsError::Vulkan {
-                    what: "vkCreateComputePipelines",
+                    what: "vkCreateGraphicsPipelines",
                     result,
-                })?;
+                })?
+            }
+        };
         made.pipelines.extend(&pipelines);
-        let pipeline = pipelines
+        pipelines
             .first()
             .copied()
             .ok_or(PipelineStatsError::Vulkan {
-                what: "vkCreateComputePipelines",
+                what: "vkCreate*Pipelines",
                 result: vk::Result::ERROR_UNKNOWN,
-            })?;
+            })
+    }
+
+    /// A render pass of one colour attachment of `color`, the frame a graphics pipeline is
+    /// compiled against.
+    fn render_pass(&self, color: vk::Format) -> Result<vk::RenderPass, PipelineStatsError> {
+        let attachments = [vk::AttachmentDescription::default()
+            .format(color)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .initial_layout(vk::ImageLayout::UNDEFINED)
+            .final_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)];
+        let refs = [vk::AttachmentReference::default()
+            .attachment(0)
+            .layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)];
+        let subpasses = [vk::SubpassDescription::default()
+            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)
+            .color_attachments(&refs)];
+        let info = vk::RenderPassCreateInfo::default()
+            .attachments(&attachments)
+            .subpasses(&subpasses);
+        // SAFETY: valid create info; destroyed by the caller's `Made`.
+        unsafe { self.device.create_render_pass(&info, None) }.map_err(vk_err("vkCreateRenderPass"))
+    }
+
+    /// What the driver says of each executable of `pipeline`.
+    fn ask(&self, pipeline: vk::Pipeline) -> Result<Vec<Executable>, PipelineStatsError> {
         let ask = vk::PipelineInfoKHR::default().pipeline(pipeline);
         // SAFETY: a pipeline created with CAPTURE_STATISTICS on a device with the feature on.
         let properties = unsafe { self.executables.get_pipeline_executable_properties(&ask) }
@@ -326,6 +435,7 @@ struct Made<'a> {
     set_layouts: Vec<vk::DescriptorSetLayout>,
     layout: Option<vk::PipelineLayout>,
     module: Option<vk::ShaderModule>,
+    render_pass: Option<vk::RenderPass>,
     pipelines: Vec<vk::Pipeline>,
 }
 
@@ -336,6 +446,7 @@ impl<'a> Made<'a> {
             set_layouts: Vec::new(),
             layout: None,
             module: None,
+            render_pass: None,
             pipelines: Vec::new(),
         }
     }
@@ -348,6 +459,9 @@ impl<'a> Made<'a> {
             }
             if let Some(m) = self.module {
                 self.device.destroy_shader_module(m, None);
+            }
+            if let Some(r) = self.render_pass {
+                self.device.destroy_render_pass(r, None);
             }
             if let Some(l) = self.layout {
                 self.device.destroy_pipeline_layout(l, None);

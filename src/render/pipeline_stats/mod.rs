@@ -17,6 +17,7 @@ mod device;
 mod spirv;
 
 pub use device::StatsDevice;
+pub use spirv::Stages;
 
 /// Why the statistics could not be read.
 #[derive(Debug, thiserror::Error)]

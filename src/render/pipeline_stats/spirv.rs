@@ -56,11 +56,36 @@ pub(super) fn spirv_options(offer: &Offer) -> spv::Options<'static> {
     }
 }
 
-/// The SPIR-V of `wgsl`'s compute entry point `entry`, and the descriptor set layouts its
-/// resources need (one per group, in group order; empty where a group has none).
+/// The entry points of a pipeline.
+#[derive(Clone, Copy, Debug)]
+pub enum Stages<'a> {
+    /// A compute pipeline of this entry point.
+    Compute(&'a str),
+    /// A graphics pipeline of these vertex and fragment entry points.
+    Graphics {
+        /// The vertex entry point.
+        vertex: &'a str,
+        /// The fragment entry point.
+        fragment: &'a str,
+    },
+}
+
+impl Stages<'_> {
+    /// The stages a resource binding is visible to.
+    fn visibility(self) -> vk::ShaderStageFlags {
+        match self {
+            Self::Compute(_) => vk::ShaderStageFlags::COMPUTE,
+            Self::Graphics { .. } => vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT,
+        }
+    }
+}
+
+/// The SPIR-V of `wgsl`'s entry points `stages` (a compute entry point alone; a graphics
+/// pipeline's two in one module), and the descriptor set layouts its resources need (one per
+/// group, in group order; empty where a group has none).
 pub(super) fn spirv_of(
     wgsl: &str,
-    entry: &str,
+    stages: Stages<'_>,
     options: &spv::Options<'_>,
 ) -> Result<(Vec<u32>, Vec<Vec<vk::DescriptorSetLayoutBinding<'static>>>), PipelineStatsError> {
     let module = naga::front::wgsl::parse_str(wgsl)
@@ -71,12 +96,35 @@ pub(super) fn spirv_of(
     )
     .validate(&module)
     .map_err(|e| PipelineStatsError::Shader(e.emit_to_string(wgsl)))?;
-    let pipeline = spv::PipelineOptions {
-        shader_stage: naga::ShaderStage::Compute,
-        entry_point: entry.to_string(),
-    };
-    let words = spv::write_vec(&module, &info, options, Some(&pipeline))
-        .map_err(|e| PipelineStatsError::Shader(e.to_string()))?;
+    let words = match stages {
+        Stages::Compute(entry) => {
+            let pipeline = spv::PipelineOptions {
+                shader_stage: naga::ShaderStage::Compute,
+                entry_point: entry.to_string(),
+            };
+            spv::write_vec(&module, &info, options, Some(&pipeline))
+        }
+        Stages::Graphics { vertex, fragment } => {
+            for (stage, name) in [
+                (naga::ShaderStage::Vertex, vertex),
+                (naga::ShaderStage::Fragment, fragment),
+            ] {
+                if !module
+                    .entry_points
+                    .iter()
+                    .any(|e| e.stage == stage && e.name == name)
+                {
+                    return Err(PipelineStatsError::Shader(format!(
+                        "no {stage:?} entry point {name}"
+                    )));
+                }
+            }
+            // Every entry point of the module (the proxy's vertex stage and the ray loop's
+            // fragment stage), as one module.
+            spv::write_vec(&module, &info, options, None)
+        }
+    }
+    .map_err(|e| PipelineStatsError::Shader(e.to_string()))?;
     let mut layouts: Vec<Vec<vk::DescriptorSetLayoutBinding<'static>>> = Vec::new();
     for (_, var) in module.global_variables.iter() {
         let Some(binding) = &var.binding else {
@@ -115,7 +163,7 @@ pub(super) fn spirv_of(
                 .binding(binding.binding)
                 .descriptor_type(kind)
                 .descriptor_count(1)
-                .stage_flags(vk::ShaderStageFlags::COMPUTE),
+                .stage_flags(stages.visibility()),
         );
     }
     Ok((words, layouts))
@@ -167,7 +215,7 @@ mod tests {
             let options = spirv_options(&offer);
             for key in &keys {
                 let source = key.source().expect("composes");
-                let (words, layouts) = spirv_of(&source, COMPUTE_ENTRY, &options)
+                let (words, layouts) = spirv_of(&source, Stages::Compute(COMPUTE_ENTRY), &options)
                     .unwrap_or_else(|e| panic!("{key:?}: {e}"));
                 assert_eq!(words.first(), Some(&0x0723_0203), "SPIR-V magic");
                 // A whole ray caster: 3976 to 10320 words over these variants (naga 30); a
@@ -198,6 +246,59 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Every fragment-path variant translates to one SPIR-V module holding the proxy's vertex
+    /// stage and the ray loop's fragment stage, its resources visible to both stages: the
+    /// frame's uniforms and textures in group 0, the exit-point texture in group 1. A stage
+    /// the module lacks is an error, not a module without it.
+    #[test]
+    fn every_fragment_variant_becomes_a_graphics_module() {
+        let keys: Vec<_> = PipelineKey::all()
+            .into_iter()
+            .filter(|k| k.path == ConcretePath::Fragment)
+            .collect();
+        assert!(keys.len() > 20, "{}", keys.len());
+        let stages = Stages::Graphics {
+            vertex: "vs_proxy",
+            fragment: "fs_raycast",
+        };
+        let graphics = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        for offer in offers() {
+            let options = spirv_options(&offer);
+            for key in &keys {
+                let source = key.source().expect("composes");
+                let (words, layouts) =
+                    spirv_of(&source, stages, &options).unwrap_or_else(|e| panic!("{key:?}: {e}"));
+                assert_eq!(words.first(), Some(&0x0723_0203), "SPIR-V magic");
+                assert!(words.len() > 400, "{key:?}: {} words", words.len());
+                let binding = |group: usize, binding: u32| {
+                    layouts
+                        .get(group)
+                        .and_then(|g| g.iter().find(|b| b.binding == binding))
+                        .map(|b| (b.descriptor_type, b.stage_flags))
+                };
+                assert_eq!(
+                    binding(0, 0),
+                    Some((vk::DescriptorType::UNIFORM_BUFFER, graphics))
+                );
+                assert_eq!(
+                    binding(1, 0),
+                    Some((vk::DescriptorType::SAMPLED_IMAGE, graphics)),
+                    "{key:?}: the exit points"
+                );
+            }
+        }
+        let source = keys[0].source().expect("composes");
+        let missing = Stages::Graphics {
+            vertex: "vs_proxy",
+            fragment: "fs_nowhere",
+        };
+        let options = spirv_options(&offers()[0]);
+        assert!(matches!(
+            spirv_of(&source, missing, &options),
+            Err(PipelineStatsError::Shader(m)) if m.contains("fs_nowhere")
+        ));
     }
 
     /// The options follow the device as wgpu's do: SPIR-V 1.6 on Vulkan 1.3, bounds checks on
