@@ -29,22 +29,8 @@ shift 3
 [[ -f "$archive" ]] || { echo "gpu-ab.sh: no archive $archive" >&2; exit 2; }
 [[ "$rounds" =~ ^[1-9][0-9]?$ ]] || { echo "gpu-ab.sh: ROUNDS must be 1 to 99, not $rounds" >&2; exit 2; }
 
-# The machine has NVIDIA's driver but no Vulkan loader: unpack the carried Debian packages.
-if ! ldconfig -p | grep -q libvulkan.so.1; then
-    if compgen -G ".gl/*.deb" >/dev/null; then
-        for f in .gl/*.deb; do dpkg -x "$f" /; done
-        ldconfig
-    else
-        echo "gpu-ab.sh: no Vulkan loader and no .gl/*.deb to unpack (see docs/benchmarks/README.md)" >&2
-        exit 1
-    fi
-fi
-if ! ls /usr/share/vulkan/icd.d/*nvidia* /etc/vulkan/icd.d/*nvidia* >/dev/null 2>&1 \
-    && [[ -f /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json ]]; then
-    export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-fi
-# GL on these machines fails at device creation or renders only background (GPU.md).
-export LEAPVIEW_BACKEND="${LEAPVIEW_BACKEND:-vulkan}"
+# The Vulkan loader and driver (scripts/gpu-env.sh).
+source scripts/gpu-env.sh || exit 1
 
 bins=$(mktemp -d)
 mkdir -p /tmp/r "$out"

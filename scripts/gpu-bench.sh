@@ -25,22 +25,8 @@ data=${LEAPVIEW_DATA_DIR:-.bench-data}
 [[ -x "$bin" ]] || { echo "gpu-bench.sh: $bin is not an executable leapview build" >&2; exit 2; }
 [[ -d "$data" ]] || { echo "gpu-bench.sh: no datasets in $data (copy ../shared/data/*.nrrd there and carry it)" >&2; exit 2; }
 
-# The machine has NVIDIA's driver but no Vulkan loader: unpack the carried Debian packages.
-if ! ldconfig -p | grep -q libvulkan.so.1; then
-    if compgen -G ".gl/*.deb" >/dev/null; then
-        for f in .gl/*.deb; do dpkg -x "$f" /; done
-        ldconfig
-    else
-        echo "gpu-bench.sh: no Vulkan loader and no .gl/*.deb to unpack (see docs/benchmarks/README.md)" >&2
-        exit 1
-    fi
-fi
-if ! ls /usr/share/vulkan/icd.d/*nvidia* /etc/vulkan/icd.d/*nvidia* >/dev/null 2>&1 \
-    && [[ -f /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json ]]; then
-    export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-fi
-# GL on these machines fails at device creation or renders only background (GPU.md).
-export LEAPVIEW_BACKEND=vulkan
+# The Vulkan loader and driver (scripts/gpu-env.sh).
+source scripts/gpu-env.sh || exit 1
 
 mkdir -p "$out"
 nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader >"$out/bench.log" 2>&1 || true

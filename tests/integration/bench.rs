@@ -4,6 +4,7 @@
 
 use crate::common;
 
+use std::path::Path;
 use std::process::Command;
 
 use leapview::bench::stats::median;
@@ -38,6 +39,19 @@ fn config_json() -> String {
     .to_string()
 }
 
+/// `leapview bench` with `config`, its volume files in `data`, its results into `out`.
+fn bench_command(config: &Path, data: &Path, out: &Path) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_leapview"));
+    command
+        .args(["bench", "--config"])
+        .arg(config)
+        .arg("--data-dir")
+        .arg(data)
+        .arg("--out")
+        .arg(out);
+    command
+}
+
 fn read(path: &std::path::Path) -> String {
     std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
@@ -47,13 +61,7 @@ fn quick_bench_writes_consistent_outputs() {
     let dir = common::TempDir::new("bench");
     let config = dir.write("config.json", config_json().as_bytes());
     let out = dir.path().join("out");
-    let status = Command::new(env!("CARGO_BIN_EXE_leapview"))
-        .args(["bench", "--config"])
-        .arg(&config)
-        .arg("--data-dir")
-        .arg(dir.path())
-        .arg("--out")
-        .arg(&out)
+    let status = bench_command(&config, dir.path(), &out)
         .status()
         .expect("run leapview bench");
     assert!(status.success(), "leapview bench failed: {status}");
@@ -163,13 +171,7 @@ fn a_dataset_that_cannot_be_measured_fails_the_run_unless_optional() {
         let dir = common::TempDir::new("bench-missing-tf");
         let config = dir.write("config.json", config_with_a_missing_tf(optional).as_bytes());
         let out = dir.path().join("out");
-        let output = Command::new(env!("CARGO_BIN_EXE_leapview"))
-            .args(["bench", "--config"])
-            .arg(&config)
-            .arg("--data-dir")
-            .arg(dir.path())
-            .arg("--out")
-            .arg(&out)
+        let output = bench_command(&config, dir.path(), &out)
             .output()
             .expect("run leapview bench");
         let stderr = String::from_utf8_lossy(&output.stderr);

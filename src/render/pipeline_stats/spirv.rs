@@ -197,6 +197,17 @@ mod tests {
         ]
     }
 
+    /// Every ray-casting variant on `path`: six modes, four strategies, statistics or not, lit
+    /// or not (and split or not) give far more than 20; fewer would mean the filter lost them.
+    fn variants_on(path: ConcretePath) -> Vec<PipelineKey> {
+        let keys: Vec<_> = PipelineKey::all()
+            .into_iter()
+            .filter(|k| k.path == path)
+            .collect();
+        assert!(keys.len() > 20, "{path:?}: {}", keys.len());
+        keys
+    }
+
     /// Every compute ray-casting variant translates to SPIR-V with either set of options, and
     /// the layouts name every resource the shader declares with the kind the renderer binds:
     /// the frame's uniforms, the volume, sampler and table textures in group 0, the output image
@@ -204,13 +215,7 @@ mod tests {
     /// group 3 (leaping variants).
     #[test]
     fn every_compute_variant_becomes_spirv_with_its_resources_laid_out() {
-        let keys: Vec<_> = PipelineKey::all()
-            .into_iter()
-            .filter(|k| k.path == ConcretePath::Compute)
-            .collect();
-        // Six modes, four strategies, split or not, statistics or not, lit or not: far more
-        // than 20 distinct compute variants; fewer would mean the filter lost them.
-        assert!(keys.len() > 20, "{}", keys.len());
+        let keys = variants_on(ConcretePath::Compute);
         for offer in offers() {
             let options = spirv_options(&offer);
             for key in &keys {
@@ -254,11 +259,7 @@ mod tests {
     /// the module lacks is an error, not a module without it.
     #[test]
     fn every_fragment_variant_becomes_a_graphics_module() {
-        let keys: Vec<_> = PipelineKey::all()
-            .into_iter()
-            .filter(|k| k.path == ConcretePath::Fragment)
-            .collect();
-        assert!(keys.len() > 20, "{}", keys.len());
+        let keys = variants_on(ConcretePath::Fragment);
         let stages = Stages::Graphics {
             vertex: "vs_proxy",
             fragment: "fs_raycast",
