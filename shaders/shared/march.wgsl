@@ -77,9 +77,7 @@
 #ifdef LEAP_RUNS
 // No sample waits to be taken (march_samples).
 const NO_LANDING: u32 = 0xffffffffu;
-#endif
 
-#ifdef LEAP_RUNS
 // Takes grid sample k of `ray`; whether it stops the ray.
 fn take_sample(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray, k: u32) -> bool {
     let t = sample_distance(ray, k);

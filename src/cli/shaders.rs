@@ -7,19 +7,19 @@
 use anyhow::anyhow;
 use leapview::render::PipelineKey;
 use leapview::render::pipeline_stats::{Executable, PipelineStatsError, Stages, StatsDevice};
-use leapview::render::raycast::variant::COMPUTE_ENTRY;
+use leapview::render::raycast::variant::{COMPUTE_ENTRY, FRAGMENT_ENTRY, PROXY_VERTEX_ENTRY};
 use leapview::settings::effects::Shading;
 use leapview::settings::{ConcretePath, Mode, RenderPath, RenderSettings, Strategy};
-
-/// The fragment path's entry points (shaders/shared/proxy.wgsl, shaders/entry/raycast_fragment.wgsl).
-const FRAGMENT_STAGES: Stages<'static> = Stages::Graphics {
-    vertex: "vs_proxy",
-    fragment: "fs_raycast",
-};
 
 use super::Failure;
 use super::args::ShadersArgs;
 use super::text::{outln, print_stdout};
+
+/// The fragment path's pipeline: the proxy's vertex stage and the ray loop's fragment stage.
+const FRAGMENT_STAGES: Stages<'static> = Stages::Graphics {
+    vertex: PROXY_VERTEX_ENTRY,
+    fragment: FRAGMENT_ENTRY,
+};
 
 /// One variant and what the driver said of it.
 #[derive(serde::Serialize)]
@@ -52,12 +52,13 @@ fn variants(args: &ShadersArgs) -> Result<Vec<Variant>, Failure> {
                 )));
             }
         };
-        for (key, size) in variants_on(args, path) {
-            if !keys.iter().any(|(k, _)| *k == key) {
-                let size = (path == ConcretePath::Compute).then_some(size);
-                keys.push((key, size));
-            }
-        }
+        // Distinct within a path (`variants_on`); the path is part of the key.
+        let on_compute = path == ConcretePath::Compute;
+        keys.extend(
+            variants_on(args, path)
+                .into_iter()
+                .map(|(key, size)| (key, on_compute.then_some(size))),
+        );
     }
     Ok(keys)
 }

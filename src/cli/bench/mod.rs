@@ -106,7 +106,7 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
             && let Err(e) = auto_path::choose(&mut renderer, RenderPath::Auto)
         {
             progress.note(&format!("skipping {}: {e}", spec.name));
-            results.skipped.push(skip(e.to_string(), false));
+            results.skipped.push(skip(e.to_string(), e.is_bad_input()));
             progress.advance(runs.len() as u64 + 1);
             continue;
         }
@@ -159,7 +159,7 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
                         planned.size[1]
                     );
                     progress.note(&format!("{}: {what}", spec.name));
-                    results.skipped.push(skip(what, false));
+                    results.skipped.push(skip(what, e.is_bad_input()));
                 }
             }
             progress.advance(1);
@@ -175,7 +175,7 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
             Ok(c) => results.image_checks.extend(c),
             Err(e) => results
                 .skipped
-                .push(skip(format!("rebuild/image check: {e}"), false)),
+                .push(skip(format!("rebuild/image check: {e}"), e.is_bad_input())),
         }
         progress.advance(1);
         output::write_all(&out, &results, false)?;

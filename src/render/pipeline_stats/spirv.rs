@@ -173,7 +173,7 @@ pub(super) fn spirv_of(
 mod tests {
     use super::*;
     use crate::render::PipelineKey;
-    use crate::render::raycast::variant::COMPUTE_ENTRY;
+    use crate::render::raycast::variant::{COMPUTE_ENTRY, FRAGMENT_ENTRY, PROXY_VERTEX_ENTRY};
     use crate::settings::ConcretePath;
 
     /// A Vulkan 1.3 device with every robustness feature wgpu turns on, and a 1.1 device
@@ -261,8 +261,8 @@ mod tests {
     fn every_fragment_variant_becomes_a_graphics_module() {
         let keys = variants_on(ConcretePath::Fragment);
         let stages = Stages::Graphics {
-            vertex: "vs_proxy",
-            fragment: "fs_raycast",
+            vertex: PROXY_VERTEX_ENTRY,
+            fragment: FRAGMENT_ENTRY,
         };
         let graphics = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
         for offer in offers() {
@@ -292,7 +292,7 @@ mod tests {
         }
         let source = keys[0].source().expect("composes");
         let missing = Stages::Graphics {
-            vertex: "vs_proxy",
+            vertex: PROXY_VERTEX_ENTRY,
             fragment: "fs_nowhere",
         };
         let options = spirv_options(&offers()[0]);

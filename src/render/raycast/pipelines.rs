@@ -110,7 +110,7 @@ fn proxy_pipeline(
         layout: Some(layout),
         vertex: wgpu::VertexState {
             module,
-            entry_point: Some("vs_proxy"),
+            entry_point: Some(super::variant::PROXY_VERTEX_ENTRY),
             buffers: &[],
             compilation_options: Default::default(),
         },
@@ -168,7 +168,11 @@ fn build(
             device,
             &layout,
             &module,
-            ("fs_raycast", OUTPUT_FORMAT, wgpu::Face::Back),
+            (
+                super::variant::FRAGMENT_ENTRY,
+                OUTPUT_FORMAT,
+                wgpu::Face::Back,
+            ),
             &label,
         )),
         ConcretePath::Compute => RaycastPipeline::Compute(device.create_compute_pipeline(

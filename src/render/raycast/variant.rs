@@ -34,6 +34,11 @@ pub struct PipelineKey {
 
 /// The compute entry point of every ray-casting variant (shaders/entry/raycast_compute.wgsl).
 pub const COMPUTE_ENTRY: &str = "cs_raycast";
+/// The vertex entry point of the fragment path's proxy geometry (shaders/shared/proxy.wgsl).
+pub const PROXY_VERTEX_ENTRY: &str = "vs_proxy";
+/// The fragment entry point of every fragment-path ray-casting variant
+/// (shaders/entry/raycast_fragment.wgsl).
+pub const FRAGMENT_ENTRY: &str = "fs_raycast";
 
 /// Images of at most this many pixels split their rays (see [`PipelineKey::new`]): 512 × 512
 /// does (measured faster), 1024 × 1024 and 1920 × 1080 do not (measured slower); sizes between
