@@ -303,6 +303,16 @@ impl BenchConfig {
         self.rebuild_repeats = self.rebuild_repeats.min(3);
     }
 
+    /// The configured strategies that leap by name (`auto` stands for one of them or RC-t, each
+    /// measured in its own right): what the block sweep, the rebuild timing and the image check
+    /// go through.
+    pub fn leaping_strategies(&self) -> impl Iterator<Item = Strategy> + '_ {
+        self.strategies
+            .iter()
+            .copied()
+            .filter(|s| s.leaps() && *s != Strategy::Auto)
+    }
+
     /// Whether `strategy` can run in `mode` (the distance field leaps by the transfer function,
     /// the window or the iso value, so it exists for DVR, isosurfaces and the X-ray modes only).
     pub fn runs_in(strategy: Strategy, mode: Mode) -> bool {

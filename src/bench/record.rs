@@ -100,6 +100,21 @@ pub struct FrameRecord {
     pub lookups: Option<u64>,
 }
 
+/// What the `auto` strategy stood for in a run (chosen once, on the orbit's first view, after the
+/// warm-up, as the window chooses when its inputs change), and what choosing took.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AutoChoice {
+    /// The strategy chosen (`RC-t`, `RC-s`, `RC-s-df`).
+    pub strategy: String,
+    /// RC-t's frame time as timed for the choice, milliseconds (`None`: not timed, a CPU driver).
+    pub rct_ms: Option<f64>,
+    /// The leaping strategy's frame time as timed for the choice, milliseconds.
+    pub leaping_ms: Option<f64>,
+    /// Wall time of the choice (both strategies' warm-up and timed frames), milliseconds: what a
+    /// user waits once per volume, transfer function, mode and image size.
+    pub choose_ms: f64,
+}
+
 /// One run: a dataset under one combination of settings, over the whole orbit.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunRecord {
@@ -111,6 +126,9 @@ pub struct RunRecord {
     pub tf: String,
     /// Every view's figures.
     pub frames: Vec<FrameRecord>,
+    /// What `auto` stood for (runs of the `auto` strategy only).
+    #[serde(default)]
+    pub auto: Option<AutoChoice>,
 }
 
 /// Leaping-structure rebuild after a transfer-function change.

@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::record::{RunKey, RunRecord};
+use super::record::{AutoChoice, RunKey, RunRecord};
 use crate::counters::FrameCounters;
 
 /// The `q`-quantile (0..1) by nearest rank of `values`; `None` when empty.
@@ -66,9 +66,20 @@ pub struct RunSummary {
     pub step_vox: f64,
     /// Transfer function.
     pub tf: String,
+    /// What `auto` stood for (runs of the `auto` strategy only).
+    #[serde(default)]
+    pub auto: Option<AutoChoice>,
 }
 
 impl RunSummary {
+    /// The strategy as tables show it: `auto` with what it stood for (`auto → RC-t`).
+    pub fn strategy_cell(&self) -> String {
+        match &self.auto {
+            Some(a) => format!("{} → {}", self.key.strategy, a.strategy),
+            None => self.key.strategy.clone(),
+        }
+    }
+
     /// Samples taken per second of frame time, in billions (the loop's per-sample rate).
     pub fn gsamples_per_s(&self) -> f64 {
         self.samples_per_frame / (self.median_ms * 1e6)
@@ -109,6 +120,7 @@ impl RunSummary {
                 .then(|| total.lookups as f64 / total.rays as f64),
             step_vox: run.step_vox,
             tf: run.tf.clone(),
+            auto: run.auto.clone(),
         })
     }
 }

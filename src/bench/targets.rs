@@ -8,7 +8,7 @@ use std::fmt::Write;
 use serde::{Deserialize, Serialize};
 
 use super::stats::RunSummary;
-use crate::settings::{Mode, RenderSettings};
+use crate::settings::{Mode, RenderSettings, Strategy};
 
 /// A leaping run counts as at least as fast as RC-t from this fps ratio on (2 % for the runs'
 /// own spread, as issue 14 sets it).
@@ -44,9 +44,23 @@ pub struct AgainstRcT {
     /// Its lookups in the leaping structure per ray: what it pays for the samples it removes.
     #[serde(default)]
     pub lookups_per_ray: Option<f64>,
+    /// What `auto` stood for in the run (`auto` runs only).
+    #[serde(default)]
+    pub chose: Option<String>,
 }
 
-/// Every non-sweep leaping run that has an RC-t run beside it, in run order.
+impl AgainstRcT {
+    /// The strategy as the tables show it: `auto → RC-t` for `auto`.
+    pub fn strategy_cell(&self) -> String {
+        match &self.chose {
+            Some(c) => format!("{} → {c}", self.strategy),
+            None => self.strategy.clone(),
+        }
+    }
+}
+
+/// Every non-sweep run of a leaping strategy or of `auto` that has an RC-t run beside it, in run
+/// order.
 pub fn against_rc_t(runs: &[RunSummary]) -> Vec<AgainstRcT> {
     let same = |a: &RunSummary, b: &RunSummary| {
         let (a, b) = (&a.key, &b.key);
@@ -54,10 +68,10 @@ pub fn against_rc_t(runs: &[RunSummary]) -> Vec<AgainstRcT> {
             == (&b.dataset, &b.mode, &b.path, b.width, b.height, b.sweep)
     };
     let mut rows = Vec::new();
-    for run in runs
-        .iter()
-        .filter(|r| !r.key.sweep && r.key.strategy.starts_with("RC-s"))
-    {
+    for run in runs.iter().filter(|r| {
+        !r.key.sweep
+            && (r.key.strategy.starts_with("RC-s") || r.key.strategy == Strategy::Auto.label())
+    }) {
         let Some(rct) = runs
             .iter()
             .find(|r| r.key.strategy == "RC-t" && same(r, run))
@@ -81,6 +95,7 @@ pub fn against_rc_t(runs: &[RunSummary]) -> Vec<AgainstRcT> {
             wall_ms: run.wall_median_ms,
             rct_wall_ms: rct.wall_median_ms,
             lookups_per_ray: run.lookups_per_ray,
+            chose: run.auto.as_ref().map(|a| a.strategy.clone()),
         });
     }
     rows
@@ -218,7 +233,7 @@ pub fn markdown(rows: &[AgainstRcT]) -> String {
             r.path,
             r.size[0],
             r.size[1],
-            r.strategy,
+            r.strategy_cell(),
             r.fps_ratio,
             opt(r.rate_ratio, 2),
             opt(r.oracle_ratio, 2),
@@ -235,7 +250,7 @@ pub fn markdown(rows: &[AgainstRcT]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bench::record::RunKey;
+    use crate::bench::record::{AutoChoice, RunKey};
 
     fn run(strategy: &str, median_ms: f64, samples: f64, visible: f64) -> RunSummary {
         RunSummary {
@@ -263,6 +278,7 @@ mod tests {
             lookups_per_ray: None,
             step_vox: 0.5,
             tf: "t".into(),
+            auto: None,
         }
     }
 
@@ -291,9 +307,16 @@ mod tests {
             ("b", 1.0, 1.01, 0.5),
             ("c", 1.0, 1.5, 0.5),
         ] {
+            let mut auto = run("auto", df_ms, 2e5, 1e5);
+            auto.auto = Some(AutoChoice {
+                strategy: "RC-s-df".into(),
+                rct_ms: Some(rct_ms),
+                leaping_ms: Some(df_ms),
+                choose_ms: 1.0,
+            });
             let mut runs = [
                 run("RC-t", rct_ms, 1e6, 1e5),
-                run("RC-s-df", df_ms, 2e5, 1e5),
+                auto,
                 run("RC-s", s_ms, 2e5, 1e5),
             ];
             for r in &mut runs {
@@ -304,16 +327,18 @@ mod tests {
         let groups = default_against_rc_t(&rows);
         assert_eq!(groups.len(), 1);
         let g = &groups[0];
-        // DVR's default is RC-s-df: 2×, 0.990× (as fast, within the 2 %) and 0.667× RC-t.
-        assert_eq!(g.strategy, "RC-s-df");
+        // DVR's default is auto (here standing for RC-s-df): 2×, 0.990× (as fast, within the
+        // 2 %) and 0.667× RC-t.
+        assert_eq!(g.strategy, "auto");
         assert_eq!((g.volumes, g.as_fast), (3, 2));
         assert!((g.median_ratio - 1.0 / 1.01).abs() < 1e-12);
         assert_eq!(g.worst.0, "c");
         assert!((g.worst.1 - 1.0 / 1.5).abs() < 1e-12);
         assert!(
             default_markdown(&rows)
-                .contains("| dvr | compute | 8×8 | RC-s-df | 2 of 3 | 0.99 | c 0.67 |")
+                .contains("| dvr | compute | 8×8 | auto | 2 of 3 | 0.99 | c 0.67 |")
         );
+        assert!(markdown(&rows).contains("| a | dvr | compute | 8×8 | auto → RC-s-df | 2.00 |"));
         assert!(default_markdown(&[]).is_empty());
     }
 

@@ -215,8 +215,9 @@ pub struct RenderArgs {
     /// Visual effect.
     #[arg(long, value_enum, default_value = "dvr")]
     pub mode: Mode,
-    /// Ray-casting strategy.
-    #[arg(long, value_enum, default_value = "rc-s-df")]
+    /// Ray-casting strategy; `auto` times RC-t and leaping on this frame and renders with the
+    /// faster (a CPU driver takes leaping untimed).
+    #[arg(long, value_enum, default_value = "auto")]
     pub strategy: Strategy,
     /// Where the ray loop runs; `auto` times both once and picks the faster.
     #[arg(long, value_enum, default_value = "auto")]

@@ -3,9 +3,9 @@
 use anyhow::Context;
 use leapview::camera::Aabb;
 use leapview::render::RenderError;
-use leapview::render::raycast::auto_path;
+use leapview::render::raycast::{auto_path, auto_strategy};
 use leapview::render::{FrameRequest, GpuContext, VolumeRenderer};
-use leapview::settings::RenderSettings;
+use leapview::settings::{RenderSettings, Strategy};
 use leapview::transfer::blank::why_blank;
 use leapview::transfer::fit::{self, DataKind};
 
@@ -95,6 +95,8 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         .map_err(render_failure)?;
     renderer.set_transfer_function(&tf);
     auto_path::choose(&mut renderer, settings.path).map_err(render_failure)?;
+    auto_strategy::choose(&mut renderer, &settings, args.size, &camera, true)
+        .map_err(render_failure)?;
     let request = FrameRequest {
         camera: &camera,
         size: args.size,
@@ -152,7 +154,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
             args.size[0],
             args.size[1],
             settings.mode.label(),
-            settings.strategy.label(),
+            strategy_line(&renderer, &settings, args.size),
             submitted.key.path,
             settings.step_vox
         );
@@ -185,7 +187,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
             "samples_over_oracle: {:.2} (samples taken / samples with non-zero opacity)",
             c.samples as f64 / c.visible_samples.max(1) as f64
         );
-        if settings.strategy.leaps() {
+        if submitted.key.strategy.leaps() {
             outln!(
                 out,
                 "leaps: {} (block {} voxels)",
@@ -219,4 +221,16 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         );
     }
     Ok(())
+}
+
+/// The strategy a frame ran with, for people: the name asked for, and for `auto` what it stood
+/// for and why.
+fn strategy_line(renderer: &VolumeRenderer, settings: &RenderSettings, size: [u32; 2]) -> String {
+    let key = renderer.choice_key(settings, size);
+    match renderer.strategy_choice() {
+        Some(c) if settings.strategy == Strategy::Auto && c.key == key => {
+            format!("auto: {}", c.describe())
+        }
+        _ => settings.strategy.untimed(settings.mode).label().to_string(),
+    }
 }

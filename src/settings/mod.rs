@@ -78,14 +78,20 @@ pub enum Strategy {
     #[value(name = "rc-s")]
     RcS,
     /// RC-s with a distance field over blocks: one step clears the whole cube of blocks the
-    /// field proves empty (beyond the paper). The default: on the H200 the fastest of the three
-    /// on most volumes of the benchmark, but RC-t can be faster where little can be skipped
-    /// (dense volumes, small images: docs/benchmarks). The field is two-sided: a ray also
+    /// field proves empty (beyond the paper). On the H200 the fastest of the three on most
+    /// volumes of the benchmark, but RC-t can be faster where little can be skipped (dense
+    /// volumes, small images: docs/benchmarks; `auto` times both). The field is two-sided: a ray also
     /// takes every sample of a cube of blocks that all matter without asking about each. It
     /// leaps by the transfer function, the X-ray window or the iso value (one field per side of
     /// it); MIP and MinIP leap by the octree as RC-s does.
     #[value(name = "rc-s-df")]
     RcSDistance,
+    /// The default: RC-t or the mode's leaping strategy ([`Strategy::leaping`]), whichever renders
+    /// this volume, transfer function, mode and image size faster on this GPU, timed when they
+    /// change (`render::raycast::auto_strategy`); both give the same image (within 1/255). A CPU
+    /// driver, whose clock follows the machine's load, takes the leaping strategy untimed.
+    #[value(name = "auto")]
+    Auto,
 }
 
 impl Strategy {
@@ -96,6 +102,7 @@ impl Strategy {
             Self::RcT => "RC-t",
             Self::RcS => "RC-s",
             Self::RcSDistance => "RC-s-df",
+            Self::Auto => "auto",
         }
     }
 
@@ -104,9 +111,24 @@ impl Strategy {
         !matches!(self, Self::Rc)
     }
 
-    /// Whether rays leap over empty space.
+    /// Whether rays leap over empty space (`auto`: where leaping was measured faster, so its
+    /// leaping structures and block edge matter).
     pub fn leaps(self) -> bool {
-        matches!(self, Self::RcS | Self::RcSDistance)
+        matches!(self, Self::RcS | Self::RcSDistance | Self::Auto)
+    }
+
+    /// The leaping strategy `mode` runs: RC-s-df where the mode has the distance field, else RC-s.
+    pub fn leaping(mode: Mode) -> Self {
+        Self::RcSDistance.for_mode(mode)
+    }
+
+    /// `auto`'s concrete strategy for `mode` until it has been timed: the leaping one (the
+    /// faster on most volumes of the benchmark); any other strategy as [`Self::for_mode`] runs it.
+    pub fn untimed(self, mode: Mode) -> Self {
+        match self {
+            Self::Auto => Self::leaping(mode),
+            other => other.for_mode(mode),
+        }
     }
 
     /// The strategy `mode` runs with: the distance field exists for DVR, isosurfaces and the
@@ -123,7 +145,7 @@ impl Strategy {
         }
     }
 
-    /// All strategies, plainest first.
+    /// The concrete strategies (all but `auto`, which stands for one of them), plainest first.
     pub const ALL: [Self; 4] = [Self::Rc, Self::RcT, Self::RcS, Self::RcSDistance];
 }
 
@@ -214,7 +236,7 @@ impl Default for RenderSettings {
     fn default() -> Self {
         Self {
             mode: Mode::Dvr,
-            strategy: Strategy::RcSDistance,
+            strategy: Strategy::Auto,
             path: RenderPath::Auto,
             step_vox: 0.5,
             termination_alpha: DEFAULT_TERMINATION_ALPHA,
@@ -253,7 +275,7 @@ pub const OCTREE_RUNS_BLOCK_VOX: u32 = 16;
 /// [`Strategy::for_mode`]): [`OCTREE_RUNS_BLOCK_VOX`] for the octree (RC-s) in every mode but
 /// DVR, else [`DEFAULT_BLOCK_VOX`] (strategies that do not leap ignore it).
 pub fn default_block_vox(mode: Mode, strategy: Strategy) -> u32 {
-    if mode != Mode::Dvr && strategy.for_mode(mode) == Strategy::RcS {
+    if mode != Mode::Dvr && strategy.untimed(mode) == Strategy::RcS {
         OCTREE_RUNS_BLOCK_VOX
     } else {
         DEFAULT_BLOCK_VOX
@@ -402,6 +424,11 @@ mod tests {
             (Mode::Iso, Strategy::RcSDistance, DEFAULT_BLOCK_VOX),
             (Mode::Dvr, Strategy::RcS, DEFAULT_BLOCK_VOX),
             (Mode::Mip, Strategy::RcT, DEFAULT_BLOCK_VOX),
+            // `auto` leaps with the mode's leaping strategy, so it takes that one's edge.
+            (Mode::Mip, Strategy::Auto, octree),
+            (Mode::MinIp, Strategy::Auto, octree),
+            (Mode::Iso, Strategy::Auto, DEFAULT_BLOCK_VOX),
+            (Mode::Dvr, Strategy::Auto, DEFAULT_BLOCK_VOX),
         ];
         for (mode, strategy, edge) in cases {
             assert_eq!(
@@ -411,6 +438,26 @@ mod tests {
             );
         }
         assert_ne!(octree, DEFAULT_BLOCK_VOX);
+    }
+
+    #[test]
+    fn auto_stands_for_the_modes_leaping_strategy_until_timed() {
+        assert_eq!(RenderSettings::default().strategy, Strategy::Auto);
+        for mode in Mode::ALL {
+            let leaping = Strategy::leaping(mode);
+            assert!(
+                leaping.leaps() && Strategy::ALL.contains(&leaping),
+                "{mode:?}"
+            );
+            assert_eq!(Strategy::Auto.untimed(mode), leaping, "{mode:?}");
+            assert_eq!(Strategy::Auto.for_mode(mode), Strategy::Auto, "{mode:?}");
+            for s in Strategy::ALL {
+                assert_eq!(s.untimed(mode), s.for_mode(mode), "{mode:?} {s:?}");
+            }
+        }
+        assert_eq!(Strategy::leaping(Mode::Mip), Strategy::RcS);
+        assert_eq!(Strategy::leaping(Mode::Dvr), Strategy::RcSDistance);
+        assert!(!Strategy::ALL.contains(&Strategy::Auto));
     }
 
     #[test]

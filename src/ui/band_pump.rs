@@ -3,8 +3,9 @@
 //! has to run a pass (on a CPU driver, about 50 ms of drawing the whole window) just to submit
 //! the next band. The renderer and the frame in progress live in [`Shared`], behind a mutex; the
 //! window's thread only ever `try_lock`s it in a pass, so the slow CPU work the pump may do
-//! first — compiling a shader variant, timing the `auto` path — shows as "preparing" instead of
-//! a frozen window.
+//! first — compiling a shader variant, timing the `auto` path or the `auto` strategy — shows as
+//! "preparing" instead of a frozen window. The `auto` strategy is timed only once the user is
+//! still ([`STILL_AFTER`]); while they drag, it keeps its last choice (no frame waits for it).
 //!
 //! The pump submits a band once the GPU has finished the last one (it polls every millisecond):
 //! the queue never holds more than one band ahead of the window's own drawing, which therefore
@@ -16,12 +17,12 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crate::render::gpu_data::WORKGROUP;
-use crate::render::raycast::auto_path;
+use crate::render::raycast::{auto_path, auto_strategy};
 use crate::render::{FrameRequest, RenderError, VolumeRenderer};
-use crate::settings::ConcretePath;
+use crate::settings::{ConcretePath, Strategy};
 
 use super::frame_job::{BandInFlight, Completion, FrameJob, JobKind, band_budget_ms};
-use super::lod::Lod;
+use super::lod::{Lod, STILL_AFTER};
 
 /// How long the pump lets the window draw "preparing" before slow work holds the renderer.
 const PREPARE_NOTICE: Duration = Duration::from_millis(30);
@@ -41,6 +42,8 @@ pub struct Finished {
     pub mean: Option<u32>,
     /// The path its bands ran on.
     pub path: ConcretePath,
+    /// The strategy its bands ran with (what `auto` stood for).
+    pub strategy: Strategy,
 }
 
 /// What the window's thread and the pump share.
@@ -86,12 +89,25 @@ impl Shared {
             return false;
         };
         let (settings, stats, size) = (job.settings, job.inputs.stats, job.inputs.size_px);
+        let camera = job.inputs.camera;
+        // A frame's first band: `auto` keeps the choice made for these inputs, or carries the last
+        // one over until it can be timed (instant: this never renders).
+        if job.next_row == 0
+            && let Err(e) =
+                auto_strategy::choose(&mut self.renderer, &settings, size, &camera, false)
+        {
+            return self.fail(e);
+        }
         if !self.ready() {
             if !may_prepare {
                 return false;
             }
             self.preparing = Some(self.preparation());
+            let may_time = self.user_still();
             let prepared = auto_path::choose(&mut self.renderer, settings.path)
+                .and_then(|_| {
+                    auto_strategy::choose(&mut self.renderer, &settings, size, &camera, may_time)
+                })
                 .and_then(|_| self.renderer.prepare_pipeline(&settings, stats, size));
             self.preparing = None;
             if let Err(e) = prepared {
@@ -104,8 +120,28 @@ impl Shared {
     /// Whether the frame in progress can go out without slow CPU work first.
     fn ready(&self) -> bool {
         self.job.as_ref().is_none_or(|j| {
-            self.renderer
-                .ready_for(&j.settings, j.inputs.stats, j.inputs.size_px)
+            !self.wants_strategy_timing()
+                && self
+                    .renderer
+                    .ready_for(&j.settings, j.inputs.stats, j.inputs.size_px)
+        })
+    }
+
+    /// Whether the user has been still long enough for the `auto` strategy to be timed.
+    fn user_still(&self) -> bool {
+        self.last_input.is_none_or(|t| t.elapsed() >= STILL_AFTER)
+    }
+
+    /// Whether the frame in progress, not yet begun, waits for the `auto` strategy to be timed.
+    fn wants_strategy_timing(&self) -> bool {
+        self.job.as_ref().is_some_and(|j| {
+            j.next_row == 0
+                && auto_strategy::wants_timing(
+                    &self.renderer,
+                    &j.settings,
+                    j.inputs.size_px,
+                    self.user_still(),
+                )
         })
     }
 
@@ -113,6 +149,8 @@ impl Shared {
     fn preparation(&self) -> &'static str {
         if self.renderer.auto_path().is_none() {
             "timing the fragment and compute ray loops on this GPU"
+        } else if self.wants_strategy_timing() {
+            "timing RC-t against leaping for these settings"
         } else {
             "compiling the ray caster for these settings"
         }
@@ -176,6 +214,7 @@ impl Shared {
                 job,
                 mean,
                 path: submitted.key.path,
+                strategy: submitted.key.strategy,
             });
         }
         true
@@ -366,6 +405,7 @@ fn render_still(s: &mut Shared, still: &Still) -> Result<crate::imaging::ImageF3
     renderer.set_transfer_function(&still.transfer);
     auto_path::choose(renderer, still.settings.path)?;
     let size = still.size;
+    auto_strategy::choose(renderer, &still.settings, size, &still.camera, true)?;
     renderer.render_refined_in_bands(
         &still.camera,
         size,

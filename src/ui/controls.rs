@@ -26,6 +26,8 @@ pub const TERMINATION_RANGE: std::ops::RangeInclusive<f64> = 0.5..=1.0;
 pub struct PanelInfo<'a> {
     /// The path `auto` resolved to (from the last frame), if known.
     pub path_used: Option<ConcretePath>,
+    /// The strategy the last frame ran with (what `auto` stood for), if known.
+    pub strategy_used: Option<Strategy>,
     /// The volume on screen.
     pub volume: Option<&'a VolumeSummary>,
 }
@@ -52,7 +54,7 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
         .spacing([8.0, 6.0])
         .show(ui, |ui| {
             preset_row(ui, state);
-            strategy_rows(ui, state);
+            strategy_rows(ui, state, info.strategy_used);
             path_row(ui, state, info.path_used);
             quality_rows(ui, state);
             if let Some(a) = look_rows(ui, state) {
@@ -96,12 +98,18 @@ fn preset_row(ui: &mut egui::Ui, state: &mut ViewerState) {
 }
 
 /// Strategy, block size, statistics and the interaction level of detail.
-fn strategy_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
+fn strategy_rows(ui: &mut egui::Ui, state: &mut ViewerState, used: Option<Strategy>) {
     ui.label("Strategy");
     let in_use = state.strategy_in_use();
     let strategy = &mut state.render.strategy;
     ui.horizontal(|ui| {
         for (value, label, hint) in [
+            (
+                Strategy::Auto,
+                "auto",
+                "RC-t or leaping, whichever renders these settings faster on this GPU \
+                 (timed when they change; the same image either way)",
+            ),
             (Strategy::Rc, "RC", "Every sample from entry to exit"),
             (
                 Strategy::RcT,
@@ -122,14 +130,40 @@ fn strategy_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
             ui.selectable_value(strategy, value, label)
                 .on_hover_text(hint);
         }
-        if in_use != *strategy {
-            ui.label("(RC-s in this mode)").on_hover_text(
-                "The distance field is built beforehand from the transfer function, the \
-                 window or the iso value; what MIP and MinIP can skip depends on the extreme \
-                 each ray has found so far, so they leap by the octree",
-            );
-        }
     });
+    ui.end_row();
+
+    // What the selection stands for, on a row of its own (always there, so that neither the
+    // panel's width nor the rows under it move when the first frame tells or a click changes it).
+    let (text, hint) = match *strategy {
+        Strategy::Auto => (
+            match used.filter(|u| *u != Strategy::Auto) {
+                Some(used) => format!("uses {}", used.label()),
+                None => "decided when the view is still".to_owned(),
+            },
+            "Timed on this volume, transfer function, mode and image size once the view was \
+             still; a CPU driver takes leaping untimed",
+        ),
+        s if in_use != s => (
+            "RC-s in this mode".to_owned(),
+            "The distance field is built beforehand from the transfer function, the window or \
+             the iso value; what MIP and MinIP can skip depends on the extreme each ray has \
+             found so far, so they leap by the octree",
+        ),
+        Strategy::Rc => ("no acceleration".to_owned(), "The reference for timings"),
+        Strategy::RcT => (
+            "early termination".to_owned(),
+            "The same image as every other strategy",
+        ),
+        Strategy::RcS => ("leaps by the octree".to_owned(), "The same image as RC-t"),
+        Strategy::RcSDistance => (
+            "leaps by a distance field".to_owned(),
+            "The same image as RC-t",
+        ),
+    };
+    ui.label("");
+    ui.label(egui::RichText::new(text).weak())
+        .on_hover_text(hint);
     ui.end_row();
 
     ui.label("Block (voxels)");
@@ -477,6 +511,7 @@ mod tests {
         let ctx = egui::Context::default();
         let info = PanelInfo {
             path_used: None,
+            strategy_used: None,
             volume: None,
         };
         let mut output = ctx.run_ui(egui::RawInput::default(), |ui| {

@@ -13,7 +13,7 @@ use crate::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use crate::counters::FrameCounters;
 use crate::imaging::ImageF32;
 use crate::render::{GpuContext, RenderError, VolumeRenderer};
-use crate::settings::ConcretePath;
+use crate::settings::{ConcretePath, Strategy};
 use crate::volume::Volume;
 
 use super::band_pump::{BandPump, Finished, Shared, lock, try_lock};
@@ -54,6 +54,8 @@ pub struct Scene {
     counters: Option<(FrameCounters, u64)>,
     rebuild_ms: Option<f64>,
     path_used: Option<ConcretePath>,
+    /// The strategy the last frame ran with (what `auto` stood for).
+    strategy_used: Option<Strategy>,
     frames_rendered: u64,
     quiet_passes: u32,
     /// Pixels of the last frame (for samples per pixel).
@@ -128,6 +130,7 @@ impl Scene {
             counters: None,
             rebuild_ms: None,
             path_used: None,
+            strategy_used: None,
             frames_rendered: 0,
             quiet_passes: 0,
             last_pixels: 0,
@@ -442,9 +445,15 @@ impl Scene {
     /// A frame's last band is on the GPU: what it rendered is what the view shows from now on
     /// (the window draws after it in the same queue).
     fn complete(&mut self, finished: Finished, shared: &Shared) {
-        let Finished { job, mean, path } = finished;
+        let Finished {
+            job,
+            mean,
+            path,
+            strategy,
+        } = finished;
         let size = job.inputs.size_px;
         self.path_used = Some(path);
+        self.strategy_used = Some(strategy);
         self.quiet_passes = 0;
         match job.kind {
             JobKind::Plain { refine } => {
@@ -585,10 +594,12 @@ impl Scene {
             has_timestamps: self.timestamps_reliable(),
             adapter: &self.adapter_label,
             path: self.path_used,
-            strategy: state.render.strategy.label(),
+            strategy: self.strategy_used.unwrap_or(state.render.strategy).label(),
             volume: self.volume.as_ref(),
             counters: self.counters,
-            rebuild_ms: self.rebuild_ms.filter(|_| state.render.strategy.leaps()),
+            rebuild_ms: self
+                .rebuild_ms
+                .filter(|_| self.strategy_used.unwrap_or(state.render.strategy).leaps()),
             tf_latency_ms: self.tf_latency_ms,
             preview_scale: self.preview_scale(),
             refined: Some(self.refined).filter(|(n, _)| *n > 0),
@@ -612,6 +623,11 @@ impl Scene {
     /// The path the last frame used (what `auto` chose).
     pub fn path_used(&self) -> Option<ConcretePath> {
         self.path_used
+    }
+
+    /// The strategy the last frame ran with (what `auto` chose).
+    pub fn strategy_used(&self) -> Option<Strategy> {
+        self.strategy_used
     }
 
     /// Volume frames rendered so far.

@@ -5,9 +5,10 @@ use crate::common;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::counters::FrameCounters;
 use leapview::imaging::ImageF32;
-use leapview::render::VolumeRenderer;
-use leapview::render::raycast::auto_path;
+use leapview::render::raycast::strategy_choice::{ChoiceBasis, StrategyChoice};
 use leapview::render::raycast::variant::SPLIT_MAX_PIXELS;
+use leapview::render::raycast::{auto_path, auto_strategy};
+use leapview::render::{FrameRequest, VolumeRenderer};
 use leapview::settings::{ConcretePath, IsoSettings, Mode, RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
 use leapview::volume::{Samples, ValueMapping, Volume};
@@ -237,4 +238,103 @@ fn auto_path_picks_one_of_the_two() {
         p
     );
     assert_eq!(r.resolve_path(RenderPath::Auto).expect("chosen"), p);
+}
+
+/// `auto` (the default strategy) times RC-t against the mode's leaping strategy and renders
+/// with the faster, on exactly the inputs it timed: a new transfer function, size or volume
+/// renders with the leaping strategy until timed again. The images are RC-t's either way.
+#[test]
+fn auto_strategy_renders_with_what_it_timed_for_these_inputs_only() {
+    let (mut r, camera) = dense_oblique();
+    common::choose_auto_path(&mut r);
+    let size = [64, 64];
+    let settings = RenderSettings::default();
+    assert_eq!(settings.strategy, Strategy::Auto);
+    let strategy_of = |r: &mut VolumeRenderer, settings: &RenderSettings, size| {
+        let request = FrameRequest {
+            camera: &camera,
+            size,
+            settings,
+            stats: false,
+        };
+        r.render_and_wait(&request).expect("render").0.key.strategy
+    };
+    // Nothing chosen yet: the leaping strategy.
+    assert_eq!(strategy_of(&mut r, &settings, size), Strategy::RcSDistance);
+
+    // Timing (which lavapipe skips in `choose`, its clock following the machine's load) gives
+    // two finite times and the faster of the two.
+    let timed = auto_strategy::measure(&mut r, &settings, size, &camera).expect("timed");
+    let ChoiceBasis::Timed { rct_ms, leaping_ms } = timed.basis else {
+        panic!("not timed: {timed:?}");
+    };
+    assert!(rct_ms > 0.0 && leaping_ms > 0.0, "{timed:?}");
+    let faster = if rct_ms < leaping_ms {
+        Strategy::RcT
+    } else {
+        Strategy::RcSDistance
+    };
+    assert_eq!(timed.strategy, faster);
+    assert!(r.strategy_choice().is_none(), "measure keeps nothing");
+
+    // A choice of RC-t holds for its inputs (refinement's shifted sample offset included) ...
+    let key = r.choice_key(&settings, size);
+    r.set_strategy_choice(StrategyChoice::timed(key, 1.0, 2.0));
+    assert_eq!(strategy_of(&mut r, &settings, size), Strategy::RcT);
+    let shifted = RenderSettings {
+        sample_offset: 0.25,
+        ..settings
+    };
+    assert_eq!(strategy_of(&mut r, &shifted, size), Strategy::RcT);
+    let auto_image = r.render_image(&camera, size, &settings).expect("render");
+    let rct = RenderSettings {
+        strategy: Strategy::RcT,
+        ..settings
+    };
+    let rct_image = r.render_image(&camera, size, &rct).expect("render");
+    assert_eq!(auto_image, rct_image);
+    // ... and a choice made while the user drags carries it over, without rendering.
+    let frames = r.work_counts();
+    let carried = RenderSettings {
+        step_vox: 0.75,
+        ..settings
+    };
+    assert_eq!(
+        auto_strategy::choose(&mut r, &carried, size, &camera, false).expect("carried"),
+        Strategy::RcT
+    );
+    assert_eq!(r.work_counts(), frames, "carrying over rendered something");
+    assert!(!r.strategy_choice().expect("kept").basis.is_settled());
+    // ... but not for another size, another transfer function or another volume.
+    r.set_strategy_choice(StrategyChoice::timed(key, 1.0, 2.0));
+    assert_eq!(
+        strategy_of(&mut r, &settings, [48, 64]),
+        Strategy::RcSDistance
+    );
+    let mut other = tf();
+    other.opacity[1][1] = 0.4;
+    r.set_transfer_function(&other);
+    assert_eq!(strategy_of(&mut r, &settings, size), Strategy::RcSDistance);
+    r.set_transfer_function(&tf());
+    let key = r.choice_key(&settings, size);
+    r.set_strategy_choice(StrategyChoice::timed(key, 1.0, 2.0));
+    r.set_volume(&dense()).expect("upload");
+    assert!(r.strategy_choice().is_none());
+
+    // On a CPU driver `choose` takes the leaping strategy untimed and settles on it; MIP leaps
+    // by the octree.
+    if r.context().adapter_info.device_type == wgpu::DeviceType::Cpu {
+        let mip = RenderSettings {
+            mode: Mode::Mip,
+            ..settings
+        };
+        assert!(!auto_strategy::wants_timing(&r, &mip, size, true));
+        let chosen = auto_strategy::choose(&mut r, &mip, size, &camera, true).expect("chosen");
+        assert_eq!(chosen, Strategy::RcS);
+        assert_eq!(
+            r.strategy_choice().expect("kept").basis,
+            ChoiceBasis::CpuDriver
+        );
+        assert_eq!(strategy_of(&mut r, &mip, size), Strategy::RcS);
+    }
 }

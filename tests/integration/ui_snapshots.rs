@@ -214,6 +214,7 @@ fn side_panel(
         |ui, p: &mut SidePanel| {
             let info = PanelInfo {
                 path_used: None,
+                strategy_used: None,
                 volume: Some(&p.volume),
             };
             p.actions.extend(controls_ui(ui, &mut p.state, &info));

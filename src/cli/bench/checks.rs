@@ -41,7 +41,7 @@ pub fn rebuilds(
 ) -> Result<Vec<RebuildRecord>, RenderError> {
     let alternate = [nudged(tf), tf.clone()];
     let mut records = Vec::new();
-    for &strategy in config.strategies.iter().filter(|s| s.leaps()) {
+    for strategy in config.leaping_strategies() {
         let settings = settings_for(
             config,
             spec,
@@ -88,7 +88,7 @@ pub fn image_checks(
                 settings_for(config, spec, (mode, strategy, path), config.block_vox)
             };
             let reference = renderer.render_image(camera, size, &settings(Strategy::RcT))?;
-            for &strategy in config.strategies.iter().filter(|s| s.leaps()) {
+            for strategy in config.leaping_strategies() {
                 if !BenchConfig::runs_in(strategy, mode) {
                     continue;
                 }

@@ -6,8 +6,10 @@ use std::time::{Duration, Instant};
 
 use leapview::bench::BenchConfig;
 use leapview::bench::config::DatasetSpec;
-use leapview::bench::record::{FrameRecord, RunKey, RunRecord};
+use leapview::bench::record::{AutoChoice, FrameRecord, RunKey, RunRecord};
 use leapview::camera::Camera;
+use leapview::render::raycast::auto_strategy;
+use leapview::render::raycast::strategy_choice::{ChoiceBasis, StrategyChoice};
 use leapview::render::{FrameRequest, RenderError, VolumeRenderer};
 use leapview::settings::effects::{IsoSettings, Shading};
 use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
@@ -77,7 +79,7 @@ pub fn plan(config: &BenchConfig, spec: &DatasetSpec) -> Vec<Planned> {
     if sweep.datasets.contains(&spec.name) {
         for &mode in &sweep.modes {
             for &path in &config.paths {
-                for &strategy in config.strategies.iter().filter(|s| s.leaps()) {
+                for strategy in config.leaping_strategies() {
                     if !BenchConfig::runs_in(strategy, mode) {
                         continue;
                     }
@@ -157,6 +159,18 @@ pub fn measure(
         per_frame = batch_started.elapsed().as_secs_f64() / f64::from(batch);
         warmed += batch;
     }
+    // `auto` chooses here, warm, on the first view (the window chooses on the view it shows,
+    // when the frame's inputs change); every pass below renders what it chose.
+    let auto = if planned.settings.strategy == Strategy::Auto {
+        let started = Instant::now();
+        auto_strategy::choose(renderer, &planned.settings, planned.size, first, true)?;
+        let choose_ms = started.elapsed().as_secs_f64() * 1e3;
+        renderer
+            .strategy_choice()
+            .map(|c| auto_record(c, choose_ms))
+    } else {
+        None
+    };
     let mut frames = Vec::with_capacity(cameras.len());
     for (view, (camera, azimuth)) in cameras.iter().enumerate() {
         let (ms, _, _) = timed_frame(renderer, &request(camera, false))?;
@@ -204,5 +218,20 @@ pub fn measure(
         step_vox: s.step_vox,
         tf: tf.to_string(),
         frames,
+        auto,
     })
+}
+
+/// The record of `choice`, which took `choose_ms`.
+fn auto_record(choice: &StrategyChoice, choose_ms: f64) -> AutoChoice {
+    let (rct_ms, leaping_ms) = match choice.basis {
+        ChoiceBasis::Timed { rct_ms, leaping_ms } => (Some(rct_ms), Some(leaping_ms)),
+        ChoiceBasis::CpuDriver | ChoiceBasis::CarriedOver => (None, None),
+    };
+    AutoChoice {
+        strategy: choice.strategy.label().to_string(),
+        rct_ms,
+        leaping_ms,
+        choose_ms,
+    }
 }

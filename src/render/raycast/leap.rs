@@ -454,7 +454,7 @@ impl LeapStructures {
             leaf_level: leaf,
             level_count: self.level_count(),
         };
-        let distance = settings.strategy.for_mode(settings.mode) == Strategy::RcSDistance;
+        let distance = settings.strategy.untimed(settings.mode) == Strategy::RcSDistance;
         let rule = match settings.mode {
             Mode::Dvr => FlagRule::Transfer(request.transfer_generation),
             Mode::Xray | Mode::XrayAttenuation if distance => {

@@ -1,15 +1,18 @@
 //! The 3D ray caster, one kind of drawing: [`VolumeRenderer`] and the owners it orchestrates,
 //! one per lifetime — pipelines and layouts (the device's), the volume's resources, the transfer
 //! function's tables, the leaping structures, the per-size targets — plus the pure per-frame
-//! uniforms, the pass recording, progressive refinement and the `auto` path choice (a caller).
+//! uniforms, the pass recording, progressive refinement, and the `auto` path and strategy choices
+//! (callers; what `auto` strategy stands for is kept by the renderer, `strategy_choice`).
 
 pub mod auto_path;
+pub mod auto_strategy;
 pub mod layouts;
 pub mod leap;
 pub mod passes;
 pub mod pipelines;
 pub mod refine;
 pub mod renderer;
+pub mod strategy_choice;
 pub mod targets;
 pub mod transfer;
 pub mod uniforms;

@@ -21,6 +21,7 @@ use super::leap::{Builds, LeapRequest, LeapStructures};
 use super::passes::RaycastPasses;
 use super::pipelines::Pipelines;
 use super::refine::{self, Accumulator};
+use super::strategy_choice::{self, ChoiceKey, StrategyChoice};
 use super::targets::Targets;
 use super::uniforms::FrameGeometry;
 use super::variant::PipelineKey;
@@ -219,6 +220,9 @@ pub struct VolumeRenderer {
     rgba8: Option<Rgba8Reader>,
     /// The path `auto` stands for on this adapter, once chosen ([`super::auto_path::choose`]).
     auto_path: Option<ConcretePath>,
+    /// What the `auto` strategy stands for on the inputs last chosen for
+    /// ([`super::auto_strategy::choose`]); forgotten with the volume.
+    strategy_choice: Option<StrategyChoice>,
 }
 
 impl VolumeRenderer {
@@ -260,6 +264,7 @@ impl VolumeRenderer {
             refine: None,
             rgba8: None,
             auto_path: None,
+            strategy_choice: None,
         })
     }
 
@@ -293,6 +298,7 @@ impl VolumeRenderer {
         )?;
         self.volume = Some(uploaded);
         self.transfer.invalidate();
+        self.strategy_choice = None;
         Ok(())
     }
 
@@ -416,8 +422,8 @@ impl VolumeRenderer {
         accumulate: Option<Accumulate>,
         rows: [u32; 2],
     ) -> Result<(SubmittedFrame, Option<u32>), RenderError> {
-        let settings = request.settings;
-        settings.validate()?;
+        request.settings.validate()?;
+        let settings = &self.concrete_settings(request.settings, request.size);
         let key = PipelineKey::new(
             settings,
             self.resolve_path(settings.path)?,
@@ -594,6 +600,7 @@ impl VolumeRenderer {
     /// slow work on the CPU first: its path is known (`auto` was timed) and its shader variant is
     /// compiled, for an image of `size` pixels. A window keeps such work off its own thread.
     pub fn ready_for(&self, settings: &RenderSettings, stats: bool, size: [u32; 2]) -> bool {
+        let settings = &self.concrete_settings(settings, size);
         self.resolve_path(settings.path).is_ok_and(|path| {
             self.pipelines
                 .has(&PipelineKey::new(settings, path, stats, size))
@@ -609,9 +616,38 @@ impl VolumeRenderer {
         stats: bool,
         size: [u32; 2],
     ) -> Result<(), RenderError> {
+        let settings = &self.concrete_settings(settings, size);
         let key = PipelineKey::new(settings, self.resolve_path(settings.path)?, stats, size);
         self.pipelines.for_frame(&self.ctx.device, key)?;
         Ok(())
+    }
+
+    /// The inputs a choice for the `auto` strategy of a frame with `settings` at `size` would
+    /// hold for (the current transfer function's included).
+    pub fn choice_key(&self, settings: &RenderSettings, size: [u32; 2]) -> ChoiceKey {
+        ChoiceKey::new(settings, size, self.transfer.generation())
+    }
+
+    /// The last choice made for the `auto` strategy, if any ([`super::auto_strategy::choose`]).
+    pub fn strategy_choice(&self) -> Option<&StrategyChoice> {
+        self.strategy_choice.as_ref()
+    }
+
+    /// Sets what the `auto` strategy stands for on `choice.key`'s inputs (what
+    /// [`super::auto_strategy::choose`] decided).
+    pub fn set_strategy_choice(&mut self, choice: StrategyChoice) {
+        self.strategy_choice = Some(choice);
+    }
+
+    /// `settings` as a frame at `size` renders them: the `auto` strategy replaced by the
+    /// strategy chosen for these inputs, or the leaping one where none was
+    /// ([`strategy_choice::concrete`]).
+    pub fn concrete_settings(&self, settings: &RenderSettings, size: [u32; 2]) -> RenderSettings {
+        let key = self.choice_key(settings, size);
+        RenderSettings {
+            strategy: strategy_choice::concrete(settings, &key, self.strategy_choice.as_ref()),
+            ..*settings
+        }
     }
 
     /// Number of pipeline variants built so far.

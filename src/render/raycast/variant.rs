@@ -74,7 +74,8 @@ impl PipelineKey {
         let lit_by_weight = shading == Shading::Phong && settings.light_min_weight > 0.0;
         Self {
             mode: settings.mode,
-            strategy: settings.strategy.for_mode(settings.mode),
+            // `auto` is resolved before a frame; one that was not renders as it does untimed.
+            strategy: settings.strategy.untimed(settings.mode),
             path,
             stats,
             shading,

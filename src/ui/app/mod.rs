@@ -379,6 +379,7 @@ impl eframe::App for LeapViewApp {
         Panel::top("menu").show(ui, |ui| actions.extend(menu_bar(ui, &mut self.state)));
         let info = PanelInfo {
             path_used: self.scene.path_used(),
+            strategy_used: self.scene.strategy_used(),
             volume: self.scene.volume(),
         };
         let mut show_controls = self.state.show_controls;
