@@ -159,11 +159,15 @@ pub fn measure(
         per_frame = batch_started.elapsed().as_secs_f64() / f64::from(batch);
         warmed += batch;
     }
-    // `auto` chooses here, warm, on the first view (the window chooses on the view it shows,
-    // when the frame's inputs change); every pass below renders what it chose.
+    // `auto` chooses here, warm, as the window does when the frame's inputs change, from the
+    // view half a step of the orbit past the first: the views it times (that one and two more
+    // 120° on) are none of the orbit's, so the orbit tests the choice on views it did not see.
+    // Every pass below renders what it chose.
     let auto = if planned.settings.strategy == Strategy::Auto {
+        let mut between = *first;
+        between.orbit(180.0 / cameras.len() as f64, 0.0);
         let started = Instant::now();
-        auto_strategy::choose(renderer, &planned.settings, planned.size, first, true)?;
+        auto_strategy::choose(renderer, &planned.settings, planned.size, &between, true)?;
         let choose_ms = started.elapsed().as_secs_f64() * 1e3;
         renderer
             .strategy_choice()

@@ -19,10 +19,13 @@ use crate::settings::{RenderSettings, Strategy};
 use super::renderer::{FrameRequest, RenderError, VolumeRenderer};
 use super::strategy_choice::{ChoiceBasis, StrategyChoice};
 
-/// Timed frames of each strategy, alternating (a clock that changes meanwhile changes both),
+/// Timed rounds of each strategy's frames on the views, alternating (a clock that changes meanwhile changes both),
 /// after one untimed frame of each (which also builds its pipeline).
 const ROUNDS: usize = 3;
-/// Once a round of the two frames takes this long, one round is enough: the timing costs the
+/// The views timed, as turns about the camera's target from the view shown (degrees of azimuth
+/// about its up axis): three, evenly around.
+const VIEW_TURNS_DEG: [f64; 3] = [0.0, 120.0, 240.0];
+/// Once a round of the two strategies' frames takes this long, one round is enough: the timing costs the
 /// user a wait, and run-to-run noise is small against such frames.
 const LONG_ROUND_MS: f64 = 100.0;
 
@@ -94,9 +97,13 @@ fn is_cpu(renderer: &VolumeRenderer) -> bool {
     renderer.context().adapter_info.device_type == wgpu::DeviceType::Cpu
 }
 
-/// Times RC-t and the leaping strategy of `settings`' mode on `camera` at `size` (GPU
-/// timestamps; the wall clock where the adapter has none) and returns the choice for these
-/// inputs, without keeping it.
+/// Times RC-t and the leaping strategy of `settings`' mode at `size` (GPU timestamps; the wall
+/// clock where the adapter has none) on `camera` and on the views [`VIEW_TURNS_DEG`] about its
+/// target from it, and returns the choice for these inputs, without keeping it. A choice holds
+/// until the settings change, whatever the camera does: the views stand for the others, where
+/// one view alone was misleading (on the H200, a choice made on one view of an orbit of 12 lost
+/// to RC-t's median over the orbit in 9 of 132 cases, by up to 9 %; on three views 120° apart
+/// with [`StrategyChoice::LEAPING_MARGIN`], in none of 132; docs/benchmarks/nvidia-h200-auto).
 pub fn measure(
     renderer: &mut VolumeRenderer,
     settings: &RenderSettings,
@@ -109,6 +116,11 @@ pub fn measure(
             strategy,
             ..*settings
         });
+    let views = VIEW_TURNS_DEG.map(|deg| {
+        let mut view = *camera;
+        view.orbit(deg, 0.0);
+        view
+    });
     for candidate in &candidates {
         renderer.render_and_wait(&request(camera, size, candidate))?;
     }
@@ -116,11 +128,15 @@ pub fn measure(
     for _ in 0..ROUNDS {
         let mut round_ms = 0.0;
         for (candidate, times) in candidates.iter().zip(&mut times) {
-            let start = Instant::now();
-            let (_, results) = renderer.render_and_wait(&request(camera, size, candidate))?;
-            let wall_ms = start.elapsed().as_secs_f64() * 1e3;
-            times.push(results.gpu_ms.unwrap_or(wall_ms));
-            round_ms += wall_ms;
+            let mut sum_ms = 0.0;
+            for view in &views {
+                let start = Instant::now();
+                let (_, results) = renderer.render_and_wait(&request(view, size, candidate))?;
+                let wall_ms = start.elapsed().as_secs_f64() * 1e3;
+                sum_ms += results.gpu_ms.unwrap_or(wall_ms);
+                round_ms += wall_ms;
+            }
+            times.push(sum_ms / views.len() as f64);
         }
         if round_ms >= LONG_ROUND_MS {
             break;
