@@ -53,7 +53,8 @@ pub struct ShadersArgs {
     /// Modes (default: all).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub modes: Vec<Mode>,
-    /// Strategies (default: rc-t, rc-s, rc-s-df; MIP and MinIP take rc-s for rc-s-df).
+    /// Strategies (default: rc-t, rc-s, rc-s-df; MIP and MinIP take rc-s for rc-s-df; auto
+    /// stands for the two it chooses between, rc-t and the mode's leaping one).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub strategies: Vec<Strategy>,
     /// Image sizes: the variant depends on the size (rays of images up to 2^19 pixels are split

@@ -78,7 +78,12 @@ fn variants_on(args: &ShadersArgs, path: ConcretePath) -> Vec<(PipelineKey, [u32
     let mut keys: Vec<(PipelineKey, [u32; 2])> = Vec::new();
     for &size in &args.sizes {
         for &mode in &modes {
-            for &strategy in &strategies {
+            // `auto` runs one of two variants: both.
+            let concrete = strategies.iter().flat_map(|&s| match s {
+                Strategy::Auto => vec![Strategy::RcT, Strategy::leaping(mode)],
+                s => vec![s],
+            });
+            for strategy in concrete {
                 let mut settings = RenderSettings {
                     mode,
                     strategy,
@@ -208,4 +213,35 @@ fn table(device: &str, driver: &str, rows: &[Row]) -> String {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auto_lists_the_two_variants_it_chooses_between() {
+        let args = ShadersArgs {
+            modes: vec![Mode::Dvr, Mode::Mip],
+            strategies: vec![Strategy::Auto],
+            sizes: vec![[512, 512]],
+            unlit: false,
+            paths: vec![RenderPath::Compute],
+            device: None,
+            json: false,
+        };
+        let strategies: Vec<_> = variants_on(&args, ConcretePath::Compute)
+            .iter()
+            .map(|(k, _)| (k.mode, k.strategy))
+            .collect();
+        assert_eq!(
+            strategies,
+            [
+                (Mode::Dvr, Strategy::RcT),
+                (Mode::Dvr, Strategy::RcSDistance),
+                (Mode::Mip, Strategy::RcT),
+                (Mode::Mip, Strategy::RcS),
+            ]
+        );
+    }
 }

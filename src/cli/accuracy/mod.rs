@@ -15,7 +15,7 @@ use leapview::bench::BenchConfig;
 use leapview::bench::record::Environment;
 use leapview::camera::Aabb;
 use leapview::render::{GpuContext, VolumeRenderer};
-use leapview::settings::RenderSettings;
+use leapview::settings::{RenderSettings, Strategy};
 use leapview::transfer::TransferFunction;
 use leapview::transfer::presets::preset;
 use leapview::volume::{ValueRange, synthetic::shepp_logan};
@@ -202,8 +202,11 @@ fn measure_one(
         .into_iter()
         .map(|(c, _)| c)
         .collect();
+    // One strategy for every variant, the leaping one `auto` stands for untimed: a choice timed
+    // per variant would put a change of strategy on the time axis beside the knob's own cost.
     let mut base = RenderSettings {
         path,
+        strategy: Strategy::RcSDistance,
         ..RenderSettings::default()
     };
     base.iso.value =
