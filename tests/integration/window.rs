@@ -65,6 +65,52 @@ fn window_renders_the_frames_asked_for_and_shows_the_renderers_pixels() {
     assert_eq!((image.width(), image.height()), (1280, 800));
 }
 
+#[test]
+fn the_auto_strategy_is_timed_once_before_the_first_frame_and_kept() {
+    // A GPU times RC-t against leaping before the first frame of new settings, in the pump's
+    // "preparing" step; lavapipe does not (its clock follows the machine's load) unless told to,
+    // which it is here, so that this way through the window runs in the tests.
+    const FRAMES: usize = 2;
+    let x = common::Xvfb::start();
+    let dir = common::TempDir::new("window-auto-strategy");
+    let log_path = dir.path().join("log.txt");
+    let log_file = std::fs::File::create(&log_path).expect("create the log");
+    let mut command = x.window_command(dir.path());
+    command
+        .env("RUST_LOG", "warn,leapview=debug")
+        .env("LEAPVIEW_EXIT_AFTER_FRAMES", FRAMES.to_string())
+        .env(
+            leapview::render::raycast::auto_strategy::TIME_ON_CPU_VAR,
+            "1",
+        )
+        .stdout(Stdio::null())
+        .stderr(log_file);
+    let mut app = command.spawn().expect("start the window");
+    let status = common::wait_for_exit(&mut app, Duration::from_secs(300), "the window");
+    let log = std::fs::read_to_string(&log_path).expect("read the log");
+    assert!(status.success(), "the window failed ({status}):\n{log}");
+
+    // Timed once (the camera turns between the frames; the choice holds for every view), before
+    // the first frame went out, and both frames rendered with it.
+    let timed: Vec<_> = log
+        .lines()
+        .filter(|l| l.contains("auto strategy:") && l.contains("(timed: RC-t"))
+        .collect();
+    assert_eq!(timed.len(), 1, "{log}");
+    let timed_at = log.find("(timed: RC-t").expect("timed");
+    let first_frame_at = log.find("rendered volume frame 1").expect("a first frame");
+    assert!(timed_at < first_frame_at, "{log}");
+    assert_eq!(
+        log.matches("rendered volume frame").count(),
+        FRAMES,
+        "{log}"
+    );
+    assert!(
+        log.contains("closing with preset ct-brain, strategy auto"),
+        "{log}"
+    );
+}
+
 /// Seconds since midnight (UTC) of a log line's timestamp (`[2026-12-02T07:46:19.175Z …`).
 fn log_time(line: &str) -> Option<f64> {
     let t = line.split('T').nth(1)?.split('Z').next()?;

@@ -59,7 +59,7 @@ pub fn choose(
             strategy,
             basis: ChoiceBasis::CarriedOver,
         }
-    } else if is_cpu(renderer) {
+    } else if skips_timing(renderer) {
         StrategyChoice {
             key,
             strategy: leaping,
@@ -87,14 +87,21 @@ pub fn wants_timing(
 ) -> bool {
     may_time
         && settings.strategy == Strategy::Auto
-        && !is_cpu(renderer)
+        && !skips_timing(renderer)
         && renderer
             .strategy_choice()
             .is_none_or(|c| c.key != renderer.choice_key(settings, size) || !c.basis.is_settled())
 }
 
-fn is_cpu(renderer: &VolumeRenderer) -> bool {
+/// `LEAPVIEW_TIME_STRATEGY_ON_CPU=1` times the `auto` strategy on a CPU driver too: the choice is
+/// then as arbitrary as that driver's clock, but the timing's way through the window and the
+/// command line runs (the tests set it; a GPU always times).
+pub const TIME_ON_CPU_VAR: &str = "LEAPVIEW_TIME_STRATEGY_ON_CPU";
+
+/// Whether the renderer runs on a CPU driver whose `auto` strategy is not timed.
+fn skips_timing(renderer: &VolumeRenderer) -> bool {
     renderer.context().adapter_info.device_type == wgpu::DeviceType::Cpu
+        && std::env::var_os(TIME_ON_CPU_VAR).is_none_or(|v| v != "1")
 }
 
 /// Times RC-t and the leaping strategy of `settings`' mode at `size` (GPU timestamps; the wall
