@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Takes docs/screenshot.png: the viewer window on the generated Shepp–Logan phantom with ct-bone
-# (the defaults), drawn by Mesa's Vulkan CPU driver (lavapipe) on a virtual X server (Xvfb), so it
-# looks the same on every machine.
+# Takes docs/screenshot.png: the viewer window on the generated Shepp–Logan phantom with the
+# defaults (its transfer function picked from the data: ct-brain; strategy auto), drawn by Mesa's
+# Vulkan CPU driver (lavapipe) on a virtual X server (Xvfb), so it looks the same on every machine.
 #
 #   scripts/screenshot.sh [--release] [OUT.png]
 #
