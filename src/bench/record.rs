@@ -100,8 +100,9 @@ pub struct FrameRecord {
     pub lookups: Option<u64>,
 }
 
-/// What the `auto` strategy stood for in a run (chosen once, on the orbit's first view, after the
-/// warm-up, as the window chooses when its inputs change), and what choosing took.
+/// What the `auto` strategy stood for in a run (chosen once after the warm-up, as the window
+/// chooses when its inputs change, from views off the orbit), what choosing took, and the run's
+/// frames paired with RC-t's.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct AutoChoice {
     /// The strategy chosen (`RC-t`, `RC-s`, `RC-s-df`).
@@ -113,6 +114,12 @@ pub struct AutoChoice {
     /// Wall time of the choice (both strategies' warm-up and timed frames), milliseconds: what a
     /// user waits once per volume, transfer function, mode and image size.
     pub choose_ms: f64,
+    /// Per view of the orbit, an RC-t frame and then one of what `auto` chose, timed one right
+    /// after the other, milliseconds: `[RC-t, auto]`. Two runs measured apart differ by a few
+    /// per cent at sub-millisecond frames even for one shader; these pairs do not wait between
+    /// the two, so their ratio is the comparison with RC-t that the clock's drift leaves alone.
+    #[serde(default)]
+    pub paired_ms: Vec<[f64; 2]>,
 }
 
 /// One run: a dataset under one combination of settings, over the whole orbit.

@@ -47,6 +47,10 @@ pub struct AgainstRcT {
     /// What `auto` stood for in the run (`auto` runs only).
     #[serde(default)]
     pub chose: Option<String>,
+    /// Its fps over RC-t's from frames timed in pairs, one right after the other on each view
+    /// (the median of RC-t's time over its own; `auto` runs that recorded pairs only).
+    #[serde(default)]
+    pub paired_ratio: Option<f64>,
 }
 
 impl AgainstRcT {
@@ -96,6 +100,10 @@ pub fn against_rc_t(runs: &[RunSummary]) -> Vec<AgainstRcT> {
             rct_wall_ms: rct.wall_median_ms,
             lookups_per_ray: run.lookups_per_ray,
             chose: run.auto.as_ref().map(|a| a.strategy.clone()),
+            paired_ratio: run.auto.as_ref().and_then(|a| {
+                let mut ratios: Vec<f64> = a.paired_ms.iter().map(|[r, t]| r / t).collect();
+                median(&mut ratios)
+            }),
         });
     }
     rows
@@ -121,12 +129,15 @@ pub struct DefaultAgainstRcT {
     pub median_ratio: f64,
     /// The volume where it did worst, and its ratio there.
     pub worst: (String, f64),
+    /// Of the volumes with frames timed in pairs with RC-t's ([`AgainstRcT::paired_ratio`]): how
+    /// many, how many at least [`AS_FAST_AS_RC_T`] × RC-t's fps that way, and the median ratio.
+    pub paired: Option<(usize, usize, f64)>,
 }
 
 /// The default strategy's rows of `rows`, gathered per mode, path and size (in first-seen order).
 pub fn default_against_rc_t(rows: &[AgainstRcT]) -> Vec<DefaultAgainstRcT> {
     let default = RenderSettings::default().strategy;
-    let mut groups: Vec<(DefaultAgainstRcT, Vec<f64>)> = Vec::new();
+    let mut groups: Vec<(DefaultAgainstRcT, Vec<f64>, Vec<f64>)> = Vec::new();
     for row in rows {
         let Some(mode) = Mode::ALL.into_iter().find(|m| m.label() == row.mode) else {
             continue;
@@ -137,7 +148,7 @@ pub fn default_against_rc_t(rows: &[AgainstRcT]) -> Vec<DefaultAgainstRcT> {
         }
         let found = groups
             .iter()
-            .position(|(g, _)| (&g.mode, &g.path, g.size) == (&row.mode, &row.path, row.size));
+            .position(|(g, _, _)| (&g.mode, &g.path, g.size) == (&row.mode, &row.path, row.size));
         let index = found.unwrap_or_else(|| {
             groups.push((
                 DefaultAgainstRcT {
@@ -149,12 +160,15 @@ pub fn default_against_rc_t(rows: &[AgainstRcT]) -> Vec<DefaultAgainstRcT> {
                     as_fast: 0,
                     median_ratio: f64::NAN,
                     worst: (row.dataset.clone(), f64::INFINITY),
+                    paired: None,
                 },
+                Vec::new(),
                 Vec::new(),
             ));
             groups.len() - 1
         });
-        let (group, ratios) = &mut groups[index];
+        let (group, ratios, paired) = &mut groups[index];
+        paired.extend(row.paired_ratio);
         group.volumes += 1;
         group.as_fast += usize::from(row.fps_ratio >= AS_FAST_AS_RC_T);
         if row.fps_ratio < group.worst.1 {
@@ -164,17 +178,24 @@ pub fn default_against_rc_t(rows: &[AgainstRcT]) -> Vec<DefaultAgainstRcT> {
     }
     groups
         .into_iter()
-        .map(|(mut group, mut ratios)| {
-            ratios.sort_by(f64::total_cmp);
-            let n = ratios.len();
-            group.median_ratio = if n % 2 == 1 {
-                ratios[n / 2]
-            } else {
-                (ratios[n / 2 - 1] + ratios[n / 2]) / 2.0
-            };
+        .map(|(mut group, mut ratios, mut paired)| {
+            group.median_ratio = median(&mut ratios).unwrap_or(f64::NAN);
+            let as_fast = paired.iter().filter(|&&r| r >= AS_FAST_AS_RC_T).count();
+            group.paired = median(&mut paired).map(|m| (paired.len(), as_fast, m));
             group
         })
         .collect()
+}
+
+/// The median of `values` (`None` for none).
+fn median(values: &mut [f64]) -> Option<f64> {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    match n {
+        0 => None,
+        _ if n % 2 == 1 => Some(values[n / 2]),
+        _ => Some((values[n / 2 - 1] + values[n / 2]) / 2.0),
+    }
 }
 
 /// The table of [`default_against_rc_t`] in Markdown (empty without rows).
@@ -186,14 +207,23 @@ pub fn default_markdown(rows: &[AgainstRcT]) -> String {
     let mut md = format!(
         "\n## The default strategy against RC-t\n\nPer mode, path and size: the volumes where the \
          strategy a user gets by default renders at least {AS_FAST_AS_RC_T}× RC-t's fps, the \
-         median of its fps over RC-t's, and the volume where it does worst.\n\n\
-         | mode | path | size | default | ≥ {AS_FAST_AS_RC_T}× RC-t | median | worst |\n\
-         |---|---|---|---|---:|---:|---|\n"
+         median of its fps over RC-t's, and the volume where it does worst, from the two runs' \
+         medians; then the same count and median from frames timed in pairs, an RC-t frame and \
+         one of the default's right after it on each view (`auto` runs; the runs are measured \
+         apart, and at sub-millisecond frames their spread is as large as the 2 % allowed).\n\n\
+         | mode | path | size | default | ≥ {AS_FAST_AS_RC_T}× RC-t | median | worst | paired ≥ \
+         {AS_FAST_AS_RC_T}× | paired median |\n\
+         |---|---|---|---|---:|---:|---|---:|---:|\n"
     );
     for g in groups {
+        let (paired_count, paired_median) = g.paired.map_or_else(
+            || ("–".to_string(), "–".to_string()),
+            |(n, fast, m)| (format!("{fast} of {n}"), format!("{m:.2}")),
+        );
         let _ = writeln!(
             md,
-            "| {} | {} | {}×{} | {} | {} of {} | {:.2} | {} {:.2} |",
+            "| {} | {} | {}×{} | {} | {} of {} | {:.2} | {} {:.2} | {paired_count} | \
+             {paired_median} |",
             g.mode,
             g.path,
             g.size[0],
@@ -302,10 +332,18 @@ mod tests {
     #[test]
     fn the_default_summary_counts_the_default_strategy_only() {
         let mut rows = Vec::new();
-        for (dataset, rct_ms, df_ms, s_ms) in [
-            ("a", 2.0, 1.0, 3.0),
-            ("b", 1.0, 1.01, 0.5),
-            ("c", 1.0, 1.5, 0.5),
+        // Per dataset: RC-t's and auto's medians from their runs, auto's frames paired with
+        // RC-t's on three views (none for "c"), and RC-s's median.
+        for (dataset, rct_ms, df_ms, pairs, s_ms) in [
+            ("a", 2.0, 1.0, vec![[2.0, 1.0], [2.2, 1.0], [1.8, 1.0]], 3.0),
+            (
+                "b",
+                1.0,
+                1.01,
+                vec![[1.0, 1.0], [1.0, 1.03], [1.0, 0.99]],
+                0.5,
+            ),
+            ("c", 1.0, 1.5, vec![], 0.5),
         ] {
             let mut auto = run("auto", df_ms, 2e5, 1e5);
             auto.auto = Some(AutoChoice {
@@ -313,6 +351,7 @@ mod tests {
                 rct_ms: Some(rct_ms),
                 leaping_ms: Some(df_ms),
                 choose_ms: 1.0,
+                paired_ms: pairs,
             });
             let mut runs = [
                 run("RC-t", rct_ms, 1e6, 1e5),
@@ -334,9 +373,16 @@ mod tests {
         assert!((g.median_ratio - 1.0 / 1.01).abs() < 1e-12);
         assert_eq!(g.worst.0, "c");
         assert!((g.worst.1 - 1.0 / 1.5).abs() < 1e-12);
+        // Paired: a's per-view ratios 2.0, 2.2, 1.8 (median 2.0); b's 1.0, 0.971, 1.010
+        // (median 1.0, as fast); c has none.
+        let (n, fast, paired_median) = g.paired.expect("pairs");
+        assert_eq!((n, fast), (2, 2));
+        assert!((paired_median - 1.5).abs() < 1e-12);
+        assert_eq!(rows[1].paired_ratio, None, "RC-s has no pairs");
         assert!(
-            default_markdown(&rows)
-                .contains("| dvr | compute | 8×8 | auto | 2 of 3 | 0.99 | c 0.67 |")
+            default_markdown(&rows).contains(
+                "| dvr | compute | 8×8 | auto | 2 of 3 | 0.99 | c 0.67 | 2 of 2 | 1.50 |"
+            )
         );
         assert!(markdown(&rows).contains("| a | dvr | compute | 8×8 | auto → RC-s-df | 2.00 |"));
         assert!(default_markdown(&[]).is_empty());

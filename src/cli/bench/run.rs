@@ -191,6 +191,28 @@ pub fn measure(
             lookups: None,
         });
     }
+    // `auto` against RC-t view by view, one frame of each right after the other (the runs are
+    // apart, and their spread at sub-millisecond frames is as large as the 2 % the comparison
+    // allows).
+    let auto = match auto {
+        Some(mut a) => {
+            let rct = RenderSettings {
+                strategy: Strategy::RcT,
+                ..planned.settings
+            };
+            for (camera, _) in cameras {
+                let rct_request = FrameRequest {
+                    settings: &rct,
+                    ..request(camera, false)
+                };
+                let (rct_ms, _, _) = timed_frame(renderer, &rct_request)?;
+                let (auto_ms, _, _) = timed_frame(renderer, &request(camera, false))?;
+                a.paired_ms.push([rct_ms, auto_ms]);
+            }
+            Some(a)
+        }
+        None => None,
+    };
     // Render + read-back as peers time it, in a pass of its own: waiting for each image between
     // frames lets the GPU clock down, which would slow the timing pass's frames.
     for (frame, (camera, _)) in frames.iter_mut().zip(cameras) {
@@ -237,5 +259,6 @@ fn auto_record(choice: &StrategyChoice, choose_ms: f64) -> AutoChoice {
         rct_ms,
         leaping_ms,
         choose_ms,
+        paired_ms: Vec::new(),
     }
 }
