@@ -44,6 +44,10 @@ pub struct Finished {
     pub path: ConcretePath,
     /// The strategy its bands ran with (what `auto` stood for).
     pub strategy: Strategy,
+    /// Whether that strategy is final for the frame's inputs: false where `auto` carried its
+    /// last choice over while the user was busy, to be timed once they are quiet (never on a
+    /// CPU driver, which does not time).
+    pub strategy_settled: bool,
 }
 
 /// What the window's thread and the pump share.
@@ -210,11 +214,19 @@ impl Shared {
         if job.is_complete()
             && let Some(job) = self.job.take()
         {
+            // Settled unless `auto` would still time these inputs once the user is quiet.
+            let strategy_settled = !auto_strategy::wants_timing(
+                &self.renderer,
+                &job.settings,
+                job.inputs.size_px,
+                true,
+            );
             self.finished.push(Finished {
                 job,
                 mean,
                 path: submitted.key.path,
                 strategy: submitted.key.strategy,
+                strategy_settled,
             });
         }
         true

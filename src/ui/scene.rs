@@ -56,6 +56,12 @@ pub struct Scene {
     path_used: Option<ConcretePath>,
     /// The strategy the last frame ran with (what `auto` stood for).
     strategy_used: Option<Strategy>,
+    /// Whether that strategy is final for the last frame's inputs (false: `auto` carried its
+    /// last choice over while the user was busy).
+    strategy_settled: bool,
+    /// The inputs a frame was last started again for, to time `auto` once the user was quiet
+    /// (once per inputs, so that a timing that fails is not retried on every pass).
+    retimed_for: Option<FrameInputs>,
     frames_rendered: u64,
     quiet_passes: u32,
     /// Pixels of the last frame (for samples per pixel).
@@ -131,6 +137,8 @@ impl Scene {
             rebuild_ms: None,
             path_used: None,
             strategy_used: None,
+            strategy_settled: true,
+            retimed_for: None,
             frames_rendered: 0,
             quiet_passes: 0,
             last_pixels: 0,
@@ -419,6 +427,22 @@ impl Scene {
             };
             shared.job = Some(FrameJob::new(inputs, settings, JobKind::Refinement, None));
             true
+        } else if shared.job.is_none() && self.wants_retiming(&inputs) {
+            // `auto` carried its last choice over for the frame on screen while the user was
+            // busy, and no refinement frame will come to time it (refinement off, statistics
+            // on): the view is rendered again now that they are quiet, timed first.
+            log::debug!("frame rendered again to time the auto strategy");
+            self.retimed_for = Some(inputs.clone());
+            let refine = !state.statistics && state.refine_frames > 1;
+            let settings = inputs.settings;
+            shared.job = Some(FrameJob::new(
+                inputs,
+                settings,
+                JobKind::Plain { refine },
+                None,
+            ));
+            self.refined.1 = state.refine_frames;
+            true
         } else {
             false
         };
@@ -432,6 +456,24 @@ impl Scene {
             Some(e) => Err(e),
             None => Ok(started),
         }
+    }
+
+    /// Whether the frame on screen, full resolution and for `inputs`, ran with a strategy `auto`
+    /// carried over, the user has been quiet for [`STILL_AFTER`], and it was not rendered again
+    /// for that already.
+    fn wants_retiming(&self, inputs: &FrameInputs) -> bool {
+        let quiet = self.last_input.is_none_or(|t| t.elapsed() >= STILL_AFTER);
+        !self.strategy_settled
+            && quiet
+            && self.preview_of.is_none()
+            && !self.redraw.needs_render(inputs)
+            && self.retimed_for.as_ref() != Some(inputs)
+    }
+
+    /// Whether `auto`'s strategy for the frame on screen waits to be timed once the user is
+    /// quiet (the window then asks for a pass after [`STILL_AFTER`]).
+    pub fn strategy_untimed(&self) -> bool {
+        !self.strategy_settled && self.rendering().is_none()
     }
 
     /// Whether the next refinement frame is due: the frame on screen is a full-resolution one
@@ -450,10 +492,12 @@ impl Scene {
             mean,
             path,
             strategy,
+            strategy_settled,
         } = finished;
         let size = job.inputs.size_px;
         self.path_used = Some(path);
         self.strategy_used = Some(strategy);
+        self.strategy_settled = strategy_settled;
         self.quiet_passes = 0;
         match job.kind {
             JobKind::Plain { refine } => {

@@ -111,6 +111,85 @@ fn the_auto_strategy_is_timed_once_before_the_first_frame_and_kept() {
     );
 }
 
+#[test]
+fn a_strategy_carried_over_while_busy_is_timed_once_the_user_is_quiet() {
+    // A setting changed by a click renders at once with `auto`'s last choice carried over (the
+    // user is busy); refinement frames would time it once they are quiet, but with statistics
+    // on there are none, so the view is rendered again for it. Lavapipe times only when told to.
+    let x = common::Xvfb::start();
+    let dir = common::TempDir::new("window-retime");
+    let log_path = dir.path().join("log.txt");
+    let log_file = std::fs::File::create(&log_path).expect("create the log");
+    let mut command = x.window_command(dir.path());
+    command
+        .env("HOME", dir.path())
+        .env("XDG_DATA_HOME", dir.path())
+        .env("RUST_LOG", "warn,leapview=debug")
+        .env(
+            leapview::render::raycast::auto_strategy::TIME_ON_CPU_VAR,
+            "1",
+        )
+        .stdout(Stdio::null())
+        .stderr(log_file);
+    let mut app = command.spawn().expect("start the window");
+    let timed = |log: &str| {
+        log.lines()
+            .filter(|l| l.contains("auto strategy:") && l.contains("(timed: RC-t"))
+            .count()
+    };
+    let log = wait_for_log(
+        &log_path,
+        "rendered volume frame 1 ",
+        Duration::from_secs(240),
+    );
+    assert_eq!(timed(&log), 1, "the first frame was not timed once:\n{log}");
+
+    // The side panel's "count samples", then "jittered ray starts" (see docs/screenshot.png).
+    xdotool(&x.display, &["mousemove", "1016", "165", "click", "1"]);
+    let log = wait_for_log(
+        &log_path,
+        "rendered volume frame 2 ",
+        Duration::from_secs(120),
+    );
+    assert!(log.contains("rendered volume frame 2 "), "{log}");
+    xdotool(&x.display, &["mousemove", "1016", "321", "click", "1"]);
+    let log = wait_for_log(
+        &log_path,
+        "frame rendered again to time the auto strategy",
+        Duration::from_secs(120),
+    );
+    let log = wait_for_log_count(&log_path, &timed, 2, Duration::from_secs(120)).unwrap_or(log);
+    quit(&x.display, &mut app);
+    let log = std::fs::read_to_string(&log_path).unwrap_or(log);
+    assert_eq!(timed(&log), 2, "{log}");
+    assert_eq!(
+        log.matches("frame rendered again to time the auto strategy")
+            .count(),
+        1,
+        "{log}"
+    );
+    assert!(log.contains("(carried over, not yet timed)"), "{log}");
+}
+
+/// Waits until `count` of the log at `path` reaches `at_least` (or `timeout` passes); returns
+/// the log where it did.
+fn wait_for_log_count(
+    path: &std::path::Path,
+    count: &dyn Fn(&str) -> usize,
+    at_least: usize,
+    timeout: Duration,
+) -> Option<String> {
+    let deadline = Instant::now() + timeout;
+    while Instant::now() < deadline {
+        let log = std::fs::read_to_string(path).unwrap_or_default();
+        if count(&log) >= at_least {
+            return Some(log);
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    None
+}
+
 /// Seconds since midnight (UTC) of a log line's timestamp (`[2026-12-02T07:46:19.175Z …`).
 fn log_time(line: &str) -> Option<f64> {
     let t = line.split('T').nth(1)?.split('Z').next()?;

@@ -135,6 +135,11 @@ impl LeapViewApp {
             // the next one.)
             ctx.request_repaint_after(STILL_AFTER);
         }
+        if self.scene.strategy_untimed() {
+            // `auto` carried its last choice over while the user was busy: it is timed (the
+            // view rendered again) once they have been quiet for a moment.
+            ctx.request_repaint_after(STILL_AFTER);
+        }
         if self.scene.preview_scale().is_some() && self.scene.rendering().is_none() {
             // Refine once the pointer has been still long enough (or at once, if it is).
             let still_in = self
