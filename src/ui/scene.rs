@@ -401,7 +401,15 @@ impl Scene {
                     && !j.bands.is_empty()
                     && (j.preview_of.is_some() || preview_of.is_none())
             });
-        let started = if self.redraw.needs_render(&inputs) && !finish_first {
+        // `auto` carried its last choice over for the frame on screen while the user was busy,
+        // and no refinement frame will come to time it (refinement off, statistics on): the view
+        // is rendered again now that they are quiet, timed first.
+        let retime = shared.job.is_none() && self.wants_retiming(&inputs);
+        let started = if (self.redraw.needs_render(&inputs) && !finish_first) || retime {
+            if retime {
+                log::debug!("frame rendered again to time the auto strategy");
+                self.retimed_for = Some(inputs.clone());
+            }
             // Marked even if the frame fails, so a failing frame is not retried on every pass.
             self.redraw.mark_rendered(inputs.clone());
             // A full frame of a view that may be refined starts the mean; previews and
@@ -427,22 +435,6 @@ impl Scene {
             };
             shared.job = Some(FrameJob::new(inputs, settings, JobKind::Refinement, None));
             true
-        } else if shared.job.is_none() && self.wants_retiming(&inputs) {
-            // `auto` carried its last choice over for the frame on screen while the user was
-            // busy, and no refinement frame will come to time it (refinement off, statistics
-            // on): the view is rendered again now that they are quiet, timed first.
-            log::debug!("frame rendered again to time the auto strategy");
-            self.retimed_for = Some(inputs.clone());
-            let refine = !state.statistics && state.refine_frames > 1;
-            let settings = inputs.settings;
-            shared.job = Some(FrameJob::new(
-                inputs,
-                settings,
-                JobKind::Plain { refine },
-                None,
-            ));
-            self.refined.1 = state.refine_frames;
-            true
         } else {
             false
         };
@@ -459,13 +451,14 @@ impl Scene {
     }
 
     /// Whether the frame on screen, full resolution and for `inputs`, ran with a strategy `auto`
-    /// carried over, the user has been quiet for [`STILL_AFTER`], and it was not rendered again
-    /// for that already.
+    /// carried over, the user has been quiet for [`STILL_AFTER`], no refinement frame is due
+    /// (it would time the strategy first), and it was not rendered again for that already.
     fn wants_retiming(&self, inputs: &FrameInputs) -> bool {
         let quiet = self.last_input.is_none_or(|t| t.elapsed() >= STILL_AFTER);
         !self.strategy_settled
             && quiet
             && self.preview_of.is_none()
+            && !self.wants_refinement()
             && !self.redraw.needs_render(inputs)
             && self.retimed_for.as_ref() != Some(inputs)
     }

@@ -9,27 +9,15 @@ use crate::common;
 use std::process::Stdio;
 use std::time::{Duration, Instant};
 
+use leapview::render::raycast::auto_strategy::TIME_ON_CPU_VAR;
+
 #[test]
 fn window_renders_the_frames_asked_for_and_shows_the_renderers_pixels() {
     const FRAMES: usize = 3;
-    let x = common::Xvfb::start();
-    let dir = common::TempDir::new("window");
+    let (dir, log) = run_scripted("window", "trace", FRAMES, |dir, command| {
+        command.env("LEAPVIEW_SCREENSHOT", dir.join("window.png"));
+    });
     let shot = dir.path().join("window.png");
-    let log_path = dir.path().join("log.txt");
-    let log_file = std::fs::File::create(&log_path).expect("create the log");
-    let mut command = x.window_command(dir.path());
-    command
-        .env("RUST_LOG", "warn,leapview=trace")
-        .env("LEAPVIEW_EXIT_AFTER_FRAMES", FRAMES.to_string())
-        .env("LEAPVIEW_SCREENSHOT", &shot)
-        .stdout(Stdio::null())
-        .stderr(log_file);
-    let mut app = command.spawn().expect("start the window");
-    // Generating the phantom, timing both paths and three frames take about 10 s on lavapipe in
-    // a debug build; 300 s leaves room for a loaded machine.
-    let status = common::wait_for_exit(&mut app, Duration::from_secs(300), "the window");
-    let log = std::fs::read_to_string(&log_path).expect("read the log");
-    assert!(status.success(), "the window failed ({status}):\n{log}");
 
     let frames = log.matches("rendered volume frame").count();
     let passes = log.matches("egui pass").count();
@@ -68,27 +56,12 @@ fn window_renders_the_frames_asked_for_and_shows_the_renderers_pixels() {
 #[test]
 fn the_auto_strategy_is_timed_once_and_kept_as_the_camera_turns() {
     // A GPU times RC-t against leaping before the first frame of new settings the user is not
-    // busy with, in the pump's "preparing" step; lavapipe does not (its clock follows the machine's load) unless told to,
-    // which it is here, so that this way through the window runs in the tests.
+    // busy with, in the pump's "preparing" step; lavapipe does not (its clock follows the
+    // machine's load) unless told to, which it is here, so that this step runs in the tests.
     const FRAMES: usize = 2;
-    let x = common::Xvfb::start();
-    let dir = common::TempDir::new("window-auto-strategy");
-    let log_path = dir.path().join("log.txt");
-    let log_file = std::fs::File::create(&log_path).expect("create the log");
-    let mut command = x.window_command(dir.path());
-    command
-        .env("RUST_LOG", "warn,leapview=debug")
-        .env("LEAPVIEW_EXIT_AFTER_FRAMES", FRAMES.to_string())
-        .env(
-            leapview::render::raycast::auto_strategy::TIME_ON_CPU_VAR,
-            "1",
-        )
-        .stdout(Stdio::null())
-        .stderr(log_file);
-    let mut app = command.spawn().expect("start the window");
-    let status = common::wait_for_exit(&mut app, Duration::from_secs(300), "the window");
-    let log = std::fs::read_to_string(&log_path).expect("read the log");
-    assert!(status.success(), "the window failed ({status}):\n{log}");
+    let (_dir, log) = run_scripted("window-auto-strategy", "debug", FRAMES, |_, command| {
+        command.env(TIME_ON_CPU_VAR, "1");
+    });
 
     // Timed once (the camera turns between the frames; the choice holds for every view): before
     // the first frame went out, or, where the window saw input as it opened (the pointer
@@ -117,22 +90,7 @@ fn a_strategy_carried_over_while_busy_is_timed_once_the_user_is_quiet() {
     // A setting changed by a click renders at once with `auto`'s last choice carried over (the
     // user is busy); refinement frames would time it once they are quiet, but with statistics
     // on there are none, so the view is rendered again for it. Lavapipe times only when told to.
-    let x = common::Xvfb::start();
-    let dir = common::TempDir::new("window-retime");
-    let log_path = dir.path().join("log.txt");
-    let log_file = std::fs::File::create(&log_path).expect("create the log");
-    let mut command = x.window_command(dir.path());
-    command
-        .env("HOME", dir.path())
-        .env("XDG_DATA_HOME", dir.path())
-        .env("RUST_LOG", "warn,leapview=debug")
-        .env(
-            leapview::render::raycast::auto_strategy::TIME_ON_CPU_VAR,
-            "1",
-        )
-        .stdout(Stdio::null())
-        .stderr(log_file);
-    let mut app = command.spawn().expect("start the window");
+    let (x, _dir, log_path, mut app) = start_as_a_user("window-retime", &[(TIME_ON_CPU_VAR, "1")]);
     let timed = |log: &str| {
         log.lines()
             .filter(|l| l.contains("auto strategy:") && l.contains("(timed: RC-t"))
@@ -222,16 +180,38 @@ fn xdotool(display: &str, args: &[&str]) {
     assert!(status.success(), "xdotool {args:?} failed");
 }
 
-/// The window on a virtual display, run as a user's would (no automation variables; its stored
-/// state in a folder of its own), its debug log in a file: the display, the folder, the log's
-/// path and the process.
+/// The window on a virtual display, run as a user's would (no automation variables but `env`;
+/// its stored state in a folder of its own), its debug log in a file: the display, the folder,
+/// the log's path and the process.
 fn start_as_a_user(
     tag: &str,
+    env: &[(&str, &str)],
 ) -> (
     common::Xvfb,
     common::TempDir,
     std::path::PathBuf,
     std::process::Child,
+) {
+    let (x, dir, log_path, mut command) = window_logging_to_a_file(tag, "debug");
+    command
+        .env("HOME", dir.path())
+        .env("XDG_DATA_HOME", dir.path())
+        .envs(env.iter().copied());
+    let app = command.spawn().expect("start the window");
+    (x, dir, log_path, app)
+}
+
+/// A virtual display, a folder of the run's own, and the window's command on them with its
+/// stderr going to a log file in the folder and leapview logging at `level`: the display, the
+/// folder, the log's path and the command.
+fn window_logging_to_a_file(
+    tag: &str,
+    level: &str,
+) -> (
+    common::Xvfb,
+    common::TempDir,
+    std::path::PathBuf,
+    std::process::Command,
 ) {
     let x = common::Xvfb::start();
     let dir = common::TempDir::new(tag);
@@ -239,13 +219,33 @@ fn start_as_a_user(
     let log_file = std::fs::File::create(&log_path).expect("create the log");
     let mut command = x.window_command(dir.path());
     command
-        .env("HOME", dir.path())
-        .env("XDG_DATA_HOME", dir.path())
-        .env("RUST_LOG", "warn,leapview=debug")
+        .env("RUST_LOG", format!("warn,leapview={level}"))
         .stdout(Stdio::null())
         .stderr(log_file);
-    let app = command.spawn().expect("start the window");
-    (x, dir, log_path, app)
+    (x, dir, log_path, command)
+}
+
+/// Runs the window on a virtual display until it closes itself after `frames` rendered frames
+/// (`LEAPVIEW_EXIT_AFTER_FRAMES`), logging leapview at `level`, with whatever else `configure`
+/// sets on the command (given the run's folder); asserts it succeeded and returns the folder and
+/// the log.
+fn run_scripted(
+    tag: &str,
+    level: &str,
+    frames: usize,
+    configure: impl FnOnce(&std::path::Path, &mut std::process::Command),
+) -> (common::TempDir, String) {
+    let (_x, dir, log_path, mut command) = window_logging_to_a_file(tag, level);
+    command.env("LEAPVIEW_EXIT_AFTER_FRAMES", frames.to_string());
+    configure(dir.path(), &mut command);
+    let mut app = command.spawn().expect("start the window");
+    // Generating the phantom, timing both paths and a few frames take about 10 s on lavapipe in
+    // a debug build (timing the `auto` strategy there 20 s more); 300 s leaves room for a loaded
+    // machine.
+    let status = common::wait_for_exit(&mut app, Duration::from_secs(300), "the window");
+    let log = std::fs::read_to_string(&log_path).expect("read the log");
+    assert!(status.success(), "the window failed ({status}):\n{log}");
+    (dir, log)
 }
 
 /// Quits the window with Ctrl + Q (giving it the keyboard first: without a window manager it has
@@ -292,7 +292,7 @@ fn a_click_while_refining_reaches_the_item_under_the_pointer() {
     // on the preset list's "ct-bone" landed on the strategy RC-t under it before the list had
     // opened. Now the frames go out in short bands from another thread, and any input drops the
     // refinement frame in progress.
-    let (x, _dir, log_path, mut app) = start_as_a_user("window-clicks");
+    let (x, _dir, log_path, mut app) = start_as_a_user("window-clicks", &[]);
     let log = wait_for_log(&log_path, "to a mean of 2/", Duration::from_secs(240));
     assert!(
         log.contains("to a mean of 2/"),
@@ -340,7 +340,7 @@ fn a_click_while_refining_reaches_the_item_under_the_pointer() {
 
 #[test]
 fn a_click_in_a_slice_moves_the_crosshair_and_the_other_slices_follow() {
-    let (x, _dir, log_path, mut app) = start_as_a_user("window-slices");
+    let (x, _dir, log_path, mut app) = start_as_a_user("window-slices", &[]);
     let log = wait_for_log(&log_path, "showing ", Duration::from_secs(240));
     assert!(log.contains("showing "), "no volume shown:\n{log}");
     // The toolbar's "2 × 2" beside the menus (see tests/snapshots/menu_bar_view.png), then a
