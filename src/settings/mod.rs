@@ -80,10 +80,10 @@ pub enum Strategy {
     /// RC-s with a distance field over blocks: one step clears the whole cube of blocks the
     /// field proves empty (beyond the paper). On the H200 the fastest of the three on most
     /// volumes of the benchmark, but RC-t can be faster where little can be skipped (dense
-    /// volumes, small images: docs/benchmarks; `auto` times both). The field is two-sided: a ray also
-    /// takes every sample of a cube of blocks that all matter without asking about each. It
-    /// leaps by the transfer function, the X-ray window or the iso value (one field per side of
-    /// it); MIP and MinIP leap by the octree as RC-s does.
+    /// volumes, small images: docs/benchmarks; `auto` times both). The field is two-sided: a
+    /// ray also takes every sample of a cube of blocks that all matter without asking about
+    /// each. It leaps by the transfer function, the X-ray window or the iso value (one field per
+    /// side of it); MIP and MinIP leap by the octree as RC-s does.
     #[value(name = "rc-s-df")]
     RcSDistance,
     /// The default: RC-t or the mode's leaping strategy ([`Strategy::leaping`]), whichever renders

@@ -19,14 +19,14 @@ use crate::settings::{RenderSettings, Strategy};
 use super::renderer::{FrameRequest, RenderError, VolumeRenderer};
 use super::strategy_choice::{ChoiceBasis, StrategyChoice};
 
-/// Timed rounds of each strategy's frames on the views, alternating (a clock that changes meanwhile changes both),
-/// after one untimed frame of each (which also builds its pipeline).
+/// Timed rounds of each strategy's frames on the views, alternating (a clock that changes
+/// meanwhile changes both), after one untimed frame of each (which also builds its pipeline).
 const ROUNDS: usize = 3;
 /// The views timed, as turns about the camera's target from the view shown (degrees of azimuth
 /// about its up axis): three, evenly around.
 const VIEW_TURNS_DEG: [f64; 3] = [0.0, 120.0, 240.0];
-/// Once a round of the two strategies' frames takes this long, one round is enough: the timing costs the
-/// user a wait, and run-to-run noise is small against such frames.
+/// Once a round of the two strategies' frames takes this long, one round is enough: the timing
+/// costs the user a wait, and run-to-run noise is small against such frames.
 const LONG_ROUND_MS: f64 = 100.0;
 
 /// The concrete strategy a frame with `settings` at `size` runs, choosing it first for `auto`:
