@@ -108,9 +108,11 @@ fn skips_timing(renderer: &VolumeRenderer) -> bool {
 /// clock where the adapter has none) on `camera` and on the views [`VIEW_TURNS_DEG`] about its
 /// target from it, and returns the choice for these inputs, without keeping it. A choice holds
 /// until the settings change, whatever the camera does: the views stand for the others, where
-/// one view alone was misleading (on the H200, a choice made on one view of an orbit of 12 lost
-/// to RC-t's median over the orbit in 9 of 132 cases, by up to 9 %; on three views 120° apart
-/// with [`StrategyChoice::LEAPING_MARGIN`], in none of 132; docs/benchmarks/nvidia-h200-auto).
+/// one view alone was misleading (on the H200, leaping chosen on one view of an orbit of 12 was
+/// slower than RC-t over the orbit in 7 of 132 cases, to 0.91×; chosen on three views 120° apart
+/// with [`StrategyChoice::LEAPING_MARGIN`], in none of 132, in two runs: every case left under
+/// 0.98× was a choice of RC-t itself, within the spread of two runs;
+/// docs/benchmarks/nvidia-h200-auto).
 pub fn measure(
     renderer: &mut VolumeRenderer,
     settings: &RenderSettings,
