@@ -20,6 +20,22 @@ pub const RAY_PARTS: u32 = 4;
 pub const SPLIT_GROUP_ROWS: u32 = 256 / (WORKGROUP * RAY_PARTS);
 /// Workgroup edge of the 3D builders (min/max pyramid, distance field): 4 × 4 × 4 nodes.
 pub const BUILD_WORKGROUP: u32 = 4;
+/// Longest row, in blocks, the distance field's tiled pass (`distance_rows`) takes: every volume
+/// of up to 2032 voxels an axis at 4³ blocks; longer rows take the windowed pass. Also the stride
+/// of the tile's rows in workgroup memory: 4 less than a multiple of 32, so that the 8 rows × 4
+/// positions a subgroup copies at once fall in 32 different banks, and
+/// `DISTANCE_TILE_ROWS × DISTANCE_ROW_MAX` u32 fit WebGPU's 16 KiB of workgroup memory.
+pub const DISTANCE_ROW_MAX: u32 = 508;
+/// Rows one workgroup of the distance field's tiled pass takes.
+pub const DISTANCE_TILE_ROWS: u32 = 8;
+/// Invocations per row of the distance field's tiled pass (a workgroup is
+/// `DISTANCE_ROW_THREADS × DISTANCE_TILE_ROWS` = 256).
+pub const DISTANCE_ROW_THREADS: u32 = 32;
+const _: () = assert!(
+    DISTANCE_ROW_MAX % 32 == 28 && DISTANCE_TILE_ROWS * DISTANCE_ROW_MAX * 4 <= 16384,
+    "the tile's rows fit workgroup memory and spread over the banks"
+);
+const _: () = assert!(DISTANCE_TILE_ROWS * DISTANCE_ROW_THREADS == 256);
 /// Workgroup edge of the emptiness-table build: 16 × 16 entries.
 pub const TABLE_WORKGROUP: u32 = 16;
 /// Workgroup size of the node-flag pass (one node per invocation).
@@ -48,6 +64,9 @@ fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
             "u32",
             u(MAX_WORKGROUPS_PER_DIMENSION),
         ),
+        ("DISTANCE_ROW_MAX", "u32", u(DISTANCE_ROW_MAX)),
+        ("DISTANCE_TILE_ROWS", "u32", u(DISTANCE_TILE_ROWS)),
+        ("DISTANCE_ROW_THREADS", "u32", u(DISTANCE_ROW_THREADS)),
         ("TABLE_SIZE", "u32", u(TABLE_SIZE as u32)),
         ("MAX_DISTANCE", "u32", u(MAX_DISTANCE)),
         ("DISTANCE_FULL_SHIFT", "u32", u(FULL_SHIFT)),

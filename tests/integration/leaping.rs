@@ -3,7 +3,7 @@
 
 use crate::common;
 
-use leapview::accel::distance::{sides, two_sided};
+use leapview::accel::distance::{FULL_SHIFT, MAX_DISTANCE, sides, two_sided};
 use leapview::accel::emptiness::{OpacityIndex, TABLE_SIZE, table_says_empty};
 use leapview::accel::pyramid::{MinMax, build_cpu, normalized_values};
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
@@ -168,6 +168,100 @@ fn gpu_structures_equal_the_cpu_references() {
             sides(leaf.nodes, &below, &above),
             "iso, block {block}"
         );
+    }
+}
+
+/// A 2048 × 160 × 12 volume of long runs: a rod along x, a slab across y, a ball and a NaN voxel
+/// in empty space, and nothing past x = 1300, so that its rows of leaf blocks hold runs of both
+/// kinds longer than the field's cap, and are longer than a subgroup; along x, 512 blocks of 4,
+/// longer than the tiled pass takes (the windowed pass), 256 of 8 (the tiled pass).
+/// (2048 texels is WebGPU's least 3D-texture limit: every adapter holds it.)
+fn long_rows_volume() -> Volume {
+    let dims = [2048u32, 160, 12];
+    let mut v = vec![0.0f32; (dims[0] * dims[1] * dims[2]) as usize];
+    for z in 0..dims[2] {
+        for y in 0..dims[1] {
+            for x in 0..dims[0] {
+                let rod = (100..1300).contains(&x) && (20..26).contains(&y) && (3..7).contains(&z);
+                let slab = (1200..1230).contains(&x) && y >= 40;
+                let ball = (x as f32 - 600.0).powi(2) + (y as f32 - 120.0).powi(2) < 400.0;
+                if rod || slab || ball {
+                    v[(x + dims[0] * (y + dims[1] * z)) as usize] = 1000.0;
+                }
+            }
+        }
+    }
+    v[(40 + dims[0] * (130 + 160 * 9)) as usize] = f32::NAN;
+    Volume::new(
+        "long rows",
+        dims,
+        [1.0, 1.0, 1.0],
+        Samples::F32(v),
+        ValueMapping::IDENTITY,
+    )
+    .expect("valid")
+}
+
+/// The distance field's passes (build/distance.wgsl) on long rows: the tiled pass on rows longer
+/// than a subgroup with runs longer than the cap, and the windowed pass on rows past the tile,
+/// equal the CPU references, from the emptiness flags and from the isosurface's sides.
+#[test]
+fn the_distance_field_equals_the_cpu_reference_on_long_rows() {
+    let volume = long_rows_volume();
+    let mut r = common::renderer();
+    r.set_volume(&volume).expect("upload");
+    common::choose_auto_path(&mut r);
+    r.set_transfer_function(&threshold_tf(300.0));
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let (dir, up) = ViewPreset::Oblique.direction_and_up();
+    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    for block in [4u32, 8] {
+        let settings = RenderSettings {
+            strategy: Strategy::RcSDistance,
+            block_vox: Some(block),
+            ..RenderSettings::default()
+        };
+        for mode in [Mode::Dvr, Mode::Iso] {
+            let settings = RenderSettings {
+                mode,
+                iso: IsoSettings {
+                    value: Some(500.0),
+                    ..IsoSettings::default()
+                },
+                ..settings
+            };
+            render(&mut r, &camera, settings);
+            let leap = r.leap_structures().expect("built");
+            let p = &leap.pyramid;
+            let leaf = p.levels[p.level_of_block(block).expect("level")];
+            let flags = read_u32(&r, &leap.node_empty, p.node_count());
+            let leaf_flags = &flags[leaf.offset as usize..(leaf.offset + leaf.count()) as usize];
+            let expected = match mode {
+                Mode::Iso => {
+                    let below: Vec<bool> = leaf_flags.iter().map(|b| b & 1 != 0).collect();
+                    let above: Vec<bool> = leaf_flags.iter().map(|b| b & 2 != 0).collect();
+                    sides(leaf.nodes, &below, &above)
+                }
+                _ => {
+                    let empty: Vec<bool> = leaf_flags.iter().map(|&f| f == 1).collect();
+                    two_sided(leaf.nodes, &empty)
+                }
+            };
+            let field = read_u32(&r, &leap.distance[0], leaf.count());
+            // The test means something: on the side of the empty space (low bits: to the
+            // nearest block that is not empty, or not wholly below the iso value), distances
+            // at the cap and between; on the other, blocks away from it (the rod and slab are
+            // too thin for more).
+            let open: Vec<u32> = expected
+                .iter()
+                .map(|v| v & ((1 << FULL_SHIFT) - 1))
+                .collect();
+            let solid: Vec<u32> = expected.iter().map(|v| v >> FULL_SHIFT).collect();
+            assert!(open.contains(&MAX_DISTANCE), "{mode:?}, block {block}");
+            assert!(open.iter().any(|d| (2..MAX_DISTANCE).contains(d)));
+            assert!(solid.iter().any(|&d| d >= 1), "{mode:?}, block {block}");
+            assert_eq!(field, expected, "{mode:?}, block {block}");
+        }
     }
 }
 

@@ -7,9 +7,9 @@ use crate::accel::emptiness::TABLE_SIZE;
 use crate::accel::pyramid::Pyramid;
 use crate::render::context::GpuContext;
 use crate::render::gpu_data::{
-    BUILD_WORKGROUP, BuildParams, DistanceParams, EmptinessParams, LevelInfo,
-    MAX_WORKGROUPS_PER_DIMENSION, NODE_WORKGROUP, RULE_AT_MOST, RULE_ISO, RULE_TRANSFER,
-    SIDES_EMPTY_FULL, SIDES_ISO, TABLE_WORKGROUP,
+    BUILD_WORKGROUP, BuildParams, DISTANCE_ROW_MAX, DISTANCE_TILE_ROWS, DistanceParams,
+    EmptinessParams, LevelInfo, MAX_WORKGROUPS_PER_DIMENSION, NODE_WORKGROUP, RULE_AT_MOST,
+    RULE_ISO, RULE_TRANSFER, SIDES_EMPTY_FULL, SIDES_ISO, TABLE_WORKGROUP,
 };
 use crate::render::probe::{ProbePool, ProbeSlot};
 use crate::render::shader::{ShaderError, compose, compute_pipeline, shader_module};
@@ -27,6 +27,7 @@ pub struct LeapPipelines {
     table: wgpu::ComputePipeline,
     flags: wgpu::ComputePipeline,
     distance: wgpu::ComputePipeline,
+    distance_rows: wgpu::ComputePipeline,
 }
 
 impl LeapPipelines {
@@ -45,6 +46,7 @@ impl LeapPipelines {
             table: compute_pipeline(device, &emptiness, "build_table"),
             flags: compute_pipeline(device, &emptiness, "flag_nodes"),
             distance: compute_pipeline(device, &distance, "distance_pass"),
+            distance_rows: compute_pipeline(device, &distance, "distance_rows"),
         })
     }
 }
@@ -91,6 +93,33 @@ fn groups_for(count: u32, per_group: u32) -> (u32, u32) {
 fn dispatch_over_nodes(pass: &mut wgpu::ComputePass<'_>, nodes: [u32; 3]) {
     let [x, y, z] = nodes.map(|n| n.div_ceil(BUILD_WORKGROUP));
     pass.dispatch_workgroups(x, y, z);
+}
+
+/// How one axis pass of the distance field is dispatched.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DistancePass {
+    /// `distance_rows`, in these workgroups: `DISTANCE_TILE_ROWS` rows each, side by side along
+    /// the first axis across the pass (x), one workgroup row per index of the other (y).
+    Rows([u32; 2]),
+    /// `distance_pass`, one invocation per block (rows longer than `DISTANCE_ROW_MAX`).
+    Window,
+}
+
+/// The pass along `axis` over a leaf level of `nodes`.
+pub fn distance_pass_for(nodes: [u32; 3], axis: usize) -> DistancePass {
+    if nodes[axis] > DISTANCE_ROW_MAX {
+        return DistancePass::Window;
+    }
+    // The axes across the pass, ordered as `across_axes` in build/distance.wgsl orders them.
+    let (side_by_side, other) = match axis {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    };
+    DistancePass::Rows([
+        nodes[side_by_side].div_ceil(DISTANCE_TILE_ROWS),
+        nodes[other],
+    ])
 }
 
 /// What makes a node empty, and the inputs that rule depends on.
@@ -333,7 +362,6 @@ impl LeapStructures {
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let device = &ctx.device;
-        let layout = pipelines.distance.get_bind_group_layout(0);
         let level = self.pyramid.levels[leaf as usize];
         // Axis 0 writes distance[1], axis 1 reads it and writes distance[0], axis 2 back to [1]…
         // so the order of targets is [1, 0, 1]; copy the last into [0] afterwards.
@@ -356,9 +384,14 @@ impl LeapStructures {
                 }),
             );
             let (src, dst) = if axis == 1 { (1, 0) } else { (0, 1) };
+            let how = distance_pass_for(level.nodes, axis as usize);
+            let pipeline = match how {
+                DistancePass::Rows(_) => &pipelines.distance_rows,
+                DistancePass::Window => &pipelines.distance,
+            };
             let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("distance pass"),
-                layout: &layout,
+                layout: &pipeline.get_bind_group_layout(0),
                 entries: &[
                     entry(0, self.distance_params[axis as usize].as_entire_binding()),
                     entry(1, self.level_buffer.as_entire_binding()),
@@ -367,9 +400,12 @@ impl LeapStructures {
                     entry(4, self.distance[dst].as_entire_binding()),
                 ],
             });
-            pass.set_pipeline(&pipelines.distance);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &group, &[]);
-            dispatch_over_nodes(&mut pass, level.nodes);
+            match how {
+                DistancePass::Rows([x, y]) => pass.dispatch_workgroups(x, y, 1),
+                DistancePass::Window => dispatch_over_nodes(&mut pass, level.nodes),
+            }
         }
         drop(pass);
         encoder.copy_buffer_to_buffer(
@@ -478,5 +514,43 @@ impl LeapStructures {
             self.build_distance(ctx, pipelines, leaf, encoder, ts);
         }
         (levels, builds)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_up_to_the_tile_take_the_tiled_pass_in_workgroups_covering_every_row() {
+        let nodes = [128, 37, 5];
+        assert_eq!(distance_pass_for(nodes, 0), DistancePass::Rows([5, 5]));
+        assert_eq!(distance_pass_for(nodes, 1), DistancePass::Rows([16, 5]));
+        assert_eq!(distance_pass_for(nodes, 2), DistancePass::Rows([16, 37]));
+        // Every row covered once: tiles × rows per tile reach the rows across, and no tile more.
+        for axis in 0..3 {
+            let DistancePass::Rows([x, y]) = distance_pass_for(nodes, axis) else {
+                panic!("axis {axis}: a short row takes the tiled pass");
+            };
+            let across: Vec<u32> = (0..3).filter(|&a| a != axis).map(|a| nodes[a]).collect();
+            assert!(x * DISTANCE_TILE_ROWS >= across[0]);
+            assert!((x - 1) * DISTANCE_TILE_ROWS < across[0]);
+            assert_eq!(y, across[1]);
+        }
+    }
+
+    #[test]
+    fn rows_longer_than_the_tile_take_the_windowed_pass() {
+        let edge = DISTANCE_ROW_MAX;
+        assert!(matches!(
+            distance_pass_for([edge, 2, 2], 0),
+            DistancePass::Rows(_)
+        ));
+        assert_eq!(distance_pass_for([edge + 1, 2, 2], 0), DistancePass::Window);
+        assert_eq!(distance_pass_for([2, 2, edge + 1], 2), DistancePass::Window);
+        assert!(matches!(
+            distance_pass_for([2, 2, edge + 1], 0),
+            DistancePass::Rows(_)
+        ));
     }
 }
