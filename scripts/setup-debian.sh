@@ -2,8 +2,10 @@
 # Installs what LeapView needs on Debian 12 that is not there yet: cmake and a C++ compiler (the
 # build compiles CharLS, the JPEG-LS codec DICOM files use), a Vulkan driver (Mesa's CPU
 # driver lavapipe, only where no Vulkan driver is installed) and, with --tests, the virtual X
-# server the window tests start and xdotool, with which they click in the window. Uses sudo
-# unless run as root. Installs nothing when all is there.
+# server the window tests start and xdotool, with which they click in the window, and a Python
+# environment `.venv` with pydicom and nibabel (scripts/python/requirements-tests.txt), whose
+# readers the tests check LeapView's against. Uses sudo unless run as root. Installs nothing
+# when all is there.
 #
 #   scripts/setup-debian.sh            for the app
 #   scripts/setup-debian.sh --tests    for the app and the tests
@@ -36,9 +38,38 @@ fi
 if [ "$tests" = yes ] && ! command -v xdotool >/dev/null 2>&1; then
   missing="$missing xdotool"
 fi
+if [ "$tests" = yes ] && ! python3 -c "import venv, ensurepip" >/dev/null 2>&1; then
+  missing="$missing python3-venv"
+fi
+
+# The tests' Python references, in .venv beside this script's folder; remade when the
+# requirements change.
+here="$(cd "$(dirname "$0")/.." && pwd)"
+requirements="$here/scripts/python/requirements-tests.txt"
+venv_ready() {
+  [ -x "$here/.venv/bin/python" ] && cmp -s "$requirements" "$here/.venv/requirements-tests.txt"
+}
+make_venv() {
+  if venv_ready; then
+    echo "setup: .venv is ready (pydicom, nibabel)"
+    return 0
+  fi
+  echo "setup: making .venv from scripts/python/requirements-tests.txt"
+  rm -rf "$here/.venv"
+  python3 -m venv "$here/.venv"
+  "$here/.venv/bin/pip" install --quiet --disable-pip-version-check -r "$requirements"
+  cp "$requirements" "$here/.venv/requirements-tests.txt"
+}
 
 if [ -z "$missing" ]; then
-  echo "setup: nothing to install (cmake, C++ compiler, Vulkan driver$( [ "$tests" = yes ] && echo ', Xvfb, xdotool') present)"
+  echo "setup: nothing to install (cmake, C++ compiler, Vulkan driver$( [ "$tests" = yes ] && echo ', Xvfb, xdotool, python3-venv') present)"
+  if [ "$tests" = yes ]; then
+    if [ "$check" = yes ]; then
+      venv_ready || { echo "setup: missing: .venv (the tests' Python)" >&2; exit 1; }
+    else
+      make_venv
+    fi
+  fi
   exit 0
 fi
 if [ "$check" = yes ]; then
@@ -58,3 +89,6 @@ echo "setup: installing$missing"
 $run env DEBIAN_FRONTEND=noninteractive apt-get update -qq
 # shellcheck disable=SC2086
 $run env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $missing
+if [ "$tests" = yes ]; then
+  make_venv
+fi

@@ -5,7 +5,7 @@
 //! plan's invariants: slices as the dimensions say, weights summing to 1, frames that exist.
 use arbitrary::{Arbitrary, Unstructured};
 use leapview::volume::dicom::geometry::{SlicePlan, assemble};
-use leapview::volume::dicom::header::{FrameHeader, PixelFormat, Rescale, SeriesFacts};
+use leapview::volume::dicom::header::{FrameHeader, Photometric, PixelFormat, Rescale, SeriesFacts};
 use leapview::volume::dicom::resample::resample_slice;
 use leapview::volume::dicom::series::{SeriesChoice, choose, drop_copies, group};
 
@@ -68,7 +68,11 @@ fn frame(u: &mut Unstructured, file: usize) -> arbitrary::Result<FrameHeader> {
             high_bit: u.int_in_range(0..=31)?,
             signed: bool::arbitrary(u)?,
             samples_per_pixel: u.int_in_range(1..=3)?,
-            monochrome1: bool::arbitrary(u)?,
+            photometric: Photometric::parse(
+                ["MONOCHROME1", "MONOCHROME2", "RGB", "YBR_FULL", "PALETTE COLOR", "HSV"]
+                    [u.int_in_range(0..=5usize)?],
+            ),
+            planar: bool::arbitrary(u)?,
         },
         rescale: Rescale {
             slope: number(u)?,
@@ -78,6 +82,7 @@ fn frame(u: &mut Unstructured, file: usize) -> arbitrary::Result<FrameHeader> {
         instance_number: None,
         instance_uid: format!("1.3.{}", u.int_in_range(0..=40u8)?),
         transfer_syntax: "1.2.840.10008.1.2.1".into(),
+        implicit_vr: false,
     })
 }
 

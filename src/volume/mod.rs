@@ -11,6 +11,7 @@
 //! - Non-finite samples (NaN, ±Inf in float volumes) are kept out of the range and the histogram
 //!   and are rendered transparent.
 
+pub mod colour;
 pub mod decode;
 pub mod dicom;
 pub mod error;
@@ -27,6 +28,7 @@ pub mod samples;
 pub mod stats;
 pub mod synthetic;
 
+pub use colour::Colour;
 pub use error::VolumeError;
 pub use load::{LoadOptions, load_volume};
 pub use modality::Modality;
@@ -84,6 +86,10 @@ pub struct Provenance {
     pub skipped: Option<String>,
     /// The patient-frame position (LPS, mm) of the first voxel's centre, where the file says.
     pub origin_lps: Option<[f64; 3]>,
+    /// Whether the file asks for its lowest value to be shown white (DICOM MONOCHROME1, as
+    /// computed and digital radiographs are stored): the grey ramp is inverted, the values are
+    /// not.
+    pub invert_grey: bool,
 }
 
 /// A scalar volume on a regular grid, with its statistics computed once at construction.
@@ -103,6 +109,7 @@ pub struct Volume {
     reversed_i: bool,
     modality: Option<Modality>,
     provenance: Provenance,
+    colour: Option<Colour>,
 }
 
 impl Volume {
@@ -150,7 +157,27 @@ impl Volume {
             reversed_i: false,
             modality: None,
             provenance: Provenance::default(),
+            colour: None,
         })
+    }
+
+    /// A colour volume: its samples are the colour's luminance (8 bits, identity mapping), what
+    /// transfer functions and statistics work on; [`Volume::colour`] keeps the channels.
+    pub fn new_colour(
+        name: impl Into<String>,
+        dims: [u32; 3],
+        spacing_mm: [f64; 3],
+        colour: Colour,
+    ) -> Result<Self, VolumeError> {
+        let luminance = Samples::U8(colour.luminance());
+        let mut volume = Self::new(name, dims, spacing_mm, luminance, ValueMapping::IDENTITY)?;
+        volume.colour = Some(colour);
+        Ok(volume)
+    }
+
+    /// The channels of a colour volume; `None` for grey ones.
+    pub fn colour(&self) -> Option<&Colour> {
+        self.colour.as_ref()
     }
 
     /// The volume with the anatomical orientation its file gave.
@@ -180,6 +207,9 @@ impl Volume {
     pub fn unmirrored(mut self) -> Self {
         if let Some(o) = self.orientation.filter(Orientation::is_mirrored) {
             self.samples.reverse_rows(self.dims[0] as usize);
+            if let Some(c) = self.colour.as_mut() {
+                c.reverse_rows(self.dims[0] as usize);
+            }
             self.orientation = Some(o.with_axis_reversed(0));
             self.reversed_i = !self.reversed_i;
         }

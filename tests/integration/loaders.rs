@@ -11,4 +11,5 @@ mod metaimage;
 mod nifti_round_trip;
 mod nrrd_round_trip;
 mod orientation;
+mod pydicom_conformance;
 mod real_data;

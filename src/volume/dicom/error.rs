@@ -84,6 +84,14 @@ pub enum DicomError {
         /// What it should be.
         expected: &'static str,
     },
+    /// The pixels are of a kind LeapView does not show.
+    #[error("'{file}': {why}")]
+    Unsupported {
+        /// The file.
+        file: String,
+        /// What kind, and what is shown instead.
+        why: String,
+    },
     /// The series' geometry cannot be made a regular volume.
     #[error("the series cannot be assembled: {reason}")]
     Geometry {

@@ -26,6 +26,11 @@ use dicom_transfer_syntax_registry::{TransferSyntax, TransferSyntaxIndex, Transf
 /// Most tokens walked in one file: a bound on the time a corrupt file can take.
 const MAX_TOKENS: usize = 1 << 20;
 
+/// Deepest nesting of sequences read. dicom-rs builds a nested sequence by recursion, so a file
+/// nesting thousands deep overflows the stack and aborts the process; real objects nest a few
+/// levels (enhanced images 3, structured reports rarely past 20).
+pub const MAX_NESTING: usize = 64;
+
 /// Where the meta group starts: after the 128-byte preamble (`scan::looks_like_dicom` asks for
 /// "DICM" there, so dicom-rs skips it too).
 const PREAMBLE: u64 = 128;
@@ -44,8 +49,89 @@ impl<R: Read> Read for Counted<R> {
     }
 }
 
-/// Checks every value length of the DICOM file at `path` against its size.
-pub fn check_lengths(path: &Path) -> Result<(), String> {
+/// The transfer syntaxes as dicom-rs knows them, except that those in explicit VR little endian
+/// read as implicit VR: for files whose meta information says explicit but whose data set is
+/// written implicit (a writer's bug pydicom reads through, as LeapView does: see
+/// [`check_lengths`]). Encapsulated pixel data stays encapsulated (LeapView's codecs decode it).
+#[derive(Clone, Copy, Debug)]
+pub struct ImplicitForExplicit;
+
+/// Implicit VR little endian with encapsulated pixel data: no standard syntax, what some
+/// writers produce.
+static IMPLICIT_ENCAPSULATED: TransferSyntax = TransferSyntax::new(
+    IMPLICIT_VR_LITTLE_ENDIAN,
+    "Implicit VR Little Endian, encapsulated pixel data",
+    dicom_encoding::transfer_syntax::Endianness::Little,
+    false,
+    Codec::EncapsulatedPixelData(None, None),
+);
+
+impl TransferSyntaxIndex for ImplicitForExplicit {
+    fn get(&self, uid: &str) -> Option<&TransferSyntax> {
+        let uid = uid.trim_end_matches(['\0', ' ']);
+        let ts = TransferSyntaxRegistry.get(uid)?;
+        // Every standard syntax but these two is explicit VR little endian.
+        if uid == IMPLICIT_VR_LITTLE_ENDIAN || uid == super::pixels::EXPLICIT_VR_BIG_ENDIAN {
+            return Some(ts);
+        }
+        match ts.codec() {
+            Codec::None => TransferSyntaxRegistry.get(IMPLICIT_VR_LITTLE_ENDIAN),
+            Codec::EncapsulatedPixelData(..) => Some(&IMPLICIT_ENCAPSULATED),
+            // A deflated data set is not read so.
+            Codec::Dataset(_) => Some(ts),
+        }
+    }
+}
+
+/// Explicit VR little endian.
+pub const EXPLICIT_VR_LITTLE_ENDIAN: &str = "1.2.840.10008.1.2.1";
+/// Implicit VR little endian.
+pub const IMPLICIT_VR_LITTLE_ENDIAN: &str = "1.2.840.10008.1.2";
+
+/// How a file's data set is to be read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Encoding {
+    /// As its meta information says.
+    AsDeclared,
+    /// Implicit VR, though the meta information says explicit VR little endian.
+    ImplicitForExplicit,
+}
+
+/// Checks every value length and the nesting of the DICOM file at `path` against its size,
+/// reading its data set as its meta information says or, where that fails for explicit VR little
+/// endian, as implicit VR (which the caller then reads it as). The first failure's reason
+/// otherwise.
+pub fn check_lengths(path: &Path) -> Result<Encoding, String> {
+    match check_lengths_as(path, Encoding::AsDeclared) {
+        Ok(()) => Ok(Encoding::AsDeclared),
+        Err(reason) => match check_lengths_as(path, Encoding::ImplicitForExplicit) {
+            Ok(()) if declares_explicit_little_endian(path) => Ok(Encoding::ImplicitForExplicit),
+            _ => Err(reason),
+        },
+    }
+}
+
+/// Whether the file's meta information names a syntax of explicit VR little endian.
+fn declares_explicit_little_endian(path: &Path) -> bool {
+    File::open(path)
+        .and_then(|mut f| {
+            f.seek(SeekFrom::Start(PREAMBLE))?;
+            Ok(f)
+        })
+        .ok()
+        .and_then(|f| FileMetaTable::from_reader(BufReader::new(f)).ok())
+        .is_some_and(|m| {
+            let uid = m.transfer_syntax().trim_end_matches(['\0', ' ']);
+            uid != IMPLICIT_VR_LITTLE_ENDIAN
+                && uid != super::pixels::EXPLICIT_VR_BIG_ENDIAN
+                && TransferSyntaxRegistry
+                    .get(uid)
+                    .is_some_and(|ts| !matches!(ts.codec(), Codec::Dataset(_)))
+        })
+}
+
+/// Checks `path` reading its data set as `encoding` says.
+fn check_lengths_as(path: &Path, encoding: Encoding) -> Result<(), String> {
     let mut file = BufReader::new(File::open(path).map_err(|e| e.to_string())?);
     let file_len = file.get_ref().metadata().map_err(|e| e.to_string())?.len();
     file.seek(SeekFrom::Start(PREAMBLE + 4))
@@ -64,7 +150,11 @@ pub fn check_lengths(path: &Path) -> Result<(), String> {
         .map_err(|e| format!("the meta information is unreadable ({e})"))?;
     let start = count.get();
     let uid = meta.transfer_syntax();
-    let Some(ts) = TransferSyntaxRegistry.get(uid) else {
+    let ts = match encoding {
+        Encoding::AsDeclared => TransferSyntaxRegistry.get(uid),
+        Encoding::ImplicitForExplicit => ImplicitForExplicit.get(uid),
+    };
+    let Some(ts) = ts else {
         return Err(if uid.is_empty() {
             "the meta information names no transfer syntax".to_string()
         } else {
@@ -150,11 +240,27 @@ fn walk<R: Read>(source: R, ts: &TransferSyntax, limit: u64) -> Result<(), Strin
     };
     let reader = DataSetReader::new_with_ts_options(counted, ts, DataSetReaderOptions::default())
         .map_err(|e| e.to_string())?;
+    let mut depth = 0usize;
     for (walked, token) in reader.enumerate() {
         if walked >= MAX_TOKENS {
             return Err("more than a million elements: not a file LeapView reads".into());
         }
         let token = token.map_err(|e| format!("cut short or corrupt: {e}"))?;
+        match &token {
+            DataToken::SequenceStart { tag, .. } => {
+                depth += 1;
+                if depth > MAX_NESTING {
+                    return Err(format!(
+                        "sequences nest more than {MAX_NESTING} deep (at {tag}): not a file \
+                         LeapView reads"
+                    ));
+                }
+            }
+            // An encapsulated pixel sequence ends with a sequence end too.
+            DataToken::PixelSequenceStart => depth += 1,
+            DataToken::SequenceEnd => depth = depth.saturating_sub(1),
+            _ => {}
+        }
         let claim = match &token {
             DataToken::ElementHeader(header) => Some((header.tag.to_string(), header.len)),
             DataToken::SequenceStart { tag, len } => Some((tag.to_string(), *len)),

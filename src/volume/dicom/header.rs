@@ -2,6 +2,50 @@
 //! here, so series assembly ([`super::series`], [`super::geometry`]) is pure, unit-tested and
 //! fuzzed over arbitrary tag values. [`super::tags`] fills these from a file.
 
+/// How the samples of a pixel make its colour (`PhotometricInterpretation`, PS3.3 C.7.6.3.1.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Photometric {
+    /// Grey, the lowest value shown white.
+    Monochrome1,
+    /// Grey, the lowest value shown black (also where the file names none).
+    Monochrome2,
+    /// Red, green, blue.
+    Rgb,
+    /// Luminance and two chroma samples at full resolution (ITU-R BT.601, full range).
+    YbrFull,
+    /// As `YbrFull` with chroma at half the horizontal resolution (native data holds
+    /// Y Y Cb Cr for each pair of pixels).
+    YbrFull422,
+    /// Colour a codec has already turned into RGB (the JPEG 2000 transforms YBR_RCT and
+    /// YBR_ICT, JPEG's YBR_PARTIAL_420 and _422).
+    YbrDecodedToRgb,
+    /// One index per pixel into the file's red, green and blue palette tables.
+    Palette,
+    /// One the standard does not define, or retired (ARGB, CMYK, HSV).
+    Unsupported,
+}
+
+impl Photometric {
+    /// Reads `PhotometricInterpretation` (empty: MONOCHROME2, the common default).
+    pub fn parse(text: &str) -> Self {
+        match text {
+            "MONOCHROME1" => Self::Monochrome1,
+            "MONOCHROME2" | "" => Self::Monochrome2,
+            "RGB" => Self::Rgb,
+            "YBR_FULL" => Self::YbrFull,
+            "YBR_FULL_422" => Self::YbrFull422,
+            "YBR_RCT" | "YBR_ICT" | "YBR_PARTIAL_420" | "YBR_PARTIAL_422" => Self::YbrDecodedToRgb,
+            "PALETTE COLOR" => Self::Palette,
+            _ => Self::Unsupported,
+        }
+    }
+
+    /// Whether pixels are shown in colour (three samples, or a palette).
+    pub fn is_colour(self) -> bool {
+        !matches!(self, Self::Monochrome1 | Self::Monochrome2)
+    }
+}
+
 /// How one frame's pixels are stored (PS3.3 C.7.6.3, image pixel module).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PixelFormat {
@@ -13,10 +57,40 @@ pub struct PixelFormat {
     pub high_bit: u16,
     /// `PixelRepresentation` 1: two's complement samples.
     pub signed: bool,
-    /// `SamplesPerPixel`: 1 for grey images.
+    /// `SamplesPerPixel`: 1 for grey and palette images, 3 for colour.
     pub samples_per_pixel: u16,
-    /// `PhotometricInterpretation` MONOCHROME1: the lowest value is shown white.
-    pub monochrome1: bool,
+    /// `PhotometricInterpretation`.
+    pub photometric: Photometric,
+    /// `PlanarConfiguration` 1: native colour samples stored plane by plane (all red, then all
+    /// green, then all blue) rather than pixel by pixel.
+    pub planar: bool,
+}
+
+impl PixelFormat {
+    /// Why a frame of this format cannot be shown, or `None` where it can: grey (one sample)
+    /// or colour (three, or a palette), 8 to 32 bits.
+    pub fn unsupported(&self) -> Option<String> {
+        if !matches!(self.bits_allocated, 8 | 16 | 32) {
+            return Some(format!(
+                "BitsAllocated is {}; LeapView shows images of 8, 16 or 32 bits",
+                self.bits_allocated
+            ));
+        }
+        let samples_fit = match self.photometric {
+            Photometric::Monochrome1 | Photometric::Monochrome2 | Photometric::Palette => {
+                self.samples_per_pixel == 1
+            }
+            Photometric::Unsupported => false,
+            _ => self.samples_per_pixel == 3,
+        };
+        (!samples_fit).then(|| {
+            format!(
+                "{} samples per pixel of a photometric interpretation LeapView does not show \
+                 (it shows MONOCHROME1/2 and PALETTE COLOR with 1, RGB and YBR with 3)",
+                self.samples_per_pixel
+            )
+        })
+    }
 }
 
 /// `RescaleSlope` and `RescaleIntercept` (or an RT dose grid's `DoseGridScaling`): data units are
@@ -97,9 +171,25 @@ pub struct FrameHeader {
     pub instance_uid: String,
     /// The file's transfer syntax UID.
     pub transfer_syntax: String,
+    /// Whether the file's data set is written in implicit VR though its transfer syntax says
+    /// explicit (read so, as pydicom does).
+    pub implicit_vr: bool,
 }
 
 impl FrameHeader {
+    /// What the header says one frame holds, for the codecs to check their streams against.
+    pub fn frame_spec(&self) -> super::codec::FrameSpec {
+        super::codec::FrameSpec {
+            rows: self.rows,
+            columns: self.columns,
+            samples_per_pixel: self.pixel.samples_per_pixel,
+            bits_allocated: self.pixel.bits_allocated,
+            bits_stored: self.pixel.bits_stored,
+            signed: self.pixel.signed,
+            rgb: self.pixel.photometric == Photometric::Rgb,
+        }
+    }
+
     /// The window as its lowest and highest value in data units: `centre ∓ width / 2`.
     pub fn window_range(&self) -> Option<[f64; 2]> {
         let [centre, width] = self.window?;

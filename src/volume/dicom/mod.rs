@@ -3,15 +3,15 @@
 //! here: [`scan`] finds the frames, [`series`] groups them and picks one, [`geometry`] orders and
 //! spaces them by the standard, [`read`] decodes them on all cores.
 
+pub mod codec;
+pub mod colour;
 pub mod error;
 pub mod geometry;
 pub mod guard;
 pub mod header;
-pub mod jpeg12;
 pub mod pixels;
 pub mod read;
 pub mod resample;
-pub mod rle;
 pub mod scan;
 pub mod series;
 pub mod tags;

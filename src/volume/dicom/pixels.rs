@@ -1,16 +1,18 @@
-//! A file's pixel data as grey samples: decoded by dicom-pixeldata (every codec it was built
-//! with), then each sample taken from its stored bits (`BitsStored` below `BitsAllocated`,
-//! `HighBit`), sign-extended where `PixelRepresentation` says so, and inverted for MONOCHROME1 so
-//! that larger values are brighter, as in every other photometric interpretation.
+//! A file's pixel data as samples: native data as it is stored (either byte order), encapsulated
+//! data through LeapView's codec adapters ([`super::codec`]), then each sample taken from its
+//! stored bits (`BitsStored` below `BitsAllocated`, `HighBit`) and sign-extended where
+//! `PixelRepresentation` says so. MONOCHROME1 values are not inverted: the values are the
+//! modality's (PS3.3 C.7.6.3.1.2: the photometric interpretation is for display), and the
+//! display inverts its grey ramp instead.
 
 use std::path::Path;
 
-use dicom_pixeldata::PixelDecoder;
 use dicom_transfer_syntax_registry::{TransferSyntaxIndex, TransferSyntaxRegistry};
 
+use super::codec::{Codec, fragments};
+use super::colour::read_palette;
 use super::error::DicomError;
-use super::header::PixelFormat;
-use super::{jpeg12, rle};
+use super::header::{FrameHeader, Photometric, PixelFormat};
 use crate::volume::ScalarType;
 
 /// The stored type that holds `format`'s values exactly: the smallest integer of its stored bits
@@ -65,21 +67,16 @@ impl Stored for f32 {
     }
 }
 
-/// The value of one sample from its `bits_allocated`-bit container (little endian, as dicom-rs
-/// hands native pixel data): stored bits below `HighBit`, sign-extended, MONOCHROME1 inverted.
+/// The value of one sample from its `bits_allocated`-bit container (little endian): the stored
+/// bits below `HighBit`, sign-extended.
 pub fn sample_value(container: u32, format: &PixelFormat, shift: u32) -> i64 {
     let bits = u32::from(format.bits_stored.clamp(1, 32));
     let mask: u64 = (1u64 << bits) - 1;
     let raw = (u64::from(container) >> shift) & mask;
-    let value = if format.signed && raw >> (bits - 1) & 1 == 1 {
+    if format.signed && raw >> (bits - 1) & 1 == 1 {
         raw as i64 - (1i64 << bits)
     } else {
         raw as i64
-    };
-    match (format.monochrome1, format.signed) {
-        (false, _) => value,
-        (true, false) => mask as i64 - value,
-        (true, true) => -1 - value,
     }
 }
 
@@ -108,14 +105,23 @@ pub fn convert_frame<T: Stored>(
     }
 }
 
-/// A file's decoded pixel data: every frame's samples, native little endian.
+/// A file's decoded pixel data: every frame's samples, in little-endian containers of
+/// `BitsAllocated` bits, interleaved for colour.
 pub struct Decoded {
     /// The bytes of all frames.
     pub bytes: Vec<u8>,
     /// Bytes of one frame.
     pub frame_bytes: usize,
-    /// Whether a codec produced them.
+    /// Whether a codec produced them (the value then sits in the low bits, whatever `HighBit`
+    /// says).
     pub encapsulated: bool,
+    /// What a user should know about how the codestreams disagreed with the header while still
+    /// being read (one line, for the file's first frame that gave one).
+    pub note: Option<String>,
+    /// The codec that decoded them (`None` for native data).
+    pub codec: Option<Codec>,
+    /// The file's palette, for PALETTE COLOR.
+    pub palette: Option<super::colour::Palette>,
 }
 
 impl Decoded {
@@ -136,38 +142,62 @@ pub fn transfer_syntax_name(uid: &str) -> String {
     )
 }
 
-/// Opens `path` whole and decodes its pixel data. `rows`, `columns`, `frames` and `format` are
-/// what its header said (checked against what is there).
-pub fn decode_file(
-    path: &Path,
-    label: &str,
-    rows: u32,
-    columns: u32,
-    frames: u32,
-    format: &PixelFormat,
-) -> Result<Decoded, DicomError> {
-    let obj = dicom_object::open_file(path).map_err(|e| DicomError::Unreadable {
+/// Explicit VR big endian: retired from the standard, still in old archives.
+pub const EXPLICIT_VR_BIG_ENDIAN: &str = "1.2.840.10008.1.2.2";
+
+/// Native (uncompressed) pixel data as little-endian containers of `bits_allocated` bits, from
+/// the value dicom-rs read: bytes (OB) in file order, or 16- or 32-bit words (OW, OL) already
+/// in the machine's order. In big endian files a 32-bit sample in OW words is the first word's
+/// bits above the second's (an RT dose grid); 8-bit samples in OW words take the low byte of
+/// each word first in either byte order (as pydicom reads them).
+pub fn native_bytes(
+    value: &dicom_core::PrimitiveValue,
+    big_endian: bool,
+    bits_allocated: u16,
+) -> Vec<u8> {
+    use dicom_core::PrimitiveValue as P;
+    let width = usize::from(bits_allocated / 8).max(1);
+    match value {
+        P::U8(bytes) => {
+            let mut out = bytes.to_vec();
+            if big_endian && width > 1 {
+                out.chunks_exact_mut(width).for_each(<[u8]>::reverse);
+            }
+            out
+        }
+        P::U16(words) if big_endian && width == 4 => words
+            .chunks_exact(2)
+            .flat_map(|p| ((u32::from(p[0]) << 16) | u32::from(p[1])).to_le_bytes())
+            .collect(),
+        P::U16(words) => words.iter().flat_map(|w| w.to_le_bytes()).collect(),
+        P::I16(words) => words.iter().flat_map(|w| w.to_le_bytes()).collect(),
+        P::U32(words) => words.iter().flat_map(|w| w.to_le_bytes()).collect(),
+        P::I32(words) => words.iter().flat_map(|w| w.to_le_bytes()).collect(),
+        other => other.to_bytes().into_owned(),
+    }
+}
+
+/// Opens `path` whole and decodes the pixel data of its frames, each as `header` (any of its
+/// frames' headers) says (checked against what the codestreams hold).
+pub fn decode_file(path: &Path, label: &str, header: &FrameHeader) -> Result<Decoded, DicomError> {
+    let spec = &header.frame_spec();
+    let frames = header.frames_in_file;
+    // The scan's guard checked this file's lengths and nesting before it was first read, and
+    // found how its data set is encoded.
+    let options = dicom_object::OpenFileOptions::new();
+    let opened = if header.implicit_vr {
+        options
+            .transfer_syntax_index(super::guard::ImplicitForExplicit)
+            .open_file(path)
+    } else {
+        options.open_file(path)
+    };
+    let obj = opened.map_err(|e| DicomError::Unreadable {
         file: label.to_string(),
         reason: format!("{}; is the file cut short?", error_chain(&e)),
     })?;
     let uid = super::tags::trimmed(obj.meta().transfer_syntax());
-    let ts = TransferSyntaxRegistry.get(&uid);
-    if !ts.is_some_and(|ts| ts.can_decode_all()) {
-        return Err(DicomError::UnsupportedTransferSyntax {
-            file: label.to_string(),
-            name: transfer_syntax_name(&uid),
-            uid,
-        });
-    }
-    if format.samples_per_pixel != 1 {
-        return Err(DicomError::BadField {
-            file: label.to_string(),
-            field: "SamplesPerPixel",
-            value: format.samples_per_pixel.to_string(),
-            expected: "LeapView shows grey images (1 sample per pixel), not colour ones",
-        });
-    }
-    if format.bits_allocated == 1 {
+    if spec.bits_allocated == 1 {
         return Err(DicomError::BadField {
             file: label.to_string(),
             field: "BitsAllocated",
@@ -175,55 +205,81 @@ pub fn decode_file(
             expected: "a bit mask is not an image LeapView shows",
         });
     }
-    let encapsulated = ts.is_some_and(|ts| ts.is_encapsulated_pixel_data());
-    // Codecs are other people's code, some of it translated from C: a corrupt codestream must
-    // become an error naming the file, never take the program down.
-    // RLE is decoded here for every sample size: dicom-rs's decoder takes 8 and 16 bits only
-    // (RT dose grids are 32) and indexes past a corrupt segment's end (a fuzzer's finding).
-    let decoded = if uid == rle::RLE_LOSSLESS {
-        let bytes_per_sample = usize::from(format.bits_allocated / 8).max(1);
-        let pixels = rows as usize * columns as usize;
-        Ok(Ok(rle_frames(
-            &obj,
-            label,
-            pixels,
-            bytes_per_sample,
-            frames,
-        )?))
+    let decode_error = |reason: String| DicomError::Decode {
+        file: label.to_string(),
+        reason,
+    };
+    let pixel_data = obj
+        .get(dicom_dictionary_std::tags::PIXEL_DATA)
+        .ok_or_else(|| decode_error("the file holds no PixelData element".into()))?;
+    let big_endian = uid == EXPLICIT_VR_BIG_ENDIAN;
+    let palette = (header.pixel.photometric == Photometric::Palette)
+        .then(|| read_palette(&obj, big_endian))
+        .transpose()
+        .map_err(decode_error)?;
+    let native = matches!(pixel_data.value(), dicom_core::DicomValue::Primitive(_));
+    // Native 4:2:2 colour holds two samples a pixel (Y Y Cb Cr for each pair).
+    let frame_bytes = if native && header.pixel.photometric == Photometric::YbrFull422 {
+        spec.frame_bytes() / 3 * 2
     } else {
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            obj.decode_pixel_data().map(|d| d.into_data())
-        }))
+        spec.frame_bytes()
     };
-    let bytes = match decoded {
-        Ok(Ok(bytes)) => bytes,
-        // dicom-rs's JPEG decoder reads 8-bit precision only; CT is often 12.
-        Ok(Err(_)) if uid == jpeg12::JPEG_EXTENDED && format.bits_allocated == 16 => {
-            jpeg12_frames(&obj, label, rows, columns, frames)?
-        }
-        Ok(Err(e)) => {
-            return Err(DicomError::Decode {
-                file: label.to_string(),
-                reason: error_chain(&e),
-            });
-        }
-        Err(_) => {
-            return Err(DicomError::Decode {
-                file: label.to_string(),
-                reason: "the decoder failed on corrupt data".into(),
-            });
-        }
-    };
-    let bytes_per_sample = u32::from(format.bits_allocated / 8);
-    let frame_bytes = rows as usize * columns as usize * bytes_per_sample as usize;
     let needed = frame_bytes as u64 * u64::from(frames);
+    let mut codec = None;
+    let (bytes, encapsulated, note) = match pixel_data.value() {
+        dicom_core::DicomValue::Primitive(value) => (
+            native_bytes(value, big_endian, spec.bits_allocated),
+            false,
+            None,
+        ),
+        dicom_core::DicomValue::PixelSequence(sequence) => {
+            let found = Codec::of(&uid).ok_or_else(|| DicomError::UnsupportedTransferSyntax {
+                file: label.to_string(),
+                name: transfer_syntax_name(&uid),
+                uid: uid.clone(),
+            })?;
+            codec = Some(found);
+            let codec = found;
+            let streams = if codec == Codec::Rle && sequence.fragments().len() != frames as usize {
+                return Err(decode_error(
+                    "an RLE object needs one fragment per frame".into(),
+                ));
+            } else {
+                fragments::frame_streams(sequence.fragments(), sequence.offset_table(), frames)
+                    .map_err(decode_error)?
+            };
+            let mut bytes = Vec::new();
+            bytes
+                .try_reserve_exact(needed as usize)
+                .map_err(|_| decode_error("not enough memory for the decoded frames".into()))?;
+            let mut note = None;
+            for (f, stream) in streams.iter().enumerate() {
+                let frame = codec.decode(stream, spec).map_err(|reason| {
+                    let syntax = transfer_syntax_name(&uid);
+                    decode_error(if frames > 1 {
+                        format!("{syntax}, frame {}: {reason}", f + 1)
+                    } else {
+                        format!("{syntax}: {reason}")
+                    })
+                })?;
+                note = note.or(frame.note);
+                bytes.extend_from_slice(&frame.bytes);
+            }
+            (bytes, true, note)
+        }
+        dicom_core::DicomValue::Sequence(_) => {
+            return Err(decode_error(
+                "PixelData holds a sequence, not pixels".into(),
+            ));
+        }
+    };
     if (bytes.len() as u64) < needed {
         return Err(DicomError::PixelDataTooShort {
             file: label.to_string(),
-            rows,
-            columns,
+            rows: spec.rows,
+            columns: spec.columns,
             frames,
-            bytes_per_sample,
+            bytes_per_sample: u32::from(spec.bits_allocated / 8),
             needed,
             found: bytes.len() as u64,
         });
@@ -232,66 +288,10 @@ pub fn decode_file(
         bytes,
         frame_bytes,
         encapsulated,
+        note,
+        codec,
+        palette,
     })
-}
-
-/// The fragments of `obj`'s encapsulated pixel data.
-fn fragments<'o>(
-    obj: &'o dicom_object::DefaultDicomObject,
-    label: &str,
-) -> Result<&'o [Vec<u8>], DicomError> {
-    obj.get(dicom_dictionary_std::tags::PIXEL_DATA)
-        .and_then(|e| e.value().fragments())
-        .ok_or_else(|| DicomError::Decode {
-            file: label.to_string(),
-            reason: "the encapsulated pixel data holds no fragments".into(),
-        })
-}
-
-/// Every frame of a 12-bit JPEG Extended object, decoded by [`jpeg12`].
-fn jpeg12_frames(
-    obj: &dicom_object::DefaultDicomObject,
-    label: &str,
-    rows: u32,
-    columns: u32,
-    frames: u32,
-) -> Result<Vec<u8>, DicomError> {
-    let fail = |reason: String| DicomError::Decode {
-        file: label.to_string(),
-        reason: format!("12-bit JPEG Extended: {reason}"),
-    };
-    let streams = jpeg12::frame_streams(fragments(obj, label)?, frames).map_err(fail)?;
-    let mut out = Vec::new();
-    for stream in &streams {
-        out.extend(jpeg12::decode_frame(stream, columns, rows).map_err(fail)?);
-    }
-    Ok(out)
-}
-
-/// Every frame of an RLE object, decoded by [`rle`].
-fn rle_frames(
-    obj: &dicom_object::DefaultDicomObject,
-    label: &str,
-    pixels: usize,
-    bytes_per_sample: usize,
-    frames: u32,
-) -> Result<Vec<u8>, DicomError> {
-    let fail = |reason: &str| DicomError::Decode {
-        file: label.to_string(),
-        reason: reason.to_string(),
-    };
-    let fragments = fragments(obj, label)?;
-    if fragments.len() != frames as usize {
-        return Err(fail("an RLE object needs one fragment per frame"));
-    }
-    let mut out = Vec::new();
-    for f in fragments {
-        out.extend(
-            rle::decode_frame(f, pixels, bytes_per_sample)
-                .ok_or_else(|| fail("an RLE segment is corrupt or cut short"))?,
-        );
-    }
-    Ok(out)
 }
 
 /// An error and its causes, joined: dicom-rs wraps the codec's reason.
@@ -320,7 +320,12 @@ mod tests {
             high_bit: high,
             signed,
             samples_per_pixel: 1,
-            monochrome1: mono1,
+            photometric: if mono1 {
+                super::super::header::Photometric::Monochrome1
+            } else {
+                super::super::header::Photometric::Monochrome2
+            },
+            planar: false,
         }
     }
 
@@ -349,13 +354,34 @@ mod tests {
     }
 
     #[test]
-    fn monochrome1_is_inverted_within_the_stored_range() {
+    fn monochrome1_values_are_the_stored_values() {
+        // Inverting is the display's business: values stay the modality's.
         let f = format(16, 12, 11, false, true);
-        assert_eq!(sample_value(0, &f, 0), 4095);
-        assert_eq!(sample_value(4095, &f, 0), 0);
+        assert_eq!(sample_value(0, &f, 0), 0);
+        assert_eq!(sample_value(4095, &f, 0), 4095);
         let f = format(16, 16, 15, true, true);
-        assert_eq!(sample_value(0x8000, &f, 0), 32767);
-        assert_eq!(sample_value(0x7FFF, &f, 0), -32768);
+        assert_eq!(sample_value(0x8000, &f, 0), -32768);
+    }
+
+    #[test]
+    fn native_words_become_little_endian_containers_in_either_byte_order() {
+        use dicom_core::PrimitiveValue as P;
+        // An RT dose grid's 32-bit samples in OW words of a big endian file: 0x0001_0002 is
+        // the words [0x0001, 0x0002].
+        let words = P::U16(vec![0x0001, 0x0002].into());
+        assert_eq!(native_bytes(&words, true, 32), 0x0001_0002u32.to_le_bytes());
+        assert_eq!(
+            native_bytes(&words, false, 32),
+            0x0002_0001u32.to_le_bytes()
+        );
+        assert_eq!(native_bytes(&words, false, 16), [1, 0, 2, 0]);
+        assert_eq!(native_bytes(&words, true, 16), [1, 0, 2, 0]);
+        // 8-bit samples in OW words: the low byte of each word first, in either byte order.
+        assert_eq!(native_bytes(&words, true, 8), [1, 0, 2, 0]);
+        assert_eq!(native_bytes(&words, false, 8), [1, 0, 2, 0]);
+        // OB bytes of 16-bit samples in a big endian file.
+        let bytes = P::U8(vec![0x12, 0x34].into());
+        assert_eq!(native_bytes(&bytes, true, 16), [0x34, 0x12]);
     }
 
     #[test]

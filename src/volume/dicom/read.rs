@@ -4,17 +4,20 @@
 
 use std::path::PathBuf;
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicU16, Ordering};
 
+use super::codec::Codec;
+use super::colour::{Layout, frame_rgb};
 use super::error::DicomError;
 use super::geometry::{Geometry, SlicePlan, assemble};
-use super::header::{FrameHeader, Rescale};
-use super::pixels::{Stored, convert_frame, decode_file, scalar_type};
+use super::header::{FrameHeader, Photometric, Rescale};
+use super::pixels::{Decoded, Stored, convert_frame, decode_file, scalar_type};
 use super::resample::resample_slice;
 use super::scan::parallel;
 use super::series::Series;
 use crate::volume::error::VolumeError;
 use crate::volume::{
-    LoadProgress, Modality, Orientation, Samples, ScalarType, ValueMapping, Volume, limits,
+    Colour, LoadProgress, Modality, Orientation, Samples, ScalarType, ValueMapping, Volume, limits,
 };
 
 /// The volume's samples before the [`Volume`] is built, and its value mapping.
@@ -81,47 +84,52 @@ fn allocate<T: Stored>(len: usize) -> Result<Vec<T>, VolumeError> {
     Ok(v)
 }
 
-/// Decodes the series' frames into slots: frame i goes to slot `slot_of[i]` (`plane` samples
-/// each). Per-frame rescaling is applied where `per_frame` is given (float output).
+/// Turns one decoded frame into a slot's samples: (frame's bytes, its header, the file's
+/// decoding, the frame's index in the series, the slot).
+type Convert<'a, T> =
+    dyn Fn(&[u8], &FrameHeader, &Decoded, usize, &mut [T]) -> Result<(), String> + Sync + 'a;
+
+/// Decodes the series' frames into slots of `slot_len` samples: frame i goes to slot
+/// `slot_of[i]`, through `convert`.
+#[allow(clippy::too_many_arguments)]
 fn decode_into<T: Stored>(
     files: &[PathBuf],
     series: &Series,
     slot_of: &[usize],
     slots: usize,
-    per_frame: Option<&[Rescale]>,
+    slot_len: usize,
     progress: Option<&LoadProgress>,
+    stream_notes: &Mutex<Vec<String>>,
+    convert: &Convert<'_, T>,
 ) -> Result<Vec<T>, VolumeError> {
-    let first = &series.frames[0];
-    let plane = first.rows as usize * first.columns as usize;
-    let mut out = allocate::<T>(plane * slots)?;
-    let chunks: Vec<Mutex<&mut [T]>> = out.chunks_mut(plane).map(Mutex::new).collect();
+    let mut out = allocate::<T>(slot_len * slots)?;
+    let chunks: Vec<Mutex<&mut [T]>> = out.chunks_mut(slot_len).map(Mutex::new).collect();
     let by_file = frames_by_file(&series.frames);
     let cancelled = || progress.is_some_and(LoadProgress::is_cancelled);
-    let slot_bytes = (plane * std::mem::size_of::<T>()) as u64;
+    let slot_bytes = (slot_len * std::mem::size_of::<T>()) as u64;
     let results = parallel(by_file.len(), &cancelled, &|k| -> Result<(), DicomError> {
         let (file, list) = &by_file[k];
         let header = &series.frames[list[0].1];
-        let decoded = decode_file(
-            &files[*file],
-            &files[*file].file_name().map_or_else(
-                || header.label.clone(),
-                |n| n.to_string_lossy().into_owned(),
-            ),
-            header.rows,
-            header.columns,
-            header.frames_in_file,
-            &header.pixel,
-        )?;
+        let name = files[*file].file_name().map_or_else(
+            || header.label.clone(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        let decoded = decode_file(&files[*file], &name, header)?;
+        if let Some(note) = decoded.note.as_ref()
+            && let Ok(mut notes) = stream_notes.lock()
+            && notes.is_empty()
+        {
+            notes.push(format!("'{}': {note}", header.label));
+        }
         for &(frame, index) in list {
             let bytes = decoded.frame(frame);
             if let Ok(mut chunk) = chunks[slot_of[index]].lock() {
-                convert_frame(bytes, &header.pixel, decoded.encapsulated, &mut chunk);
-                if let Some(rescale) = per_frame {
-                    let r = rescale[index];
-                    chunk
-                        .iter_mut()
-                        .for_each(|v| *v = T::from_f64_rounded(v.to_f64() * r.slope + r.intercept));
-                }
+                convert(bytes, header, &decoded, index, &mut chunk).map_err(|reason| {
+                    DicomError::Decode {
+                        file: series.frames[index].label.clone(),
+                        reason,
+                    }
+                })?;
             }
             if let Some(p) = progress {
                 p.advance(slot_bytes);
@@ -139,28 +147,62 @@ fn decode_into<T: Stored>(
     Ok(out)
 }
 
-/// Decodes and places every slice as `geometry` says, in type `T`.
+/// Decodes every frame (`channels` samples a pixel, interleaved) and places the slices as
+/// `geometry` says: one plane per channel, each `dims` in size.
 fn samples_of<T: Stored>(
     files: &[PathBuf],
     series: &Series,
     geometry: &Geometry,
-    per_frame: Option<&[Rescale]>,
+    channels: usize,
     progress: Option<&LoadProgress>,
-) -> Result<Vec<T>, VolumeError> {
+    notes: &Mutex<Vec<String>>,
+    convert: &Convert<'_, T>,
+) -> Result<Vec<Vec<T>>, VolumeError> {
     let n = series.frames.len();
-    match &geometry.plan {
+    let [x, y, _] = geometry.dims;
+    let plane = x as usize * y as usize;
+    let (slot_of, slots): (Vec<usize>, usize) = match &geometry.plan {
         SlicePlan::Stack(order) => {
             let mut slot_of = vec![0; n];
             for (k, &frame) in order.iter().enumerate() {
                 slot_of[frame] = k;
             }
-            decode_into(files, series, &slot_of, order.len(), per_frame, progress)
+            (slot_of, order.len())
         }
-        SlicePlan::Resample(plan) => {
-            let slot_of: Vec<usize> = (0..n).collect();
-            let stack: Vec<T> = decode_into(files, series, &slot_of, n, per_frame, progress)?;
-            let [x, y, _] = geometry.dims;
-            let plane = x as usize * y as usize;
+        SlicePlan::Resample(_) => ((0..n).collect(), n),
+    };
+    let interleaved = decode_into(
+        files,
+        series,
+        &slot_of,
+        slots,
+        plane * channels,
+        progress,
+        notes,
+        convert,
+    )?;
+    let stacks: Vec<Vec<T>> = if channels == 1 {
+        vec![interleaved]
+    } else {
+        let mut planes = Vec::with_capacity(channels);
+        for c in 0..channels {
+            let mut p = allocate::<T>(plane * slots)?;
+            for (o, v) in p
+                .iter_mut()
+                .zip(interleaved.iter().skip(c).step_by(channels))
+            {
+                *o = *v;
+            }
+            planes.push(p);
+        }
+        planes
+    };
+    let SlicePlan::Resample(plan) = &geometry.plan else {
+        return Ok(stacks);
+    };
+    stacks
+        .into_iter()
+        .map(|stack| {
             let fill = stack
                 .iter()
                 .copied()
@@ -171,8 +213,124 @@ fn samples_of<T: Stored>(
                 resample_slice(&stack, [x as usize, y as usize], sources, fill, slice);
             }
             Ok(out)
+        })
+        .collect()
+}
+
+/// Decodes and places a grey series as `geometry` says, in type `T`.
+fn grey_samples_of<T: Stored>(
+    files: &[PathBuf],
+    series: &Series,
+    geometry: &Geometry,
+    per_frame: Option<&[Rescale]>,
+    progress: Option<&LoadProgress>,
+    notes: &Mutex<Vec<String>>,
+) -> Result<Vec<T>, VolumeError> {
+    let convert = |bytes: &[u8],
+                   header: &FrameHeader,
+                   decoded: &Decoded,
+                   index: usize,
+                   slot: &mut [T]|
+     -> Result<(), String> {
+        convert_frame(bytes, &header.pixel, decoded.encapsulated, slot);
+        if let Some(rescale) = per_frame {
+            let r = rescale[index];
+            slot.iter_mut()
+                .for_each(|v| *v = T::from_f64_rounded(v.to_f64() * r.slope + r.intercept));
         }
-    }
+        Ok(())
+    };
+    let mut planes = samples_of(files, series, geometry, 1, progress, notes, &convert)?;
+    Ok(planes.pop().unwrap_or_default())
+}
+
+/// Decodes and places a colour series as `geometry` says: its channels, in type `T`.
+fn colour_channels_of<T: Stored>(
+    files: &[PathBuf],
+    series: &Series,
+    geometry: &Geometry,
+    progress: Option<&LoadProgress>,
+    notes: &Mutex<Vec<String>>,
+    palette_bits: &AtomicU16,
+) -> Result<Vec<Vec<T>>, VolumeError> {
+    let convert = |bytes: &[u8],
+                   header: &FrameHeader,
+                   decoded: &Decoded,
+                   _index: usize,
+                   slot: &mut [T]|
+     -> Result<(), String> {
+        let layout = match decoded.codec {
+            None => Layout::Native,
+            Some(codec) => Layout::Decoded {
+                rgb: codec == Codec::Jpeg,
+            },
+        };
+        if let Some(p) = &decoded.palette {
+            palette_bits.fetch_max(p.bits, Ordering::Relaxed);
+        }
+        let pixels = header.rows as usize * header.columns as usize;
+        let rgb = frame_rgb(
+            bytes,
+            &header.pixel,
+            layout,
+            decoded.palette.as_ref(),
+            pixels,
+        )?;
+        for (o, v) in slot.iter_mut().zip(rgb) {
+            *o = T::from_i64(i64::from(v));
+        }
+        Ok(())
+    };
+    samples_of(files, series, geometry, 3, progress, notes, &convert)
+}
+
+/// A colour series' channels, in the narrowest unsigned type of their bits.
+fn colour_of(
+    files: &[PathBuf],
+    series: &Series,
+    geometry: &Geometry,
+    progress: Option<&LoadProgress>,
+    notes: &Mutex<Vec<String>>,
+) -> Result<Colour, VolumeError> {
+    let pixel = &series.frames[0].pixel;
+    let palette = pixel.photometric == Photometric::Palette;
+    let bits = pixel.bits_stored;
+    let palette_bits = AtomicU16::new(0);
+    let args = (files, series, geometry, progress, notes, &palette_bits);
+    let channels: [Samples; 3] = if !palette && bits <= 8 {
+        let [r, g, b] = three(colour_channels_of::<u8>(
+            args.0, args.1, args.2, args.3, args.4, args.5,
+        )?);
+        [Samples::U8(r), Samples::U8(g), Samples::U8(b)]
+    } else if palette || bits <= 16 {
+        let [r, g, b] = three(colour_channels_of::<u16>(
+            args.0, args.1, args.2, args.3, args.4, args.5,
+        )?);
+        [Samples::U16(r), Samples::U16(g), Samples::U16(b)]
+    } else {
+        let [r, g, b] = three(colour_channels_of::<u32>(
+            args.0, args.1, args.2, args.3, args.4, args.5,
+        )?);
+        [Samples::U32(r), Samples::U32(g), Samples::U32(b)]
+    };
+    let bits = if palette {
+        palette_bits.load(Ordering::Relaxed).max(8)
+    } else {
+        bits
+    };
+    Colour::new(channels, bits).ok_or_else(|| {
+        DicomError::Decode {
+            file: series.frames[0].label.clone(),
+            reason: "the colour channels differ in size".into(),
+        }
+        .into()
+    })
+}
+
+/// The three planes `samples_of` returns for three channels.
+fn three<T>(planes: Vec<Vec<T>>) -> [Vec<T>; 3] {
+    let mut it = planes.into_iter();
+    std::array::from_fn(|_| it.next().unwrap_or_default())
 }
 
 fn assemble_samples(
@@ -201,24 +359,21 @@ fn assemble_samples(
         let plane = first.rows as u64 * first.columns as u64;
         p.start(plane * series.frames.len() as u64 * stored.size_bytes() as u64);
     }
-    if first.pixel.monochrome1 {
-        notes.push(
-            "MONOCHROME1 (white is the lowest value): values inverted so that larger is brighter"
-                .into(),
-        );
-    }
     let per_frame = (!uniform).then_some(rescales.as_slice());
+    let stream_notes = Mutex::new(Vec::new());
+    let (f, s, g, n) = (files, series, geometry, &stream_notes);
     let samples = match stored {
-        ScalarType::U8 => Samples::U8(samples_of(files, series, geometry, per_frame, progress)?),
-        ScalarType::I8 => Samples::I8(samples_of(files, series, geometry, per_frame, progress)?),
-        ScalarType::U16 => Samples::U16(samples_of(files, series, geometry, per_frame, progress)?),
-        ScalarType::I16 => Samples::I16(samples_of(files, series, geometry, per_frame, progress)?),
-        ScalarType::U32 => Samples::U32(samples_of(files, series, geometry, per_frame, progress)?),
-        ScalarType::I32 => Samples::I32(samples_of(files, series, geometry, per_frame, progress)?),
+        ScalarType::U8 => Samples::U8(grey_samples_of(f, s, g, per_frame, progress, n)?),
+        ScalarType::I8 => Samples::I8(grey_samples_of(f, s, g, per_frame, progress, n)?),
+        ScalarType::U16 => Samples::U16(grey_samples_of(f, s, g, per_frame, progress, n)?),
+        ScalarType::I16 => Samples::I16(grey_samples_of(f, s, g, per_frame, progress, n)?),
+        ScalarType::U32 => Samples::U32(grey_samples_of(f, s, g, per_frame, progress, n)?),
+        ScalarType::I32 => Samples::I32(grey_samples_of(f, s, g, per_frame, progress, n)?),
         ScalarType::F32 | ScalarType::F64 => {
-            Samples::F32(samples_of(files, series, geometry, per_frame, progress)?)
+            Samples::F32(grey_samples_of(f, s, g, per_frame, progress, n)?)
         }
     };
+    notes.extend(stream_notes.into_inner().unwrap_or_default());
     let mapping = if uniform {
         ValueMapping {
             slope: rescales[0].slope,
@@ -234,6 +389,17 @@ fn assemble_samples(
     })
 }
 
+/// The name of a colour photometric interpretation, for notes.
+fn colour_name(photometric: Photometric) -> &'static str {
+    match photometric {
+        Photometric::Rgb => "RGB",
+        Photometric::YbrFull | Photometric::YbrFull422 => "YCbCr, converted to RGB",
+        Photometric::YbrDecodedToRgb => "YCbCr, converted to RGB by its codec",
+        Photometric::Palette => "palette colour",
+        _ => "colour",
+    }
+}
+
 /// Reads `series` (its frames from `files`) into a volume named `name`.
 pub fn read_series(
     files: &[PathBuf],
@@ -241,32 +407,57 @@ pub fn read_series(
     name: String,
     progress: Option<&LoadProgress>,
 ) -> Result<Volume, VolumeError> {
-    if !series.is_grey_volume() {
-        let first = series.frames.first();
-        return Err(DicomError::BadField {
-            file: first.map(|f| f.label.clone()).unwrap_or_default(),
-            field: "SamplesPerPixel / BitsAllocated",
-            value: first
-                .map(|f| format!("{} / {}", f.pixel.samples_per_pixel, f.pixel.bits_allocated))
-                .unwrap_or_default(),
-            expected: "LeapView shows grey images of 8, 16 or 32 bits (1 sample per pixel)",
+    let first = series.frames.first().ok_or_else(|| DicomError::Geometry {
+        reason: "the series has no frame".into(),
+    })?;
+    if let Some(why) = first.pixel.unsupported() {
+        return Err(DicomError::Unsupported {
+            file: first.label.clone(),
+            why,
         }
         .into());
     }
     let geometry = assemble(&series.frames)?;
-    let Assembled {
-        samples,
-        mapping,
-        mut notes,
-    } = assemble_samples(files, series, &geometry, progress)?;
+    let colour = first.pixel.photometric.is_colour();
+    let (volume, mut notes) = if colour {
+        let stored = if first.pixel.bits_stored <= 8 {
+            ScalarType::U8
+        } else {
+            ScalarType::U16
+        };
+        let (_, bytes) = limits::check_dims(geometry.dims.map(u64::from), stored)?;
+        check_files_can_hold(files, series, bytes.saturating_mul(4))?;
+        if let Some(p) = progress {
+            p.start(bytes.saturating_mul(3));
+        }
+        let stream_notes = Mutex::new(Vec::new());
+        let channels = colour_of(files, series, &geometry, progress, &stream_notes)?;
+        let mut notes = stream_notes.into_inner().unwrap_or_default();
+        notes.push(format!(
+            "a colour image ({}): shown in its own colours; the transfer function's opacity \
+             and the statistics follow its luminance (0-255)",
+            colour_name(first.pixel.photometric)
+        ));
+        let volume = Volume::new_colour(name, geometry.dims, geometry.spacing_mm, channels)?;
+        (volume, notes)
+    } else {
+        let Assembled {
+            samples,
+            mapping,
+            notes,
+        } = assemble_samples(files, series, &geometry, progress)?;
+        let volume = Volume::new(name, geometry.dims, geometry.spacing_mm, samples, mapping)?;
+        (volume, notes)
+    };
     notes.splice(0..0, geometry.notes.iter().cloned());
     let orientation = geometry
         .axes_known
         .then(|| Orientation::from_lps_columns(geometry.axes_lps))
         .flatten();
-    // The window is in data units: it applies after the rescale (PS3.3 C.11.2.1.2).
-    let window = series.frames[0].window_range();
-    let volume = Volume::new(name, geometry.dims, geometry.spacing_mm, samples, mapping)?
+    // The window is in data units: it applies after the rescale (PS3.3 C.11.2.1.2); colour
+    // images have none.
+    let window = (!colour).then(|| first.window_range()).flatten();
+    let volume = volume
         .with_orientation(orientation)
         .with_modality(Modality::parse(&series.facts.modality));
     Ok(volume.with_provenance(crate::volume::Provenance {
@@ -274,6 +465,7 @@ pub fn read_series(
         window,
         series: Some(series.facts.clone()),
         origin_lps: geometry.axes_known.then_some(geometry.origin_lps),
+        invert_grey: first.pixel.photometric == Photometric::Monochrome1,
         ..Default::default()
     }))
 }

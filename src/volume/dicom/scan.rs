@@ -11,6 +11,7 @@ use dicom_dictionary_std::tags;
 use dicom_object::OpenFileOptions;
 
 use super::error::DicomError;
+use super::guard::{Encoding, ImplicitForExplicit};
 use super::header::FrameHeader;
 use super::tags::{Contents, contents};
 
@@ -130,21 +131,37 @@ fn read_header(path: &Path, file: usize, name: &str) -> Result<Found, DicomError
     }
     let bytes = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
     // dicom-rs allocates what a length says before reading: lying lengths are refused first.
-    if let Err(reason) = super::guard::check_lengths(path) {
-        return Ok(Found::Unreadable(format!("{name}: {reason}")));
-    }
-    let obj = match OpenFileOptions::new()
-        .read_until(tags::PIXEL_DATA)
-        .open_file(path)
-    {
-        Ok(obj) => obj,
-        Err(e) => {
-            return Ok(Found::Unreadable(format!(
-                "{name}: {}",
-                super::pixels::error_chain(&e)
-            )));
+    let encoding = match super::guard::check_lengths(path) {
+        Ok(encoding) => encoding,
+        Err(reason) => return Ok(Found::Unreadable(reason)),
+    };
+    let options = OpenFileOptions::new().read_until(tags::PIXEL_DATA);
+    let opened = match encoding {
+        Encoding::AsDeclared => options.open_file(path),
+        Encoding::ImplicitForExplicit => {
+            log::info!(
+                "{name}: its meta information says explicit VR, its data set is implicit VR: read as implicit"
+            );
+            options
+                .transfer_syntax_index(ImplicitForExplicit)
+                .open_file(path)
         }
     };
+    let obj = match opened {
+        Ok(obj) => obj,
+        Err(e) => return Ok(Found::Unreadable(super::pixels::error_chain(&e))),
+    };
+    if encoding == Encoding::ImplicitForExplicit {
+        return Ok(match contents(&obj, file, name, bytes)? {
+            Contents::Image(mut frames) => {
+                for f in &mut frames {
+                    f.implicit_vr = true;
+                }
+                Found::Frames(frames)
+            }
+            Contents::NotImage(what) => Found::NotImage(what),
+        });
+    }
     Ok(match contents(&obj, file, name, bytes)? {
         Contents::Image(frames) => Found::Frames(frames),
         Contents::NotImage(what) => Found::NotImage(what),
@@ -252,7 +269,8 @@ pub fn scan(path: &Path, cancelled: &(dyn Fn() -> bool + Sync)) -> Result<Scan, 
                         reason,
                     });
                 }
-                scan.unreadable.push(reason)
+                scan.unreadable
+                    .push(format!("{}: {reason}", label(&root, &files[i])))
             }
         }
     }

@@ -19,11 +19,11 @@ pub struct Series {
 }
 
 impl Series {
-    /// Whether this series can be shown as a grey volume (one sample per pixel, 8 to 32 bits).
-    pub fn is_grey_volume(&self) -> bool {
-        self.frames.first().is_some_and(|f| {
-            f.pixel.samples_per_pixel == 1 && matches!(f.pixel.bits_allocated, 8 | 16 | 32)
-        })
+    /// Whether this series can be shown: grey or colour, 8 to 32 bits.
+    pub fn is_shown(&self) -> bool {
+        self.frames
+            .first()
+            .is_some_and(|f| f.pixel.unsupported().is_none())
     }
 
     /// The number of distinct files the frames come from.
@@ -63,8 +63,8 @@ impl Series {
                 crate::text::number(row)
             ));
         }
-        if !self.is_grey_volume() {
-            text.push_str(", not a grey image (not shown)");
+        if !self.is_shown() {
+            text.push_str(", not an image LeapView shows");
         }
         text
     }
@@ -162,6 +162,7 @@ struct GroupKey {
     spacing: Option<[i64; 2]>,
     pixel: [u16; 4],
     signed: bool,
+    photometric: super::header::Photometric,
 }
 
 fn group_key(f: &FrameHeader) -> GroupKey {
@@ -179,6 +180,7 @@ fn group_key(f: &FrameHeader) -> GroupKey {
             f.pixel.samples_per_pixel,
         ],
         signed: f.pixel.signed,
+        photometric: f.pixel.photometric,
     }
 }
 
@@ -270,11 +272,19 @@ pub fn choose(
             {
                 return Ok(i);
             }
+            // Grey volumes before colour ones (a secondary capture beside a scan), then the most
+            // frames.
             series
                 .iter()
                 .enumerate()
-                .filter(|(_, s)| s.is_grey_volume())
-                .max_by_key(|(i, s)| (s.frames.len(), std::cmp::Reverse(*i)))
+                .filter(|(_, s)| s.is_shown())
+                .max_by_key(|(i, s)| {
+                    let grey = s
+                        .frames
+                        .first()
+                        .is_some_and(|f| !f.pixel.photometric.is_colour());
+                    (grey, s.frames.len(), std::cmp::Reverse(*i))
+                })
                 .or_else(|| {
                     series
                         .iter()
@@ -292,7 +302,7 @@ pub fn choose(
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::volume::dicom::header::{PixelFormat, Rescale};
+    use crate::volume::dicom::header::{Photometric, PixelFormat, Rescale};
 
     /// An axial CT frame of 4 x 3 pixels at height `z`, in series `uid`, file `file`.
     pub(crate) fn frame(uid: &str, file: usize, z: f64) -> FrameHeader {
@@ -320,13 +330,15 @@ pub(crate) mod tests {
                 high_bit: 11,
                 signed: true,
                 samples_per_pixel: 1,
-                monochrome1: false,
+                photometric: Photometric::Monochrome2,
+                planar: false,
             },
             rescale: Rescale::IDENTITY,
             window: None,
             instance_number: None,
             instance_uid: format!("1.2.3.{file}"),
             transfer_syntax: "1.2.840.10008.1.2.1".into(),
+            implicit_vr: false,
         }
     }
 
@@ -390,10 +402,11 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn colour_series_are_listed_but_not_chosen_by_default() {
+    fn colour_series_are_chosen_after_grey_ones() {
         let mut rgb: Vec<_> = (0..5).map(|i| frame("rgb", i, i as f64)).collect();
         for f in &mut rgb {
             f.pixel.samples_per_pixel = 3;
+            f.pixel.photometric = Photometric::Rgb;
         }
         let mut frames = rgb;
         frames.push(frame("grey", 9, 0.0));

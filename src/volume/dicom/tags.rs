@@ -9,7 +9,7 @@ use dicom_object::InMemDicomObject;
 use dicom_object::mem::InMemElement;
 
 use super::error::DicomError;
-use super::header::{FrameHeader, PixelFormat, Rescale, SeriesFacts};
+use super::header::{FrameHeader, Photometric, PixelFormat, Rescale, SeriesFacts};
 
 /// A DICOM object as dicom-rs reads a file.
 pub type Object = dicom_object::DefaultDicomObject;
@@ -190,7 +190,8 @@ fn pixel_format(obj: &Object, label: &str) -> Result<PixelFormat, DicomError> {
         high_bit: high as u16,
         signed: get(tags::PIXEL_REPRESENTATION) == Some(1),
         samples_per_pixel: samples as u16,
-        monochrome1: text(obj.get(tags::PHOTOMETRIC_INTERPRETATION)) == "MONOCHROME1",
+        photometric: Photometric::parse(&text(obj.get(tags::PHOTOMETRIC_INTERPRETATION))),
+        planar: get(tags::PLANAR_CONFIGURATION) == Some(1),
     })
 }
 
@@ -360,6 +361,7 @@ pub fn contents(
             instance_number: int(obj.get(tags::INSTANCE_NUMBER)),
             instance_uid: instance_uid.clone(),
             transfer_syntax: ts.clone(),
+            implicit_vr: false,
         });
     }
     Ok(Contents::Image(out))

@@ -7,12 +7,14 @@ mod binary;
 mod display;
 mod files;
 mod hard;
+mod python;
 pub mod scene;
 pub use analytic::*;
 pub use binary::*;
 pub use display::*;
 pub use files::*;
 pub use hard::*;
+pub use python::*;
 
 use std::path::PathBuf;
 

@@ -1,22 +1,42 @@
-//! RLE Lossless (PS3.5 Annex G), for every sample size (dicom-rs's decoder takes 8 and 16 bits
-//! only, and indexes past a corrupt segment's end): each frame one fragment, a 64-byte header of segment offsets, one PackBits
-//! segment per byte plane, the most significant plane first.
+//! RLE Lossless (PS3.5 Annex G), for every sample size and grey or colour (dicom-rs's decoder
+//! takes 8 and 16 bits only, and indexes past a corrupt segment's end): each frame one fragment,
+//! a 64-byte header of segment offsets, one PackBits segment per byte plane, sample by sample
+//! (R, G, B), the most significant plane of each first.
+
+use super::FrameSpec;
 
 /// The RLE Lossless transfer syntax.
 pub const RLE_LOSSLESS: &str = "1.2.840.10008.1.2.5";
 
-/// Decodes one frame of `pixels` grey samples of `bytes_per_sample` bytes into little-endian
-/// containers; `None` for a fragment that does not hold them.
-pub fn decode_frame(fragment: &[u8], pixels: usize, bytes_per_sample: usize) -> Option<Vec<u8>> {
+/// Decodes one frame `spec` describes into little-endian containers, samples interleaved.
+pub fn decode_frame(fragment: &[u8], spec: &FrameSpec) -> Result<Vec<u8>, String> {
+    decode(
+        fragment,
+        spec.pixels(),
+        usize::from(spec.samples_per_pixel),
+        spec.bytes_per_sample(),
+    )
+    .ok_or_else(|| "an RLE segment is corrupt or cut short".to_string())
+}
+
+/// `pixels` pixels of `samples` samples of `bytes_per_sample` bytes; `None` for a fragment that
+/// does not hold them.
+fn decode(
+    fragment: &[u8],
+    pixels: usize,
+    samples: usize,
+    bytes_per_sample: usize,
+) -> Option<Vec<u8>> {
     let word = |i: usize| -> Option<usize> {
         let b = fragment.get(4 * i..4 * i + 4)?;
         Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize)
     };
     let segments = word(0)?;
-    if segments != bytes_per_sample || segments > 15 {
+    if segments != samples * bytes_per_sample || segments > 15 {
         return None;
     }
-    let mut out = vec![0u8; pixels * bytes_per_sample];
+    let stride = samples * bytes_per_sample;
+    let mut out = vec![0u8; pixels * stride];
     for s in 0..segments {
         let start = word(1 + s)?;
         let end = if s + 1 < segments {
@@ -25,11 +45,15 @@ pub fn decode_frame(fragment: &[u8], pixels: usize, bytes_per_sample: usize) -> 
             fragment.len()
         };
         let data = fragment.get(start..end.max(start))?;
-        // Segment s holds byte (bytes_per_sample - 1 - s) of each sample, little endian.
-        let byte = bytes_per_sample - 1 - s;
+        // Segment s holds byte (bytes_per_sample - 1 - s % bytes_per_sample) of sample
+        // s / bytes_per_sample, little endian.
+        let (sample, byte) = (
+            s / bytes_per_sample,
+            bytes_per_sample - 1 - s % bytes_per_sample,
+        );
         let plane = unpack(data, pixels)?;
         for (p, v) in plane.into_iter().enumerate() {
-            out[p * bytes_per_sample + byte] = v;
+            out[p * stride + sample * bytes_per_sample + byte] = v;
         }
     }
     Some(out)
@@ -76,11 +100,13 @@ mod tests {
         fragment[8] = 67;
         fragment.extend_from_slice(&[1, 1, 3]); // literal run of 2
         fragment.extend_from_slice(&[1, 2, 4]);
-        assert_eq!(decode_frame(&fragment, 2, 2), Some(vec![2, 1, 4, 3]));
+        assert_eq!(decode(&fragment, 2, 1, 2), Some(vec![2, 1, 4, 3]));
         // A repeat run: -1 repeats twice.
         assert_eq!(unpack(&[0xFF, 9], 2), Some(vec![9, 9]));
         // Short data is refused, not padded.
         assert_eq!(unpack(&[0xFF, 9], 3), None);
-        assert_eq!(decode_frame(&fragment[..10], 2, 2), None);
+        assert_eq!(decode(&fragment[..10], 2, 1, 2), None);
+        // The same two bytes as two 8-bit samples of one pixel (R then G): interleaved.
+        assert_eq!(decode(&fragment, 2, 2, 1), Some(vec![1, 2, 3, 4]));
     }
 }
