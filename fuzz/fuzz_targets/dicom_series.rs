@@ -94,7 +94,7 @@ fn run(data: &[u8]) -> arbitrary::Result<()> {
         frames.push(frame(&mut u, file)?);
     }
     let named = option(&mut u, |u| u.int_in_range(0..=count))?;
-    let (frames, _) = drop_copies(frames, named);
+    let frames = drop_copies(frames, named).kept;
     let series = group(frames);
     let choice = match u.int_in_range(0..=2)? {
         0 => None,

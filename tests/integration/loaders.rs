@@ -5,6 +5,7 @@
 
 mod bad_data;
 mod bad_files;
+mod dicom_hostile;
 mod dicom_shared;
 mod dicom_written;
 mod metaimage;

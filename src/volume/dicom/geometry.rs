@@ -334,6 +334,24 @@ pub fn assemble(frames: &[FrameHeader]) -> Result<Geometry, DicomError> {
         .iter()
         .map(|&f| lateral(positions[f]))
         .fold(0.0, f64::max);
+    // A gantry tilt shifts slices across the normal by less than the series is long (tilts stay
+    // below 45°); a slice shifted past the image's and the series' size together lies elsewhere.
+    let reach = f64::from(dims_xy[0]) * col_sp + f64::from(dims_xy[1]) * row_sp + (d_last - d0);
+    if !(tilt_mm <= 2.0 * reach) {
+        let (k, far) = order
+            .iter()
+            .map(|&f| (f, lateral(positions[f])))
+            .fold((order[0], 0.0), |a, b| {
+                if b.1 > a.1 || b.1.is_nan() { b } else { a }
+            });
+        return Err(fail(format!(
+            "'{}' lies {} mm across the slices' normal from the first slice, beyond any gantry \
+             tilt (ImagePositionPatient {})",
+            frames[k].label,
+            mm(far),
+            positions[k].map(mm).join("\\")
+        )));
+    }
     let tilted = tilt_mm > TILT_TOLERANCE * row_sp.min(col_sp);
     if tilted {
         let last = lateral(positions[order[order.len() - 1]]);

@@ -83,7 +83,13 @@ pub fn load(
     } else {
         format!("{base} ({})", series.facts.description)
     };
-    let volume = read::read_series(&catalogue.scan.files, series, name, progress)?;
+    let volume = read::read_series(
+        &catalogue.scan.files,
+        &catalogue.scan.alternatives,
+        series,
+        name,
+        progress,
+    )?;
     log::info!(
         "{}: {} files scanned in {:.0} ms; series {} ({} slices) read in {:.0} ms",
         path.display(),

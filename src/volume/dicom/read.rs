@@ -14,11 +14,24 @@ use super::header::{FrameHeader, Photometric, Rescale};
 use super::pixels::{Decoded, Stored, convert_frame, decode_file, scalar_type};
 use super::resample::resample_slice;
 use super::scan::parallel;
-use super::series::Series;
+use super::series::{Alternatives, Series};
 use crate::volume::error::VolumeError;
 use crate::volume::{
     Colour, LoadProgress, Modality, Orientation, Samples, ScalarType, ValueMapping, Volume, limits,
 };
+
+/// The series' files, and the copies of each that can stand in for it.
+struct Files<'a> {
+    paths: &'a [PathBuf],
+    alternatives: &'a Alternatives,
+}
+
+impl std::ops::Index<usize> for Files<'_> {
+    type Output = PathBuf;
+    fn index(&self, i: usize) -> &PathBuf {
+        &self.paths[i]
+    }
+}
 
 /// The volume's samples before the [`Volume`] is built, and its value mapping.
 struct Assembled {
@@ -40,7 +53,7 @@ fn frames_by_file(frames: &[FrameHeader]) -> Vec<(usize, Vec<(u32, usize)>)> {
 /// reaches ([`limits::MAX_DEFLATE_RATIO`]: deflate's bound, beyond any lossless image codec's) or
 /// that this machine has no memory for, before anything is allocated: headers that lie about
 /// rows, columns or frames never make a large allocation.
-fn check_files_can_hold(files: &[PathBuf], series: &Series, bytes: u64) -> Result<(), VolumeError> {
+fn check_files_can_hold(files: &Files<'_>, series: &Series, bytes: u64) -> Result<(), VolumeError> {
     let mut ids: Vec<usize> = series.frames.iter().map(|f| f.file).collect();
     ids.sort_unstable();
     ids.dedup();
@@ -93,7 +106,7 @@ type Convert<'a, T> =
 /// `slot_of[i]`, through `convert`.
 #[allow(clippy::too_many_arguments)]
 fn decode_into<T: Stored>(
-    files: &[PathBuf],
+    files: &Files<'_>,
     series: &Series,
     slot_of: &[usize],
     slots: usize,
@@ -114,7 +127,14 @@ fn decode_into<T: Stored>(
             || header.label.clone(),
             |n| n.to_string_lossy().into_owned(),
         );
-        let decoded = decode_file(&files[*file], &name, header)?;
+        let decoded = decode_or_copy(
+            files.paths,
+            *file,
+            &name,
+            header,
+            files.alternatives,
+            stream_notes,
+        )?;
         if let Some(note) = decoded.note.as_ref()
             && let Ok(mut notes) = stream_notes.lock()
             && notes.is_empty()
@@ -147,10 +167,42 @@ fn decode_into<T: Stored>(
     Ok(out)
 }
 
+/// Decodes file `file` (named `name`, of whose frames `header` is one) or, where that fails, the
+/// first copy of it that decodes, saying so in a note.
+fn decode_or_copy(
+    files: &[PathBuf],
+    file: usize,
+    name: &str,
+    header: &FrameHeader,
+    alternatives: &Alternatives,
+    notes: &Mutex<Vec<String>>,
+) -> Result<Decoded, DicomError> {
+    let error = match decode_file(&files[file], name, header) {
+        Ok(decoded) => return Ok(decoded),
+        Err(e) => e,
+    };
+    for &(copy, implicit_vr) in alternatives.get(&file).into_iter().flatten() {
+        let copy_name = files[copy].display().to_string();
+        let copy_header = FrameHeader {
+            implicit_vr,
+            ..header.clone()
+        };
+        if let Ok(decoded) = decode_file(&files[copy], &copy_name, &copy_header) {
+            if let Ok(mut n) = notes.lock() {
+                n.push(format!(
+                    "{error}; its copy '{copy_name}' (the same SOPInstanceUID) was read instead"
+                ));
+            }
+            return Ok(decoded);
+        }
+    }
+    Err(error)
+}
+
 /// Decodes every frame (`channels` samples a pixel, interleaved) and places the slices as
 /// `geometry` says: one plane per channel, each `dims` in size.
 fn samples_of<T: Stored>(
-    files: &[PathBuf],
+    files: &Files<'_>,
     series: &Series,
     geometry: &Geometry,
     channels: usize,
@@ -219,7 +271,7 @@ fn samples_of<T: Stored>(
 
 /// Decodes and places a grey series as `geometry` says, in type `T`.
 fn grey_samples_of<T: Stored>(
-    files: &[PathBuf],
+    files: &Files<'_>,
     series: &Series,
     geometry: &Geometry,
     per_frame: Option<&[Rescale]>,
@@ -246,7 +298,7 @@ fn grey_samples_of<T: Stored>(
 
 /// Decodes and places a colour series as `geometry` says: its channels, in type `T`.
 fn colour_channels_of<T: Stored>(
-    files: &[PathBuf],
+    files: &Files<'_>,
     series: &Series,
     geometry: &Geometry,
     progress: Option<&LoadProgress>,
@@ -286,7 +338,7 @@ fn colour_channels_of<T: Stored>(
 
 /// A colour series' channels, in the narrowest unsigned type of their bits.
 fn colour_of(
-    files: &[PathBuf],
+    files: &Files<'_>,
     series: &Series,
     geometry: &Geometry,
     progress: Option<&LoadProgress>,
@@ -334,7 +386,7 @@ fn three<T>(planes: Vec<Vec<T>>) -> [Vec<T>; 3] {
 }
 
 fn assemble_samples(
-    files: &[PathBuf],
+    files: &Files<'_>,
     series: &Series,
     geometry: &Geometry,
     progress: Option<&LoadProgress>,
@@ -400,13 +452,19 @@ fn colour_name(photometric: Photometric) -> &'static str {
     }
 }
 
-/// Reads `series` (its frames from `files`) into a volume named `name`.
+/// Reads `series` (its frames from `paths`; `alternatives` names copies of a file to read where
+/// it cannot be decoded) into a volume named `name`.
 pub fn read_series(
-    files: &[PathBuf],
+    paths: &[PathBuf],
+    alternatives: &Alternatives,
     series: &Series,
     name: String,
     progress: Option<&LoadProgress>,
 ) -> Result<Volume, VolumeError> {
+    let files = &Files {
+        paths,
+        alternatives,
+    };
     let first = series.frames.first().ok_or_else(|| DicomError::Geometry {
         reason: "the series has no frame".into(),
     })?;

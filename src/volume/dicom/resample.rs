@@ -15,6 +15,12 @@ fn sample<T: Stored>(
     fill: f64,
 ) -> f64 {
     let (u, v) = (x as f64 + shift[0], y as f64 + shift[1]);
+    // A shift far outside the frame (a corrupt header's gantry tilt) reads only fill; bounding it
+    // first keeps the indices below from overflowing.
+    let outside = |w: f64, n: usize| !(w > -1.0 && w < n as f64);
+    if outside(u, size[0]) || outside(v, size[1]) {
+        return fill;
+    }
     let at = |i: i64, j: i64| -> f64 {
         if i < 0 || j < 0 || i >= size[0] as i64 || j >= size[1] as i64 {
             fill
@@ -96,5 +102,20 @@ mod tests {
         }];
         resample_slice(&frames, [2, 2], &half_column, 0, &mut out);
         assert_eq!(out, vec![5, 5, 25, 15]);
+        // Shifts no frame reaches (a huge in-plane shift, not finite): fill, not an overflow.
+        for shift in [
+            [1e300, 0.0],
+            [-1e19, 2.0],
+            [f64::NAN, 0.0],
+            [0.0, f64::INFINITY],
+        ] {
+            let far = [Source {
+                frame: 0,
+                weight: 1.0,
+                shift,
+            }];
+            resample_slice(&frames, [2, 2], &far, -7, &mut out);
+            assert_eq!(out, vec![-7; 4], "{shift:?}");
+        }
     }
 }

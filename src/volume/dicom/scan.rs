@@ -15,8 +15,9 @@ use super::guard::{Encoding, ImplicitForExplicit};
 use super::header::FrameHeader;
 use super::tags::{Contents, contents};
 
-/// Deepest folder nesting searched.
-pub const MAX_DEPTH: usize = 16;
+/// Deepest folder nesting searched (PACS exports nest patient, study, series and more; a deeper
+/// folder is counted and named in the message when nothing is found).
+pub const MAX_DEPTH: usize = 32;
 /// Most files looked at under one folder.
 pub const MAX_FILES: usize = 200_000;
 
@@ -37,6 +38,13 @@ pub struct Scan {
     pub unreadable: Vec<String>,
     /// Files that hold copies of objects found in other files (same `SOPInstanceUID`).
     pub copies: usize,
+    /// For a file whose frames were kept, the files holding copies of them (by index into
+    /// `files`): read in its place where it cannot be decoded.
+    pub alternatives: super::series::Alternatives,
+    /// Sub-folders that could not be listed, with the first one's reason.
+    pub unreadable_folders: Vec<String>,
+    /// Folders deeper than [`MAX_DEPTH`] below the one scanned, not searched.
+    pub too_deep: usize,
 }
 
 impl Scan {
@@ -68,6 +76,24 @@ impl Scan {
                 self.unreadable.len()
             ));
         }
+        if let Some(first) = self.unreadable_folders.first() {
+            parts.push(format!(
+                "{} folder{} that could not be listed (first: {first})",
+                self.unreadable_folders.len(),
+                if self.unreadable_folders.len() == 1 {
+                    ""
+                } else {
+                    "s"
+                }
+            ));
+        }
+        if self.too_deep > 0 {
+            parts.push(format!(
+                "{} folder{} more than {MAX_DEPTH} levels down, not searched",
+                self.too_deep,
+                if self.too_deep == 1 { "" } else { "s" }
+            ));
+        }
         parts.join(", ")
     }
 }
@@ -81,15 +107,50 @@ pub fn looks_like_dicom(path: &Path) -> bool {
         .is_ok_and(|()| &head[128..132] == b"DICM")
 }
 
-fn collect_files(dir: &Path, depth: usize, out: &mut Vec<PathBuf>) -> Result<(), DicomError> {
-    let entries = std::fs::read_dir(dir).map_err(|e| DicomError::Unreadable {
-        file: dir.display().to_string(),
-        reason: e.to_string(),
-    })?;
-    let mut entries: Vec<_> = entries.flatten().map(|e| e.path()).collect();
+/// What a walk through folders found: files, and folders passed over.
+#[derive(Default)]
+struct Walk {
+    files: Vec<PathBuf>,
+    unreadable_folders: Vec<String>,
+    too_deep: usize,
+}
+
+/// A folder's entries, sorted.
+fn list_folder(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)?
+        .flatten()
+        .map(|e| e.path())
+        .collect();
     entries.sort();
+    Ok(entries)
+}
+
+/// Lists the files under `dir` (`depth` levels below the folder scanned) through `list`; a
+/// sub-folder that cannot be listed is passed over and named, the folder scanned itself is an
+/// error.
+fn collect_files(
+    root: &Path,
+    dir: &Path,
+    depth: usize,
+    walk: &mut Walk,
+    list: &dyn Fn(&Path) -> std::io::Result<Vec<PathBuf>>,
+) -> Result<(), DicomError> {
+    let entries = match list(dir) {
+        Ok(entries) => entries,
+        Err(e) if depth > 0 => {
+            walk.unreadable_folders
+                .push(format!("{}: {e}", label(root, dir)));
+            return Ok(());
+        }
+        Err(e) => {
+            return Err(DicomError::Unreadable {
+                file: dir.display().to_string(),
+                reason: e.to_string(),
+            });
+        }
+    };
     for path in entries {
-        if out.len() >= MAX_FILES {
+        if walk.files.len() >= MAX_FILES {
             break;
         }
         // Symbolic links to folders are not followed: no cycles.
@@ -98,10 +159,12 @@ fn collect_files(dir: &Path, depth: usize, out: &mut Vec<PathBuf>) -> Result<(),
         };
         if meta.is_dir() {
             if depth < MAX_DEPTH {
-                collect_files(&path, depth + 1, out)?;
+                collect_files(root, &path, depth + 1, walk, list)?;
+            } else {
+                walk.too_deep += 1;
             }
         } else if std::fs::metadata(&path).is_ok_and(|m| m.is_file()) {
-            out.push(path);
+            walk.files.push(path);
         }
     }
     Ok(())
@@ -212,23 +275,25 @@ pub fn scan(path: &Path, cancelled: &(dyn Fn() -> bool + Sync)) -> Result<Scan, 
             .filter(|p| !p.as_os_str().is_empty())
             .map_or_else(|| PathBuf::from("."), Path::to_path_buf)
     };
-    let mut files = Vec::new();
-    if is_dir || is_dicomdir {
-        collect_files(&root, 0, &mut files)?;
+    let mut walk = Walk::default();
+    let files = if is_dir || is_dicomdir {
+        collect_files(&root, &root, 0, &mut walk, &list_folder)?;
+        std::mem::take(&mut walk.files)
     } else {
         // One file of a series: its siblings (not the folders below them).
         let entries = std::fs::read_dir(&root).map_err(|e| DicomError::Unreadable {
             file: root.display().to_string(),
             reason: e.to_string(),
         })?;
-        files = entries
+        let mut files: Vec<PathBuf> = entries
             .flatten()
             .map(|e| e.path())
             .filter(|p| std::fs::metadata(p).is_ok_and(|m| m.is_file()))
             .take(MAX_FILES)
             .collect();
         files.sort();
-    }
+        files
+    };
     let named_file = (!is_dir && !is_dicomdir)
         .then(|| files.iter().position(|f| f.file_name() == path.file_name()))
         .flatten();
@@ -240,6 +305,8 @@ pub fn scan(path: &Path, cancelled: &(dyn Fn() -> bool + Sync)) -> Result<Scan, 
     }
     let mut scan = Scan {
         named_file,
+        unreadable_folders: walk.unreadable_folders,
+        too_deep: walk.too_deep,
         ..Scan::default()
     };
     for (i, f) in found.into_iter().enumerate() {
@@ -249,6 +316,14 @@ pub fn scan(path: &Path, cancelled: &(dyn Fn() -> bool + Sync)) -> Result<Scan, 
             Err(e) if Some(i) == named_file => return Err(e),
             Err(e) => scan.unreadable.push(e.to_string()),
             Ok(Found::Frames(frames)) => scan.frames.extend(frames),
+            // The file the user named must be the one opened, or say why not.
+            Ok(Found::NotDicom) if Some(i) == named_file => {
+                return Err(DicomError::Unreadable {
+                    file: label(&root, &files[i]),
+                    reason: "it is not a DICOM file (no \"DICM\" after the 128-byte preamble)"
+                        .into(),
+                });
+            }
             Ok(Found::NotDicom) => scan.not_dicom += 1,
             Ok(Found::NotImage(what)) => {
                 if Some(i) == named_file && !is_dicomdir {
@@ -275,9 +350,10 @@ pub fn scan(path: &Path, cancelled: &(dyn Fn() -> bool + Sync)) -> Result<Scan, 
         }
     }
     scan.files = files;
-    let (frames, copies) = super::series::drop_copies(std::mem::take(&mut scan.frames), named_file);
-    scan.frames = frames;
-    scan.copies = copies;
+    let dropped = super::series::drop_copies(std::mem::take(&mut scan.frames), named_file);
+    scan.frames = dropped.kept;
+    scan.copies = dropped.files;
+    scan.alternatives = dropped.alternatives;
     if scan.frames.is_empty() {
         return Err(DicomError::NoImage {
             skipped: match scan.skipped() {
@@ -287,4 +363,51 @@ pub fn scan(path: &Path, cancelled: &(dyn Fn() -> bool + Sync)) -> Result<Scan, 
         });
     }
     Ok(scan)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A folder tree made on disk, and a listing that fails for the folders named `locked`
+    /// (as a folder without read permission does for anyone but root, who runs CI).
+    #[test]
+    fn a_sub_folder_that_cannot_be_listed_is_passed_over_and_named() {
+        let root = std::env::temp_dir().join(format!("leapview-scan-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        for dir in ["a", "locked", "b/locked"] {
+            std::fs::create_dir_all(root.join(dir)).expect("folders");
+        }
+        for file in ["a/1", "b/2", "locked/3", "4"] {
+            std::fs::write(root.join(file), b"x").expect("files");
+        }
+        let list = |dir: &Path| {
+            if dir.file_name().is_some_and(|n| n == "locked") {
+                Err(std::io::Error::from(std::io::ErrorKind::PermissionDenied))
+            } else {
+                list_folder(dir)
+            }
+        };
+        let mut walk = Walk::default();
+        collect_files(&root, &root, 0, &mut walk, &list).expect("the root lists");
+        let names: Vec<String> = walk.files.iter().map(|f| label(&root, f)).collect();
+        assert_eq!(names, ["4", "a/1", "b/2"]);
+        assert_eq!(walk.unreadable_folders.len(), 2);
+        assert!(
+            walk.unreadable_folders[0].starts_with("b/locked: "),
+            "{:?}",
+            walk.unreadable_folders
+        );
+        // The folder scanned itself is an error naming it.
+        let mut walk = Walk::default();
+        let e = collect_files(
+            &root.join("locked"),
+            &root.join("locked"),
+            0,
+            &mut walk,
+            &list,
+        );
+        assert!(matches!(e, Err(DicomError::Unreadable { .. })));
+        let _ = std::fs::remove_dir_all(&root);
+    }
 }

@@ -81,12 +81,28 @@ impl SeriesFacts {
     }
 }
 
+/// What [`drop_copies`] kept and dropped.
+#[derive(Debug, Default, PartialEq)]
+pub struct Copies {
+    /// The frames kept, in the order given.
+    pub kept: Vec<FrameHeader>,
+    /// The number of files whose frames were all dropped.
+    pub files: usize,
+    /// For each file whose frames were kept, the files holding copies of them, in file order:
+    /// read in its place where it cannot be decoded.
+    pub alternatives: Alternatives,
+}
+
+/// For a file (by index), the files holding copies of its objects: (file, whether its data set
+/// is written implicit under an explicit syntax, as [`FrameHeader::implicit_vr`]).
+pub type Alternatives = std::collections::BTreeMap<usize, Vec<(usize, bool)>>;
+
 /// Drops copies of one object: frames of the same `SOPInstanceUID` (and frame number) found in
 /// several files, as when one image is saved in several transfer syntaxes. The copy in `named`
-/// (the file the user named) is kept, else the one in the first file. Returns the frames kept and
-/// the number of files whose frames were all dropped.
-pub fn drop_copies(frames: Vec<FrameHeader>, named: Option<usize>) -> (Vec<FrameHeader>, usize) {
-    use std::collections::HashMap;
+/// (the file the user named) is kept, else the one in the first file; the others are kept as
+/// alternatives to it.
+pub fn drop_copies(frames: Vec<FrameHeader>, named: Option<usize>) -> Copies {
+    use std::collections::{BTreeMap, HashMap};
     let mut keep: HashMap<(&str, u32), usize> = HashMap::new();
     for f in &frames {
         if f.instance_uid.is_empty() {
@@ -102,20 +118,31 @@ pub fn drop_copies(frames: Vec<FrameHeader>, named: Option<usize>) -> (Vec<Frame
     let kept_file = |f: &FrameHeader| {
         f.instance_uid.is_empty() || keep.get(&(f.instance_uid.as_str(), f.frame)) == Some(&f.file)
     };
-    let mut dropped_files: Vec<usize> = frames
-        .iter()
-        .filter(|f| !kept_file(f))
-        .map(|f| f.file)
-        .collect();
-    let keep_mask: Vec<bool> = frames.iter().map(kept_file).collect();
+    let mut alternatives: Alternatives = BTreeMap::new();
+    let mut dropped_files: Vec<usize> = Vec::new();
+    for f in frames.iter().filter(|f| !kept_file(f)) {
+        dropped_files.push(f.file);
+        if let Some(&kept) = keep.get(&(f.instance_uid.as_str(), f.frame)) {
+            let list = alternatives.entry(kept).or_default();
+            if !list.iter().any(|(file, _)| *file == f.file) {
+                list.push((f.file, f.implicit_vr));
+            }
+        }
+    }
+    alternatives.values_mut().for_each(|l| l.sort_unstable());
     dropped_files.sort_unstable();
     dropped_files.dedup();
+    let keep_mask: Vec<bool> = frames.iter().map(kept_file).collect();
     let kept = frames
         .into_iter()
         .zip(keep_mask)
         .filter_map(|(f, k)| k.then_some(f))
         .collect();
-    (kept, dropped_files.len())
+    Copies {
+        kept,
+        files: dropped_files.len(),
+        alternatives,
+    }
 }
 
 /// How the user picks a series of a folder (`--series`).
@@ -394,11 +421,19 @@ pub(crate) mod tests {
         let mut copy = frame("a", 7, 0.0);
         copy.instance_uid = "1.2.3.0".into();
         let frames = vec![frame("a", 0, 0.0), frame("a", 1, 1.0), copy];
-        let (kept, dropped) = drop_copies(frames.clone(), None);
-        assert_eq!(kept.iter().map(|f| f.file).collect::<Vec<_>>(), vec![0, 1]);
-        assert_eq!(dropped, 1);
-        let (kept, _) = drop_copies(frames, Some(7));
-        assert_eq!(kept.iter().map(|f| f.file).collect::<Vec<_>>(), vec![1, 7]);
+        let copies = drop_copies(frames.clone(), None);
+        assert_eq!(
+            copies.kept.iter().map(|f| f.file).collect::<Vec<_>>(),
+            vec![0, 1]
+        );
+        assert_eq!(copies.files, 1);
+        assert_eq!(copies.alternatives.get(&0), Some(&vec![(7, false)]));
+        let copies = drop_copies(frames, Some(7));
+        assert_eq!(
+            copies.kept.iter().map(|f| f.file).collect::<Vec<_>>(),
+            vec![1, 7]
+        );
+        assert_eq!(copies.alternatives.get(&7), Some(&vec![(0, false)]));
     }
 
     #[test]

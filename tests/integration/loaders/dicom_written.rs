@@ -15,33 +15,33 @@ use crate::common::{self, load_ok};
 
 /// One slice to write: 4 columns x 3 rows.
 #[derive(Clone)]
-struct Slice {
-    series: &'static str,
-    instance: String,
-    position: [f64; 3],
-    orientation: [f64; 6],
+pub(super) struct Slice {
+    pub(super) series: &'static str,
+    pub(super) instance: String,
+    pub(super) position: [f64; 3],
+    pub(super) orientation: [f64; 6],
     /// Stored containers, 16 bits, row by row.
-    pixels: Vec<u16>,
-    bits_stored: u16,
-    signed: bool,
-    photometric: &'static str,
-    intercept: f64,
-    transfer_syntax: &'static str,
-    instance_number: i32,
+    pub(super) pixels: Vec<u16>,
+    pub(super) bits_stored: u16,
+    pub(super) signed: bool,
+    pub(super) photometric: &'static str,
+    pub(super) intercept: f64,
+    pub(super) transfer_syntax: &'static str,
+    pub(super) instance_number: i32,
     /// 8: the pixels are written as bytes (each of `pixels` must fit).
-    bits_allocated: u16,
+    pub(super) bits_allocated: u16,
     /// Compressed by dicom-rs into this transfer syntax before writing.
-    encode_as: Option<&'static str>,
+    pub(super) encode_as: Option<&'static str>,
     /// Encapsulated pixel data instead of `pixels`: one fragment (a codestream another library
     /// wrote), the file in `transfer_syntax`.
-    fragment: Option<Vec<u8>>,
+    pub(super) fragment: Option<Vec<u8>>,
 }
 
 fn ds(values: &[f64]) -> PrimitiveValue {
     PrimitiveValue::Strs(values.iter().map(|v| format!("{v}")).collect())
 }
 
-fn axial(series: &'static str, z: f64, value: u16) -> Slice {
+pub(super) fn axial(series: &'static str, z: f64, value: u16) -> Slice {
     Slice {
         series,
         instance: format!(
@@ -64,11 +64,11 @@ fn axial(series: &'static str, z: f64, value: u16) -> Slice {
     }
 }
 
-fn write(dir: &Path, name: &str, s: &Slice) {
+pub(super) fn write(dir: &Path, name: &str, s: &Slice) {
     write_sized(dir, name, s, 3, 4);
 }
 
-fn write_sized(dir: &Path, name: &str, s: &Slice, rows: u16, columns: u16) {
+pub(super) fn write_sized(dir: &Path, name: &str, s: &Slice, rows: u16, columns: u16) {
     let mut obj = InMemDicomObject::new_empty();
     let mut put = |tag, vr, value: PrimitiveValue| {
         obj.put(DataElement::new(tag, vr, value));
