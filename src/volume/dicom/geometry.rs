@@ -337,7 +337,7 @@ pub fn assemble(frames: &[FrameHeader]) -> Result<Geometry, DicomError> {
     // A gantry tilt shifts slices across the normal by less than the series is long (tilts stay
     // below 45°); a slice shifted past the image's and the series' size together lies elsewhere.
     let reach = f64::from(dims_xy[0]) * col_sp + f64::from(dims_xy[1]) * row_sp + (d_last - d0);
-    if !(tilt_mm <= 2.0 * reach) {
+    if tilt_mm.is_nan() || tilt_mm > 2.0 * reach {
         let (k, far) = order
             .iter()
             .map(|&f| (f, lateral(positions[f])))
