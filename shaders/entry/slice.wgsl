@@ -53,7 +53,13 @@ struct SliceParams {
     // The data values at the first and last entries of `colours`.
     colour_lo: f32,
     colour_hi: f32,
-    _pad0: u32,
+    // 1: grey runs from white at window_lo to black at window_hi (MONOCHROME1).
+    invert: u32,
+    // 1 (display variant): a colour volume, whose thin slices show its own colour.
+    volume_colour: u32,
+    _pad1: u32,
+    _pad2: u32,
+    _pad3: u32,
 }
 
 
@@ -95,27 +101,21 @@ fn nan() -> f32 {
     return bitcast<f32>(bits);
 }
 
-// u at voxel coordinates `v` (inside the box), trilinear or nearest; a missing u where a
-// missing texel takes part.
-fn sample_units(v: vec3<f32>) -> f32 {
+// u at voxel coordinates `v` (clamped into the box) from eight texel loads with exact f32
+// weights. Where missing texels take part, the others' weights are renormalised (a missing voxel
+// takes no finite neighbour with it), and u is missing where they weigh less than half: the ray
+// caster's `sample_finite` and src/reference/trilinear.rs.
+fn trilinear_units(v: vec3<f32>) -> f32 {
     let dims = vec3<i32>(textureDimensions(volume));
     let top = vec3<f32>(dims - vec3<i32>(1));
-    if params.nearest == 1u {
-        let i = clamp(vec3<i32>(floor(v + vec3<f32>(0.5))), vec3<i32>(0), dims - vec3<i32>(1));
-        return texel(i);
-    }
-#ifdef DISPLAY
-    // Clamp-to-edge at texture coordinate (v + ½) / dims is the exact path's clamp of v into
-    // [0, dims − 1]; a missing texel's marker drags the blend far below MISSING_BELOW.
-    let t = textureSampleLevel(volume, linear, (v + vec3<f32>(0.5)) / vec3<f32>(dims), 0.0).r;
-    return select(t, t * params.texel_max, params.texel_max > 0.0);
-#else
     let x = clamp(v, vec3<f32>(0.0), top);
     let base = floor(x);
     let f = x - base;
     let lo = vec3<i32>(base);
     let hi = min(lo + vec3<i32>(1), dims - vec3<i32>(1));
     var sum = 0.0;
+    var weight = 0.0;
+    var lost = 0.0;
     for (var c = 0u; c < 8u; c = c + 1u) {
         let pick = vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u);
         let w3 = select(vec3<f32>(1.0) - f, f, pick);
@@ -125,22 +125,52 @@ fn sample_units(v: vec3<f32>) -> f32 {
         }
         let u = texel(select(lo, hi, pick));
         if missing(u) {
-            return u;
+            lost = lost + w;
+        } else {
+            sum = sum + w * u;
+            weight = weight + w;
         }
-        sum = sum + w * u;
     }
-    return sum;
+    if lost == 0.0 {
+        return sum;
+    }
+    return select(MISSING_BELOW - 1.0, sum / weight, weight >= 0.5);
+}
+
+// u at voxel coordinates `v` (inside the box), trilinear or nearest; missing where missing
+// texels outweigh the others (`trilinear_units`).
+fn sample_units(v: vec3<f32>) -> f32 {
+    let dims = vec3<i32>(textureDimensions(volume));
+    if params.nearest == 1u {
+        let i = clamp(vec3<i32>(floor(v + vec3<f32>(0.5))), vec3<i32>(0), dims - vec3<i32>(1));
+        return texel(i);
+    }
+#ifdef DISPLAY
+    // Clamp-to-edge at texture coordinate (v + ½) / dims is the exact path's clamp of v into
+    // [0, dims − 1]; a missing texel's marker drags the blend far below MISSING_BELOW, and then
+    // the exact path decides.
+    let t = textureSampleLevel(volume, linear, (v + vec3<f32>(0.5)) / vec3<f32>(dims), 0.0).r;
+    let u = select(t, t * params.texel_max, params.texel_max > 0.0);
+    if missing(u) {
+        return trilinear_units(v);
+    }
+    return u;
+#else
+    return trilinear_units(v);
 #endif
 }
 
+// Grey through the window (inverted where the image asks its lowest value to be white); black
+// where nothing is.
 fn grey(value: f32) -> f32 {
     if value != value {
         return 0.0;
     }
+    var g = select(0.0, 1.0, value >= params.window_hi);
     if params.window_hi > params.window_lo {
-        return clamp((value - params.window_lo) / (params.window_hi - params.window_lo), 0.0, 1.0);
+        g = clamp((value - params.window_lo) / (params.window_hi - params.window_lo), 0.0, 1.0);
     }
-    return select(0.0, 1.0, value >= params.window_hi);
+    return select(g, 1.0 - g, params.invert == 1u);
 }
 
 // The value (data units) at voxel coordinates `v`; NaN outside the box or where a missing
@@ -303,7 +333,17 @@ fn shade(id: vec2<u32>) {
     let g = grey(value);
 #ifdef DISPLAY
     var rgb = vec3<f32>(g);
-    if params.colour == 1u && value == value {
+    if params.volume_colour == 1u && params.slab_count <= 1u && value == value {
+        // A colour volume's own colour (its texels: luminance, red, green, blue), sampled as
+        // the value is.
+        let dims = vec3<i32>(textureDimensions(volume));
+        if params.nearest == 1u {
+            let i = clamp(vec3<i32>(floor(v + vec3<f32>(0.5))), vec3<i32>(0), dims - vec3<i32>(1));
+            rgb = textureLoad(volume, i, 0).gba;
+        } else {
+            rgb = textureSampleLevel(volume, linear, (v + vec3<f32>(0.5)) / vec3<f32>(dims), 0.0).gba;
+        }
+    } else if params.colour == 1u && value == value {
         let n = f32(textureDimensions(colours).x);
         let s = clamp((value - params.colour_lo) / (params.colour_hi - params.colour_lo), 0.0, 1.0);
         let c = textureSampleLevel(colours, linear, vec2<f32>((s * (n - 1.0) + 0.5) / n, 0.5), 0.0);

@@ -90,6 +90,10 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
     if c.a <= 0.0 {
         return 0u;
     }
+    if frame.colour_volume != 0u {
+        // The segment's opacity pre-integrated over luminance, its colour the sample's own.
+        c = vec4<f32>(sample_colour(p), c.a);
+    }
 #else
     // The table holds the optical depth of a full step (src/transfer/lut.rs).
     var c = classify(s);
@@ -102,6 +106,9 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
         w = clamp((ray.length_mm - f32(k) * frame.step_mm) / frame.step_mm, 0.0, 1.0);
     }
     c.a = opacity_of_depth(c.a * w);
+    if frame.colour_volume != 0u {
+        c = vec4<f32>(sample_colour(p), c.a);
+    }
 #endif
     return composite(acc, ray, p, c);
 }
@@ -133,7 +140,10 @@ fn composite(acc: ptr<function, Acc>, ray: Ray, p: vec3<f32>, c_in: vec4<f32>) -
 fn acc_tail(acc: ptr<function, Acc>, ray: Ray) {
     let exit = ray.entry + ray.box_per_mm * ray.length_mm;
     let back = segment_end(sample_value(exit));
-    let c = preintegrated((*acc).front, back, ray.length_mm - (*acc).front_t);
+    var c = preintegrated((*acc).front, back, ray.length_mm - (*acc).front_t);
+    if frame.colour_volume != 0u {
+        c = vec4<f32>(sample_colour(exit), c.a);
+    }
     if c.a > 0.0 {
         composite(acc, ray, exit, c);
     }

@@ -150,6 +150,9 @@ fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
         return frame.background;
     }
     var color = classify(frame.iso_threshold).rgb;
+    if frame.colour_volume != 0u {
+        color = sample_colour(acc.hit_p);
+    }
 #ifdef SHADING
     color = phong(color, gradient(acc.hit_p), ray.dir_world);
 #endif

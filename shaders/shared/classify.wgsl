@@ -2,14 +2,50 @@
 
 #include "shared/common.wgsl"
 
-// Normalised values below MISSING_BELOW (generated/constants.wgsl) come from interpolation
-// touching a non-finite voxel (stored far below 0, see src/render/volume_texture.rs): such samples
-// are transparent.
+// Non-finite voxels are stored far below 0 (see src/render/volume_texture.rs): the texture
+// unit's blend of any that take part falls below MISSING_BELOW (generated/constants.wgsl).
+// Normalised values below MISSING_BELOW are missing samples: transparent.
 
 // The normalised value (0 = volume minimum, 1 = maximum) at box position p, trilinearly
-// interpolated by the texture unit.
+// interpolated by the texture unit; where a non-finite voxel takes part, from the finite ones
+// alone (sample_finite).
 fn sample_value(p: vec3<f32>) -> f32 {
-    return textureSampleLevel(volume_tex, linear_clamp, p, 0.0).r * frame.texel_scale + frame.texel_bias;
+    let s = textureSampleLevel(volume_tex, linear_clamp, p, 0.0).r * frame.texel_scale + frame.texel_bias;
+    if s >= MISSING_BELOW || frame.all_finite != 0u {
+        return s;
+    }
+    return sample_finite(p);
+}
+
+// The value at p from the finite voxels of its eight: their trilinear weights renormalised, so
+// that a non-finite voxel takes no finite neighbour with it; missing (MISSING_BELOW − 1) where
+// they weigh less than half (p lies nearer non-finite voxels). src/reference/trilinear.rs twins it.
+fn sample_finite(p: vec3<f32>) -> f32 {
+    let dims = vec3<i32>(textureDimensions(volume_tex));
+    let v = clamp(p * vec3<f32>(dims) - vec3<f32>(0.5), vec3<f32>(0.0), vec3<f32>(dims - vec3<i32>(1)));
+    let base = floor(v);
+    let f = v - base;
+    let lo = vec3<i32>(base);
+    let hi = min(lo + vec3<i32>(1), dims - vec3<i32>(1));
+    var sum = 0.0;
+    var weight = 0.0;
+    for (var c = 0u; c < 8u; c = c + 1u) {
+        let pick = vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u);
+        let w3 = select(vec3<f32>(1.0) - f, f, pick);
+        let w = w3.x * w3.y * w3.z;
+        let s = textureLoad(volume_tex, select(lo, hi, pick), 0).r * frame.texel_scale + frame.texel_bias;
+        if w > 0.0 && s >= MISSING_BELOW {
+            sum = sum + w * s;
+            weight = weight + w;
+        }
+    }
+    return select(MISSING_BELOW - 1.0, sum / max(weight, 1.0e-6), weight >= 0.5);
+}
+
+// A colour volume's own colour at p (its texels hold luminance, red, green, blue: the texture
+// unit blends the colour as it blends the value).
+fn sample_colour(p: vec3<f32>) -> vec3<f32> {
+    return textureSampleLevel(volume_tex, linear_clamp, p, 0.0).gba;
 }
 
 // Colour and the optical depth of one step (src/transfer/lut.rs) for a normalised value.

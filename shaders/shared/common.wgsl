@@ -81,7 +81,9 @@ struct Frame {
     row_end: u32,
     // 1 where every voxel is finite (no sample decodes as missing), else 0.
     all_finite: u32,
-    _pad1: u32,
+    // 1 for a colour volume: DVR and isosurfaces take each sample's own colour (sample_colour),
+    // the transfer function its opacity.
+    colour_volume: u32,
 }
 
 // One ray inside the volume: entry (box coordinates), direction in box units per mm and in

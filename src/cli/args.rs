@@ -114,6 +114,10 @@ pub struct SliceArgs {
     /// The nearest voxel's value instead of trilinear interpolation.
     #[arg(long)]
     pub nearest: bool,
+    /// Grey inverted (low values white), as a radiograph stored MONOCHROME1 is shown by default;
+    /// `--invert no` shows such a file the other way.
+    #[arg(long, value_name = "yes|no")]
+    pub invert: Option<YesNo>,
     /// Trilinear interpolation with exact f32 weights from eight texel loads (the tests'
     /// variant) instead of the texture unit's filter, which the window shows (its weights have
     /// 8 fractional bits on most GPUs).
@@ -140,6 +144,15 @@ pub struct SliceArgs {
     /// pass's fixed cost); needs an adapter with timestamp queries.
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=1024))]
     pub repeat: u32,
+}
+
+/// A yes or a no.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum YesNo {
+    /// Yes.
+    Yes,
+    /// No.
+    No,
 }
 
 /// The volumes `leapview generate` writes.

@@ -126,6 +126,10 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
         slab,
         leap: !args.no_leap,
         colour: colours.is_some(),
+        invert: match args.invert {
+            Some(choice) => choice == super::args::YesNo::Yes,
+            None => volume.provenance().invert_grey,
+        },
     };
     let bricks = if slab.is_some() && !args.no_leap {
         renderer.bricks_of(&ctx, &volume, &texture)

@@ -9,7 +9,7 @@ use crate::transfer::{TransferFunction, preintegration};
 use crate::volume::{ValueRange, Volume};
 
 use super::shade::{gradient, phong};
-use super::trilinear::sample_trilinear;
+use super::trilinear::{sample_colour, sample_trilinear};
 use crate::counters::FrameCounters;
 
 /// One ray through the volume.
@@ -129,8 +129,9 @@ fn dvr(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
             continue;
         }
         counts.visible_samples += 1;
+        let own = sample_colour(ray.volume, ray.entry + ray.dir * s.t_mm);
         let c = ray.lit_if_seen(
-            DVec3::from_array(ray.tf.color_at(value, range)),
+            own.unwrap_or_else(|| DVec3::from_array(ray.tf.color_at(value, range))),
             s.t_mm,
             (1.0 - alpha) * a,
         );
@@ -162,6 +163,9 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
         if a <= 0.0 {
             continue;
         }
+        // A colour volume: the segment's opacity pre-integrated over luminance, its colour the
+        // sample's own (the shader's rule).
+        let c = sample_colour(ray.volume, ray.entry + ray.dir * s.t_mm).unwrap_or(c);
         counts.visible_samples += 1;
         let c = ray.lit_if_seen(c, s.t_mm, (1.0 - alpha) * a);
         color += (1.0 - alpha) * a * c;
@@ -174,6 +178,7 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     let (t0, v0) = front;
     if let (Some(v0), Some(v1)) = (v0, ray.value(ray.length_mm)) {
         let (c, a) = preintegration::segment(ray.tf, range, v0, v1, (ray.length_mm - t0) * per_mm);
+        let c = sample_colour(ray.volume, ray.entry + ray.dir * ray.length_mm).unwrap_or(c);
         if a > 0.0 {
             color += (1.0 - alpha) * a * ray.lit_if_seen(c, ray.length_mm, (1.0 - alpha) * a);
             alpha += (1.0 - alpha) * a;
@@ -208,7 +213,9 @@ fn iso(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
             }
             counts.visible_samples += 1;
             let hit = root(t0, d0, t1, d1);
-            return Some(ray.lit(ray.tf_color(iso), hit));
+            let colour = sample_colour(ray.volume, ray.entry + ray.dir * hit)
+                .unwrap_or_else(|| ray.tf_color(iso));
+            return Some(ray.lit(colour, hit));
         }
         prev = Some((s.t_mm, d));
     }

@@ -200,7 +200,7 @@ pub fn layouts() -> Vec<StructLayout> {
             phong_ambient, phong_diffuse, phong_specular, phong_shininess, window_lo, window_hi,
             saturation, xray_density_per_mm, iso_threshold, steps_per_d0, depth_units_per_mm,
             iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight, row_offset,
-            row_end, all_finite, _pad1,
+            row_end, all_finite, colour_volume,
         }),
         layout!(LevelInfo = "LevelInfo" in "leap/pyramid.wgsl" {
             nodes, offset, brick_vox, _pad0, _pad1, _pad2,
@@ -220,7 +220,7 @@ pub fn layouts() -> Vec<StructLayout> {
         layout!(SliceParams = "SliceParams" in "entry/slice.wgsl" {
             first, step_x, step_y, slab_step, width, height, nearest, pitch, texel_max,
             unit_scale, unit_bias, window_lo, window_hi, slab_count, slab_mode, leap, colour,
-            colour_lo, colour_hi, _pad0,
+            colour_lo, colour_hi, invert, volume_colour, _pad1, _pad2, _pad3,
         }),
     ]
 }
@@ -319,8 +319,8 @@ pub struct FrameUniforms {
     pub row_end: u32,
     /// 1 where every voxel of the volume is finite (no sample decodes as missing), else 0.
     pub all_finite: u32,
-    /// Padding to 16 bytes.
-    pub _pad1: u32,
+    /// 1 for a colour volume: DVR and isosurfaces take each sample's own colour.
+    pub colour_volume: u32,
 }
 
 /// One pyramid level as the shaders read it (`LevelInfo`).
@@ -493,8 +493,16 @@ pub struct SliceParams {
     pub colour_lo: f32,
     /// The data value at its last entry.
     pub colour_hi: f32,
+    /// 1: grey runs from white at the window's low end to black at its high end (MONOCHROME1).
+    pub invert: u32,
+    /// 1 (display variant): a colour volume, whose thin slices show its own colour.
+    pub volume_colour: u32,
     /// Padding to a multiple of 16 bytes.
-    pub _pad0: u32,
+    pub _pad1: u32,
+    /// See `_pad1`.
+    pub _pad2: u32,
+    /// See `_pad1`.
+    pub _pad3: u32,
 }
 
 /// `SliceParams.slab_mode`: the largest sample.

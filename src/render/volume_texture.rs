@@ -66,6 +66,10 @@ pub fn choose_encoding(
     volume: &Volume,
     filterable: impl Fn(wgpu::TextureFormat) -> bool,
 ) -> TexelEncoding {
+    if volume.colour().is_some() {
+        // Luminance in red, the colour in green, blue and alpha: one filtered fetch gives both.
+        return encoding_for(volume, wgpu::TextureFormat::Rgba8Unorm);
+    }
     let scalar = volume.scalar_type();
     let options = candidates(scalar, volume.non_finite_count() > 0);
     // R16Float is filterable everywhere (WebGPU core), so the last candidate always works.
@@ -85,9 +89,12 @@ pub fn encoding_for(volume: &Volume, format: wgpu::TextureFormat) -> TexelEncodi
     let mapping = volume.mapping();
     let w = range.width();
     let (scale, bias) = match (format, integer_offset(scalar)) {
-        (wgpu::TextureFormat::R8Unorm | wgpu::TextureFormat::R16Unorm, Some((offset, max)))
-            if max as f64 == unorm_max(format) =>
-        {
+        (
+            wgpu::TextureFormat::R8Unorm
+            | wgpu::TextureFormat::Rgba8Unorm
+            | wgpu::TextureFormat::R16Unorm,
+            Some((offset, max)),
+        ) if max as f64 == unorm_max(format) => {
             // texel = (stored + offset) / max  ⇒  stored = texel * max − offset.
             let m = unorm_max(format);
             let scale = m * mapping.slope / w;
@@ -126,13 +133,21 @@ pub fn texel_units(volume: &Volume, format: wgpu::TextureFormat) -> (f64, f64, f
     let range = volume.normalization_range();
     let mapping = volume.mapping();
     match (format, integer_offset(volume.scalar_type())) {
-        (wgpu::TextureFormat::R8Unorm | wgpu::TextureFormat::R16Unorm, Some((offset, max)))
-            if max as f64 == unorm_max(format) =>
-        {
+        (
+            wgpu::TextureFormat::R8Unorm
+            | wgpu::TextureFormat::Rgba8Unorm
+            | wgpu::TextureFormat::R16Unorm,
+            Some((offset, max)),
+        ) if max as f64 == unorm_max(format) => {
             (unorm_max(format), mapping.slope, mapping.apply(-offset))
         }
         // Quantised: the texel holds the normalised value.
-        (wgpu::TextureFormat::R8Unorm | wgpu::TextureFormat::R16Unorm, _) => {
+        (
+            wgpu::TextureFormat::R8Unorm
+            | wgpu::TextureFormat::Rgba8Unorm
+            | wgpu::TextureFormat::R16Unorm,
+            _,
+        ) => {
             let max = unorm_max(format);
             (max, range.width() / max, range.min)
         }
@@ -154,7 +169,7 @@ fn integer_offset(scalar: ScalarType) -> Option<(f64, u32)> {
 
 fn unorm_max(format: wgpu::TextureFormat) -> f64 {
     match format {
-        wgpu::TextureFormat::R8Unorm => 255.0,
+        wgpu::TextureFormat::R8Unorm | wgpu::TextureFormat::Rgba8Unorm => 255.0,
         _ => 65535.0,
     }
 }
@@ -164,6 +179,7 @@ pub fn bytes_per_texel(format: wgpu::TextureFormat) -> usize {
     match format {
         wgpu::TextureFormat::R8Unorm => 1,
         wgpu::TextureFormat::R16Unorm | wgpu::TextureFormat::R16Float => 2,
+        // R32Float, and a colour volume's Rgba8Unorm.
         _ => 4,
     }
 }
@@ -189,30 +205,39 @@ pub fn encode_texels(
     let exact = encoding.scale != 1.0
         || encoding.bias != 0.0
         || matches!(volume.scalar_type(), ScalarType::U8);
-    match (encoding.format, volume.samples()) {
-        (F::R8Unorm, Samples::U8(v)) => out.extend_from_slice(&v[range]),
-        (F::R8Unorm, Samples::I8(v)) => {
+    match (encoding.format, volume.samples(), volume.colour()) {
+        (F::Rgba8Unorm, Samples::U8(v), Some(colour)) => range.for_each(|i| {
+            let [r, g, b] = colour.rgb8(i);
+            out.extend_from_slice(&[v[i], r, g, b]);
+        }),
+        (F::R8Unorm, Samples::U8(v), _) => out.extend_from_slice(&v[range]),
+        (F::R8Unorm, Samples::I8(v), _) => {
             out.extend(v[range].iter().map(|&x| (x as i16 + 128) as u8))
         }
-        (F::R16Unorm, Samples::U16(v)) if exact => v[range]
+        (F::R16Unorm, Samples::U16(v), _) if exact => v[range]
             .iter()
             .for_each(|x| out.extend_from_slice(&x.to_le_bytes())),
-        (F::R16Unorm, Samples::I16(v)) if exact => v[range]
+        (F::R16Unorm, Samples::I16(v), _) if exact => v[range]
             .iter()
             .for_each(|&x| out.extend_from_slice(&((x as i32 + 32768) as u16).to_le_bytes())),
-        (F::R16Unorm, samples) => range.for_each(|i| {
+        (F::R16Unorm, samples, _) => range.for_each(|i| {
             let q = (normalized(samples.get_f64(i)).clamp(0.0, 1.0) * 65535.0).round() as u16;
             out.extend_from_slice(&q.to_le_bytes())
         }),
-        (F::R8Unorm, samples) => range.for_each(|i| {
+        // Not made by `choose_encoding` (colour volumes have 8-bit luminance): grey colour.
+        (F::Rgba8Unorm, samples, _) => range.for_each(|i| {
+            let q = (normalized(samples.get_f64(i)).clamp(0.0, 1.0) * 255.0).round() as u8;
+            out.extend_from_slice(&[q, q, q, q]);
+        }),
+        (F::R8Unorm, samples, _) => range.for_each(|i| {
             out.push((normalized(samples.get_f64(i)).clamp(0.0, 1.0) * 255.0).round() as u8)
         }),
-        (F::R16Float, samples) => range.for_each(|i| {
+        (F::R16Float, samples, _) => range.for_each(|i| {
             out.extend_from_slice(
                 &half::f16::from_f32(normalized(samples.get_f64(i))).to_le_bytes(),
             )
         }),
-        (_, samples) => {
+        (_, samples, _) => {
             range.for_each(|i| out.extend_from_slice(&normalized(samples.get_f64(i)).to_le_bytes()))
         }
     }
@@ -296,6 +321,12 @@ impl VolumeTexture {
         }
         let encoding = match forced_format(precision) {
             None => choose_encoding(volume, |f| ctx.is_filterable(f)),
+            Some(_) if volume.colour().is_some() => {
+                return Err(VolumeTextureError::Precision {
+                    precision: precision.label(),
+                    why: "a colour volume is stored as 8-bit luminance and colour".into(),
+                });
+            }
             Some(format) => {
                 let refuse = |why: String| VolumeTextureError::Precision {
                     precision: precision.label(),

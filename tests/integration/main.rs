@@ -28,6 +28,7 @@ mod loaders;
 mod modes;
 mod newcomer_faults;
 mod opacity;
+mod pictures;
 mod preintegration;
 mod readback;
 mod readme;

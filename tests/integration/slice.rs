@@ -106,6 +106,7 @@ fn draw_slab(
         slab,
         leap: true,
         colour: false,
+        invert: false,
     };
     let renderer = SliceRenderer::new(&ctx.device).expect("pipeline");
     // Slabs leap over their bricks here, so the reference checks the leaping walk.

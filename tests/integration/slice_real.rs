@@ -119,6 +119,7 @@ fn leaping_slabs_equal_slabs_that_take_every_sample() {
                     }),
                     leap: true,
                     colour: false,
+                    invert: false,
                 };
                 let leaping = renderer
                     .render(&ctx, &v, &texture, Some(&bricks), view, look)
@@ -179,6 +180,7 @@ fn the_window_shows_the_exact_slice_within_a_grey_level() {
                         slab,
                         leap: true,
                         colour: false,
+                        invert: false,
                     };
                     let exact = renderer
                         .render(&ctx, &v, &texture, Some(&bricks), view, look)
@@ -241,6 +243,7 @@ fn slices_coloured_by_the_transfer_function_blend_its_colour_by_its_opacity() {
             slab: None,
             leap: true,
             colour: true,
+            invert: false,
         };
         let exact = renderer
             .render(&ctx, &v, &texture, None, &view, look)

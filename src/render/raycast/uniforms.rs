@@ -75,6 +75,8 @@ pub struct SampleDecoding {
     pub range: crate::volume::ValueRange,
     /// Whether every voxel is finite, so that no sample decodes as missing.
     pub all_finite: bool,
+    /// Whether the volume is a colour one (texels: luminance, red, green, blue).
+    pub colour: bool,
 }
 
 /// Builds the uniforms of one frame.
@@ -141,7 +143,7 @@ pub fn frame_uniforms(
         row_offset: 0,
         row_end: size[1],
         all_finite: u32::from(decoding.all_finite),
-        _pad1: 0,
+        colour_volume: u32::from(decoding.colour),
     }
 }
 

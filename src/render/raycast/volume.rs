@@ -36,6 +36,8 @@ pub struct GpuVolume {
     pub range: ValueRange,
     /// Whether every voxel is finite (`Volume::non_finite_count` is 0).
     pub all_finite: bool,
+    /// Whether the volume is a colour one (its texels: luminance, red, green, blue).
+    pub colour: bool,
     /// Group 0 of every ray-casting pipeline.
     pub frame_group: wgpu::BindGroup,
     /// The min/max pyramid, node flags and distance field (built lazily).
@@ -77,6 +79,7 @@ impl GpuVolume {
             spacing_mm: volume.spacing_mm(),
             range: volume.normalization_range(),
             all_finite: volume.non_finite_count() == 0,
+            colour: volume.colour().is_some(),
             frame_group,
             leap,
             leap_group,
@@ -101,6 +104,7 @@ impl GpuVolume {
             lut_depth_unit,
             range: self.range,
             all_finite: self.all_finite,
+            colour: self.colour,
         };
         frame_uniforms(
             geometry,

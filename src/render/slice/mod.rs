@@ -40,6 +40,9 @@ pub struct SliceLook {
     /// Blend the transfer function's colour over the grey by its opacity (the display variant,
     /// where the pass is given a colour table; the exact one writes grey).
     pub colour: bool,
+    /// Grey from white at the window's low end to black at its high end (DICOM MONOCHROME1,
+    /// `Provenance::invert_grey`, or the user's choice).
+    pub invert: bool,
 }
 
 /// The parameters of one view's pass: the view's pixel grid in `frame`'s voxel coordinates, the
@@ -84,7 +87,11 @@ pub fn slice_params(
         colour: u32::from(look.colour),
         colour_lo: volume.normalization_range().min as f32,
         colour_hi: volume.normalization_range().max as f32,
-        _pad0: 0,
+        invert: u32::from(look.invert),
+        volume_colour: u32::from(volume.colour().is_some()),
+        _pad1: 0,
+        _pad2: 0,
+        _pad3: 0,
     }
 }
 

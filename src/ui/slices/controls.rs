@@ -49,6 +49,13 @@ impl SliceViews {
                         "Its colour blended over the grey by its opacity: what it hides stays grey",
                     );
                 ui.end_row();
+                ui.label("Grey");
+                ui.checkbox(&mut self.invert, "inverted (low values white)")
+                    .on_hover_text(
+                        "As radiographs stored MONOCHROME1 are shown (on for them by default); \
+                         the values are unchanged",
+                    );
+                ui.end_row();
                 ui.label("Window");
                 ui.horizontal(|ui| {
                     let [mut lo, mut hi] = self.window;

@@ -83,6 +83,9 @@ pub struct SliceViews {
     pub slab: Option<Slab>,
     /// Blend the transfer function's colour over the grey by its opacity.
     pub colour_by_tf: bool,
+    /// Grey from white at the window's low end to black at its high end: on for a volume whose
+    /// file asks for it (DICOM MONOCHROME1), and the user's to change.
+    pub invert: bool,
     /// The colour table of the transfer function last given, for the volume shown.
     colours: Option<Colours>,
     /// The point under the pointer in a slice this pass, if any.
@@ -123,6 +126,7 @@ impl SliceViews {
             nearest: false,
             slab: None,
             colour_by_tf: false,
+            invert: false,
             colours: None,
             hover: None,
         }
@@ -166,6 +170,7 @@ impl SliceViews {
         self.generation += 1;
         self.crosshair = frame.centre();
         self.window = window;
+        self.invert = volume.provenance().invert_grey;
         for pane in &mut self.panes {
             pane.forget_view();
         }
@@ -290,6 +295,7 @@ impl SliceViews {
                 (self.panes[b].kind(), plane(b)),
             ],
             window: self.window,
+            invert: self.invert,
             nearest: self.nearest,
             slab: self.slab,
             crop: crop.as_deref().copied(),

@@ -30,6 +30,8 @@ pub struct PaneLook<'a> {
     pub others: [(PlaneKind, Plane); 2],
     /// The grey window.
     pub window: [f64; 2],
+    /// Grey inverted (white at the window's low end).
+    pub invert: bool,
     /// Nearest-voxel sampling.
     pub nearest: bool,
     /// A thick slab.
@@ -302,6 +304,7 @@ impl SlicePane {
             slab: look.slab,
             leap: true,
             colour: look.colours.is_some(),
+            invert: look.invert,
         };
         let params = slice_params(
             &view,

@@ -338,12 +338,13 @@ pub fn assemble(frames: &[FrameHeader]) -> Result<Geometry, DicomError> {
     // below 45°); a slice shifted past the image's and the series' size together lies elsewhere.
     let reach = f64::from(dims_xy[0]) * col_sp + f64::from(dims_xy[1]) * row_sp + (d_last - d0);
     if tilt_mm.is_nan() || tilt_mm > 2.0 * reach {
-        let (k, far) = order
-            .iter()
-            .map(|&f| (f, lateral(positions[f])))
-            .fold((order[0], 0.0), |a, b| {
-                if b.1 > a.1 || b.1.is_nan() { b } else { a }
-            });
+        let (k, far) =
+            order
+                .iter()
+                .map(|&f| (f, lateral(positions[f])))
+                .fold((order[0], 0.0), |a, b| {
+                    if b.1 > a.1 || b.1.is_nan() { b } else { a }
+                });
         return Err(fail(format!(
             "'{}' lies {} mm across the slices' normal from the first slice, beyond any gantry \
              tilt (ImagePositionPatient {})",

@@ -84,6 +84,29 @@ pub fn check_reference(
     }
 }
 
+/// As [`check_reference`], with the bounds given: at most `share` of the pixels may differ by
+/// more than 1/255, none by more than `max_abs`.
+pub fn check_reference_within(
+    r: &mut VolumeRenderer,
+    name: &str,
+    (volume, tf, camera): (&Volume, &TransferFunction, &Camera),
+    base: RenderSettings,
+    (max_abs, share): (f64, f64),
+) {
+    let size = [40, 40];
+    let expected = reference::render(volume, tf, camera, size, &base).image;
+    for (strategy, path) in variants() {
+        let s = RenderSettings {
+            strategy,
+            path,
+            ..base
+        };
+        let image = r.render_image(camera, size, &s).expect("render");
+        let name = format!("{name}-{}-{path:?}", strategy.label());
+        super::assert_close(&name, &image, &expected, max_abs, share);
+    }
+}
+
 /// The value of the uniform volumes the analytic checks render.
 pub const UNIFORM_VALUE: f32 = 100.0;
 
