@@ -58,6 +58,7 @@ fn frame(u: &mut Unstructured, file: usize) -> arbitrary::Result<FrameHeader> {
         rows: u.int_in_range(0..=6)?,
         columns: u.int_in_range(0..=6)?,
         orientation,
+        patient_orientation: None,
         position,
         pixel_spacing: option(u, |u| Ok([number(u)?, number(u)?]))?,
         slice_thickness: option(u, number)?,
@@ -83,6 +84,7 @@ fn frame(u: &mut Unstructured, file: usize) -> arbitrary::Result<FrameHeader> {
         instance_uid: format!("1.3.{}", u.int_in_range(0..=40u8)?),
         transfer_syntax: "1.2.840.10008.1.2.1".into(),
         implicit_vr: false,
+        mosaic: None,
     })
 }
 

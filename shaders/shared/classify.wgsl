@@ -7,19 +7,22 @@
 // Normalised values below MISSING_BELOW are missing samples: transparent.
 
 // The normalised value (0 = volume minimum, 1 = maximum) at box position p, trilinearly
-// interpolated by the texture unit; where a non-finite voxel takes part, from the finite ones
-// alone (sample_finite).
+// interpolated by the texture unit; in volumes with non-finite voxels (MISSING_VOXELS), where
+// one takes part, from the finite ones alone (sample_finite).
 fn sample_value(p: vec3<f32>) -> f32 {
     let s = textureSampleLevel(volume_tex, linear_clamp, p, 0.0).r * frame.texel_scale + frame.texel_bias;
-    if s >= MISSING_BELOW || frame.all_finite != 0u {
-        return s;
+#ifdef MISSING_VOXELS
+    if s < MISSING_BELOW {
+        return sample_finite(p);
     }
-    return sample_finite(p);
+#endif
+    return s;
 }
 
 // The value at p from the finite voxels of its eight: their trilinear weights renormalised, so
 // that a non-finite voxel takes no finite neighbour with it; missing (MISSING_BELOW − 1) where
 // they weigh less than half (p lies nearer non-finite voxels). src/reference/trilinear.rs twins it.
+#ifdef MISSING_VOXELS
 fn sample_finite(p: vec3<f32>) -> f32 {
     let dims = vec3<i32>(textureDimensions(volume_tex));
     let v = clamp(p * vec3<f32>(dims) - vec3<f32>(0.5), vec3<f32>(0.0), vec3<f32>(dims - vec3<i32>(1)));
@@ -27,20 +30,25 @@ fn sample_finite(p: vec3<f32>) -> f32 {
     let f = v - base;
     let lo = vec3<i32>(base);
     let hi = min(lo + vec3<i32>(1), dims - vec3<i32>(1));
-    var sum = 0.0;
-    var weight = 0.0;
-    for (var c = 0u; c < 8u; c = c + 1u) {
-        let pick = vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u);
-        let w3 = select(vec3<f32>(1.0) - f, f, pick);
-        let w = w3.x * w3.y * w3.z;
-        let s = textureLoad(volume_tex, select(lo, hi, pick), 0).r * frame.texel_scale + frame.texel_bias;
-        if w > 0.0 && s >= MISSING_BELOW {
-            sum = sum + w * s;
-            weight = weight + w;
-        }
-    }
-    return select(MISSING_BELOW - 1.0, sum / max(weight, 1.0e-6), weight >= 0.5);
+    // The eight corners unrolled (x fastest), each value and its weight.
+    var acc = vec2<f32>(0.0);
+    acc += corner(vec3<i32>(lo.x, lo.y, lo.z), (1.0 - f.x) * (1.0 - f.y) * (1.0 - f.z));
+    acc += corner(vec3<i32>(hi.x, lo.y, lo.z), f.x * (1.0 - f.y) * (1.0 - f.z));
+    acc += corner(vec3<i32>(lo.x, hi.y, lo.z), (1.0 - f.x) * f.y * (1.0 - f.z));
+    acc += corner(vec3<i32>(hi.x, hi.y, lo.z), f.x * f.y * (1.0 - f.z));
+    acc += corner(vec3<i32>(lo.x, lo.y, hi.z), (1.0 - f.x) * (1.0 - f.y) * f.z);
+    acc += corner(vec3<i32>(hi.x, lo.y, hi.z), f.x * (1.0 - f.y) * f.z);
+    acc += corner(vec3<i32>(lo.x, hi.y, hi.z), (1.0 - f.x) * f.y * f.z);
+    acc += corner(vec3<i32>(hi.x, hi.y, hi.z), f.x * f.y * f.z);
+    return select(MISSING_BELOW - 1.0, acc.x / max(acc.y, 1.0e-6), acc.y >= 0.5);
 }
+
+// A corner's weighted value and weight, (0, 0) where its voxel is not finite.
+fn corner(i: vec3<i32>, w: f32) -> vec2<f32> {
+    let s = textureLoad(volume_tex, i, 0).r * frame.texel_scale + frame.texel_bias;
+    return select(vec2<f32>(0.0), vec2<f32>(w * s, w), w > 0.0 && s >= MISSING_BELOW);
+}
+#endif
 
 // A colour volume's own colour at p (its texels hold luminance, red, green, blue: the texture
 // unit blends the colour as it blends the value).

@@ -216,6 +216,10 @@ pub struct RawArgs {
     /// file named).
     #[arg(long, global = true, value_name = "N|UID")]
     pub series: Option<String>,
+    /// 4-D files (an fMRI time series, diffusion directions in NIfTI): which volume to open,
+    /// counted from 1 (default: the first; `leapview info` says how many there are).
+    #[arg(long, global = true, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub volume: Option<u32>,
 }
 
 /// `leapview render`.

@@ -69,6 +69,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
                 OrientationSource::Header => "header",
                 OrientationSource::User => "user",
                 OrientationSource::Assumed => "assumed",
+                OrientationSource::AsStored => "as stored",
             }),
             "orientation_in_header": volume.header_orientation().map(|o| o.code()),
             "reversed_i": volume.reversed_i(),
@@ -286,6 +287,11 @@ fn orientation_text(volume: &Volume) -> String {
         }
         (OrientationSource::User, None) => {
             format!("{in_file} as given with --orientation (the header has none)")
+        }
+        (OrientationSource::AsStored, _) => {
+            return "none in the file: shown as stored, row 0 at the top and column 0 at the left \
+                    (set it with --orientation CODE)"
+                .into();
         }
         _ => format!("{in_file} in the header"),
     };

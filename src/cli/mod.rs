@@ -68,10 +68,13 @@ pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
         .series
         .as_deref()
         .map(leapview::volume::dicom::SeriesChoice::parse);
+    // Counted from 1 on the command line, from 0 in LoadOptions.
+    let volume = raw.volume.map(|n| n - 1);
     let Some(dims) = raw.dims else {
         return Ok(LoadOptions {
             orientation,
             series,
+            volume,
             ..LoadOptions::default()
         });
     };
@@ -91,6 +94,7 @@ pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
         }),
         orientation,
         series,
+        volume,
         ..LoadOptions::default()
     })
 }

@@ -42,11 +42,59 @@ fn refine_progress() -> impl FnMut(u32, u32) {
     }
 }
 
+/// A 2D image (one slice, a radiograph, a photograph) has no depth to ray-cast: it is written as
+/// the image itself, facing the viewer, as `leapview slice` draws it (in its own colours, or grey
+/// through the window), and a note says so.
+fn render_image(
+    volume: &leapview::volume::Volume,
+    plane: leapview::mpr::PlaneKind,
+    args: &RenderArgs,
+) -> Result<(), Failure> {
+    let [w, h, d] = volume.dims();
+    let size: Vec<String> = [w, h, d]
+        .iter()
+        .filter(|&&n| n > 1)
+        .map(u32::to_string)
+        .collect();
+    eprintln!(
+        "leapview: note: {} is a 2D image ({}): written facing the viewer, {}, as `leapview \
+         slice --plane {}` draws it; the 3D modes and transfer functions apply to volumes",
+        args.file.display(),
+        size.join(" x "),
+        if volume.colour().is_some() {
+            "in its own colours"
+        } else {
+            "grey through the window"
+        },
+        plane.name()
+    );
+    let slice = super::args::SliceArgs {
+        file: args.file.clone(),
+        plane: plane.name().to_string(),
+        at: None,
+        out: args.out.clone(),
+        window: args.effects.window,
+        size: Some(args.size),
+        nearest: false,
+        invert: None,
+        exact: false,
+        no_leap: false,
+        tf: None,
+        slab: None,
+        mode: super::args::SlabModeArg::Mip,
+        repeat: 0,
+    };
+    super::slice::write_slice(volume, &slice)
+}
+
 /// Runs the command.
 pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     // Refused before anything is loaded or rendered.
     leapview::imaging::check_output_path(&args.out).map_err(|e| Failure::BadInput(e.into()))?;
     let volume = load(&args.file, raw)?;
+    if let Some(plane) = leapview::mpr::frame::image_plane(&volume) {
+        return render_image(&volume, plane, &args);
+    }
     let kind = DataKind::of(&volume);
     let resolved = fit::resolve(&args.tf, &kind).map_err(|e| Failure::BadInput(e.into()))?;
     if let Some(note) = &resolved.note {

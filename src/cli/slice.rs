@@ -1,5 +1,5 @@
-//! `leapview slice`: one slice view written as an 8-bit grey PNG: the plane in the file's
-//! patient frame, sampled on the GPU, grey through the window.
+//! `leapview slice`: one slice view written as an 8-bit PNG: the plane in the file's patient
+//! frame, sampled on the GPU, grey through the window (or in a colour image's own colours).
 
 use anyhow::anyhow;
 use glam::DVec3;
@@ -35,6 +35,13 @@ fn parse_plane(name: &str, at: DVec3) -> Result<Plane, String> {
 
 /// Writes the slice `args` describes.
 pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
+    check_args(args)?;
+    let volume = load(&args.file, raw)?;
+    write_slice(&volume, args)
+}
+
+/// Refuses what `args` cannot make before anything is loaded.
+fn check_args(args: &SliceArgs) -> Result<(), Failure> {
     let bad = |e: String| Failure::BadInput(anyhow!(e));
     if !args
         .out
@@ -47,7 +54,14 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
         )));
     }
     leapview::imaging::check_output_path(&args.out).map_err(|e| Failure::BadInput(e.into()))?;
-    let slab = match args.slab {
+    slab_of(args)?;
+    Ok(())
+}
+
+/// The slab `args` ask for.
+fn slab_of(args: &SliceArgs) -> Result<Option<Slab>, Failure> {
+    let bad = |e: String| Failure::BadInput(anyhow!(e));
+    Ok(match args.slab {
         None => None,
         Some(mm) if mm.is_finite() && mm > 0.0 => Some(Slab {
             thickness_mm: mm,
@@ -62,9 +76,15 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
                 "--slab must be a thickness above 0 mm, not {mm}"
             )));
         }
-    };
-    let volume = load(&args.file, raw)?;
-    let frame = PatientFrame::of(&volume);
+    })
+}
+
+/// Writes the slice `args` describe of `volume` (loaded from `args.file`).
+pub fn write_slice(volume: &leapview::volume::Volume, args: &SliceArgs) -> Result<(), Failure> {
+    let bad = |e: String| Failure::BadInput(anyhow!(e));
+    check_args(args)?;
+    let slab = slab_of(args)?;
+    let frame = PatientFrame::of(volume);
     let at = args.at.map_or(frame.centre(), DVec3::from);
     let plane = parse_plane(&args.plane, at).map_err(bad)?;
     if leapview::mpr::view::cut_polygon(&plane, &frame).is_empty() {
@@ -92,7 +112,7 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
     let view = SliceView::fit(plane, &frame, args.size);
     let window = args
         .window
-        .or_else(|| fit::default_window_of(&volume))
+        .or_else(|| fit::default_window_of(volume))
         .or_else(|| volume.value_range().map(|r| [r.min, r.max]))
         .unwrap_or([0.0, 1.0]);
     let tf = match &args.tf {
@@ -102,14 +122,14 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
             ));
         }
         Some(name) => {
-            let resolved = fit::resolve(name, &fit::DataKind::of(&volume))
+            let resolved = fit::resolve(name, &fit::DataKind::of(volume))
                 .map_err(|e| Failure::BadInput(e.into()))?;
             Some(resolved.tf)
         }
         None => None,
     };
     let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
-    let texture = VolumeTexture::upload(&ctx, &volume).map_err(|e| match e {
+    let texture = VolumeTexture::upload(&ctx, volume).map_err(|e| match e {
         VolumeTextureError::TooLarge { .. } | VolumeTextureError::OutOfMemory { .. } => {
             Failure::BadInput(e.into())
         }
@@ -117,7 +137,7 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
     })?;
     let renderer = SliceRenderer::new(&ctx.device).map_err(|e| Failure::Other(e.into()))?;
     let colours = match &tf {
-        Some(tf) => Some(renderer.colour_table(&ctx.device, &ctx.queue, tf, &volume)),
+        Some(tf) => Some(renderer.colour_table(&ctx.device, &ctx.queue, tf, volume)),
         None => None,
     };
     let look = SliceLook {
@@ -132,7 +152,7 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
         },
     };
     let bricks = if slab.is_some() && !args.no_leap {
-        renderer.bricks_of(&ctx, &volume, &texture)
+        renderer.bricks_of(&ctx, volume, &texture)
     } else {
         None
     };
@@ -143,7 +163,7 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
     let [w, h] = view.size;
     let png: image::DynamicImage = if args.exact {
         let grey = renderer
-            .render(&ctx, &volume, &texture, bricks.as_ref(), &view, look)
+            .render(&ctx, volume, &texture, bricks.as_ref(), &view, look)
             .map_err(slice_failure)?
             .grey;
         image::GrayImage::from_raw(w, h, grey).map(Into::into)
@@ -151,7 +171,7 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
         let rgb = renderer
             .render_display(
                 &ctx,
-                &volume,
+                volume,
                 &texture,
                 bricks.as_ref(),
                 colours.as_ref(),
@@ -159,7 +179,7 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
                 look,
             )
             .map_err(slice_failure)?;
-        if look.colour {
+        if look.colour || volume.colour().is_some() {
             image::RgbImage::from_raw(w, h, rgb.concat()).map(Into::into)
         } else {
             let grey = rgb.iter().map(|p| p[0]).collect();
@@ -180,12 +200,12 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
         for per_pass in [1, SLICES_PER_BATCH] {
             let ms = if args.exact {
                 let target = SliceTarget::new(&ctx.device, view.size).map_err(other)?;
-                let params = slice_params(&view, &frame, &volume, format, look, target.pitch);
+                let params = slice_params(&view, &frame, volume, format, look, target.pitch);
                 let output = Output::Exact(&target);
                 renderer.median_gpu_ms(&ctx, source, output, &params, args.repeat, per_pass)
             } else {
                 let target = DisplayTarget::new(&ctx.device, view.size).map_err(other)?;
-                let params = slice_params(&view, &frame, &volume, format, look, view.size[0]);
+                let params = slice_params(&view, &frame, volume, format, look, view.size[0]);
                 let output = Output::Display(&target);
                 renderer.median_gpu_ms(&ctx, source, output, &params, args.repeat, per_pass)
             }
@@ -213,6 +233,15 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
     png.save(&args.out)
         .map_err(|e| Failure::Other(anyhow!("cannot write {}: {e}", args.out.display())))?;
     let [left, right, top, bottom] = plane.edge_labels();
+    let stored = volume
+        .orientation()
+        .is_some_and(|o| o.source == leapview::volume::OrientationSource::AsStored);
+    let edges = if stored {
+        "as stored (row 0 at the top, column 0 at the left: the file has no patient orientation)"
+            .to_string()
+    } else {
+        format!("left {left}, right {right}, top {top}, bottom {bottom}")
+    };
     let mut slab_text = slab.map_or(String::new(), |s| {
         format!(", {} slab of {} mm", s.mode.name(), number(s.thickness_mm))
     });
@@ -221,7 +250,7 @@ pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
     }
     println!(
         "wrote {}: {} plane through {} mm (LPS), {w} x {h} pixels of {} mm, window {} .. {}{}{}; \
-         edges: left {left}, right {right}, top {top}, bottom {bottom}",
+         edges: {edges}",
         args.out.display(),
         plane.kind.name(),
         triple(at),

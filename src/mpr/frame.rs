@@ -25,6 +25,31 @@ pub fn lps(direction: Direction) -> DVec3 {
     }
 }
 
+/// The standard plane a 2D image (a volume one voxel thick along some axis) lies in: the one
+/// whose normal is nearest that axis in the patient frame; `None` for a volume.
+pub fn image_plane(volume: &Volume) -> Option<crate::mpr::PlaneKind> {
+    image_plane_of(
+        volume.dims(),
+        volume.orientation().unwrap_or(Orientation::ASSUMED),
+    )
+}
+
+/// [`image_plane`] of a volume of `dims` in `orientation`.
+pub fn image_plane_of(dims: [u32; 3], orientation: Orientation) -> Option<crate::mpr::PlaneKind> {
+    use crate::mpr::PlaneKind;
+    let thin = (0..3)
+        .rev()
+        .find(|&a| dims[a] == 1 && dims.iter().filter(|&&d| d > 1).count() == 2)?;
+    let along = lps(orientation.axes[thin]).abs();
+    Some(if along.z >= along.x && along.z >= along.y {
+        PlaneKind::Axial
+    } else if along.y >= along.x {
+        PlaneKind::Coronal
+    } else {
+        PlaneKind::Sagittal
+    })
+}
+
 /// The affine map between a volume's stored voxel coordinates and patient millimetres (LPS).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PatientFrame {
@@ -155,6 +180,26 @@ impl PatientFrame {
             .map(|c| (c.normalize_or_zero().dot(d).abs(), c.length()))
             .max_by(|a, b| a.0.total_cmp(&b.0))
             .map_or(1.0, |(_, len)| len)
+    }
+}
+
+#[cfg(test)]
+mod image_tests {
+    use super::*;
+    use crate::mpr::PlaneKind;
+
+    #[test]
+    fn a_2d_image_lies_in_the_plane_across_its_thin_axis() {
+        let lps = Orientation::AS_STORED;
+        assert_eq!(image_plane_of([64, 32, 1], lps), Some(PlaneKind::Axial));
+        let coronal = Orientation::parse_code("LIP").expect("code");
+        assert_eq!(
+            image_plane_of([64, 32, 1], coronal),
+            Some(PlaneKind::Coronal)
+        );
+        assert_eq!(image_plane_of([1, 64, 32], lps), Some(PlaneKind::Sagittal));
+        assert_eq!(image_plane_of([64, 32, 2], lps), None);
+        assert_eq!(image_plane_of([64, 1, 1], lps), None);
     }
 }
 

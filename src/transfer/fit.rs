@@ -178,9 +178,44 @@ pub fn classify(
         }
         Some(Modality::Mr { angio }) => DataKind::Mr { angio: *angio },
         Some(Modality::IndustrialCt | Modality::Other(_)) => DataKind::Other,
-        None if has_hu_air => DataKind::CtHounsfield { angio: false },
+        // No modality: CT only where the values look like Hounsfield units (air and soft tissue
+        // where CT has them), not merely negative (a filtered MR or a statistics map can be).
+        None if has_hu_air && hounsfield_landmarks(histogram) => {
+            DataKind::CtHounsfield { angio: false }
+        }
         None => DataKind::Mr { angio: false },
     }
+}
+
+/// Shares of the voxels that HU-valued CT holds around air (−1100 … −900 HU) and around water
+/// and soft tissue (−200 … +200 HU) for a histogram taken for Hounsfield units.
+const AIR_WINDOW_HU: [f64; 2] = [-1100.0, -900.0];
+const TISSUE_WINDOW_HU: [f64; 2] = [-200.0, 200.0];
+/// The least share of voxels each window must hold (a head CT holds tens of percent in each).
+const MIN_LANDMARK_SHARE: f64 = 0.005;
+
+/// Whether the histogram has voxels where CT in Hounsfield units has air and soft tissue.
+pub fn hounsfield_landmarks(histogram: &Histogram) -> bool {
+    let total = histogram.total() as f64;
+    let n = histogram.counts.len();
+    if total == 0.0 || n == 0 || histogram.range.width() <= 0.0 {
+        return false;
+    }
+    let share = |[lo, hi]: [f64; 2]| -> f64 {
+        let width = histogram.range.width() / n as f64;
+        histogram
+            .counts
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| {
+                let centre = histogram.range.min + (*i as f64 + 0.5) * width;
+                (lo..=hi).contains(&centre)
+            })
+            .map(|(_, &c)| c as f64)
+            .sum::<f64>()
+            / total
+    };
+    share(AIR_WINDOW_HU) >= MIN_LANDMARK_SHARE && share(TISSUE_WINDOW_HU) >= MIN_LANDMARK_SHARE
 }
 
 /// Finds air and soft tissue in a CT histogram; `None` unless both are clear and the line through

@@ -450,12 +450,62 @@ fn series_rows(ui: &mut egui::Ui, v: &VolumeSummary, action: &mut Option<Action>
                 p.listing.len()
             ));
     }
+    if let Some(volumes) = p.volumes {
+        volume_chooser(ui, volumes, action);
+    }
     if let Some(skipped) = &p.skipped {
         ui.label(
             egui::RichText::new(format!("skipped: {skipped}"))
                 .weak()
                 .small(),
         );
+    }
+}
+
+/// The volume of a 4-D file to show: a slider (the file is read again once it is let go) and a
+/// step either way.
+fn volume_chooser(
+    ui: &mut egui::Ui,
+    volumes: crate::volume::VolumeIndex,
+    action: &mut Option<Action>,
+) {
+    let id = ui.make_persistent_id("volume chooser");
+    let mut shown = ui
+        .data(|d| d.get_temp::<u32>(id))
+        .unwrap_or(volumes.chosen + 1);
+    ui.horizontal(|ui| {
+        ui.label("Volume");
+        if ui
+            .add_enabled(volumes.chosen > 0, egui::Button::new("<"))
+            .on_hover_text("The volume before")
+            .clicked()
+        {
+            *action = Some(Action::OpenVolume(volumes.chosen - 1));
+        }
+        let slider = ui
+            .add(
+                egui::Slider::new(&mut shown, 1..=volumes.count)
+                    .suffix(format!(" of {}", volumes.count)),
+            )
+            .on_hover_text(
+                "Which volume of this 4-D file (a time point, a diffusion direction) is shown",
+            );
+        if ui
+            .add_enabled(volumes.chosen + 1 < volumes.count, egui::Button::new(">"))
+            .on_hover_text("The volume after")
+            .clicked()
+        {
+            *action = Some(Action::OpenVolume(volumes.chosen + 1));
+        }
+        let settled = slider.drag_stopped() || (slider.changed() && !slider.dragged());
+        if settled && shown != volumes.chosen + 1 {
+            *action = Some(Action::OpenVolume(shown - 1));
+        }
+    });
+    if action.is_some() {
+        ui.data_mut(|d| d.remove::<u32>(id));
+    } else {
+        ui.data_mut(|d| d.insert_temp(id, shown));
     }
 }
 

@@ -1,5 +1,6 @@
 //! The view layouts: the 3D view alone, a 2×2 grid (axial, coronal, sagittal, 3D) as radiology
-//! viewers arrange them, or the 3D view large with the three slices in a column beside it. Pure:
+//! viewers arrange them, the 3D view large with the three slices in a column beside it, or, for a
+//! 2D image (a radiograph, a photograph, one slice), that image alone in its own plane. Pure:
 //! rectangles in, rectangles out.
 
 use egui::{Rect, pos2};
@@ -16,6 +17,8 @@ pub enum Layout {
     Grid,
     /// The 3D view large, the three slices in a column on its right.
     OnePlusThree,
+    /// A 2D image alone, as a slice view of the plane it lies in: what a single image opens in.
+    Image(PlaneKind),
 }
 
 impl Layout {
@@ -28,7 +31,13 @@ impl Layout {
             Self::ThreeD => "3D only",
             Self::Grid => "2 × 2",
             Self::OnePlusThree => "1 + 3",
+            Self::Image(_) => "Image",
         }
+    }
+
+    /// Whether it shows the 3D view.
+    pub fn has_3d(self) -> bool {
+        !matches!(self, Self::Image(_))
     }
 
     /// Whether it shows slice views.
@@ -52,6 +61,7 @@ pub fn panes(layout: Layout, area: Rect, gap: f32) -> Vec<(Pane, Rect)> {
     let rect = |a: f32, b: f32, c: f32, d: f32| Rect::from_min_max(pos2(a, b), pos2(c, d));
     match layout {
         Layout::ThreeD => vec![(Pane::ThreeD, area)],
+        Layout::Image(kind) => vec![(Pane::Slice(kind), area)],
         Layout::Grid => {
             let xm = ((x0 + x1) / 2.0).round();
             let ym = ((y0 + y1) / 2.0).round();
@@ -99,11 +109,17 @@ mod tests {
     }
 
     #[test]
-    fn the_3d_layout_is_one_pane() {
+    fn the_3d_layout_is_one_pane_and_an_image_one_slice() {
         assert_eq!(
             panes(Layout::ThreeD, area(), 2.0),
             vec![(Pane::ThreeD, area())]
         );
+        let image = Layout::Image(PlaneKind::Coronal);
+        assert_eq!(
+            panes(image, area(), 2.0),
+            vec![(Pane::Slice(PlaneKind::Coronal), area())]
+        );
+        assert!(image.has_slices() && !image.has_3d());
     }
 
     #[test]

@@ -8,6 +8,7 @@ use crate::volume::Direction;
 
 use super::layout::Layout;
 use super::{Action, ViewerState};
+use crate::mpr::PlaneKind;
 
 /// The standard views with their menu labels, in menu order.
 pub const VIEWS: [(ViewPreset, &str); 7] = [
@@ -101,7 +102,22 @@ pub const FORMATS: &[&str] = &[
 ];
 
 /// Draws the menu bar; returns what the user chose.
-pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
+/// The layouts offered: the three of every volume, and for a 2D image (lying in plane `image`)
+/// the image alone first.
+fn layouts(image: Option<PlaneKind>) -> Vec<Layout> {
+    image
+        .map(Layout::Image)
+        .into_iter()
+        .chain(Layout::ALL)
+        .collect()
+}
+
+/// The menu bar and the layout toolbar; `image`: the plane of the 2D image shown, if one is.
+pub fn menu_bar(
+    ui: &mut egui::Ui,
+    state: &mut ViewerState,
+    image: Option<PlaneKind>,
+) -> Option<Action> {
     let mut action = None;
     MenuBar::new().ui(ui, |ui| {
         ui.menu_button("File", |ui| {
@@ -167,7 +183,7 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
                 action = Some(Action::Roll(90.0));
             }
             ui.separator();
-            for layout in Layout::ALL {
+            for layout in layouts(image) {
                 if ui.radio(state.layout == layout, layout.label()).clicked() {
                     action = Some(Action::SetLayout(layout));
                 }
@@ -202,7 +218,7 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
         });
         // The layout toolbar: the same choice as View › layouts, one click away.
         ui.separator();
-        for layout in Layout::ALL {
+        for layout in layouts(image) {
             if ui
                 .selectable_label(state.layout == layout, layout.label())
                 .on_hover_text("Layout of the views (also in the View menu)")

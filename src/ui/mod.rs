@@ -133,6 +133,8 @@ pub enum Action {
     OpenPathPrompt,
     /// Open series N (1-based, as listed) of the folder the volume on screen came from.
     OpenSeries(usize),
+    /// Open another volume of the 4-D file on screen (counted from 0).
+    OpenVolume(u32),
     /// Generate the Shepp–Logan head phantom.
     LoadPhantom,
     /// Generate the vessel tree.

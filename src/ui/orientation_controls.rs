@@ -111,6 +111,11 @@ pub fn orientation_label(ui: &mut egui::Ui, v: &VolumeSummary) {
         (OrientationSource::User, None) => format!("{file} as you set it (the file has none)"),
         (OrientationSource::Header, _) => format!("{file} from the header"),
         (OrientationSource::Assumed, _) => "no orientation in the file: RAS assumed".to_string(),
+        (OrientationSource::AsStored, _) => {
+            "no patient orientation in the file: shown as stored (row 0 at the top, column 0 at \
+             the left)"
+                .to_string()
+        }
     };
     // Loading reverses a mirrored file along i (`Volume::unmirrored`), so what is shown is never
     // a mirror image.

@@ -200,9 +200,22 @@ impl Scene {
     }
 
     /// The view a volume opens in: the patient from the front, superior up (by the file's
-    /// orientation, RAS where it has none), as a radiologist looks at a 3D rendering.
+    /// orientation, RAS where it has none), as a radiologist looks at a 3D rendering; a 2D image
+    /// faces the viewer as its slice view shows it (axial from the feet, coronal from the front,
+    /// sagittal from the left).
     pub fn reset_view(&mut self, projection: ProjectionKind) {
-        self.view_from(crate::volume::Direction::Anterior, projection);
+        use crate::mpr::PlaneKind;
+        use crate::volume::Direction;
+        let plane = self
+            .volume
+            .as_ref()
+            .and_then(|v| crate::mpr::frame::image_plane_of(v.dims, v.orientation_or_assumed()));
+        let side = match plane {
+            Some(PlaneKind::Axial) => Direction::Inferior,
+            Some(PlaneKind::Sagittal) => Direction::Left,
+            _ => Direction::Anterior,
+        };
+        self.view_from(side, projection);
     }
 
     /// The volume on screen.

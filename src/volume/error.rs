@@ -150,6 +150,14 @@ pub enum VolumeError {
         /// What would be accepted, starting with a separator (may be empty).
         hint: &'static str,
     },
+    /// The volume asked for is past the file's last.
+    #[error("there is no volume {asked}: the file holds {count} (--volume 1 to {count})")]
+    NoSuchVolume {
+        /// The volume asked for, counted from 1.
+        asked: u64,
+        /// How many the file holds.
+        count: u64,
+    },
     /// One axis is longer than LeapView accepts.
     #[error(
         "the header declares {} samples, more than {max} along one axis",

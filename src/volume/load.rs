@@ -18,6 +18,9 @@ pub struct LoadOptions {
     /// Which DICOM series of a folder to open (`--series`); the default is the image series
     /// with the most slices, or the one holding the file named.
     pub series: Option<super::dicom::SeriesChoice>,
+    /// Which volume of a file holding several (a 4-D NIfTI), counted from 0; the first by
+    /// default.
+    pub volume: Option<u32>,
 }
 
 /// The readers, as chosen from a file name and the options.
@@ -71,7 +74,7 @@ fn load(path: &Path, options: &LoadOptions) -> Result<Volume, VolumeError> {
         (Format::Raw, Some(params)) => raw::read_raw(path, name, params, progress),
         (Format::Raw, None) => Err(VolumeError::RawNeedsParams),
         (Format::Nrrd, _) => nrrd::read_nrrd(path, name, progress),
-        (Format::Nifti, _) => nifti::read_nifti(path, name, progress),
+        (Format::Nifti, _) => nifti::read_nifti(path, name, options.volume, progress),
         (Format::MetaImage, _) => metaimage::read_metaimage(path, name, progress),
         (Format::Dicom, _) => dicom::load(path, options.series.as_ref(), progress),
     }

@@ -86,10 +86,21 @@ pub struct Provenance {
     pub skipped: Option<String>,
     /// The patient-frame position (LPS, mm) of the first voxel's centre, where the file says.
     pub origin_lps: Option<[f64; 3]>,
+    /// Of a file holding several volumes (a 4-D NIfTI time series), which one this is.
+    pub volumes: Option<VolumeIndex>,
     /// Whether the file asks for its lowest value to be shown white (DICOM MONOCHROME1, as
     /// computed and digital radiographs are stored): the grey ramp is inverted, the values are
     /// not.
     pub invert_grey: bool,
+}
+
+/// Which of a file's volumes was read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct VolumeIndex {
+    /// The volume read, counted from 0.
+    pub chosen: u32,
+    /// How many the file holds.
+    pub count: u32,
 }
 
 /// A scalar volume on a regular grid, with its statistics computed once at construction.

@@ -120,6 +120,10 @@ pub enum OrientationSource {
     User,
     /// Nobody: [`Orientation::ASSUMED`], for files without one.
     Assumed,
+    /// Nobody, for an image without patient orientation (DICOM without
+    /// ImageOrientationPatient or PatientOrientation): shown as stored, row 0 at the top and
+    /// column 0 at the left ([`Orientation::AS_STORED`]); the letters are not the patient's.
+    AsStored,
 }
 
 /// The anatomical direction of each index axis, and who said so.
@@ -146,6 +150,14 @@ impl Orientation {
     pub const ASSUMED: Self = Self {
         axes: [Direction::Right, Direction::Anterior, Direction::Superior],
         source: OrientationSource::Assumed,
+    };
+
+    /// What an image without patient orientation is shown as: the axes DICOM's default plane
+    /// (ImageOrientationPatient `1\0\0\0\1\0`) gives, which the axial view shows as stored,
+    /// row 0 at the top and column 0 at the left.
+    pub const AS_STORED: Self = Self {
+        axes: [Direction::Left, Direction::Posterior, Direction::Superior],
+        source: OrientationSource::AsStored,
     };
 
     /// Reads a three-letter code (`RAS`, `lpi`, …: any case) as the user's orientation: one

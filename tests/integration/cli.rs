@@ -567,3 +567,61 @@ fn shaders_prints_the_drivers_statistics_or_says_why_not() {
         common::stderr(&o)
     );
 }
+
+/// A 2D colour image without any patient orientation (pydicom's `SC_rgb_rle.dcm`, 100 x 100,
+/// RLE): `render` writes the image itself, as stored (row 0 at the top, column 0 at the left) and
+/// in its own colours, and says so; pydicom's pixels are the reference.
+#[test]
+fn render_writes_a_2d_colour_image_as_stored_in_its_colours() {
+    let dir = common::TempDir::new("cli-render-2d");
+    let reference = dir.path().join("rgb.raw");
+    let script = format!(
+        "import pydicom, pydicom.data\n\
+         ds = pydicom.dcmread(pydicom.data.get_testdata_file('SC_rgb_rle.dcm'))\n\
+         open({:?}, 'wb').write(ds.pixel_array.astype('uint8').tobytes())\n\
+         print(pydicom.data.get_testdata_file('SC_rgb_rle.dcm'))",
+        reference.display().to_string()
+    );
+    let out = std::process::Command::new(common::python())
+        .args(["-c", &script])
+        .output()
+        .expect("python");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let file = String::from_utf8_lossy(&out.stdout).trim().to_string();
+    let png = dir.path().join("rgb.png");
+    let o = leapview(&[
+        "render",
+        &file,
+        "--out",
+        png.to_str().expect("utf-8"),
+        "--size",
+        "100x100",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let note = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        note.contains("2D image (100 x 100)") && note.contains("own colours"),
+        "{note}"
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("edges: as stored"), "{stdout}");
+    let image = image::open(&png).expect("png").to_rgb8();
+    let expected = std::fs::read(&reference).expect("pydicom's pixels");
+    assert_eq!(image.dimensions(), (100, 100));
+    let worst = image
+        .as_raw()
+        .iter()
+        .zip(&expected)
+        .map(|(a, b)| a.abs_diff(*b))
+        .max()
+        .unwrap_or(0);
+    // Pixel centres fall on voxel centres: the texture unit returns each voxel's own 8-bit colour.
+    assert!(
+        worst <= 1,
+        "largest difference from pydicom's pixels: {worst} levels"
+    );
+}

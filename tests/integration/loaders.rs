@@ -6,9 +6,11 @@
 mod bad_data;
 mod bad_files;
 mod dicom_hostile;
+mod dicom_mosaic;
 mod dicom_shared;
 mod dicom_written;
 mod metaimage;
+mod nifti_nibabel;
 mod nifti_round_trip;
 mod nrrd_round_trip;
 mod orientation;

@@ -327,7 +327,7 @@ fn menu_bar_opens_menus_and_returns_actions() {
     };
     // Tall enough for the whole View menu: a clipped item cannot be clicked.
     let mut h = harness([420.0, 500.0]).build_ui_state(
-        |ui, b: &mut MenuBar| b.actions.extend(menu_bar(ui, &mut b.state)),
+        |ui, b: &mut MenuBar| b.actions.extend(menu_bar(ui, &mut b.state, None)),
         bar,
     );
     h.get_by_label("View").click();

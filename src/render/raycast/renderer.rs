@@ -362,6 +362,11 @@ impl VolumeRenderer {
         Ok(())
     }
 
+    /// Whether the volume shown has non-finite voxels (its variants sample around them).
+    fn has_missing_voxels(&self) -> bool {
+        self.volume.as_ref().is_some_and(|v| !v.all_finite)
+    }
+
     /// Bakes what the frame's settings need of the transfer function's tables.
     fn refresh_tables(&mut self, settings: &RenderSettings) {
         let Some(volume) = &self.volume else { return };
@@ -429,7 +434,8 @@ impl VolumeRenderer {
             self.resolve_path(settings.path)?,
             request.stats,
             request.size,
-        );
+        )
+        .for_volume(self.has_missing_voxels());
         self.ensure_targets(request.size)?;
         let (first, last) = (rows[0] == 0, rows[1] >= request.size[1]);
         self.refresh_tables(settings);
@@ -602,8 +608,10 @@ impl VolumeRenderer {
     pub fn ready_for(&self, settings: &RenderSettings, stats: bool, size: [u32; 2]) -> bool {
         let settings = &self.concrete_settings(settings, size);
         self.resolve_path(settings.path).is_ok_and(|path| {
-            self.pipelines
-                .has(&PipelineKey::new(settings, path, stats, size))
+            self.pipelines.has(
+                &PipelineKey::new(settings, path, stats, size)
+                    .for_volume(self.has_missing_voxels()),
+            )
         })
     }
 
@@ -617,7 +625,8 @@ impl VolumeRenderer {
         size: [u32; 2],
     ) -> Result<(), RenderError> {
         let settings = &self.concrete_settings(settings, size);
-        let key = PipelineKey::new(settings, self.resolve_path(settings.path)?, stats, size);
+        let key = PipelineKey::new(settings, self.resolve_path(settings.path)?, stats, size)
+            .for_volume(self.has_missing_voxels());
         self.pipelines.for_frame(&self.ctx.device, key)?;
         Ok(())
     }

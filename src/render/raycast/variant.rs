@@ -30,6 +30,12 @@ pub struct PipelineKey {
     /// Whether each ray is split into `RAY_PARTS` parts marched by as many invocations
     /// ([`PipelineKey::new`] says when).
     pub split: bool,
+    /// Whether the volume has non-finite voxels (`MISSING_VOXELS`): a sample where one takes
+    /// part is taken from the finite ones alone. Set by the renderer from its volume
+    /// ([`PipelineKey::for_volume`]); volumes without any carry no such code (its mere presence
+    /// in the loop, never taken, cost lavapipe's fragment path accuracy on rays of tens of
+    /// thousands of samples).
+    pub missing: bool,
 }
 
 /// The compute entry point of every ray-casting variant (shaders/entry/raycast_compute.wgsl).
@@ -94,7 +100,13 @@ impl PipelineKey {
                 && settings.mode != Mode::MinIp
                 && !(settings.mode == Mode::Dvr && (settings.preintegrated || lit_by_weight))
                 && u64::from(size[0]) * u64::from(size[1]) <= SPLIT_MAX_PIXELS,
+            missing: false,
         }
+    }
+
+    /// The same variant for a volume that has non-finite voxels (`missing`) or not.
+    pub fn for_volume(self, missing: bool) -> Self {
+        Self { missing, ..self }
     }
 
     /// Every distinct variant, for validation tests.
@@ -125,8 +137,17 @@ impl PipelineKey {
                                     }
                                     for size in [[512, 512], [1920, 1080]] {
                                         let key = Self::new(&settings, path, stats, size);
-                                        if !keys.contains(&key) {
-                                            keys.push(key);
+                                        // Volumes with missing voxels: every mode, strategy,
+                                        // path and lighting (the fallback touches only the
+                                        // sampling all of them share).
+                                        let with_missing = (!stats
+                                            && gradient == GradientScheme::Central
+                                            && mip_color == MipColor::Window)
+                                            .then_some(key.for_volume(true));
+                                        for key in std::iter::once(key).chain(with_missing) {
+                                            if !keys.contains(&key) {
+                                                keys.push(key);
+                                            }
                                         }
                                     }
                                 }
@@ -190,6 +211,9 @@ impl PipelineKey {
         }
         if self.preintegrated {
             defines.push("PREINTEGRATED");
+        }
+        if self.missing {
+            defines.push("MISSING_VOXELS");
         }
         defines
     }

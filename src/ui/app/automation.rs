@@ -15,7 +15,13 @@ impl LeapViewApp {
     /// Screenshot and exit for scripts; see [`crate::ui::screenshot`].
     pub(super) fn automate(&mut self, ctx: &egui::Context) {
         let quiet_passes = self.scene.note_pass();
-        let frames = self.scene.frames_rendered();
+        // A 2D image alone shows no 3D frames: its slice view is drawn in the pass that shows
+        // it, so a shown volume counts as one frame.
+        let frames = if self.state.layout.has_3d() {
+            self.scene.frames_rendered()
+        } else {
+            u64::from(self.scene.volume().is_some())
+        };
         let ready = frames >= 1
             && quiet_passes > SETTLED_AFTER_PASSES
             && !self.scene.results_pending()
@@ -46,6 +52,10 @@ impl LeapViewApp {
 
     /// Logs how the view in the screenshot differs from the renderer's own image: it must not.
     fn check_screenshot(&self, image: &egui::ColorImage, ppp: f32) {
+        if !self.state.layout.has_3d() {
+            log::info!("the layout shows no 3D view: nothing to compare");
+            return;
+        }
         if self.shot_inputs.as_ref() != self.scene.last_inputs() {
             log::info!("a new frame was rendered after the screenshot; not compared");
             return;

@@ -18,6 +18,7 @@ use crate::transfer::fit::preset_for_kind;
 use crate::ui::controls::{PanelInfo, controls_ui};
 use crate::ui::dialogs::Dialogs;
 use crate::ui::effects::effects_ui;
+use crate::ui::layout::Layout;
 use crate::ui::loading::{Loader, VolumeSource};
 use crate::ui::menu::menu_bar;
 use crate::ui::redraw::FrameInputs;
@@ -113,6 +114,8 @@ struct LeapViewApp {
     shown_source: Option<VolumeSource>,
     /// The outcome of an image being saved, while it is.
     saving: Option<std::sync::mpsc::Receiver<Result<String, String>>>,
+    /// The layout the user had when a 2D image opened in its own (restored for a volume).
+    layout_before_image: Option<Layout>,
     /// The slice views (drawn when the layout has them).
     slices: crate::ui::slices::SliceViews,
 }
@@ -150,6 +153,7 @@ impl LeapViewApp {
             last_motion: None,
             shown_source: None,
             saving: None,
+            layout_before_image: None,
             slices,
         };
         // A file's orientation as corrected before, unless the command line gives one.
@@ -228,6 +232,23 @@ impl LeapViewApp {
                 {
                     self.dialogs.show_error(e);
                 }
+                // A 2D image opens alone in its plane; a volume after one, in the layout the
+                // user had before.
+                match crate::mpr::frame::image_plane_of(
+                    summary.dims,
+                    summary.orientation_or_assumed(),
+                ) {
+                    Some(kind) => {
+                        if self.state.layout.has_3d() {
+                            self.layout_before_image = Some(self.state.layout);
+                        }
+                        self.state.layout = Layout::Image(kind);
+                    }
+                    None if !self.state.layout.has_3d() => {
+                        self.state.layout = self.layout_before_image.take().unwrap_or_default();
+                    }
+                    None => {}
+                }
                 let title = format!("LeapView — {}", summary.name);
                 ctx.send_viewport_cmd(ViewportCommand::Title(title));
                 // The slices start from the same window as MIP: the header's, else the data's.
@@ -254,6 +275,7 @@ impl LeapViewApp {
             Action::OpenDialog => self.dialogs.open_file_dialog(ctx),
             Action::OpenFolderDialog => self.dialogs.open_folder_dialog(ctx),
             Action::OpenSeries(number) => self.open_series(number, ctx),
+            Action::OpenVolume(index) => self.open_volume(index, ctx),
             Action::OpenPathPrompt => self.dialogs.open_prompt(),
             Action::LoadPhantom => self.start_loading(VolumeSource::SheppLogan, ctx),
             Action::LoadVessels => self.start_loading(VolumeSource::VesselTree, ctx),
@@ -295,6 +317,15 @@ impl LeapViewApp {
             return;
         };
         options.series = Some(crate::volume::dicom::SeriesChoice::Number(number));
+        self.start_loading(VolumeSource::File { path, options }, ctx);
+    }
+
+    /// Opens another volume of the 4-D file on screen.
+    fn open_volume(&mut self, index: u32, ctx: &egui::Context) {
+        let Some(VolumeSource::File { path, mut options }) = self.shown_source.clone() else {
+            return;
+        };
+        options.volume = Some(index);
         self.start_loading(VolumeSource::File { path, options }, ctx);
     }
 
@@ -376,7 +407,13 @@ impl eframe::App for LeapViewApp {
         self.global_input(&ctx);
 
         let mut actions = Vec::new();
-        Panel::top("menu").show(ui, |ui| actions.extend(menu_bar(ui, &mut self.state)));
+        let image = self
+            .scene
+            .volume()
+            .and_then(|v| crate::mpr::frame::image_plane_of(v.dims, v.orientation_or_assumed()));
+        Panel::top("menu").show(ui, |ui| {
+            actions.extend(menu_bar(ui, &mut self.state, image));
+        });
         let info = PanelInfo {
             path_used: self.scene.path_used(),
             strategy_used: self.scene.strategy_used(),

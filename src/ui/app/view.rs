@@ -21,6 +21,7 @@ impl LeapViewApp {
     /// The central panel, divided by the layout between the 3D view and the slice views.
     pub(super) fn view(&mut self, ui: &mut egui::Ui) {
         self.slices.begin_pass();
+        self.slices.alone = !self.state.layout.has_3d();
         self.slices.set_transfer_function(self.state.editor.tf());
         let area = ui.available_rect_before_wrap();
         let has_volume = self.scene.volume().is_some();
@@ -42,6 +43,16 @@ impl LeapViewApp {
             && let Some(probe) = self.slices.hover()
         {
             draw_probe(ui, area, probe, self.scene.volume().map(|v| &v.kind));
+        }
+        // Without the 3D view (a 2D image alone), loading shows over the whole area.
+        if !self.state.layout.has_3d() {
+            if let Some(status) = self.loader.busy()
+                && draw_loading(ui, area, &status)
+            {
+                self.loader.cancel();
+                self.untitle_if_empty(ui.ctx());
+            }
+            draw_drop_hint(ui, area);
         }
     }
 

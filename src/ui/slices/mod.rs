@@ -86,6 +86,8 @@ pub struct SliceViews {
     /// Grey from white at the window's low end to black at its high end: on for a volume whose
     /// file asks for it (DICOM MONOCHROME1), and the user's to change.
     pub invert: bool,
+    /// Whether a 2D image is shown alone (its own layout): no crosshair lines over it.
+    pub alone: bool,
     /// The colour table of the transfer function last given, for the volume shown.
     colours: Option<Colours>,
     /// The point under the pointer in a slice this pass, if any.
@@ -127,6 +129,7 @@ impl SliceViews {
             slab: None,
             colour_by_tf: false,
             invert: false,
+            alone: false,
             colours: None,
             hover: None,
         }
@@ -304,6 +307,11 @@ impl SliceViews {
                 .as_ref()
                 .filter(|c| self.colour_by_tf && c.volume == source.generation)
                 .map(|c| (&c.table, c.generation)),
+            alone: self.alone,
+            directions: source
+                .volume
+                .orientation()
+                .is_none_or(|o| o.source != crate::volume::OrientationSource::AsStored),
         };
         let outcome = self.panes[index].ui(ui, rect, gpu, source, look);
         if let Some(p) = outcome.crosshair {

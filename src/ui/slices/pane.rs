@@ -40,6 +40,11 @@ pub struct PaneLook<'a> {
     pub crop: Option<CropBox>,
     /// The transfer function's colour table and its generation, when the slices are coloured.
     pub colours: Option<(&'a TableTexture, u64)>,
+    /// A 2D image alone in its layout: no other planes' lines cross it.
+    pub alone: bool,
+    /// Whether the patient's directions are known (not a 2D image shown as stored), so that
+    /// the edges name them.
+    pub directions: bool,
 }
 
 /// The point under the pointer in a slice.
@@ -361,7 +366,8 @@ impl SlicePane {
         let c = view.to_pixel(look.crosshair);
         let at = pos2(rect.min.x + c.x as f32 / ppp, rect.min.y + c.y as f32 / ppp);
         let reach = rect.width().hypot(rect.height());
-        for (slot, other) in &look.others {
+        let others: &[(PlaneKind, crate::mpr::Plane)] = if look.alone { &[] } else { &look.others };
+        for (slot, other) in others {
             // Where the other plane cuts this one: a line through the crosshair.
             let d = view.plane.normal().cross(other.normal());
             let screen = egui::vec2(d.dot(view.plane.right) as f32, -d.dot(view.plane.up) as f32);
@@ -374,7 +380,11 @@ impl SlicePane {
         }
         let font = FontId::proportional(14.0);
         let text = Color32::from_rgb(255, 220, 120);
-        let [left, right, top, bottom] = view.plane.edge_labels();
+        let [left, right, top, bottom] = if look.directions {
+            view.plane.edge_labels()
+        } else {
+            Default::default()
+        };
         let m = 4.0;
         painter.text(
             pos2(rect.min.x + m, rect.center().y),
@@ -404,7 +414,9 @@ impl SlicePane {
             font.clone(),
             text,
         );
-        let name = if view.plane.kind == PlaneKind::Oblique {
+        let name = if !look.directions {
+            "as stored (no patient orientation)".to_string()
+        } else if view.plane.kind == PlaneKind::Oblique {
             format!("{} (oblique)", self.kind.name())
         } else {
             self.kind.name().to_string()

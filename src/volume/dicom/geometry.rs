@@ -22,6 +22,18 @@ pub const MIN_TOLERANCE_MM: f64 = 1e-3;
 /// gantry tilt.
 pub const TILT_TOLERANCE: f64 = 0.01;
 
+/// Where a series' axes come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AxesFrom {
+    /// ImageOrientationPatient: the patient frame, with positions in it.
+    Plane,
+    /// PatientOrientation's letters (radiographs, NM): directions, no positions.
+    Letters,
+    /// Nothing: the image as stored (`Orientation::AS_STORED`'s axes, which the axial view shows
+    /// row 0 at the top and column 0 at the left).
+    Stored,
+}
+
 /// One input frame's share of an output slice.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Source {
@@ -51,9 +63,8 @@ pub struct Geometry {
     pub spacing_mm: [f64; 3],
     /// The direction of increasing column, row and slice index, as unit vectors in LPS.
     pub axes_lps: [[f64; 3]; 3],
-    /// Whether the file said where the axes point (else `axes_lps` is a guess, not to be shown
-    /// as the patient's orientation).
-    pub axes_known: bool,
+    /// Who said where the axes point.
+    pub axes_from: AxesFrom,
     /// The centre of the first voxel, in mm (LPS).
     pub origin_lps: [f64; 3],
     /// Where each slice comes from.
@@ -90,11 +101,41 @@ fn mm(v: f64) -> String {
     crate::text::number(v)
 }
 
-/// Row and column directions from `ImageOrientationPatient`, checked to be orthogonal unit vectors.
-fn directions(first: &FrameHeader, single: bool) -> Result<([f64; 3], [f64; 3]), DicomError> {
+/// The LPS unit vector of a PatientOrientation direction (its first letter: L, R, A, P, H
+/// for head, F for foot; the letters after it tilt it, which the nearest axis ignores).
+fn letter_direction(code: &str) -> Option<[f64; 3]> {
+    Some(match code.trim().chars().next()? {
+        'L' => [1.0, 0.0, 0.0],
+        'R' => [-1.0, 0.0, 0.0],
+        'P' => [0.0, 1.0, 0.0],
+        'A' => [0.0, -1.0, 0.0],
+        'H' => [0.0, 0.0, 1.0],
+        'F' => [0.0, 0.0, -1.0],
+        _ => return None,
+    })
+}
+
+/// Row and column directions from PatientOrientation (`L\F`: rows run to the patient's left,
+/// columns to the feet), where the two are perpendicular.
+fn letters(code: &str) -> Option<([f64; 3], [f64; 3])> {
+    let mut parts = code.split('\\');
+    let (r, c) = (
+        letter_direction(parts.next()?)?,
+        letter_direction(parts.next()?)?,
+    );
+    (dot(r, c) == 0.0).then_some((r, c))
+}
+
+/// Row and column directions from `ImageOrientationPatient`, checked to be orthogonal unit
+/// vectors; for one image or the frames of one object without it, from PatientOrientation or
+/// else as stored.
+fn directions(
+    first: &FrameHeader,
+    single: bool,
+) -> Result<([f64; 3], [f64; 3], AxesFrom), DicomError> {
     let Some(o) = first.orientation else {
         return if single {
-            Ok(([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]))
+            Ok(stored_directions(first))
         } else {
             Err(fail(format!(
                 "'{}' and the other slices have no ImageOrientationPatient, so their order cannot \
@@ -119,7 +160,16 @@ fn directions(first: &FrameHeader, single: bool) -> Result<([f64; 3], [f64; 3]),
             expected: "it must be two orthogonal unit vectors (row, then column direction)",
         });
     }
-    Ok((r.map(|v| v / nr), c.map(|v| v / nc)))
+    Ok((r.map(|v| v / nr), c.map(|v| v / nc), AxesFrom::Plane))
+}
+
+/// The directions of an image without ImageOrientationPatient: PatientOrientation's, else as
+/// stored.
+fn stored_directions(first: &FrameHeader) -> ([f64; 3], [f64; 3], AxesFrom) {
+    match first.patient_orientation.as_deref().and_then(letters) {
+        Some((r, c)) => (r, c, AxesFrom::Letters),
+        None => ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], AxesFrom::Stored),
+    }
 }
 
 /// The pixel spacing (row, column), or 1 mm with a note.
@@ -160,17 +210,22 @@ fn unplaced_frames(
         [None, Some(t)] => (t, "SliceThickness"),
         _ => (1.0, "an assumed 1 mm: no spacing in the file"),
     };
+    let (r, c, axes_from) = stored_directions(first);
     notes.push(format!(
         "the file gives no plane position or orientation for its {} frames: they are stacked in \
-         their stored order, {} mm apart (from {from}); the patient orientation is unknown",
+         their stored order, {} mm apart (from {from}); {}",
         frames.len(),
-        mm(step)
+        mm(step),
+        match axes_from {
+            AxesFrom::Letters => "the directions from PatientOrientation",
+            _ => "the patient orientation is unknown: shown as stored",
+        }
     ));
     Geometry {
         dims: [first.columns, first.rows, frames.len() as u32],
         spacing_mm: [col_sp, row_sp, step],
-        axes_lps: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-        axes_known: false,
+        axes_lps: [r, c, cross(r, c)],
+        axes_from,
         origin_lps: [0.0; 3],
         plan: SlicePlan::Stack(order),
         notes,
@@ -201,12 +256,19 @@ pub fn assemble(frames: &[FrameHeader]) -> Result<Geometry, DicomError> {
     {
         return Ok(unplaced_frames(frames, [row_sp, col_sp], notes));
     }
-    let (r, c) = directions(first, single)?;
-    if single && first.orientation.is_none() {
-        notes.push("no ImageOrientationPatient: an axial slice assumed".into());
+    let (r, c, axes_from) = directions(first, single)?;
+    match axes_from {
+        AxesFrom::Letters => notes.push(format!(
+            "no ImageOrientationPatient: directions from PatientOrientation {}",
+            first.patient_orientation.as_deref().unwrap_or_default()
+        )),
+        AxesFrom::Stored => notes.push(
+            "no patient orientation: shown as stored, row 0 at the top and column 0 at the left"
+                .into(),
+        ),
+        AxesFrom::Plane => {}
     }
     let n = cross(r, c);
-    let axes_known = first.orientation.is_some();
     let mut positions = Vec::with_capacity(frames.len());
     for f in frames {
         match f.position {
@@ -240,14 +302,15 @@ pub fn assemble(frames: &[FrameHeader]) -> Result<Geometry, DicomError> {
             ),
         };
         notes.push(format!(
-            "a single slice: shown as a volume one voxel ({} mm, from {from}) thick",
+            "a single image: shown as a 2D image, facing the viewer (in 3D, a slab one voxel, \
+             {} mm from {from}, thick)",
             mm(thickness)
         ));
         return Ok(Geometry {
             dims: [dims_xy[0], dims_xy[1], 1],
             spacing_mm: [col_sp, row_sp, thickness],
             axes_lps: [r, c, n],
-            axes_known,
+            axes_from,
             origin_lps: positions[0],
             plan: SlicePlan::Stack(vec![0]),
             notes,
@@ -377,7 +440,7 @@ pub fn assemble(frames: &[FrameHeader]) -> Result<Geometry, DicomError> {
             dims: [dims_xy[0], dims_xy[1], frames.len() as u32],
             spacing_mm: spacing_mm(mean),
             axes_lps: [r, c, n],
-            axes_known,
+            axes_from,
             origin_lps: p0,
             plan: SlicePlan::Stack(order),
             notes,
@@ -447,7 +510,7 @@ pub fn assemble(frames: &[FrameHeader]) -> Result<Geometry, DicomError> {
         dims: [dims_xy[0], dims_xy[1], count as u32],
         spacing_mm: spacing_mm(step),
         axes_lps: [r, c, n],
-        axes_known,
+        axes_from,
         origin_lps: p0,
         plan: SlicePlan::Resample(plan),
         notes,
@@ -577,7 +640,45 @@ mod tests {
         frames[0].slice_thickness = Some(2.5);
         let g = assemble(&frames).expect("ok");
         assert_eq!((g.dims, g.spacing_mm), ([4, 3, 1], [0.25, 0.5, 2.5]));
-        assert!(g.notes[0].contains("single slice"), "{:?}", g.notes);
+        assert!(g.notes[0].contains("single image"), "{:?}", g.notes);
+    }
+
+    /// A radiograph: no ImageOrientationPatient, no position. PatientOrientation `L\F` puts
+    /// rows towards the patient's left and columns towards the feet (a coronal image, head up);
+    /// without it the image is as stored (DICOM's default plane, which the axial view shows
+    /// row 0 at the top, column 0 at the left), not RAS (which showed it rotated 180°).
+    #[test]
+    fn an_image_without_orientation_takes_patient_orientation_or_is_as_stored() {
+        let mut frames = at(&[0.0]);
+        frames[0].orientation = None;
+        frames[0].position = None;
+        frames[0].patient_orientation = Some("L\\F".into());
+        let g = assemble(&frames).expect("a radiograph");
+        assert_eq!(g.axes_from, AxesFrom::Letters);
+        assert_eq!(
+            g.axes_lps,
+            [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]
+        );
+        frames[0].patient_orientation = Some("A\\FR".into());
+        assert_eq!(
+            assemble(&frames).expect("oblique letters").axes_lps[0],
+            [0.0, -1.0, 0.0]
+        );
+        frames[0].patient_orientation = None;
+        let g = assemble(&frames).expect("as stored");
+        assert_eq!(g.axes_from, AxesFrom::Stored);
+        assert_eq!(g.axes_lps[..2], [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+        assert!(
+            g.notes.iter().any(|n| n.contains("shown as stored")),
+            "{:?}",
+            g.notes
+        );
+        // Letters that are not two perpendicular directions are as stored.
+        frames[0].patient_orientation = Some("L\\R".into());
+        assert_eq!(
+            assemble(&frames).expect("bad letters").axes_from,
+            AxesFrom::Stored
+        );
     }
 
     #[test]

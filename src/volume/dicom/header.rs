@@ -151,6 +151,10 @@ pub struct FrameHeader {
     /// `ImageOrientationPatient`: the direction of a row (increasing column index), then of a
     /// column (increasing row index), as unit vectors in the patient frame (LPS).
     pub orientation: Option<[f64; 6]>,
+    /// `PatientOrientation` (0020,0020): the patient direction of a row, then of a column
+    /// (`L\F`, `A\FR`…), for images without ImageOrientationPatient (radiographs, NM,
+    /// secondary captures).
+    pub patient_orientation: Option<String>,
     /// `ImagePositionPatient`: the centre of the first transmitted voxel, in mm (LPS).
     pub position: Option<[f64; 3]>,
     /// `PixelSpacing`: the spacing between rows, then between columns, in mm.
@@ -174,14 +178,31 @@ pub struct FrameHeader {
     /// Whether the file's data set is written in implicit VR though its transfer syntax says
     /// explicit (read so, as pydicom does).
     pub implicit_vr: bool,
+    /// For a tile of a Siemens mosaic (`frame` is its tile), the mosaic's own size.
+    pub mosaic: Option<Mosaic>,
+}
+
+/// The image a mosaic's tiles are cut from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Mosaic {
+    /// `Rows` of the mosaic.
+    pub rows: u32,
+    /// `Columns` of the mosaic.
+    pub columns: u32,
+    /// Tiles along each side.
+    pub per_side: u32,
 }
 
 impl FrameHeader {
     /// What the header says one frame holds, for the codecs to check their streams against.
     pub fn frame_spec(&self) -> super::codec::FrameSpec {
+        // A mosaic's tiles are cut from one frame of the mosaic's size.
+        let (rows, columns) = self
+            .mosaic
+            .map_or((self.rows, self.columns), |m| (m.rows, m.columns));
         super::codec::FrameSpec {
-            rows: self.rows,
-            columns: self.columns,
+            rows,
+            columns,
             samples_per_pixel: self.pixel.samples_per_pixel,
             bits_allocated: self.pixel.bits_allocated,
             bits_stored: self.pixel.bits_stored,

@@ -5,10 +5,12 @@
 
 pub mod codec;
 pub mod colour;
+pub mod csa;
 pub mod error;
 pub mod geometry;
 pub mod guard;
 pub mod header;
+pub mod mosaic;
 pub mod pixels;
 pub mod read;
 pub mod resample;
@@ -83,13 +85,51 @@ pub fn load(
     } else {
         format!("{base} ({})", series.facts.description)
     };
-    let volume = read::read_series(
-        &catalogue.scan.files,
-        &catalogue.scan.alternatives,
-        series,
-        name,
-        progress,
-    )?;
+    let read = |series: &Series, name: String| {
+        read::read_series(
+            &catalogue.scan.files,
+            &catalogue.scan.alternatives,
+            series,
+            name,
+            progress,
+        )
+    };
+    let volume = match (read(series, name.clone()), catalogue.scan.named_file) {
+        // The file the user named, in a series whose files cannot be placed together (2D
+        // images sharing a series, several volumes in one): that file alone, and a note why.
+        (Err(VolumeError::Dicom(DicomError::Geometry { reason })), Some(named))
+            if series.frames.iter().any(|f| f.file != named)
+                && series.frames.iter().any(|f| f.file == named) =>
+        {
+            let alone = Series {
+                frames: series
+                    .frames
+                    .iter()
+                    .filter(|f| f.file == named)
+                    .cloned()
+                    .collect(),
+                ..series.clone()
+            };
+            let volume = read(&alone, name)?;
+            let mut provenance = volume.provenance().clone();
+            provenance.notes.insert(
+                0,
+                format!(
+                    "opened alone: the {} other files of its series cannot be placed with it \
+                     ({reason})",
+                    series
+                        .frames
+                        .iter()
+                        .filter(|f| f.file != named)
+                        .map(|f| f.file)
+                        .collect::<std::collections::BTreeSet<_>>()
+                        .len()
+                ),
+            );
+            volume.with_provenance(provenance)
+        }
+        (result, _) => result?,
+    };
     log::info!(
         "{}: {} files scanned in {:.0} ms; series {} ({} slices) read in {:.0} ms",
         path.display(),

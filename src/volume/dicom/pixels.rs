@@ -181,7 +181,12 @@ pub fn native_bytes(
 /// frames' headers) says (checked against what the codestreams hold).
 pub fn decode_file(path: &Path, label: &str, header: &FrameHeader) -> Result<Decoded, DicomError> {
     let spec = &header.frame_spec();
-    let frames = header.frames_in_file;
+    // A mosaic's tiles come from one frame of its size.
+    let frames = if header.mosaic.is_some() {
+        1
+    } else {
+        header.frames_in_file
+    };
     // The scan's guard checked this file's lengths and nesting before it was first read, and
     // found how its data set is encoded.
     let options = dicom_object::OpenFileOptions::new();
@@ -282,6 +287,18 @@ pub fn decode_file(path: &Path, label: &str, header: &FrameHeader) -> Result<Dec
             bytes_per_sample: u32::from(spec.bits_allocated / 8),
             needed,
             found: bytes.len() as u64,
+        });
+    }
+    if let Some(mosaic) = &header.mosaic {
+        let pixel_bytes = usize::from(spec.samples_per_pixel) * spec.bytes_per_sample();
+        let tiles = header.frames_in_file;
+        return Ok(Decoded {
+            bytes: super::mosaic::cut(&bytes, mosaic, tiles, pixel_bytes),
+            frame_bytes: frame_bytes / (mosaic.per_side * mosaic.per_side) as usize,
+            encapsulated,
+            note,
+            codec,
+            palette,
         });
     }
     Ok(Decoded {

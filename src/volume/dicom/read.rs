@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicU16, Ordering};
 use super::codec::Codec;
 use super::colour::{Layout, frame_rgb};
 use super::error::DicomError;
-use super::geometry::{Geometry, SlicePlan, assemble};
+use super::geometry::{AxesFrom, Geometry, SlicePlan, assemble};
 use super::header::{FrameHeader, Photometric, Rescale};
 use super::pixels::{Decoded, Stored, convert_frame, decode_file, scalar_type};
 use super::resample::resample_slice;
@@ -17,7 +17,8 @@ use super::scan::parallel;
 use super::series::{Alternatives, Series};
 use crate::volume::error::VolumeError;
 use crate::volume::{
-    Colour, LoadProgress, Modality, Orientation, Samples, ScalarType, ValueMapping, Volume, limits,
+    Colour, LoadProgress, Modality, Orientation, OrientationSource, Samples, ScalarType,
+    ValueMapping, Volume, limits,
 };
 
 /// The series' files, and the copies of each that can stand in for it.
@@ -508,10 +509,11 @@ pub fn read_series(
         (volume, notes)
     };
     notes.splice(0..0, geometry.notes.iter().cloned());
-    let orientation = geometry
-        .axes_known
-        .then(|| Orientation::from_lps_columns(geometry.axes_lps))
-        .flatten();
+    let orientation =
+        Orientation::from_lps_columns(geometry.axes_lps).map(|o| match geometry.axes_from {
+            AxesFrom::Stored => o.said_by(OrientationSource::AsStored),
+            _ => o,
+        });
     // The window is in data units: it applies after the rescale (PS3.3 C.11.2.1.2); colour
     // images have none.
     let window = (!colour).then(|| first.window_range()).flatten();
@@ -522,7 +524,7 @@ pub fn read_series(
         notes,
         window,
         series: Some(series.facts.clone()),
-        origin_lps: geometry.axes_known.then_some(geometry.origin_lps),
+        origin_lps: (geometry.axes_from == AxesFrom::Plane).then_some(geometry.origin_lps),
         invert_grey: first.pixel.photometric == Photometric::Monochrome1,
         ..Default::default()
     }))

@@ -347,6 +347,7 @@ pub(crate) mod tests {
             rows: 3,
             columns: 4,
             orientation: Some([1.0, 0.0, 0.0, 0.0, 1.0, 0.0]),
+            patient_orientation: None,
             position: Some([-10.0, -20.0, z]),
             pixel_spacing: Some([0.5, 0.25]),
             slice_thickness: None,
@@ -366,6 +367,7 @@ pub(crate) mod tests {
             instance_uid: format!("1.2.3.{file}"),
             transfer_syntax: "1.2.840.10008.1.2.1".into(),
             implicit_vr: false,
+            mosaic: None,
         }
     }
 

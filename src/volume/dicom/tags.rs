@@ -348,6 +348,8 @@ pub fn contents(
             rows: rows as u32,
             columns: columns as u32,
             orientation,
+            patient_orientation: Some(text(obj.get(tags::PATIENT_ORIENTATION)))
+                .filter(|t| !t.is_empty()),
             position,
             pixel_spacing: array::<2>(obj.get(tags::PIXEL_SPACING))
                 .or_else(|| array::<2>(measures(tags::PIXEL_SPACING))),
@@ -362,9 +364,55 @@ pub fn contents(
             instance_uid: instance_uid.clone(),
             transfer_syntax: ts.clone(),
             implicit_vr: false,
+            mosaic: None,
         });
     }
+    if frames == 1
+        && let Some(facts) = mosaic_facts(obj)
+        && let Some(first) = out.first()
+    {
+        let tiles = super::mosaic::tiles(first, facts).map_err(|reason| DicomError::Decode {
+            file: name.to_string(),
+            reason: format!("a Siemens mosaic: {reason}"),
+        })?;
+        return Ok(Contents::Image(tiles));
+    }
     Ok(Contents::Image(out))
+}
+
+/// The element `element` of the private block whose creator (group, 00xx) contains `creator`.
+fn private<'a>(
+    obj: &'a Object,
+    group: u16,
+    creator: &str,
+    element: u16,
+) -> Option<&'a InMemElement> {
+    (0x10u16..=0xFF)
+        .find(|&block| text(obj.get(dicom_core::Tag(group, block))).contains(creator))
+        .and_then(|block| obj.get(dicom_core::Tag(group, (block << 8) | element)))
+}
+
+/// A Siemens mosaic's count of images and slice normal, where `obj` is one (ImageType MOSAIC and
+/// a count, from (0019,xx0A) or the CSA image header).
+fn mosaic_facts(obj: &Object) -> Option<super::mosaic::MosaicFacts> {
+    let image_type = text(obj.get(tags::IMAGE_TYPE)).to_ascii_uppercase();
+    if !image_type.split('\\').any(|t| t.trim() == "MOSAIC") {
+        return None;
+    }
+    let csa = private(obj, 0x0029, "SIEMENS CSA HEADER", 0x10)
+        .and_then(|e| e.to_bytes().ok())
+        .map(|b| b.into_owned());
+    let from_csa = |name: &str| csa.as_deref().and_then(|b| super::csa::values(b, name));
+    let images = us(private(obj, 0x0019, "SIEMENS MR HEADER", 0x0A))
+        .or_else(|| from_csa("NumberOfImagesInMosaic")?.first()?.parse().ok())?;
+    let normal = from_csa("SliceNormalVector").and_then(|v| {
+        let n: Vec<f64> = v.iter().filter_map(|x| x.parse().ok()).collect();
+        (n.len() == 3).then(|| [n[0], n[1], n[2]])
+    });
+    Some(super::mosaic::MosaicFacts {
+        images: u32::try_from(images).ok()?,
+        normal,
+    })
 }
 
 /// An RT dose frame's position: `ImagePositionPatient` moved along the normal by its grid

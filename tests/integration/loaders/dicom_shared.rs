@@ -154,8 +154,12 @@ fn every_vendor_file_opens_or_says_why() {
         assert_same_values(&v, &emri, |i, j, k| (i, j, k));
     }
     // The file has no plane positions or orientations (pydicom's test copy lacks its functional
-    // groups): stacked in stored order, and said.
-    assert!(emri.orientation().is_none());
+    // groups): stacked in stored order and shown as stored (not as RAS, which turned it 180°),
+    // and said.
+    assert_eq!(
+        emri.orientation().map(|o| o.source),
+        Some(leapview::volume::OrientationSource::AsStored)
+    );
     assert!(
         emri.provenance()
             .notes
@@ -177,10 +181,14 @@ fn every_vendor_file_opens_or_says_why() {
         (i, j, k)
     });
 
-    // Single slices are one voxel thick, and say so.
+    // Single slices are 2D images, one voxel thick in 3D, and say so.
     let ct = load_ok(&vendor("CT_small.dcm"));
     assert_eq!(ct.dims(), [128, 128, 1]);
-    assert!(ct.provenance().notes[0].contains("single slice"));
+    assert!(ct.provenance().notes[0].contains("single image"));
+    assert_eq!(
+        leapview::mpr::frame::image_plane(&ct),
+        Some(leapview::mpr::PlaneKind::Axial)
+    );
     let mr = load_ok(&vendor("MR_small.dcm"));
     assert_same_values(
         &load_ok(&vendor("MR_small_jp2klossless.dcm")),
