@@ -24,7 +24,7 @@ pub fn tiles(mosaic: &FrameHeader, facts: MosaicFacts) -> Result<Vec<FrameHeader
         return Err(format!("NumberOfImagesInMosaic is {images}"));
     }
     let per_side = (images as f64).sqrt().ceil() as u32;
-    if mosaic.rows % per_side != 0 || mosaic.columns % per_side != 0 {
+    if !mosaic.rows.is_multiple_of(per_side) || !mosaic.columns.is_multiple_of(per_side) {
         return Err(format!(
             "a mosaic of {images} images ({per_side} a side) cannot tile {} x {} pixels",
             mosaic.columns, mosaic.rows
