@@ -105,6 +105,22 @@ pub fn load(path: &Path, raw: &args::RawArgs) -> Result<Volume, Failure> {
     load_volume(path, &options).map_err(|e| Failure::BadInput(e.into()))
 }
 
+/// [`load`] for the GPU of `ctx`: the volume's shape is checked against it (its 3D texture
+/// limit, a texture of its size) before its samples are read.
+pub fn load_for_gpu(
+    path: &Path,
+    raw: &args::RawArgs,
+    ctx: &leapview::render::GpuContext,
+) -> Result<Volume, Failure> {
+    let mut options = load_options(raw)?;
+    options.progress = Some(std::sync::Arc::new(
+        leapview::volume::LoadProgress::with_admission(
+            leapview::render::volume_texture::admission(ctx),
+        ),
+    ));
+    load_volume(path, &options).map_err(|e| Failure::BadInput(e.into()))
+}
+
 /// The camera the flags describe, for a volume with bounds `bounds`.
 pub fn camera_from_args(
     args: &args::CameraArgs,

@@ -11,7 +11,7 @@ use leapview::transfer::fit::{self, DataKind};
 
 use super::args::{RawArgs, RenderArgs};
 use super::text::{outln, print_stdout};
-use super::{Failure, camera_from_args, load};
+use super::{Failure, camera_from_args};
 
 /// Frames timed for `--stats`, after one warm-up frame; the median is reported.
 const TIMED_FRAMES: usize = 5;
@@ -49,6 +49,7 @@ fn render_image(
     volume: &leapview::volume::Volume,
     plane: leapview::mpr::PlaneKind,
     args: &RenderArgs,
+    ctx: GpuContext,
 ) -> Result<(), Failure> {
     let [w, h, d] = volume.dims();
     let size: Vec<String> = [w, h, d]
@@ -84,16 +85,17 @@ fn render_image(
         mode: super::args::SlabModeArg::Mip,
         repeat: 0,
     };
-    super::slice::write_slice(volume, &slice)
+    super::slice::write_slice(volume, &slice, &ctx)
 }
 
 /// Runs the command.
 pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     // Refused before anything is loaded or rendered.
     leapview::imaging::check_output_path(&args.out).map_err(|e| Failure::BadInput(e.into()))?;
-    let volume = load(&args.file, raw)?;
+    let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
+    let volume = super::load_for_gpu(&args.file, raw, &ctx)?;
     if let Some(plane) = leapview::mpr::frame::image_plane(&volume) {
-        return render_image(&volume, plane, &args);
+        return render_image(&volume, plane, &args, ctx);
     }
     let kind = DataKind::of(&volume);
     let resolved = fit::resolve(&args.tf, &kind).map_err(|e| Failure::BadInput(e.into()))?;

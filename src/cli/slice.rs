@@ -12,10 +12,10 @@ use leapview::render::slice::{
 use leapview::render::volume_texture::{VolumeTexture, VolumeTextureError};
 use leapview::transfer::fit;
 
+use super::Failure;
 use super::args::{RawArgs, SlabModeArg, SliceArgs};
 use super::parse::parse_vec3;
 use super::text::number;
-use super::{Failure, load};
 
 /// Slices in one timed pass for the batched figure of `--repeat`.
 const SLICES_PER_BATCH: u32 = 50;
@@ -36,8 +36,9 @@ fn parse_plane(name: &str, at: DVec3) -> Result<Plane, String> {
 /// Writes the slice `args` describes.
 pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
     check_args(args)?;
-    let volume = load(&args.file, raw)?;
-    write_slice(&volume, args)
+    let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
+    let volume = super::load_for_gpu(&args.file, raw, &ctx)?;
+    write_slice(&volume, args, &ctx)
 }
 
 /// Refuses what `args` cannot make before anything is loaded.
@@ -79,8 +80,12 @@ fn slab_of(args: &SliceArgs) -> Result<Option<Slab>, Failure> {
     })
 }
 
-/// Writes the slice `args` describe of `volume` (loaded from `args.file`).
-pub fn write_slice(volume: &leapview::volume::Volume, args: &SliceArgs) -> Result<(), Failure> {
+/// Writes the slice `args` describe of `volume` (loaded from `args.file`) on the GPU of `ctx`.
+pub fn write_slice(
+    volume: &leapview::volume::Volume,
+    args: &SliceArgs,
+    ctx: &GpuContext,
+) -> Result<(), Failure> {
     let bad = |e: String| Failure::BadInput(anyhow!(e));
     check_args(args)?;
     let slab = slab_of(args)?;
@@ -128,18 +133,16 @@ pub fn write_slice(volume: &leapview::volume::Volume, args: &SliceArgs) -> Resul
         }
         None => None,
     };
-    let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
-    let texture = VolumeTexture::upload(&ctx, volume).map_err(|e| match e {
+    let texture = VolumeTexture::upload(ctx, volume).map_err(|e| match e {
         VolumeTextureError::TooLarge { .. } | VolumeTextureError::OutOfMemory { .. } => {
             Failure::BadInput(e.into())
         }
         other => Failure::Other(other.into()),
     })?;
     let renderer = SliceRenderer::new(&ctx.device).map_err(|e| Failure::Other(e.into()))?;
-    let colours = match &tf {
-        Some(tf) => Some(renderer.colour_table(&ctx.device, &ctx.queue, tf, volume)),
-        None => None,
-    };
+    let colours = tf
+        .as_ref()
+        .map(|tf| renderer.colour_table(&ctx.device, &ctx.queue, tf, volume));
     let look = SliceLook {
         window,
         nearest: args.nearest,
@@ -152,7 +155,7 @@ pub fn write_slice(volume: &leapview::volume::Volume, args: &SliceArgs) -> Resul
         },
     };
     let bricks = if slab.is_some() && !args.no_leap {
-        renderer.bricks_of(&ctx, volume, &texture)
+        renderer.bricks_of(ctx, volume, &texture)
     } else {
         None
     };
@@ -163,14 +166,14 @@ pub fn write_slice(volume: &leapview::volume::Volume, args: &SliceArgs) -> Resul
     let [w, h] = view.size;
     let png: image::DynamicImage = if args.exact {
         let grey = renderer
-            .render(&ctx, volume, &texture, bricks.as_ref(), &view, look)
+            .render(ctx, volume, &texture, bricks.as_ref(), &view, look)
             .map_err(slice_failure)?
             .grey;
         image::GrayImage::from_raw(w, h, grey).map(Into::into)
     } else {
         let rgb = renderer
             .render_display(
-                &ctx,
+                ctx,
                 volume,
                 &texture,
                 bricks.as_ref(),
@@ -202,12 +205,12 @@ pub fn write_slice(volume: &leapview::volume::Volume, args: &SliceArgs) -> Resul
                 let target = SliceTarget::new(&ctx.device, view.size).map_err(other)?;
                 let params = slice_params(&view, &frame, volume, format, look, target.pitch);
                 let output = Output::Exact(&target);
-                renderer.median_gpu_ms(&ctx, source, output, &params, args.repeat, per_pass)
+                renderer.median_gpu_ms(ctx, source, output, &params, args.repeat, per_pass)
             } else {
                 let target = DisplayTarget::new(&ctx.device, view.size).map_err(other)?;
                 let params = slice_params(&view, &frame, volume, format, look, view.size[0]);
                 let output = Output::Display(&target);
-                renderer.median_gpu_ms(&ctx, source, output, &params, args.repeat, per_pass)
+                renderer.median_gpu_ms(ctx, source, output, &params, args.repeat, per_pass)
             }
             .map_err(other)?;
             let what = if per_pass == 1 {

@@ -252,7 +252,7 @@ pub enum VolumeTextureError {
          3D texture; crop or downsample it: {name}"
     )]
     TooLarge {
-        /// The volume's name (its file name).
+        /// The volume's path (else its name).
         name: String,
         /// Volume dimensions.
         dims: [u32; 3],
@@ -266,7 +266,7 @@ pub enum VolumeTextureError {
         "the GPU ({adapter}) has not enough memory for a {megabytes:.0} MB volume texture: {name}"
     )]
     OutOfMemory {
-        /// The volume's name (its file name).
+        /// The volume's path (else its name).
         name: String,
         /// Texture size.
         megabytes: f64,
@@ -284,6 +284,72 @@ pub enum VolumeTextureError {
         /// Why not.
         why: String,
     },
+}
+
+/// The check a load makes of the volume's shape before reading its samples
+/// ([`crate::volume::LoadProgress::with_admission`]): each axis within this GPU's 3D texture
+/// limit, and a texture of the volume's size and format allocated (and let go) without running
+/// out of memory. What the texture upload would refuse after minutes of reading is refused
+/// first.
+pub fn admission(ctx: &GpuContext) -> Box<crate::volume::progress::Admission> {
+    let ctx = ctx.clone();
+    Box::new(move |shape: &crate::volume::progress::Shape| {
+        let max = ctx.limits.max_texture_dimension_3d;
+        if shape.dims.iter().any(|&d| d > max) {
+            return Err(format!(
+                "the volume is {} x {} x {} voxels but this GPU ({}) takes at most {max} per \
+                 axis in a 3D texture; crop or downsample it",
+                shape.dims[0], shape.dims[1], shape.dims[2], ctx.adapter_info.name
+            ));
+        }
+        // Integer formats as `choose_encoding` picks them; floats may hold NaN, which only
+        // float formats keep, and are sized as the widest.
+        let format = if shape.colour {
+            wgpu::TextureFormat::Rgba8Unorm
+        } else {
+            candidates(shape.scalar_type, false)
+                .iter()
+                .copied()
+                .find(|&f| ctx.is_filterable(f))
+                .unwrap_or(wgpu::TextureFormat::R16Float)
+        };
+        let megabytes = shape.dims.iter().map(|&d| d as f64).product::<f64>()
+            * bytes_per_texel(format) as f64
+            / 1e6;
+        let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("volume admission"),
+            size: wgpu::Extent3d {
+                width: shape.dims[0],
+                height: shape.dims[1],
+                depth_or_array_layers: shape.dims[2],
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let refused = pollster::block_on(validation.pop());
+        let out_of_memory = pollster::block_on(oom.pop());
+        texture.destroy();
+        if out_of_memory.is_some() {
+            return Err(format!(
+                "the GPU ({}) has not enough memory for a {megabytes:.0} MB volume texture",
+                ctx.adapter_info.name
+            ));
+        }
+        match refused {
+            Some(e) => Err(format!(
+                "the GPU ({}) refused a volume texture of {megabytes:.0} MB: {}",
+                ctx.adapter_info.name,
+                e.to_string().lines().next().unwrap_or_default()
+            )),
+            None => Ok(()),
+        }
+    })
 }
 
 /// The volume on the GPU.
@@ -313,7 +379,7 @@ impl VolumeTexture {
         let max = ctx.limits.max_texture_dimension_3d;
         if dims.iter().any(|&d| d > max) {
             return Err(VolumeTextureError::TooLarge {
-                name: volume.name().to_string(),
+                name: volume.label(),
                 dims,
                 max,
                 adapter: ctx.adapter_info.name.clone(),
@@ -372,7 +438,7 @@ impl VolumeTexture {
         let refused = pollster::block_on(validation.pop());
         if pollster::block_on(oom.pop()).is_some() {
             return Err(VolumeTextureError::OutOfMemory {
-                name: volume.name().to_string(),
+                name: volume.label(),
                 megabytes: volume.sample_count() as f64 * bpt as f64 / 1e6,
                 adapter: ctx.adapter_info.name.clone(),
             });

@@ -126,16 +126,28 @@ impl Drop for RepaintOnDrop {
 #[derive(Default)]
 pub struct Loader {
     pending: Option<Pending>,
+    /// The GPU volumes go to: a load checks their shape against it before reading samples.
+    gpu: Option<crate::render::GpuContext>,
 }
 
 impl Loader {
+    /// Checks every volume loaded from now on against `gpu` before its samples are read.
+    pub fn check_against(&mut self, gpu: crate::render::GpuContext) {
+        self.gpu = Some(gpu);
+    }
+
     /// Starts loading `source`, abandoning any load in progress. `ctx` is woken when it is done.
     pub fn start(&mut self, source: VolumeSource, ctx: &egui::Context) -> Result<(), LoadFailure> {
         let label = source.label();
         let pending_source = source.clone();
         let (tx, rx) = mpsc::channel();
         let waker = RepaintOnDrop(ctx.clone());
-        let progress = Arc::new(LoadProgress::default());
+        let progress = Arc::new(match &self.gpu {
+            Some(gpu) => {
+                LoadProgress::with_admission(crate::render::volume_texture::admission(gpu))
+            }
+            None => LoadProgress::default(),
+        });
         let thread_progress = Arc::clone(&progress);
         std::thread::Builder::new()
             .name("volume loader".into())

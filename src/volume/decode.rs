@@ -98,13 +98,15 @@ pub fn read_samples(
 }
 
 /// [`read_samples`], reporting to `progress` (and stopping with [`VolumeError::Cancelled`] when
-/// it is cancelled) after each chunk of at most [`CHUNK_BYTES`].
+/// it is cancelled) after each chunk of at most [`CHUNK_BYTES`]; first, `progress`'s admission
+/// check is asked whether a volume of this layout can be taken.
 pub fn read_samples_with(
     reader: &mut impl Read,
     layout: SampleLayout,
     encoding: Encoding,
     progress: Option<&LoadProgress>,
 ) -> Result<Samples, VolumeError> {
+    super::limits::admit(progress, layout.dims, layout.scalar_type, false)?;
     match layout.scalar_type {
         ScalarType::U8 => read_typed::<u8>(reader, layout, encoding, progress),
         ScalarType::I8 => read_typed::<i8>(reader, layout, encoding, progress),

@@ -150,6 +150,13 @@ pub enum VolumeError {
         /// What would be accepted, starting with a separator (may be empty).
         hint: &'static str,
     },
+    /// The load's admission check (the GPU's limits) refused the volume's shape before its
+    /// samples were read.
+    #[error("{reason} (refused before reading its samples)")]
+    NotAdmitted {
+        /// Why.
+        reason: String,
+    },
     /// The volume asked for is past the file's last.
     #[error("there is no volume {asked}: the file holds {count} (--volume 1 to {count})")]
     NoSuchVolume {

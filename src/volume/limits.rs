@@ -21,6 +21,24 @@ pub const MAX_DIMENSION: u32 = 65536;
 /// only adds compressed bytes, so the bound holds for whole gzip files too.
 pub const MAX_DEFLATE_RATIO: u64 = 1032;
 
+/// Asks `progress`'s admission check (if any) whether a volume of `dims` and `scalar_type` (a
+/// colour one where `colour`) can be taken, before a sample is read.
+pub fn admit(
+    progress: Option<&super::LoadProgress>,
+    dims: [u32; 3],
+    scalar_type: ScalarType,
+    colour: bool,
+) -> Result<(), VolumeError> {
+    match progress {
+        Some(p) => p.admit(super::progress::Shape {
+            dims,
+            scalar_type,
+            colour,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// The memory the system can give without swapping (Linux `MemAvailable`), or `None` where it
 /// does not say. A loader refuses samples larger than this before reading any.
 pub fn available_memory_bytes() -> Option<u64> {

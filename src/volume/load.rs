@@ -51,6 +51,11 @@ pub fn load_volume(path: &Path, options: &LoadOptions) -> Result<Volume, LoadErr
             None => v,
         })
         .map(Volume::unmirrored)
+        .map(|v| {
+            let mut provenance = v.provenance().clone();
+            provenance.path = Some(path.to_path_buf());
+            v.with_provenance(provenance)
+        })
         .map_err(|problem| LoadError {
             path: path.to_path_buf(),
             problem,

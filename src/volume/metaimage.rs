@@ -83,7 +83,7 @@ fn numbers(field: &str, value: &str, count: usize) -> Result<Vec<f64>, VolumeErr
         return Err(bad_field(
             field,
             value,
-            &format!("it must be {count} finite numbers"),
+            "it must hold a finite number for each axis",
         ));
     }
     Ok(v)
@@ -158,11 +158,15 @@ pub fn parse_header(text: &str) -> Result<MetaHeader, VolumeError> {
                 ndims = Some(n as usize);
             }
             "DimSize" => {
-                let d: Vec<u64> = value
+                let sizes: Vec<i64> = value
                     .split_whitespace()
                     .map(str::parse)
                     .collect::<Result<_, _>>()
-                    .map_err(|_| bad_field(key, value, "it must be whole numbers"))?;
+                    .map_err(|_| bad_field(key, value, "it must be whole numbers, one per axis"))?;
+                if sizes.iter().any(|&n| n <= 0) {
+                    return Err(bad_field(key, value, "each axis's size must be 1 or more"));
+                }
+                let d: Vec<u64> = sizes.into_iter().map(|n| n as u64).collect();
                 dims = Some(d);
             }
             "ElementType" => ty = Some(scalar_type(value)?),
@@ -320,7 +324,19 @@ fn read_header_text(
             ));
         }
         let line = String::from_utf8(line).map_err(|_| {
-            bad("the header holds bytes that are not text; is this a MetaImage file?")
+            // Binary bytes after header lines: the samples, reached without the line that
+            // should have come before them.
+            if ["ObjectType", "NDims", "DimSize", "ElementType"]
+                .iter()
+                .any(|k| text.contains(k))
+            {
+                bad(
+                    "the header ends without an ElementDataFile line, which says where the \
+                     samples are (LOCAL: right after the header)",
+                )
+            } else {
+                bad("the header holds bytes that are not text; is this a MetaImage file?")
+            }
         })?;
         let is_data_line = line.trim_start().starts_with("ElementDataFile");
         let is_list = is_data_line && line.contains("LIST");
@@ -358,6 +374,11 @@ fn open_data(header: &Path, name: &str) -> Result<(File, u64), VolumeError> {
         VolumeError::NotRegularFile { kind } => VolumeError::DataFileNotRegular {
             name: name.to_string(),
             kind,
+        },
+        // The data file, not the header the user named, is the folder.
+        VolumeError::IsDirectory => VolumeError::DataFileNotRegular {
+            name: name.to_string(),
+            kind: "folder",
         },
         e => e,
     })

@@ -86,6 +86,8 @@ pub struct Provenance {
     pub skipped: Option<String>,
     /// The patient-frame position (LPS, mm) of the first voxel's centre, where the file says.
     pub origin_lps: Option<[f64; 3]>,
+    /// The path the volume was opened from, as the user gave it (messages name it).
+    pub path: Option<std::path::PathBuf>,
     /// Of a file holding several volumes (a 4-D NIfTI time series), which one this is.
     pub volumes: Option<VolumeIndex>,
     /// Whether the file asks for its lowest value to be shown white (DICOM MONOCHROME1, as
@@ -277,6 +279,14 @@ impl Volume {
     /// A short human-readable name (usually the file name).
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// How messages name the volume: the path it was opened from, else its name.
+    pub fn label(&self) -> String {
+        self.provenance
+            .path
+            .as_ref()
+            .map_or_else(|| self.name.clone(), |p| p.display().to_string())
     }
 
     /// Number of samples along x, y and z.

@@ -1,23 +1,73 @@
 //! Progress and cancellation of a load, shared between the thread that reads the samples and
 //! the window that shows a progress bar and a Cancel button. The reader reports the sample bytes
 //! it has (decompressed and) read, in chunks of at most [`CHUNK_BYTES`], and checks for
-//! cancellation after each.
+//! cancellation after each. Before it reads any sample, it asks the load's admission check
+//! (where there is one: the GPU's limits) whether a volume of its header's shape can go where
+//! it is going ([`LoadProgress::admit`]): a volume the GPU cannot hold is refused before minutes
+//! of reading, not after.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+use super::ScalarType;
+
+/// What a header says of a volume before its samples are read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shape {
+    /// Samples along x, y, z.
+    pub dims: [u32; 3],
+    /// The stored type.
+    pub scalar_type: ScalarType,
+    /// Whether it is a colour volume.
+    pub colour: bool,
+}
+
+/// Whether a volume of a shape can be taken; the reason where not.
+pub type Admission = dyn Fn(&Shape) -> Result<(), String> + Send + Sync;
 
 /// Largest read between two progress reports (and cancellation checks): 4 MiB, a few
 /// milliseconds of gzip decompression.
 pub const CHUNK_BYTES: usize = 4 << 20;
 
-/// How far a load has come, and whether it should stop.
-#[derive(Debug, Default)]
+/// How far a load has come, whether it should stop, and what may be read.
+#[derive(Default)]
 pub struct LoadProgress {
     done: AtomicU64,
     total: AtomicU64,
     cancelled: AtomicBool,
+    admission: Option<Box<Admission>>,
+}
+
+impl std::fmt::Debug for LoadProgress {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LoadProgress")
+            .field("done", &self.done)
+            .field("total", &self.total)
+            .field("cancelled", &self.cancelled)
+            .field("admission", &self.admission.is_some())
+            .finish()
+    }
 }
 
 impl LoadProgress {
+    /// A progress whose load asks `admission` before it reads any sample.
+    pub fn with_admission(admission: Box<Admission>) -> Self {
+        Self {
+            admission: Some(admission),
+            ..Self::default()
+        }
+    }
+
+    /// Asks the admission check (if any) whether a volume of `shape` can be taken: every reader
+    /// calls this once it knows the shape and before it reads a sample.
+    pub fn admit(&self, shape: Shape) -> Result<(), super::VolumeError> {
+        match &self.admission {
+            Some(check) => {
+                check(&shape).map_err(|reason| super::VolumeError::NotAdmitted { reason })
+            }
+            None => Ok(()),
+        }
+    }
+
     /// Starts counting towards `total` sample bytes.
     pub fn start(&self, total: u64) {
         self.done.store(0, Ordering::Relaxed);
@@ -63,5 +113,34 @@ mod tests {
         assert!(!p.is_cancelled());
         p.cancel();
         assert!(p.is_cancelled());
+    }
+
+    #[test]
+    fn the_admission_check_refuses_before_reading() {
+        let shape = Shape {
+            dims: [4096, 4, 4],
+            scalar_type: ScalarType::U8,
+            colour: false,
+        };
+        assert!(
+            LoadProgress::default().admit(shape).is_ok(),
+            "no check, no refusal"
+        );
+        let p = LoadProgress::with_admission(Box::new(|s: &Shape| {
+            if s.dims[0] > 2048 {
+                Err(format!("{} is past 2048", s.dims[0]))
+            } else {
+                Ok(())
+            }
+        }));
+        let e = p.admit(shape).expect_err("too wide");
+        assert!(e.to_string().contains("4096 is past 2048"), "{e}");
+        assert!(
+            p.admit(Shape {
+                dims: [16, 4, 4],
+                ..shape
+            })
+            .is_ok()
+        );
     }
 }

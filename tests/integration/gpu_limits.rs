@@ -93,3 +93,52 @@ fn rendering_without_a_volume_is_an_error() {
         .expect_err("no volume");
     assert!(matches!(err, RenderError::NoVolume), "{err:?}");
 }
+
+/// A volume past the GPU's 3D texture limit is refused from its header, before its samples are
+/// read (an 8 GiB volume used to read for 82 s first): here a gzip NRRD whose stream is cut short
+/// after a few bytes, so that reading at all would fail on the stream instead. The message names
+/// the whole path given.
+#[test]
+fn a_volume_past_the_gpus_limits_is_refused_before_its_samples_are_read() {
+    let ctx = common::gpu();
+    let max = ctx.limits.max_texture_dimension_3d;
+    let dir = common::TempDir::new("gpu-admission");
+    let sizes = format!("sizes: {} 2 2", max + 1);
+    let lines = [
+        "type: uint8",
+        "dimension: 3",
+        sizes.as_str(),
+        "encoding: gzip",
+    ];
+    let mut stream = common::gzip(&vec![1u8; 4096]);
+    stream.truncate(20);
+    let path = dir.write("wide.nrrd", &common::nrrd_file(&lines, &stream));
+    let options = leapview::volume::LoadOptions {
+        progress: Some(std::sync::Arc::new(
+            leapview::volume::LoadProgress::with_admission(
+                leapview::render::volume_texture::admission(&ctx),
+            ),
+        )),
+        ..Default::default()
+    };
+    let e = leapview::volume::load_volume(&path, &options).expect_err("too wide");
+    let text = e.to_string();
+    assert!(
+        text.contains(&format!("at most {max} per axis")) && text.contains("before reading"),
+        "{text}"
+    );
+    assert!(text.ends_with(&*path.to_string_lossy()), "{text}");
+    // Without the check, the cut stream is what fails.
+    let e = leapview::volume::load_volume(&path, &Default::default()).expect_err("cut short");
+    assert!(!e.to_string().contains("per axis"), "{e}");
+    // The command line checks first too.
+    let out = common::leapview(&[
+        "render",
+        path.to_str().expect("utf-8"),
+        "--out",
+        dir.path().join("x.png").to_str().expect("utf-8"),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = common::stderr(&out);
+    assert!(stderr.contains("before reading"), "{stderr}");
+}

@@ -137,10 +137,16 @@ impl LeapViewApp {
             Some(storage) if !automation.is_active() => restored_state(storage),
             _ => ViewerState::default(),
         };
+        let mut loader = Loader::default();
+        loader.check_against(crate::render::GpuContext::new(
+            &rs.adapter,
+            rs.device.clone(),
+            rs.queue.clone(),
+        ));
         let mut app = Self {
             state,
             scene,
-            loader: Loader::default(),
+            loader,
             dialogs: Dialogs::default(),
             automation,
             load_options,

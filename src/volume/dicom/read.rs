@@ -408,6 +408,7 @@ fn assemble_samples(
     };
     let (_, bytes) = limits::check_dims(geometry.dims.map(u64::from), stored)?;
     check_files_can_hold(files, series, bytes)?;
+    limits::admit(progress, geometry.dims, stored, false)?;
     if let Some(p) = progress {
         let plane = first.rows as u64 * first.columns as u64;
         p.start(plane * series.frames.len() as u64 * stored.size_bytes() as u64);
@@ -486,6 +487,7 @@ pub fn read_series(
         };
         let (_, bytes) = limits::check_dims(geometry.dims.map(u64::from), stored)?;
         check_files_can_hold(files, series, bytes.saturating_mul(4))?;
+        limits::admit(progress, geometry.dims, ScalarType::U8, true)?;
         if let Some(p) = progress {
             p.start(bytes.saturating_mul(3));
         }

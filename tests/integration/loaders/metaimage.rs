@@ -123,4 +123,26 @@ fn bad_metaimage_files_fail_clearly() {
     // Not text, and no ElementDataFile.
     fails(&dir, "binary.mha", &[0xFF; 64]);
     fails(&dir, "nodata.mhd", b"ObjectType = Image\nNDims = 3\n");
+    // The messages the first-hour campaign found wrong: NaN spacing ("must be 1 finite
+    // numbers"), a negative size ("must be whole numbers"), samples without the
+    // ElementDataFile line before them ("bytes that are not text"), a data file that is a
+    // folder (which named the header).
+    let nan = ok.replace("ElementSpacing = 1 1 1", "ElementSpacing = nan 1 1");
+    assert!(nan.contains("nan 1 1"), "{nan}");
+    let text = fails(&dir, "nan.mha", nan.as_bytes());
+    assert!(text.contains("a finite number for each axis"), "{text}");
+    let negative = ok.replace("DimSize = 4 3 2", "DimSize = 4 -3 2");
+    let text = fails(&dir, "negative.mha", negative.as_bytes());
+    assert!(text.contains("must be 1 or more"), "{text}");
+    let mut unlabelled = ok.replace("ElementDataFile = LOCAL\n", "").into_bytes();
+    unlabelled.extend_from_slice(&[0xFF, 0xFE, 0, 1, 2, 3]);
+    let text = fails(&dir, "unlabelled.mha", &unlabelled);
+    assert!(text.contains("without an ElementDataFile line"), "{text}");
+    std::fs::create_dir_all(dir.path().join("folder.raw")).expect("a folder");
+    let folder = ok.replace("ElementDataFile = LOCAL", "ElementDataFile = folder.raw");
+    let text = fails(&dir, "folder.mhd", folder.as_bytes());
+    assert!(
+        text.contains("'folder.raw' that the header names is a folder"),
+        "{text}"
+    );
 }
