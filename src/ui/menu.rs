@@ -92,9 +92,11 @@ pub const CONTROLS: [(&str, &str); 18] = [
 
 /// The file formats, for the Help menu (the README's Formats section, shorter).
 pub const FORMATS: &[&str] = &[
-    "NRRD (.nrrd, .nhdr), NIfTI-1 (.nii, .nii.gz), MetaImage (.mha, .mhd), raw with its layout.",
+    "NRRD (.nrrd, .nhdr), NIfTI-1 and -2 (.nii, .nii.gz; a 4-D file one volume at a time, \
+     chosen in the side panel), MetaImage (.mha, .mhd), raw with its layout.",
     "DICOM: File › Open folder… (or drop a folder) for a series; any file of a series opens \
-     that series; a multi-frame file opens on its own. Every common codec.",
+     that series; a multi-frame file or a Siemens mosaic opens on its own, a single image as a \
+     2D image. Every common codec, grey and colour.",
     "A folder with several series: the one with the most slices opens; the others are listed \
      in the side panel's Volume section to choose from.",
     "Slices are ordered by their position along the slice normal, never by file name; gaps, \

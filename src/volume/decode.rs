@@ -143,6 +143,10 @@ fn read_typed<T: Stored>(
             available,
         });
     }
+    let stride = progress.map_or(1, LoadProgress::slice_stride);
+    if stride > 1 && layout.dims[2] > 1 {
+        return read_strided::<T>(reader, layout, encoding, progress, stride);
+    }
     let count = usize::try_from(layout.sample_count()).map_err(|_| out_of_memory())?;
     // Reserved, not touched: memory is taken only as samples arrive, so a stream that stops
     // short (or is cancelled) never held more than it delivered.
@@ -169,6 +173,62 @@ fn read_typed<T: Stored>(
         debug_assert_eq!(filled, bytes.len());
         read += filled as u64;
         values.extend_from_slice(&chunk[..want]);
+        if let Some(p) = progress {
+            p.advance(filled as u64);
+        }
+    }
+    check_nothing_follows(reader, layout, encoding)?;
+    if layout.big_endian != cfg!(target_endian = "big") && size_of::<T>() > 1 {
+        values.iter_mut().for_each(|v| *v = v.swap_bytes());
+    }
+    Ok(T::into_samples(values))
+}
+
+/// Every `stride`-th slice of `layout` (the first included), the others read past: at most
+/// a slice of them in memory at once.
+fn read_strided<T: Stored>(
+    reader: &mut impl Read,
+    layout: SampleLayout,
+    encoding: Encoding,
+    progress: Option<&LoadProgress>,
+    stride: u32,
+) -> Result<Samples, VolumeError> {
+    let plane = u64::from(layout.dims[0]) * u64::from(layout.dims[1]);
+    let kept = u64::from(layout.dims[2].div_ceil(stride));
+    let too_short = |found_bytes: u64| VolumeError::DataTooShort {
+        dims: layout.dims,
+        scalar_type: layout.scalar_type,
+        declared_bytes: layout.byte_len(),
+        found_bytes,
+    };
+    let count = usize::try_from(plane * kept).map_err(|_| VolumeError::OutOfMemory {
+        bytes: plane * kept * size_of::<T>() as u64,
+    })?;
+    let mut values: Vec<T> = Vec::new();
+    values
+        .try_reserve_exact(count)
+        .map_err(|_| VolumeError::OutOfMemory {
+            bytes: (count * size_of::<T>()) as u64,
+        })?;
+    let plane_len = usize::try_from(plane).map_err(|_| too_short(0))?;
+    let mut slice: Vec<T> = vec![T::zeroed(); plane_len];
+    if let Some(p) = progress {
+        p.start(layout.byte_len());
+    }
+    let mut read = 0u64;
+    for z in 0..layout.dims[2] {
+        if progress.is_some_and(LoadProgress::is_cancelled) {
+            return Err(VolumeError::Cancelled);
+        }
+        let bytes: &mut [u8] = bytemuck::cast_slice_mut(&mut slice[..]);
+        let filled = fill(reader, bytes, encoding).map_err(|e| match e {
+            Short(n) => too_short(read + n as u64),
+            Failed(e) => e,
+        })?;
+        read += filled as u64;
+        if z % stride == 0 {
+            values.extend_from_slice(&slice);
+        }
         if let Some(p) = progress {
             p.advance(filled as u64);
         }

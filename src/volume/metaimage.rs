@@ -451,14 +451,15 @@ pub fn read_metaimage(
         decode::read_samples_with(&mut data, layout, Encoding::Raw, progress)?
     };
     let orientation = meta.axes.and_then(Orientation::from_lps_columns);
-    Ok(
-        Volume::new(name, dims, meta.spacing_mm, samples, ValueMapping::IDENTITY)?
-            .with_orientation(orientation)
-            .with_provenance(Provenance {
-                origin_lps: meta.offset,
-                ..Provenance::default()
-            }),
-    )
+    Ok({
+        let (dims, spacing) = super::progress::strided(dims, meta.spacing_mm, progress);
+        Volume::new(name, dims, spacing, samples, ValueMapping::IDENTITY)?
+    }
+    .with_orientation(orientation)
+    .with_provenance(Provenance {
+        origin_lps: meta.offset,
+        ..Provenance::default()
+    }))
 }
 
 #[cfg(test)]

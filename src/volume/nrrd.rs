@@ -52,15 +52,16 @@ pub fn read_nrrd(
         }
         None => read_data(&mut reader, file_len - header_len, &nrrd, layout, progress)?,
     };
-    Ok(
-        Volume::new(name, dims, nrrd.spacing_mm, samples, nrrd.mapping)?
-            .with_orientation(nrrd.orientation)
-            .with_modality(nrrd.modality)
-            .with_provenance(super::Provenance {
-                origin_lps: nrrd.origin_lps,
-                ..super::Provenance::default()
-            }),
-    )
+    Ok({
+        let (dims, spacing) = super::progress::strided(dims, nrrd.spacing_mm, progress);
+        Volume::new(name, dims, spacing, samples, nrrd.mapping)?
+    }
+    .with_orientation(nrrd.orientation)
+    .with_modality(nrrd.modality)
+    .with_provenance(super::Provenance {
+        origin_lps: nrrd.origin_lps,
+        ..super::Provenance::default()
+    }))
 }
 
 /// Reads the samples from `reader`, positioned at the start of the data with `available` bytes

@@ -35,6 +35,7 @@ pub struct LoadProgress {
     total: AtomicU64,
     cancelled: AtomicBool,
     admission: Option<Box<Admission>>,
+    slice_stride: u32,
 }
 
 impl std::fmt::Debug for LoadProgress {
@@ -44,6 +45,7 @@ impl std::fmt::Debug for LoadProgress {
             .field("total", &self.total)
             .field("cancelled", &self.cancelled)
             .field("admission", &self.admission.is_some())
+            .field("slice_stride", &self.slice_stride)
             .finish()
     }
 }
@@ -55,6 +57,19 @@ impl LoadProgress {
             admission: Some(admission),
             ..Self::default()
         }
+    }
+
+    /// The same load reading only every `stride`-th slice (along z, from the first): a preview
+    /// of a large volume for its statistics (`leapview info`). The volume read has the slices
+    /// kept and their spacing ([`strided`]).
+    pub fn with_slice_stride(mut self, stride: u32) -> Self {
+        self.slice_stride = stride;
+        self
+    }
+
+    /// Every how many slices one is read (1: all).
+    pub fn slice_stride(&self) -> u32 {
+        self.slice_stride.max(1)
     }
 
     /// Asks the admission check (if any) whether a volume of `shape` can be taken: every reader
@@ -95,6 +110,27 @@ impl LoadProgress {
     pub fn is_cancelled(&self) -> bool {
         self.cancelled.load(Ordering::Relaxed)
     }
+}
+
+/// The dimensions and spacing of a volume of `dims` and `spacing_mm` read with `progress`'s
+/// slice stride: every stride-th slice along z, the first included.
+pub fn strided(
+    dims: [u32; 3],
+    spacing_mm: [f64; 3],
+    progress: Option<&LoadProgress>,
+) -> ([u32; 3], [f64; 3]) {
+    let stride = progress.map_or(1, LoadProgress::slice_stride);
+    if stride <= 1 || dims[2] <= 1 {
+        return (dims, spacing_mm);
+    }
+    (
+        [dims[0], dims[1], dims[2].div_ceil(stride)],
+        [
+            spacing_mm[0],
+            spacing_mm[1],
+            spacing_mm[2] * f64::from(stride),
+        ],
+    )
 }
 
 #[cfg(test)]

@@ -46,11 +46,6 @@ pub fn read_raw(
     };
     let samples =
         decode::read_samples_with(&mut BufReader::new(file), layout, Encoding::Raw, progress)?;
-    Volume::new(
-        name,
-        dims,
-        params.spacing_mm,
-        samples,
-        ValueMapping::IDENTITY,
-    )
+    let (dims, spacing) = super::progress::strided(dims, params.spacing_mm, progress);
+    Volume::new(name, dims, spacing, samples, ValueMapping::IDENTITY)
 }

@@ -16,3 +16,4 @@ mod nrrd_round_trip;
 mod orientation;
 mod pydicom_conformance;
 mod real_data;
+mod sampled;

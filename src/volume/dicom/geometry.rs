@@ -73,6 +73,26 @@ pub struct Geometry {
     pub notes: Vec<String>,
 }
 
+impl Geometry {
+    /// Every `stride`-th slice of this geometry (the first included), the spacing between them
+    /// `stride` times as large: a preview of a large series for its statistics.
+    pub fn strided(mut self, stride: u32) -> Self {
+        if stride <= 1 || self.dims[2] <= 1 {
+            return self;
+        }
+        let step = stride as usize;
+        self.plan = match self.plan {
+            SlicePlan::Stack(order) => SlicePlan::Stack(order.into_iter().step_by(step).collect()),
+            SlicePlan::Resample(plan) => {
+                SlicePlan::Resample(plan.into_iter().step_by(step).collect())
+            }
+        };
+        self.dims[2] = self.dims[2].div_ceil(stride);
+        self.spacing_mm[2] *= f64::from(stride);
+        self
+    }
+}
+
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }

@@ -104,12 +104,12 @@ type Convert<'a, T> =
     dyn Fn(&[u8], &FrameHeader, &Decoded, usize, &mut [T]) -> Result<(), String> + Sync + 'a;
 
 /// Decodes the series' frames into slots of `slot_len` samples: frame i goes to slot
-/// `slot_of[i]`, through `convert`.
+/// `slot_of[i]` (none: not read), through `convert`.
 #[allow(clippy::too_many_arguments)]
 fn decode_into<T: Stored>(
     files: &Files<'_>,
     series: &Series,
-    slot_of: &[usize],
+    slot_of: &[Option<usize>],
     slots: usize,
     slot_len: usize,
     progress: Option<&LoadProgress>,
@@ -118,7 +118,18 @@ fn decode_into<T: Stored>(
 ) -> Result<Vec<T>, VolumeError> {
     let mut out = allocate::<T>(slot_len * slots)?;
     let chunks: Vec<Mutex<&mut [T]>> = out.chunks_mut(slot_len).map(Mutex::new).collect();
-    let by_file = frames_by_file(&series.frames);
+    // Files none of whose frames have a slot are not opened.
+    let by_file: Vec<(usize, Vec<(u32, usize)>)> = frames_by_file(&series.frames)
+        .into_iter()
+        .map(|(file, list)| {
+            let kept: Vec<(u32, usize)> = list
+                .into_iter()
+                .filter(|&(_, i)| slot_of[i].is_some())
+                .collect();
+            (file, kept)
+        })
+        .filter(|(_, list)| !list.is_empty())
+        .collect();
     let cancelled = || progress.is_some_and(LoadProgress::is_cancelled);
     let slot_bytes = (slot_len * std::mem::size_of::<T>()) as u64;
     let results = parallel(by_file.len(), &cancelled, &|k| -> Result<(), DicomError> {
@@ -144,7 +155,10 @@ fn decode_into<T: Stored>(
         }
         for &(frame, index) in list {
             let bytes = decoded.frame(frame);
-            if let Ok(mut chunk) = chunks[slot_of[index]].lock() {
+            let Some(slot) = slot_of[index] else {
+                continue;
+            };
+            if let Ok(mut chunk) = chunks[slot].lock() {
                 convert(bytes, header, &decoded, index, &mut chunk).map_err(|reason| {
                     DicomError::Decode {
                         file: series.frames[index].label.clone(),
@@ -214,15 +228,15 @@ fn samples_of<T: Stored>(
     let n = series.frames.len();
     let [x, y, _] = geometry.dims;
     let plane = x as usize * y as usize;
-    let (slot_of, slots): (Vec<usize>, usize) = match &geometry.plan {
+    let (slot_of, slots): (Vec<Option<usize>>, usize) = match &geometry.plan {
         SlicePlan::Stack(order) => {
-            let mut slot_of = vec![0; n];
+            let mut slot_of = vec![None; n];
             for (k, &frame) in order.iter().enumerate() {
-                slot_of[frame] = k;
+                slot_of[frame] = Some(k);
             }
             (slot_of, order.len())
         }
-        SlicePlan::Resample(_) => ((0..n).collect(), n),
+        SlicePlan::Resample(_) => ((0..n).map(Some).collect(), n),
     };
     let interleaved = decode_into(
         files,
@@ -477,7 +491,8 @@ pub fn read_series(
         }
         .into());
     }
-    let geometry = assemble(&series.frames)?;
+    let geometry =
+        assemble(&series.frames)?.strided(progress.map_or(1, LoadProgress::slice_stride));
     let colour = first.pixel.photometric.is_colour();
     let (volume, mut notes) = if colour {
         let stored = if first.pixel.bits_stored <= 8 {

@@ -175,16 +175,17 @@ fn read_stream(
             header.format()
         ));
     }
-    Ok(
-        Volume::new(stream.name, dims, spacing_mm, samples, mapping_of(&header))?
-            .with_orientation(orientation_of(&header))
-            .with_provenance(super::Provenance {
-                origin_lps: origin_of(&header),
-                notes,
-                volumes,
-                ..super::Provenance::default()
-            }),
-    )
+    Ok({
+        let (dims, spacing) = super::progress::strided(dims, spacing_mm, stream.progress);
+        Volume::new(stream.name, dims, spacing, samples, mapping_of(&header))?
+    }
+    .with_orientation(orientation_of(&header))
+    .with_provenance(super::Provenance {
+        origin_lps: origin_of(&header),
+        notes,
+        volumes,
+        ..super::Provenance::default()
+    }))
 }
 
 /// The volumes a file holds: the product of the sizes past the third dimension (time points,
