@@ -2,10 +2,11 @@
 
     python nibabel_files.py OUT
 
-Writes into OUT, for each case, `<case>.nii` or `.nii.gz` and `<case>.f64`: the data nibabel
-holds for the volume LeapView is to open, in data units (scl_slope and scl_inter applied), x
-fastest, little-endian float64; and `cases.json` listing the cases with the volume to open
-(counted from 0) and the dimensions.
+Writes into OUT, for each case, `<case>.nii` or `.nii.gz` (or names one of nibabel's own test
+files) and `<case>.f64`: the data nibabel holds for the volume LeapView is to open, in data units
+(scl_slope and scl_inter applied), x fastest, little-endian float64; and `cases.json` listing the
+cases with the file, the volume to open (counted from 0), the dimensions and nibabel's affine
+(RAS).
 """
 
 import json
@@ -38,10 +39,50 @@ def cases():
     yield "mr_negative", nib.Nifti1Image(mr, affine), ".nii.gz", 0
 
 
+# NIfTI files from nibabel's own test data (written by SPM, FSL, AFNI and nibabel over the
+# years): opened as they are, compared with nibabel's reading.
+SHIPPED = [
+    ("example4d.nii.gz", 2),
+    ("example_nifti2.nii.gz", 1),
+    ("anatomical.nii", 0),
+    ("functional.nii", 5),
+    ("standard.nii.gz", 0),
+    ("reoriented_anat_moved.nii", 0),
+]
+
+
+def shipped():
+    data = os.path.join(os.path.dirname(nib.__file__), "tests", "data")
+    for name, volume in SHIPPED:
+        path = os.path.join(data, name)
+        if os.path.exists(path):
+            yield name.split(".")[0], path, volume
+
+
 def main():
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
     listing = []
+    for name, source, volume in shipped():
+        image = nib.load(source)
+        data = np.asanyarray(image.dataobj).astype(np.float64)
+        if data.ndim == 4:
+            volume = min(volume, data.shape[3] - 1)
+            data = data[..., volume]
+        else:
+            volume = 0
+        data.ravel(order="F").astype("<f8").tofile(os.path.join(out, name + ".f64"))
+        listing.append(
+            {
+                "name": name,
+                "file": source,
+                "volume": volume,
+                "volumes": int(np.prod(image.shape[3:])) if len(image.shape) > 3 else 1,
+                "dims": [int(d) for d in image.shape[:3]],
+                "affine": image.affine.tolist(),
+                "shipped": True,
+            }
+        )
     for name, image, suffix, volume in cases():
         path = os.path.join(out, name + suffix)
         nib.save(image, path)
@@ -57,6 +98,8 @@ def main():
                 "volume": volume,
                 "volumes": int(np.prod(image.shape[3:])) if len(image.shape) > 3 else 1,
                 "dims": [int(d) for d in image.shape[:3]],
+                "affine": image.affine.tolist(),
+                "shipped": False,
             }
         )
     with open(os.path.join(out, "cases.json"), "w") as f:

@@ -194,6 +194,18 @@ pub struct Mosaic {
 }
 
 impl FrameHeader {
+    /// How messages name the frame's file: its path below the folder scanned (the label
+    /// without the frame or the mosaic slice).
+    pub fn file_label(&self) -> &str {
+        if self.frames_in_file <= 1 {
+            return &self.label;
+        }
+        [" frame ", " slice "]
+            .iter()
+            .find_map(|s| self.label.rsplit_once(s).map(|(file, _)| file))
+            .unwrap_or(&self.label)
+    }
+
     /// What the header says one frame holds, for the codecs to check their streams against.
     pub fn frame_spec(&self) -> super::codec::FrameSpec {
         // A mosaic's tiles are cut from one frame of the mosaic's size.

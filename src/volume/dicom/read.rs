@@ -135,10 +135,7 @@ fn decode_into<T: Stored>(
     let results = parallel(by_file.len(), &cancelled, &|k| -> Result<(), DicomError> {
         let (file, list) = &by_file[k];
         let header = &series.frames[list[0].1];
-        let name = files[*file].file_name().map_or_else(
-            || header.label.clone(),
-            |n| n.to_string_lossy().into_owned(),
-        );
+        let name = header.file_label().to_string();
         let decoded = decode_or_copy(
             files.paths,
             *file,

@@ -321,3 +321,29 @@ fn a_slice_shifted_impossibly_far_in_its_plane_does_not_overflow() {
     }
     assert_eq!(load_ok(tilt.path()).dims(), [4, 3, 3]);
 }
+
+/// A file that cannot be decoded, in a sub-folder of the folder opened: the error names it by its
+/// path below that folder, not by a bare file name another sub-folder could hold too.
+#[test]
+fn an_undecodable_file_is_named_by_its_path_below_the_folder() {
+    let dir = common::TempDir::new("dicom-named-path");
+    let samples = ramp(4, 3);
+    let good = libjpeg_turbo_8_bit(&samples, 4, 3);
+    let mut broken = good.clone();
+    let middle = broken.len() / 2;
+    broken[middle..middle + 2].copy_from_slice(&[0xFF, 0xD9]);
+    for (sub, z, stream) in [("a", 0.0, &good), ("b", 1.0, &broken), ("c", 2.0, &good)] {
+        let folder = dir.path().join(sub);
+        std::fs::create_dir_all(&folder).expect("folder");
+        let mut s = axial("paths", z, 0);
+        s.bits_allocated = 8;
+        s.bits_stored = 8;
+        s.transfer_syntax = "1.2.840.10008.1.2.4.70";
+        s.fragment = Some(stream.clone());
+        write(&folder, "IM.dcm", &s);
+    }
+    let e = load_volume(dir.path(), &LoadOptions::default()).expect_err("a corrupt stream");
+    let text = e.to_string();
+    let named = Path::new("b").join("IM.dcm");
+    assert!(text.contains(&format!("'{}'", named.display())), "{text}");
+}

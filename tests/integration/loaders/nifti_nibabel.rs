@@ -1,7 +1,8 @@
 //! NIfTI files written by nibabel (`scripts/python/nibabel_files.py`): 4-D time series (any
-//! volume of them), NIfTI-2 (64-bit sizes, double fields), big-endian, scaled samples, each read
-//! with nibabel's values, spacing and origin; and an MR-like volume with negative values and no
-//! modality, which is not taken for CT.
+//! volume of them), NIfTI-2 (64-bit sizes, double fields), big-endian, scaled samples, and
+//! nibabel's own test files (written by SPM, FSL, AFNI and nibabel, some mirrored, some 4-D),
+//! each read with nibabel's values, spacing, orientation and origin; and an MR-like volume with
+//! negative values and no modality, which is not taken for CT.
 
 use leapview::transfer::fit::DataKind;
 use leapview::volume::{LoadOptions, VolumeIndex, load_volume};
@@ -16,11 +17,16 @@ fn nibabels_files_open_with_nibabels_values() {
     let cases: Vec<Value> =
         serde_json::from_slice(&std::fs::read(out.path().join("cases.json")).expect("the cases"))
             .expect("JSON");
-    assert!(cases.len() >= 7);
+    assert!(
+        cases.len() >= 12,
+        "{} cases: nibabel's test files are missing",
+        cases.len()
+    );
     for case in &cases {
         let name = case["name"].as_str().expect("a name");
         let volume = case["volume"].as_u64().expect("a volume") as u32;
         let count = case["volumes"].as_u64().expect("a count") as u32;
+        // nibabel's own files by their path, the ones written here by name.
         let path = out.path().join(case["file"].as_str().expect("a file"));
         // The first volume by default; any other when asked for.
         let options = LoadOptions {
@@ -35,26 +41,25 @@ fn nibabels_files_open_with_nibabels_values() {
             .map(|d| d.as_u64().expect("a size") as u32)
             .collect();
         assert_eq!(v.dims().to_vec(), dims, "{name}");
-        // NIfTI-1 holds pixdim as f32.
+        // nibabel's affine (RAS): the spacing is its columns' lengths, the orientation their
+        // nearest axes, the origin its translation (LPS here). NIfTI-1 holds f32.
+        let affine: Vec<Vec<f64>> = serde_json::from_value(case["affine"].clone()).expect("affine");
         let spacing = v.spacing_mm();
-        assert!(
-            spacing
-                .iter()
-                .zip([0.9, 1.1, 2.5])
-                .all(|(a, b)| (a - b).abs() < 1e-6),
-            "{name}: {spacing:?}"
-        );
-        assert_eq!(
-            v.orientation().map(|o| o.code()),
-            Some("RAS".to_string()),
-            "{name}"
-        );
+        for a in 0..3 {
+            let length = (0..3).map(|r| affine[r][a].powi(2)).sum::<f64>().sqrt();
+            assert!(
+                (spacing[a] - length).abs() < 1e-4 * length,
+                "{name}: {spacing:?} axis {a} {length}"
+            );
+        }
+        let columns: [[f64; 3]; 3] = std::array::from_fn(|a| std::array::from_fn(|r| affine[r][a]));
+        let expected = leapview::volume::Orientation::from_ras_columns(columns).map(|o| o.code());
+        assert_eq!(v.file_orientation().map(|o| o.code()), expected, "{name}");
         let origin = v.provenance().origin_lps.expect("an origin");
+        let want = [-affine[0][3], -affine[1][3], affine[2][3]];
         assert!(
-            (origin[0] - 10.0).abs() < 1e-5
-                && (origin[1] + 20.0).abs() < 1e-5
-                && (origin[2] - 5.5).abs() < 1e-5,
-            "{name}: origin {origin:?}"
+            (0..3).all(|a| (origin[a] - want[a]).abs() < 1e-3),
+            "{name}: origin {origin:?}, nibabel's {want:?}"
         );
         let expected_index = (count > 1).then_some(VolumeIndex {
             chosen: volume,
@@ -70,6 +75,8 @@ fn nibabels_files_open_with_nibabels_values() {
         let [nx, ny, _] = v.dims();
         for (i, &want) in reference.iter().enumerate() {
             let (x, y, z) = (i as u32 % nx, (i as u32 / nx) % ny, i as u32 / (nx * ny));
+            // A mirrored file is read reversed along i.
+            let x = if v.reversed_i() { nx - 1 - x } else { x };
             let got = v.value(x, y, z);
             // f32 samples: nibabel's float64 of the same f32.
             assert!(
