@@ -404,3 +404,32 @@ fn a_click_in_a_slice_moves_the_crosshair_and_the_other_slices_follow() {
     );
     quit(&x.display, &mut app);
 }
+
+/// A single image (pydicom's CT slice, from the team's vendor files) opens as a 2D image alone
+/// in its plane, not edge-on in 3D: the log says so, no 3D frame is rendered, and the
+/// screenshot shows the slice (its middle is not the empty pane's black).
+#[test]
+fn a_single_image_opens_alone_in_its_plane() {
+    let image = common::data_dir().join("dicom/vendor/CT_small.dcm");
+    let (dir, log) = run_scripted("image", "info", 1, |dir, command| {
+        command
+            .arg(&image)
+            .env("LEAPVIEW_SCREENSHOT", dir.join("image.png"));
+    });
+    assert!(
+        log.contains("a 2D image: shown alone in its axial plane"),
+        "{log}"
+    );
+    assert!(log.contains("the layout shows no 3D view"), "{log}");
+    assert_eq!(log.matches("rendered volume frame").count(), 0, "{log}");
+    let shot = image::open(dir.path().join("image.png"))
+        .expect("the screenshot")
+        .to_luma8();
+    // The slice fills the area left of the side panel: its middle shows the body.
+    let (w, h) = shot.dimensions();
+    let bright = (h / 3..2 * h / 3)
+        .flat_map(|y| (w / 6..w / 2).map(move |x| (x, y)))
+        .filter(|&(x, y)| shot.get_pixel(x, y)[0] > 40)
+        .count();
+    assert!(bright > 1000, "{bright} bright pixels in the pane's middle");
+}

@@ -249,6 +249,7 @@ impl LeapViewApp {
                             self.layout_before_image = Some(self.state.layout);
                         }
                         self.state.layout = Layout::Image(kind);
+                        log::info!("a 2D image: shown alone in its {} plane", kind.name());
                     }
                     None if !self.state.layout.has_3d() => {
                         self.state.layout = self.layout_before_image.take().unwrap_or_default();
