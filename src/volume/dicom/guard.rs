@@ -83,10 +83,8 @@ impl TransferSyntaxIndex for ImplicitForExplicit {
     }
 }
 
-/// Explicit VR little endian.
-pub const EXPLICIT_VR_LITTLE_ENDIAN: &str = "1.2.840.10008.1.2.1";
 /// Implicit VR little endian.
-pub const IMPLICIT_VR_LITTLE_ENDIAN: &str = "1.2.840.10008.1.2";
+const IMPLICIT_VR_LITTLE_ENDIAN: &str = "1.2.840.10008.1.2";
 
 /// How a file's data set is to be read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

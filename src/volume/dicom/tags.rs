@@ -37,14 +37,13 @@ fn not_an_image(sop_class: &str) -> Option<&'static str> {
     })
 }
 
-/// Explicit VR big endian: retired from the standard, still in old archives.
-const EXPLICIT_VR_BIG_ENDIAN: &str = "1.2.840.10008.1.2.2";
-
 /// Whether `uid` is one of the uncompressed transfer syntaxes.
 fn is_uncompressed(uid: &str) -> bool {
     matches!(
         uid,
-        uids::IMPLICIT_VR_LITTLE_ENDIAN | uids::EXPLICIT_VR_LITTLE_ENDIAN | EXPLICIT_VR_BIG_ENDIAN
+        uids::IMPLICIT_VR_LITTLE_ENDIAN
+            | uids::EXPLICIT_VR_LITTLE_ENDIAN
+            | super::pixels::EXPLICIT_VR_BIG_ENDIAN
     )
 }
 

@@ -65,23 +65,12 @@ pub fn check_reference(
     camera: &Camera,
     base: RenderSettings,
 ) {
-    let size = [40, 40];
-    let expected = reference::render(volume, tf, camera, size, &base).image;
-    for (strategy, path) in variants() {
-        let s = RenderSettings {
-            strategy,
-            path,
-            ..base
-        };
-        let image = r.render_image(camera, size, &s).expect("render");
-        let (max_abs, share) = if base.mode == Mode::Iso {
-            (1.0, 0.005)
-        } else {
-            (4.0 / 255.0, 0.0)
-        };
-        let name = format!("{name}-{}-{path:?}", strategy.label());
-        super::assert_close(&name, &image, &expected, max_abs, share);
-    }
+    let bounds = if base.mode == Mode::Iso {
+        (1.0, 0.005)
+    } else {
+        (4.0 / 255.0, 0.0)
+    };
+    check_reference_within(r, name, (volume, tf, camera), base, bounds);
 }
 
 /// As [`check_reference`], with the bounds given: at most `share` of the pixels may differ by

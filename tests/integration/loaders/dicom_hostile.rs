@@ -10,49 +10,14 @@ use dicom_core::{DataElement, PrimitiveValue, VR};
 use dicom_dictionary_std::tags;
 use leapview::volume::{LoadOptions, load_volume};
 
-use super::dicom_written::{axial, write, write_sized};
+use super::dicom_written::{axial, libjpeg_turbo, write, write_sized};
 use crate::common::{self, data_dir, load_ok};
 
 /// A grey frame of `columns` x `rows` 8-bit samples as a lossless JPEG codestream (process 14,
 /// predictor 1) written by libjpeg-turbo.
 fn libjpeg_turbo_8_bit(samples: &[u8], columns: u32, rows: u32) -> Vec<u8> {
-    use std::os::raw::c_int;
-    use turbojpeg_sys as tj;
-    // SAFETY: the handle is checked, used only here and destroyed; the source holds columns x
-    // rows samples of one grey channel (pitch = columns); the output buffer libjpeg-turbo
-    // allocates is copied out and freed with tj3Free.
-    unsafe {
-        let handle = tj::tj3Init(tj::TJINIT_TJINIT_COMPRESS as c_int);
-        assert!(!handle.is_null(), "libjpeg-turbo starts");
-        for (param, value) in [
-            (tj::TJPARAM_TJPARAM_SUBSAMP, tj::TJSAMP_TJSAMP_GRAY as c_int),
-            (tj::TJPARAM_TJPARAM_LOSSLESS, 1),
-            (tj::TJPARAM_TJPARAM_LOSSLESSPSV, 1),
-        ] {
-            assert_eq!(
-                tj::tj3Set(handle, param as c_int, value),
-                0,
-                "parameter {param}"
-            );
-        }
-        let mut out: *mut u8 = std::ptr::null_mut();
-        let mut size = 0;
-        let rc = tj::tj3Compress8(
-            handle,
-            samples.as_ptr(),
-            columns as c_int,
-            columns as c_int,
-            rows as c_int,
-            tj::TJPF_TJPF_GRAY as c_int,
-            &mut out,
-            &mut size,
-        );
-        assert_eq!(rc, 0, "libjpeg-turbo encodes");
-        let stream = std::slice::from_raw_parts(out, size as usize).to_vec();
-        tj::tj3Free(out.cast());
-        tj::tj3Destroy(handle);
-        stream
-    }
+    let wide: Vec<u16> = samples.iter().map(|&s| u16::from(s)).collect();
+    libjpeg_turbo(&wide, columns, rows, 8, true)
 }
 
 /// Two slices whose pixel data is `stream` (JPEG lossless) under a header of `columns` x `rows`

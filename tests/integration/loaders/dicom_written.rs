@@ -468,12 +468,26 @@ fn jpeg_baseline_and_deflate_written_by_dicom_rs_decode() {
 /// written by libjpeg-turbo's encoder: DCT at quality 95 (JPEG Extended, process 4), or lossless
 /// with predictor 1 (process 14, selection value 1).
 fn libjpeg_turbo_12_bit(samples: &[u16], columns: u32, rows: u32, lossless: bool) -> Vec<u8> {
+    libjpeg_turbo(samples, columns, rows, 12, lossless)
+}
+
+/// A grey frame of `columns` x `rows` samples of `precision` bits (8 or 12) as a JPEG
+/// codestream written by libjpeg-turbo's encoder: DCT at quality 95, or lossless with
+/// predictor 1 (process 14, selection value 1).
+pub(super) fn libjpeg_turbo(
+    samples: &[u16],
+    columns: u32,
+    rows: u32,
+    precision: u8,
+    lossless: bool,
+) -> Vec<u8> {
     use std::os::raw::c_int;
     use turbojpeg_sys as tj;
-    let source: Vec<i16> = samples.iter().map(|s| *s as i16).collect();
+    let wide: Vec<i16> = samples.iter().map(|s| *s as i16).collect();
+    let narrow: Vec<u8> = samples.iter().map(|s| *s as u8).collect();
     // SAFETY: the handle is checked, used only here and destroyed; the source holds columns x
-    // rows samples of one grey channel (pitch = columns); the output buffer libjpeg-turbo
-    // allocates is copied out and freed with tj3Free.
+    // rows samples of one grey channel (pitch = columns) in the cells of the precision's
+    // function; the output buffer libjpeg-turbo allocates is copied out and freed with tj3Free.
     unsafe {
         let handle = tj::tj3Init(tj::TJINIT_TJINIT_COMPRESS as c_int);
         assert!(!handle.is_null(), "libjpeg-turbo starts");
@@ -493,16 +507,35 @@ fn libjpeg_turbo_12_bit(samples: &[u16], columns: u32, rows: u32, lossless: bool
         }
         let mut out: *mut u8 = std::ptr::null_mut();
         let mut size = 0;
-        let rc = tj::tj3Compress12(
-            handle,
-            source.as_ptr(),
+        let (w, pitch, h, grey) = (
             columns as c_int,
             columns as c_int,
             rows as c_int,
             tj::TJPF_TJPF_GRAY as c_int,
-            &mut out,
-            &mut size,
         );
+        let rc = if precision == 8 {
+            tj::tj3Compress8(
+                handle,
+                narrow.as_ptr(),
+                w,
+                pitch,
+                h,
+                grey,
+                &mut out,
+                &mut size,
+            )
+        } else {
+            tj::tj3Compress12(
+                handle,
+                wide.as_ptr(),
+                w,
+                pitch,
+                h,
+                grey,
+                &mut out,
+                &mut size,
+            )
+        };
         assert_eq!(rc, 0, "libjpeg-turbo encodes");
         let stream = std::slice::from_raw_parts(out, size as usize).to_vec();
         tj::tj3Free(out.cast());

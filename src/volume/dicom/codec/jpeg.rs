@@ -12,9 +12,6 @@ use turbojpeg_sys as tj;
 
 use super::{Frame, FrameSpec, check_shape, markers, put_sample};
 
-/// The JPEG Extended transfer syntax (8 and 12 bits).
-pub const JPEG_EXTENDED: &str = "1.2.840.10008.1.2.4.51";
-
 /// Most memory libjpeg-turbo may take for one frame's decoder state, in MiB.
 const MAX_MEMORY_MIB: c_int = 512;
 
@@ -119,60 +116,44 @@ pub fn decode_frame(stream: &[u8], spec: &FrameSpec) -> Result<Frame, String> {
         ));
     }
     let samples = spec.pixels() * usize::from(spec.samples_per_pixel);
+    // tj3Decompress8, 12 or 16 by the stream's precision, into cells of that width.
+    macro_rules! decompress {
+        ($function:ident, $cell:ty) => {{
+            let mut out: Vec<$cell> = vec![0; samples];
+            // SAFETY: `out` holds width x height pixels of `format` (pitch 0: packed rows) in
+            // the function's cell type, which is what it writes; `stream` outlives the call.
+            let rc = unsafe {
+                tj::$function(
+                    d.0,
+                    stream.as_ptr(),
+                    stream.len() as u64,
+                    out.as_mut_ptr(),
+                    0,
+                    format as c_int,
+                )
+            };
+            if rc != 0 {
+                return Err(d.error());
+            }
+            out
+        }};
+    }
     let values: Vec<i64> = if precision <= 8 {
-        let mut out = vec![0u8; samples];
-        // SAFETY: `out` holds width x height pixels of `format` (pitch 0: packed rows), which
-        // is what tj3Decompress8 writes; `stream` outlives the call.
-        let rc = unsafe {
-            tj::tj3Decompress8(
-                d.0,
-                stream.as_ptr(),
-                stream.len() as u64,
-                out.as_mut_ptr(),
-                0,
-                format as c_int,
-            )
-        };
-        if rc != 0 {
-            return Err(d.error());
-        }
-        out.into_iter().map(i64::from).collect()
+        decompress!(tj3Decompress8, u8)
+            .into_iter()
+            .map(i64::from)
+            .collect()
     } else if precision <= 12 {
-        let mut out = vec![0i16; samples];
-        // SAFETY: as above, 12-bit samples in 16-bit cells.
-        let rc = unsafe {
-            tj::tj3Decompress12(
-                d.0,
-                stream.as_ptr(),
-                stream.len() as u64,
-                out.as_mut_ptr(),
-                0,
-                format as c_int,
-            )
-        };
-        if rc != 0 {
-            return Err(d.error());
-        }
-        out.into_iter()
+        // 12-bit samples in 16-bit signed cells.
+        decompress!(tj3Decompress12, i16)
+            .into_iter()
             .map(|v| i64::from(v as u16 & 0x0FFF))
             .collect()
     } else {
-        let mut out = vec![0u16; samples];
-        // SAFETY: as above, 16-bit samples.
-        let rc = unsafe {
-            tj::tj3Decompress16(
-                d.0,
-                stream.as_ptr(),
-                stream.len() as u64,
-                out.as_mut_ptr(),
-                0,
-                format as c_int,
-            )
-        };
-        if rc != 0 {
-            return Err(d.error());
-        }
-        out.into_iter().map(i64::from).collect()
+        decompress!(tj3Decompress16, u16)
+            .into_iter()
+            .map(i64::from)
+            .collect()
     };
     let width = spec.bytes_per_sample();
     let mut bytes = vec![0u8; samples * width];
