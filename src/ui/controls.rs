@@ -1,5 +1,6 @@
-//! The side panel: transfer-function preset, strategy, ray-loop path, step, termination
-//! threshold, background, projection and views, and what is loaded.
+//! The side panel: the series, transfer-function preset and quality, cropping, views and
+//! orientation, background and projection, what is loaded, and, collapsed under "Advanced", the
+//! renderer's knobs (strategy, block, ray loop, step, termination, statistics).
 
 use egui::{ComboBox, Slider, SliderClamping};
 
@@ -34,10 +35,21 @@ pub struct PanelInfo<'a> {
 
 /// Draws the panel contents; returns an action for the buttons that need the app.
 ///
+/// The order is a reader's: what is open (a DICOM folder's series and the notes from loading
+/// it), the preset and quality, then `middle` (the app's mode and lighting, transfer-function
+/// editor and slice settings), cropping, the views and orientation, what is loaded; the
+/// renderer's own knobs (strategy, block, ray loop, step, termination, statistics) last, in a
+/// collapsed "Advanced" section.
+///
 /// The sliders round only what the user edits (`SliderClamping::Edits`): with egui's default
 /// they would round the value on every pass, and the default termination 1 − 1/255 would
 /// silently become 0.9961, giving other images than `leapview render`.
-pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo) -> Option<Action> {
+pub fn controls_ui(
+    ui: &mut egui::Ui,
+    state: &mut ViewerState,
+    info: &PanelInfo,
+    middle: impl FnOnce(&mut egui::Ui, &mut ViewerState),
+) -> Option<Action> {
     let mut action = None;
     // Where the volume came from, first: the series chooser of a DICOM folder and what loading
     // had to say (a resampled gap, an assumption) must not hide below the fold.
@@ -48,33 +60,58 @@ pub fn controls_ui(ui: &mut egui::Ui, state: &mut ViewerState, info: &PanelInfo)
         series_rows(ui, v, &mut action);
         ui.separator();
     }
-    ui.heading("Rendering");
-    egui::Grid::new("render controls")
+    ui.heading("Display");
+    egui::Grid::new("display controls")
         .num_columns(2)
         .spacing([8.0, 6.0])
         .show(ui, |ui| {
             preset_row(ui, state);
-            strategy_rows(ui, state, info.strategy_used);
-            path_row(ui, state, info.path_used);
             quality_rows(ui, state);
+        });
+    ui.separator();
+    middle(ui, state);
+    if let Some(volume) = info.volume {
+        ui.heading("Cropping");
+        let crop = &mut state.render.crop;
+        super::crop::crop_ui(ui, crop, &mut state.show_crop_box, volume.dims);
+        ui.separator();
+    }
+    ui.heading("View");
+    if let Some(a) = view_section(ui, info.volume) {
+        action = Some(a);
+    }
+    egui::Grid::new("look controls")
+        .num_columns(2)
+        .spacing([8.0, 6.0])
+        .show(ui, |ui| {
             if let Some(a) = look_rows(ui, state) {
                 action = Some(a);
             }
         });
     ui.separator();
-    ui.heading("View");
-    if let Some(a) = view_section(ui, info.volume) {
-        action = Some(a);
-    }
-    if let Some(volume) = info.volume {
-        ui.separator();
-        ui.heading("Cropping");
-        let crop = &mut state.render.crop;
-        super::crop::crop_ui(ui, crop, &mut state.show_crop_box, volume.dims);
-    }
-    ui.separator();
     ui.heading("Volume");
     volume_section(ui, info.volume);
+    ui.separator();
+    egui::CollapsingHeader::new("Advanced")
+        .id_salt("advanced")
+        .default_open(false)
+        .show(ui, |ui| {
+            ui.label(
+                egui::RichText::new(
+                    "How the renderer works: every strategy and ray loop gives the same picture",
+                )
+                .weak(),
+            );
+            egui::Grid::new("render controls")
+                .num_columns(2)
+                .spacing([8.0, 6.0])
+                .show(ui, |ui| {
+                    strategy_rows(ui, state, info.strategy_used);
+                    path_row(ui, state, info.path_used);
+                    sampling_rows(ui, state);
+                    readout_rows(ui, state);
+                });
+        });
     action
 }
 
@@ -97,7 +134,7 @@ fn preset_row(ui: &mut egui::Ui, state: &mut ViewerState) {
     ui.end_row();
 }
 
-/// Strategy, block size, statistics and the interaction level of detail.
+/// Strategy and block size.
 fn strategy_rows(ui: &mut egui::Ui, state: &mut ViewerState, used: Option<Strategy>) {
     ui.label("Strategy");
     let in_use = state.strategy_in_use();
@@ -184,12 +221,23 @@ fn strategy_rows(ui: &mut egui::Ui, state: &mut ViewerState, used: Option<Strate
             .on_hover_text("Edge of the blocks whose emptiness the rays test");
     });
     ui.end_row();
+}
 
+/// What the readout adds and how dragging renders: sample counts, the developer readout, the
+/// interaction preview.
+fn readout_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
     ui.label("Statistics");
     ui.checkbox(&mut state.statistics, "count samples")
         .on_hover_text(
             "Samples taken, samples with non-zero opacity, regions leapt, lookups in the leaping \
              structure per ray (slower)",
+        );
+    ui.end_row();
+
+    ui.label("Readout");
+    ui.checkbox(&mut state.developer_readout, "developer readout")
+        .on_hover_text(
+            "Frame rate, GPU time, strategy and ray loop, adapter and latencies over the 3D view",
         );
     ui.end_row();
 
@@ -232,8 +280,7 @@ fn path_row(ui: &mut egui::Ui, state: &mut ViewerState, path_used: Option<Concre
     ui.end_row();
 }
 
-/// The quality preset and the knobs it sets: step, refinement, jitter, pre-integration,
-/// termination.
+/// The quality preset (it sets the sampling knobs of the Advanced section) and refinement.
 fn quality_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
     ui.label("Quality");
     let current = state.quality();
@@ -258,16 +305,6 @@ fn quality_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
         );
     ui.end_row();
 
-    ui.label("Step (voxels)");
-    ui.add(
-        Slider::new(&mut render.step_vox, STEP_RANGE_VOX)
-            .logarithmic(true)
-            .max_decimals(3)
-            .clamping(SliderClamping::Edits),
-    )
-    .on_hover_text("Distance between samples along a ray, in units of the smallest voxel spacing");
-    ui.end_row();
-
     ui.label("Refine when still");
     ui.add(
         Slider::new(
@@ -283,8 +320,21 @@ fn quality_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
          time spent only while nothing changes (1: off). Saved images are refined the same way.",
     );
     ui.end_row();
+}
 
+/// The sampling knobs the quality preset sets: step, jitter, pre-integration, termination.
+fn sampling_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
     let render = &mut state.render;
+    ui.label("Step (voxels)");
+    ui.add(
+        Slider::new(&mut render.step_vox, STEP_RANGE_VOX)
+            .logarithmic(true)
+            .max_decimals(3)
+            .clamping(SliderClamping::Edits),
+    )
+    .on_hover_text("Distance between samples along a ray, in units of the smallest voxel spacing");
+    ui.end_row();
+
     ui.label("Jitter");
     ui.checkbox(&mut render.jitter, "jittered ray starts")
         .on_hover_text(
@@ -565,7 +615,7 @@ mod tests {
             volume: None,
         };
         let mut output = ctx.run_ui(egui::RawInput::default(), |ui| {
-            let action = controls_ui(ui, &mut state, &info);
+            let action = controls_ui(ui, &mut state, &info, |_, _| {});
             assert_eq!(action, None);
         });
         // No painter here: the font atlas upload is dropped on purpose.

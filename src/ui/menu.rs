@@ -70,8 +70,8 @@ pub const CONTROLS: [(&str, &str); 18] = [
         "move the crosshair (the other slices follow); Shift + drag or middle drag pans",
     ),
     (
-        "In a slice: wheel, ↑/↓, Page Up/Down; Ctrl + wheel",
-        "step one voxel towards head, front or right (back with ↓); zoom about the pointer",
+        "In a slice: wheel, Up/Down arrow keys, Page Up/Down; Ctrl + wheel",
+        "step one voxel towards head, front or right (back with Down); zoom about the pointer",
     ),
     (
         "In a slice: Ctrl + drag; Alt + drag, Alt + click",
@@ -201,7 +201,7 @@ pub fn menu_bar(
             }
             ui.separator();
             ui.checkbox(&mut state.show_controls, "Controls panel");
-            ui.checkbox(&mut state.show_readout, "Readout (FPS, GPU time)");
+            ui.checkbox(&mut state.show_readout, "Readout over the 3D view");
             ui.checkbox(
                 &mut state.show_orientation_marker,
                 "Orientation marker (R, A, S)",

@@ -15,6 +15,8 @@ pub mod crop;
 pub mod dialogs;
 pub mod effects;
 pub mod frame_job;
+#[cfg(test)]
+mod glyphs;
 pub mod interaction;
 pub mod layout;
 pub mod loading;

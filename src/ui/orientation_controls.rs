@@ -20,8 +20,12 @@ pub fn orientation_ui(ui: &mut egui::Ui, v: &VolumeSummary) -> Option<Action> {
     if !v.from_file {
         return None;
     }
+    // A file without orientation opens with the correction unfolded: the picture may well be
+    // upside down, and the fix is one click away.
+    let assumed = v.orientation_or_assumed().source == OrientationSource::Assumed;
     egui::CollapsingHeader::new("Correct the orientation")
-        .id_salt("correct orientation")
+        .id_salt(("correct orientation", assumed))
+        .default_open(assumed)
         .show(ui, |ui| {
             ui.label(
                 egui::RichText::new(
@@ -110,7 +114,11 @@ pub fn orientation_label(ui: &mut egui::Ui, v: &VolumeSummary) {
         }
         (OrientationSource::User, None) => format!("{file} as you set it (the file has none)"),
         (OrientationSource::Header, _) => format!("{file} from the header"),
-        (OrientationSource::Assumed, _) => "no orientation in the file: RAS assumed".to_string(),
+        (OrientationSource::Assumed, _) => {
+            "the file says nothing of where its axes point in the patient; shown as if \
+             i, j, k ran to the patient's right, front and head (RAS)"
+                .to_string()
+        }
         (OrientationSource::AsStored, _) => {
             "no patient orientation in the file: shown as stored (row 0 at the top, column 0 at \
              the left)"
@@ -129,6 +137,14 @@ pub fn orientation_label(ui: &mut egui::Ui, v: &VolumeSummary) {
              loading and the 3D picture is not mirrored (voxel i here is {} − i in the file)",
             v.dims[0].saturating_sub(1)
         ));
+        return;
+    }
+    if o.source == OrientationSource::Assumed {
+        ui.colored_label(
+            ui.visuals().warn_fg_color,
+            format!("none in the file: {} assumed", o.code()),
+        )
+        .on_hover_text(said);
         return;
     }
     let text = match o.source {

@@ -1,6 +1,8 @@
-//! The readout drawn over the view: frames rendered per second over the last second (or "idle"),
-//! the GPU time of the last frame from timestamp queries, the adapter, and the volume; plus the
-//! loading spinner.
+//! The readout drawn over the 3D view. By default it says what a reader of the image needs: the
+//! volume, what the picture shows (the preset or the window), a missing orientation, the frame
+//! rate once frames are slow, and why nothing shows. The engineering lines (frames per second,
+//! GPU time, strategy and path, adapter, sample counts, rebuild and edit latencies) are added
+//! with Advanced › "developer readout" or "count samples". Plus the loading spinner.
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -54,8 +56,19 @@ impl FpsCounter {
     }
 }
 
+/// Frames predicted to take longer than this (a frame rate under 20 per second) show their rate.
+pub const SLOW_FRAME_MS: f64 = 50.0;
+
 /// What the readout shows.
 pub struct Readout<'a> {
+    /// Whether to add the engineering lines.
+    pub developer: bool,
+    /// What the picture shows: the transfer function's preset, the iso value or the window.
+    pub look: Option<String>,
+    /// Predicted milliseconds of a full-resolution frame, once measured.
+    pub frame_ms: Option<f64>,
+    /// Said when the file gave no orientation and one is assumed.
+    pub orientation_note: Option<&'static str>,
     /// Frames per second, `None` when idle.
     pub fps: Option<usize>,
     /// GPU milliseconds of the last measured frame.
@@ -100,6 +113,46 @@ fn compact(n: u64) -> String {
 impl Readout<'_> {
     /// The lines of text, top to bottom.
     pub fn lines(&self) -> Vec<String> {
+        let mut lines = Vec::new();
+        if let Some(v) = self.volume {
+            let [x, y, z] = v.dims;
+            lines.push(format!("{} · {x}×{y}×{z}", v.name));
+        }
+        if let Some(look) = &self.look {
+            lines.push(look.clone());
+        }
+        if let Some(note) = self.orientation_note {
+            lines.push(note.to_string());
+        }
+        if !self.developer
+            && let Some(ms) = self.frame_ms.filter(|ms| *ms > SLOW_FRAME_MS)
+        {
+            lines.push(format!("{:.1} fps at full resolution", 1000.0 / ms));
+        }
+        if let Some(scale) = self.preview_scale {
+            lines.push(format!(
+                "preview at {:.0} % resolution (full quality once still)",
+                100.0 * scale
+            ));
+        }
+        if let Some(what) = self.preparing {
+            lines.push(format!("preparing: {what}…"));
+        }
+        if let Some(done) = self.rendering {
+            lines.push(format!("rendering the next frame: {:.0} %", 100.0 * done));
+        }
+        if let Some(why) = &self.blank {
+            lines.push(format!("nothing shows: {why}"));
+        }
+        if self.developer {
+            lines.extend(self.developer_lines());
+        }
+        lines
+    }
+
+    /// The engineering lines: rate, GPU time, strategy and path, adapter, refinement, sample
+    /// counts, rebuild and edit latencies, the volume's layout.
+    fn developer_lines(&self) -> Vec<String> {
         let fps = self
             .fps
             .map_or_else(|| "idle".to_string(), |n| format!("{n} fps"));
@@ -119,17 +172,8 @@ impl Readout<'_> {
             format!("{fps} · {gpu} · {}{path}", self.strategy)
         };
         let mut lines = vec![first, self.adapter.to_string()];
-        if let Some(scale) = self.preview_scale {
-            lines.push(format!(
-                "preview at {:.0} % resolution (full quality once still)",
-                100.0 * scale
-            ));
-        }
-        if let Some(what) = self.preparing {
-            lines.push(format!("preparing: {what}…"));
-        }
-        if let Some(done) = self.rendering {
-            lines.push(format!("rendering the next frame: {:.0} %", 100.0 * done));
+        if let Some(ms) = self.frame_ms {
+            lines.push(format!("full frame predicted {ms:.1} ms"));
         }
         if let Some((n, target)) = self.refined {
             lines.push(if n < target {
@@ -161,13 +205,10 @@ impl Readout<'_> {
             lines.push(format!("leaping structures rebuilt in {ms:.3} ms GPU"));
         }
         if let Some(ms) = self.tf_latency_ms {
-            lines.push(format!("TF edit → frame done: {ms:.1} ms"));
+            lines.push(format!("TF edit to frame done: {ms:.1} ms"));
         }
         if let Some(v) = self.volume {
-            lines.push(format!("{} · {}", v.name, v.line()));
-        }
-        if let Some(why) = &self.blank {
-            lines.push(format!("nothing shows: {why}"));
+            lines.push(v.line());
         }
         lines
     }
@@ -177,12 +218,15 @@ impl Readout<'_> {
 pub fn draw_readout(ui: &mut egui::Ui, view: Rect, readout: &Readout) -> Rect {
     let area = view.shrink(8.0);
     let mut child = ui.new_child(UiBuilder::new().max_rect(area));
+    // Never over a neighbouring pane (a slice view in the 2 × 2 layout), however long a line.
+    child.set_clip_rect(view.intersect(ui.clip_rect()));
     child.style_mut().interaction.selectable_labels = false;
     Frame::new()
         .fill(Color32::from_black_alpha(170))
         .corner_radius(4.0)
         .inner_margin(6.0)
         .show(&mut child, |ui| {
+            ui.set_max_width(area.width() - 12.0);
             for line in readout.lines() {
                 ui.label(
                     RichText::new(line)
@@ -303,6 +347,10 @@ mod tests {
             lookups: 2500,
         };
         let readout = Readout {
+            developer: true,
+            look: None,
+            frame_ms: None,
+            orientation_note: None,
             fps: Some(30),
             gpu_ms: Some(1.5),
             has_timestamps: true,
@@ -334,6 +382,10 @@ mod tests {
     #[test]
     fn readout_says_idle_and_why_gpu_time_is_missing() {
         let readout = Readout {
+            developer: true,
+            look: None,
+            frame_ms: None,
+            orientation_note: None,
             fps: None,
             gpu_ms: None,
             has_timestamps: false,
@@ -370,5 +422,60 @@ mod tests {
             ..readout
         };
         assert!(busy.lines()[0].starts_with("24 fps · 3.25 ms GPU"));
+    }
+
+    #[test]
+    fn the_default_readout_speaks_to_the_reader() {
+        let volume =
+            VolumeSummary::of(&crate::volume::synthetic::shepp_logan(16).expect("phantom"));
+        let readout = Readout {
+            developer: false,
+            look: Some("ct-bone".into()),
+            frame_ms: Some(8.0),
+            orientation_note: None,
+            fps: Some(60),
+            gpu_ms: Some(1.5),
+            has_timestamps: true,
+            adapter: "gpu",
+            path: Some(ConcretePath::Compute),
+            strategy: "RC-s",
+            volume: Some(&volume),
+            counters: None,
+            rebuild_ms: Some(0.25),
+            tf_latency_ms: Some(3.5),
+            preview_scale: None,
+            refined: Some((3, 8)),
+            blank: None,
+            rendering: None,
+            preparing: None,
+        };
+        let lines = readout.lines();
+        assert_eq!(
+            lines,
+            [format!("{} · 16×16×16", volume.name), "ct-bone".into()]
+        );
+        // A slow frame shows its rate; the engineering lines only on request.
+        let slow = Readout {
+            frame_ms: Some(400.0),
+            orientation_note: Some("no orientation in the file: RAS assumed"),
+            ..readout
+        };
+        let lines = slow.lines();
+        assert_eq!(lines.len(), 4, "{lines:?}");
+        assert_eq!(lines[3], "2.5 fps at full resolution");
+        let developer = Readout {
+            developer: true,
+            ..slow
+        };
+        let lines = developer.lines();
+        assert!(
+            lines.iter().any(|l| l.contains("RC-s compute")),
+            "{lines:?}"
+        );
+        assert!(lines.iter().any(|l| l.contains("rebuilt")), "{lines:?}");
+        assert!(
+            !lines.iter().any(|l| l.contains("fps at full")),
+            "{lines:?}"
+        );
     }
 }

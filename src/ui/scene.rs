@@ -48,6 +48,8 @@ pub struct Scene {
     tf_edit_at: Option<Instant>,
     /// Milliseconds from the last transfer-function change to its frame's completion.
     tf_latency_ms: Option<f64>,
+    /// Predicted milliseconds of a full-resolution frame of the view, once bands were timed.
+    frame_ms: Option<f64>,
     redraw: RedrawTracker,
     fps: FpsCounter,
     gpu_ms: Option<f64>,
@@ -130,6 +132,7 @@ impl Scene {
             transfer_given: false,
             tf_edit_at: None,
             tf_latency_ms: None,
+            frame_ms: None,
             redraw: RedrawTracker::default(),
             fps: FpsCounter::default(),
             gpu_ms: None,
@@ -387,6 +390,7 @@ impl Scene {
         } else {
             1.0
         };
+        self.frame_ms = shared.lod.predicted_ms(view_px);
         let size_px = scaled_size(view_px, scale);
         if !shared.renderer.has_volume() || size_px.contains(&0) {
             return Ok(false);
@@ -639,6 +643,13 @@ impl Scene {
     /// What the readout shows now.
     pub fn readout(&mut self, state: &ViewerState, now: Instant) -> Readout<'_> {
         Readout {
+            developer: state.developer_readout || state.statistics,
+            look: Some(look(state)),
+            frame_ms: self.frame_ms,
+            orientation_note: self.volume.as_ref().and_then(|v| {
+                (v.orientation_or_assumed().source == crate::volume::OrientationSource::Assumed)
+                    .then_some("no orientation in the file: RAS assumed (side panel › View)")
+            }),
             fps: self.fps.fps(now),
             gpu_ms: self.gpu_ms.filter(|_| self.timestamps_reliable()),
             has_timestamps: self.timestamps_reliable(),
@@ -724,5 +735,34 @@ fn busy_of(shared: &Shared) -> Busy {
         in_flight: shared.in_flight.is_some(),
         preparing: shared.preparing,
         accumulated: shared.renderer.has_accumulated(),
+    }
+}
+
+/// What the picture shows, in a reader's words: the transfer function's preset, the iso value,
+/// or the window of a projection.
+fn look(state: &ViewerState) -> String {
+    let render = &state.render;
+    let window = || match render.window {
+        Some([lo, hi]) => format!(
+            "window {} … {} (W {} L {})",
+            crate::text::number(lo),
+            crate::text::number(hi),
+            crate::text::number(hi - lo),
+            crate::text::number(0.5 * (lo + hi))
+        ),
+        None => "window: the data's".to_string(),
+    };
+    // The preset the transfer function started from (fitted to the data, perhaps edited since).
+    let preset = || format!("preset {}", state.preset);
+    match render.mode {
+        crate::settings::Mode::Dvr => preset(),
+        crate::settings::Mode::Iso => match render.iso.value {
+            Some(v) => format!("isosurface at {}", crate::text::number(v)),
+            None => "isosurface".to_string(),
+        },
+        crate::settings::Mode::Mip => format!("MIP · {}", window()),
+        crate::settings::Mode::MinIp => format!("MinIP · {}", window()),
+        crate::settings::Mode::Xray => format!("X-ray mean · {}", window()),
+        crate::settings::Mode::XrayAttenuation => format!("radiograph · {}", window()),
     }
 }

@@ -65,8 +65,12 @@ pub struct ViewerState {
     pub projection: ProjectionKind,
     /// Whether the side panel is open.
     pub show_controls: bool,
-    /// Whether the readout (FPS, GPU time, adapter, volume) is drawn over the view.
+    /// Whether the readout (the volume, what the picture shows, a slow frame rate) is drawn
+    /// over the 3D view.
     pub show_readout: bool,
+    /// Whether the readout adds the engineering lines (frame rate, GPU time, strategy, path,
+    /// adapter, latencies); "count samples" adds them too.
+    pub developer_readout: bool,
     /// Frames averaged, at shifted sample grids, once the view is still (1: no refinement).
     pub refine_frames: u32,
     /// Whether the orientation marker (R/A/S axes) is drawn in the view's corner.
@@ -103,6 +107,7 @@ impl Default for ViewerState {
             projection: ProjectionKind::Perspective,
             show_controls: true,
             show_readout: true,
+            developer_readout: false,
             show_orientation_marker: true,
             refine_frames: DEFAULT_REFINE_FRAMES,
             recent: Vec::new(),

@@ -217,7 +217,10 @@ fn side_panel(
                 strategy_used: None,
                 volume: Some(&p.volume),
             };
-            p.actions.extend(controls_ui(ui, &mut p.state, &info));
+            p.actions
+                .extend(controls_ui(ui, &mut p.state, &info, |ui, _| {
+                    ui.label("(mode, transfer-function editor, slices)");
+                }));
         },
         panel,
     )
@@ -249,9 +252,18 @@ fn side_panel_edits_the_viewer_state() {
         "a preset is one undo step"
     );
 
+    // The renderer's knobs are folded away under Advanced until asked for.
+    assert!(h.query_by_label("RC-t").is_none());
+    h.get_by_label("Advanced").click();
+    h.run();
+    // Unfolded, the section runs past the panel's first size.
+    h.fit_contents();
     h.get_by_label("RC-t").click();
     h.get_by_label("count samples").click();
     h.run();
+    h.get_by_label("developer readout").click();
+    h.run();
+    assert!(h.state().state.developer_readout);
     assert_eq!(h.state().state.render.strategy, Strategy::RcT);
     assert!(h.state().state.statistics);
 
@@ -288,8 +300,12 @@ fn orientation_controls_flip_a_file_without_orientation_and_check_typed_codes() 
         actions: Vec::new(),
     };
     let mut h = side_panel(harness([400.0, 900.0]), panel);
-    h.get_by_label("Correct the orientation").click();
     h.run();
+    // Said where the orientation is shown, with the correction unfolded under it.
+    assert!(
+        h.query_by_label_contains("none in the file: RAS assumed")
+            .is_some()
+    );
     h.get_by_label("Flip S/I").click();
     h.get_by_label("Roll +90°").click();
     h.run();

@@ -432,28 +432,28 @@ impl eframe::App for LeapViewApp {
             .default_size(320.0)
             .show_collapsible(ui, &mut show_controls, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
-                    actions.extend(controls_ui(ui, &mut self.state, &info));
-                    ui.separator();
-                    if self.state.layout.has_slices() && info.volume.is_some() {
-                        self.slices.controls_ui(ui);
-                        ui.separator();
-                    }
+                    let slices = &mut self.slices;
                     let volume = self.scene.volume();
-                    tf_editor_ui(
-                        ui,
-                        &mut self.state.editor,
-                        volume.and_then(|v| v.range),
-                        volume.map_or(&[], |v| v.histogram.as_slice()),
-                        &mut self.state.log_histogram,
-                        self.slices.hover().and_then(|p| p.value),
-                    );
-                    ui.separator();
-                    effects_ui(
-                        ui,
-                        &mut self.state,
-                        volume.and_then(|v| v.range),
-                        volume.map_or(&[], |v| v.histogram.as_slice()),
-                    );
+                    let middle = |ui: &mut egui::Ui, state: &mut ViewerState| {
+                        let range = volume.and_then(|v| v.range);
+                        let histogram = volume.map_or(&[][..], |v| v.histogram.as_slice());
+                        effects_ui(ui, state, range, histogram);
+                        ui.separator();
+                        tf_editor_ui(
+                            ui,
+                            &mut state.editor,
+                            range,
+                            histogram,
+                            &mut state.log_histogram,
+                            slices.hover().and_then(|p| p.value),
+                        );
+                        ui.separator();
+                        if state.layout.has_slices() && volume.is_some() {
+                            slices.controls_ui(ui);
+                            ui.separator();
+                        }
+                    };
+                    actions.extend(controls_ui(ui, &mut self.state, &info, middle));
                 });
             });
         self.state.show_controls = show_controls;
