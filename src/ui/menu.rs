@@ -202,6 +202,8 @@ pub fn menu_bar(
             ui.separator();
             ui.checkbox(&mut state.show_controls, "Controls panel");
             ui.checkbox(&mut state.show_readout, "Readout over the 3D view");
+            ui.checkbox(&mut state.developer_readout, "Developer readout");
+            ui.checkbox(&mut state.statistics, "Count samples (slower)");
             ui.checkbox(
                 &mut state.show_orientation_marker,
                 "Orientation marker (R, A, S)",

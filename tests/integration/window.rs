@@ -102,10 +102,13 @@ fn a_strategy_carried_over_while_busy_is_timed_once_the_user_is_quiet() {
     let log = log.unwrap_or_else(|| std::fs::read_to_string(&log_path).unwrap_or_default());
     assert_eq!(timed(&log), 1, "not timed once:\n{log}");
 
-    // The side panel's "count samples" (see docs/screenshot.png), and a frame rendered after it
-    // (the one in progress, if any, is dropped for it).
+    // View › "Count samples (slower)" (see tests/snapshots/menu_bar_view.png; the menu opens
+    // 6 points higher in the window), and a frame rendered after it (the one in progress, if any,
+    // is dropped for it); Escape closes the menu.
     let before = std::fs::read_to_string(&log_path).unwrap_or_default().len();
-    xdotool(&x.display, &["mousemove", "1016", "165", "click", "1"]);
+    xdotool(&x.display, &["mousemove", "55", "12", "click", "1"]);
+    std::thread::sleep(Duration::from_millis(400));
+    xdotool(&x.display, &["mousemove", "130", "480", "click", "1"]);
     let rendered_since = |log: &str| {
         log.get(before..)
             .is_some_and(|l| l.contains("rendered volume frame"))
@@ -113,11 +116,16 @@ fn a_strategy_carried_over_while_busy_is_timed_once_the_user_is_quiet() {
     };
     let log = wait_for_log_count(&log_path, &rendered_since, 1, Duration::from_secs(120));
     assert!(log.is_some(), "no frame after statistics were turned on");
-    // Then "jittered ray starts": a setting of the choice's inputs, clicked, so the frame goes out
-    // with the last choice carried over (unless the window, slowed down, starts it only once the
-    // user is quiet: then it is timed at once, and nothing is left to time again).
+    // Then the side panel's Quality › Fast (tests/snapshots/side_panel.png): settings of the
+    // choice's inputs, clicked, so the frame goes out with the last choice carried over (unless
+    // the window, slowed down, starts it only once the user is quiet: then it is timed at once,
+    // and nothing is left to time again).
+    xdotool(&x.display, &["key", "Escape"]);
+    std::thread::sleep(Duration::from_millis(400));
     let before = std::fs::read_to_string(&log_path).unwrap_or_default().len();
-    xdotool(&x.display, &["mousemove", "1016", "321", "click", "1"]);
+    xdotool(&x.display, &["mousemove", "1080", "87", "click", "1"]);
+    std::thread::sleep(Duration::from_millis(400));
+    xdotool(&x.display, &["mousemove", "1058", "114", "click", "1"]);
     let log = wait_for_log_count(&log_path, &timed, 2, Duration::from_secs(240));
     quit(&x.display, &mut app);
     let log = std::fs::read_to_string(&log_path).unwrap_or(log.unwrap_or_default());
@@ -302,10 +310,10 @@ fn a_click_while_refining_reaches_the_item_under_the_pointer() {
     // The side panel's "Transfer function" combo box and, once open, its first item "ct-bone"
     // (the 1280×800 window at the screen's corner, the panel 320 points wide; see
     // tests/snapshots/side_panel.png for the layout): clicked as a person would, 0.4 s apart.
-    xdotool(&x.display, &["mousemove", "1056", "61", "click", "1"]);
+    xdotool(&x.display, &["mousemove", "1080", "61", "click", "1"]);
     std::thread::sleep(Duration::from_millis(400));
     let clicked_at = now_of_day();
-    xdotool(&x.display, &["mousemove", "1045", "88", "click", "1"]);
+    xdotool(&x.display, &["mousemove", "1058", "88", "click", "1"]);
     let log = wait_for_log(
         &log_path,
         "transfer function preset ct-bone",
