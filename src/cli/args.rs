@@ -10,13 +10,20 @@ use super::parse::{parse_dims, parse_size, parse_vec3, parse_window};
 
 /// LeapView: GPU volume ray casting for CT and MRI with empty-space leaping.
 #[derive(Parser, Debug)]
-#[command(version, about, args_conflicts_with_subcommands = true)]
+#[command(
+    version,
+    about,
+    args_conflicts_with_subcommands = true,
+    after_help = "Formats: NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), DICOM (file or folder),\n\
+                  MetaImage (.mha, .mhd), raw (any file, with --dims and --type).\n\
+                  Without a command, the viewer window opens: with FILE, else a generated head phantom.\n\
+                  Run 'leapview <COMMAND> -h' for a command's options, --help for all of them."
+)]
 pub struct Cli {
     /// What to do; without a command, the viewer window opens.
     #[command(subcommand)]
     pub command: Option<Command>,
-    /// Volume to open in the window (NRRD, NIfTI, raw); without one, a generated Shepp–Logan head
-    /// phantom opens.
+    /// Volume file or DICOM folder to open in the window (formats below).
     pub file: Option<PathBuf>,
     /// Layout of a raw file.
     #[command(flatten)]
@@ -26,49 +33,73 @@ pub struct Cli {
 /// Subcommands.
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Render a volume to a PNG or EXR file without a window.
+    /// Render a volume to a PNG or EXR image without a window.
+    #[command(after_help = SHORT_AND_LONG_HELP)]
     Render(Box<RenderArgs>),
-    /// Print a volume's dimensions, spacing, type, value range and histogram summary.
+    /// Print a volume's dimensions, spacing, type, value range and histogram.
+    ///
+    /// For a DICOM folder, also every series found in it (numbered as --series takes them).
     Info(InfoArgs),
-    /// Benchmark strategies, modes and paths on the configured datasets (Tables 1 and 2).
+    /// Time strategies, modes and paths on the benchmark's datasets.
+    ///
+    /// Writes Tables 1 and 2 of the paper (frame times of each strategy, mode and path; the
+    /// leaping structures' rebuild times), plots, and an image check into the output folder.
     Bench(Box<super::bench::BenchArgs>),
-    /// What each quality knob (step, opacity correction, termination, gradients, iso refinement,
-    /// jitter, pre-integration, texel precision) costs in GPU time and buys in error against a
-    /// reference; tables and Pareto plots.
+    /// Measure what each quality knob costs in GPU time and buys in error.
+    ///
+    /// The knobs: step, opacity correction, termination, gradients, iso refinement, jitter,
+    /// pre-integration and texel precision. Errors are against a reference rendering; the
+    /// results are written as tables and Pareto plots.
     Accuracy(Box<super::accuracy::AccuracyArgs>),
-    /// Write one of the generated volumes (the window's phantom and vessel tree, the benchmark's
-    /// scenes) to a NRRD file, to try every command without data of your own.
+    /// Write a generated test volume to a NRRD file or a DICOM series.
+    ///
+    /// The window's phantom and vessel tree and the benchmark's scenes, to try every command
+    /// without data of your own.
     Generate(GenerateArgs),
-    /// Write a slice through a volume to a PNG: axial, coronal, sagittal or oblique, in the
-    /// patient's frame, grey through a window (what a slice view shows).
+    /// Write a slice or a thick slab through a volume to a PNG.
+    ///
+    /// Axial, coronal, sagittal or oblique, in the patient's frame, grey through a window (what
+    /// the window's slice views show), optionally coloured by a transfer function.
+    #[command(after_help = SHORT_AND_LONG_HELP)]
     Slice(SliceArgs),
-    /// What the GPU's driver says of each compute ray-casting variant once compiled (registers,
-    /// instructions, spills, shared memory): why one strategy costs more per sample than another.
+    /// Show the driver's statistics for each compiled ray-casting shader.
+    ///
+    /// Registers, instructions, spills and shared memory of each compute (and fragment) variant
+    /// once compiled: why one strategy costs more per sample than another.
     Shaders(ShadersArgs),
 }
+
+/// Closing line of the help of the commands that hide their rarer options from `-h`.
+const SHORT_AND_LONG_HELP: &str =
+    "-h shows the common options; --help shows all of them, with details.";
 
 /// `leapview shaders`.
 #[derive(Args, Debug)]
 pub struct ShadersArgs {
-    /// Modes (default: all).
+    /// Modes, comma-separated (default: all).
     #[arg(long, value_enum, value_delimiter = ',')]
     pub modes: Vec<Mode>,
-    /// Strategies (default: rc-t, rc-s, rc-s-df; MIP and MinIP take rc-s for rc-s-df; auto
-    /// stands for the two it chooses between, rc-t and the mode's leaping one).
+    /// Strategies, comma-separated (default: rc-t, rc-s, rc-s-df).
+    ///
+    /// MIP and MinIP take rc-s for rc-s-df; auto stands for the two it chooses between, rc-t and
+    /// the mode's leaping strategy.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub strategies: Vec<Strategy>,
-    /// Image sizes: the variant depends on the size (rays of images up to 2^19 pixels are split
-    /// into parts).
+    /// Image sizes WxH, comma-separated.
+    ///
+    /// The compute variant depends on the size: the rays of images up to 2^19 pixels are split
+    /// into parts.
     #[arg(long, value_delimiter = ',', value_parser = parse_size, default_values = ["512x512", "1920x1080"])]
     pub sizes: Vec<[u32; 2]>,
-    /// Unlit DVR and isosurfaces (default: Phong, as the window and the benchmark).
+    /// Unlit DVR and isosurfaces (default: Phong lighting, as the window and the benchmark).
     #[arg(long)]
     pub unlit: bool,
-    /// Ray-loop paths: the compute shader, the fragment shader of the paper's single pass (its
-    /// variant does not depend on the image size), or both (`auto` is not a path here).
+    /// Ray-loop paths, comma-separated (auto is not a path here).
+    ///
+    /// The fragment variant does not depend on the image size.
     #[arg(long, value_enum, value_delimiter = ',', default_values = ["compute", "fragment"])]
     pub paths: Vec<leapview::settings::RenderPath>,
-    /// The Vulkan device whose name contains this (default: a discrete GPU first).
+    /// Use the Vulkan device whose name contains this (default: a discrete GPU first).
     #[arg(long)]
     pub device: Option<String>,
     /// Print JSON instead of a table.
@@ -90,68 +121,76 @@ pub enum SlabModeArg {
 /// `leapview slice`.
 #[derive(Args, Debug)]
 pub struct SliceArgs {
-    /// The volume (any file or folder `leapview info` opens).
+    /// Volume file or DICOM folder (any that leapview info opens).
     pub file: PathBuf,
-    /// The plane: `axial`, `coronal`, `sagittal`, or its normal `N1,N2,N3` in the patient's
-    /// frame (LPS: x to the patient's left, y to the back, z to the head) for an oblique plane.
+    /// Plane: axial, coronal, sagittal, or an oblique plane's normal N1,N2,N3.
+    ///
+    /// The normal is in the patient's frame, LPS: x to the patient's left, y to the back, z to
+    /// the head.
     #[arg(long, default_value = "axial", allow_hyphen_values = true)]
     pub plane: String,
-    /// A point the plane passes through, `X,Y,Z` in the file's patient millimetres (LPS, as
-    /// `leapview info` reports the origin and extent). Default: the volume's centre.
+    /// A point X,Y,Z (mm) the plane passes through (default: the volume's centre).
+    ///
+    /// In the file's patient millimetres, LPS, as leapview info reports the origin and extent.
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub at: Option<[f64; 3]>,
     /// Output PNG.
     #[arg(long)]
     pub out: PathBuf,
-    /// Window `LO,HI` in data units (HU for CT) mapped to black..white. Default: the header's
-    /// (DICOM), else the data's (0.1 to 99.9 percentile).
+    /// Window LO,HI in data units (HU for CT) mapped to black..white.
+    ///
+    /// Default: the header's (DICOM), else the data's 0.1 to 99.9 percentile.
     #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
     pub window: Option<[f64; 2]>,
-    /// Image size `WxH`: the slice's extent fills it with square pixels. Default: one pixel per
-    /// voxel at the volume's finest spacing.
+    /// Image size WxH (default: one pixel per voxel at the finest spacing).
+    ///
+    /// The slice's extent fills the image with square pixels.
     #[arg(long, value_parser = parse_size)]
     pub size: Option<[u32; 2]>,
-    /// The nearest voxel's value instead of trilinear interpolation.
+    /// Take the nearest voxel's value instead of interpolating trilinearly.
     #[arg(long)]
     pub nearest: bool,
-    /// Grey inverted (low values white), as a radiograph stored MONOCHROME1 is shown by default;
-    /// `--invert no` shows such a file the other way.
+    /// Show the grey inverted, low values white (default: MONOCHROME1 files only).
+    ///
+    /// A radiograph stored as MONOCHROME1 is shown inverted unless --invert no; --invert yes
+    /// inverts any other file.
     #[arg(long, value_name = "yes|no")]
     pub invert: Option<YesNo>,
-    /// Trilinear interpolation with exact f32 weights from eight texel loads (the tests'
-    /// variant) instead of the texture unit's filter, which the window shows (its weights have
-    /// 8 fractional bits on most GPUs).
-    #[arg(long)]
+    /// Interpolate with exact f32 weights from eight texel loads (as the tests do) instead of the
+    /// texture unit's filter that the window uses, whose weights have 8 fractional bits on most
+    /// GPUs.
+    #[arg(long, hide_short_help = true)]
     pub exact: bool,
-    /// A slab takes every sample instead of leaping over the bricks that cannot change it (for
-    /// timing the difference).
-    #[arg(long)]
+    /// A slab takes every sample instead of leaping over the blocks that cannot change it (to time
+    /// what leaping saves).
+    #[arg(long, hide_short_help = true)]
     pub no_leap: bool,
-    /// Colour the slice by a transfer function (`auto`: the one `render` would choose, a preset
-    /// name or a JSON file): its colour blended over the grey by its opacity, so what it hides
-    /// stays grey; writes an RGB PNG.
+    /// Colour by a transfer function: auto, a preset name or a JSON file.
+    ///
+    /// auto is the one leapview render would choose. Its colour is blended over the grey by its
+    /// opacity, so what it hides stays grey; the PNG is then RGB.
     #[arg(long)]
     pub tf: Option<String>,
-    /// A thick slab of this many millimetres centred on the plane, its samples combined by
-    /// `--mode`.
+    /// A thick slab of this many millimetres centred on the plane.
+    ///
+    /// Its samples are combined as --mode says.
     #[arg(long)]
     pub slab: Option<f64>,
     /// How a slab's samples combine.
     #[arg(long, value_enum, default_value_t = SlabModeArg::Mip)]
     pub mode: SlabModeArg,
-    /// Also time the slice on the GPU: this many passes between timestamps, the median per
-    /// slice printed for passes of one slice and of 50 (what one more slice adds, without a
-    /// pass's fixed cost); needs an adapter with timestamp queries.
-    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=1024))]
+    /// Also time the slice on the GPU, this many passes between timestamps: prints the median time
+    /// per slice for passes of one slice and of 50 (what one more slice adds, without a pass's
+    /// fixed cost). Needs an adapter with timestamp queries.
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=1024), hide_short_help = true)]
     pub repeat: u32,
 }
 
 /// A yes or a no.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum YesNo {
-    /// Yes.
+    // No doc comments: clap would list "yes: Yes" and "no: No" under --help.
     Yes,
-    /// No.
     No,
 }
 
@@ -174,19 +213,22 @@ pub struct GenerateArgs {
     /// Which volume.
     #[arg(value_enum)]
     pub what: Generated,
-    /// Output file: `.nrrd` (gzip, one file), or `.nhdr` (a header, and the samples raw and
-    /// little-endian in a `.raw` file of the same name), or a folder (created if missing, empty
-    /// otherwise) to receive a DICOM series, one uncompressed file per slice.
+    /// Output: a .nrrd or .nhdr file, or a folder for a DICOM series.
+    ///
+    /// .nrrd: one gzip-compressed file. .nhdr: a header, with the samples raw and little-endian
+    /// in a .raw file of the same name. A folder (created if missing, else empty) receives a
+    /// DICOM series, one uncompressed file per slice.
     #[arg(long)]
     pub out: PathBuf,
-    /// DICOM series only: this many slices (the volume's z axis resampled to them, its extent
-    /// kept), e.g. `--size 512 --slices 1000` for a long CT series.
+    /// DICOM series only: this many slices (z resampled, its extent kept).
+    ///
+    /// E.g. --size 512 --slices 1000 for a long CT series.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub slices: Option<u32>,
     /// Samples along each axis (8 to 1024).
     #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(8..=1024))]
     pub size: u32,
-    /// Seed of the vessel tree and the dense head (the same seed, the same volume).
+    /// Seed of the vessel tree and the dense head (same seed, same volume).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
@@ -195,52 +237,64 @@ pub struct GenerateArgs {
 /// patient's orientation where the header has none or states it wrong.
 #[derive(Args, Debug, Clone, Default)]
 pub struct RawArgs {
-    /// Raw files: samples along x, y, z (e.g. `256,256,128`).
-    #[arg(long, value_parser = parse_dims, global = true)]
+    /// Raw files: samples along x, y, z, e.g. 256,256,128.
+    #[arg(long, value_parser = parse_dims, global = true, help_heading = "Input file")]
     pub dims: Option<[u32; 3]>,
     /// Raw files: sample type (uint8, int8, uint16, int16, uint32, int32, float, double).
-    #[arg(long = "type", global = true)]
+    #[arg(long = "type", global = true, help_heading = "Input file")]
     pub scalar_type: Option<String>,
     /// Raw files: voxel spacing in millimetres (default 1,1,1).
-    #[arg(long, value_parser = parse_vec3, global = true)]
+    #[arg(long, value_parser = parse_vec3, global = true, help_heading = "Input file", hide_short_help = true)]
     pub spacing: Option<[f64; 3]>,
-    /// Raw files: samples are big-endian (default little).
-    #[arg(long, global = true)]
+    /// Raw files: samples are big-endian (default little-endian).
+    #[arg(
+        long,
+        global = true,
+        help_heading = "Input file",
+        hide_short_help = true
+    )]
     pub big_endian: bool,
-    /// Where index axes i, j, k point in the patient, in place of the header's orientation: three
-    /// letters, one each of R/L, A/P and S/I (`RAI`: slices run from the top of the head down).
-    #[arg(long, global = true, value_name = "CODE")]
+    /// Where index axes i, j, k point in the patient, replacing the header's orientation: three
+    /// letters, one each of R/L, A/P and S/I (RAI: i to the patient's right, j to the front, k, the
+    /// slices, from the top of the head down).
+    #[arg(
+        long,
+        global = true,
+        help_heading = "Input file",
+        value_name = "CODE",
+        hide_short_help = true
+    )]
     pub orientation: Option<String>,
-    /// DICOM: which series of a folder to open, by its number in `leapview info`'s listing or by
-    /// its SeriesInstanceUID (default: the image series with the most slices, or the series of the
-    /// file named).
-    #[arg(long, global = true, value_name = "N|UID")]
+    /// DICOM: which series of a folder to open, by number or SeriesInstanceUID.
+    ///
+    /// The number is the series' place in leapview info's listing. Default: the image series with
+    /// the most slices, or the series of the file named.
+    #[arg(long, global = true, help_heading = "Input file", value_name = "N|UID")]
     pub series: Option<String>,
-    /// 4-D files (an fMRI time series, diffusion directions in NIfTI): which volume to open,
-    /// counted from 1 (default: the first; `leapview info` says how many there are).
-    #[arg(long, global = true, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    /// 4-D files (an fMRI time series, NIfTI diffusion directions): which volume to open, counted
+    /// from 1 (default: the first; leapview info says how many there are).
+    #[arg(long, global = true, help_heading = "Input file", value_name = "N", value_parser = clap::value_parser!(u32).range(1..), hide_short_help = true)]
     pub volume: Option<u32>,
 }
 
 /// `leapview render`.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// The volume file.
+    /// Volume file or DICOM folder.
     pub file: PathBuf,
-    /// Output image: `.png` (8-bit RGBA) or `.exr` (linear RGBA f32).
+    /// Output image: .png (8-bit RGBA) or .exr (linear RGBA, 32-bit float).
     #[arg(long, short)]
     pub out: PathBuf,
     /// Visual effect.
     #[arg(long, value_enum, default_value = "dvr")]
     pub mode: Mode,
-    /// Ray-casting strategy; `auto` times RC-t and leaping on this frame and renders with the
-    /// faster (a CPU driver takes leaping untimed).
+    /// Ray-casting strategy: how rays save work.
     #[arg(long, value_enum, default_value = "auto")]
     pub strategy: Strategy,
-    /// Where the ray loop runs; `auto` times both once and picks the faster.
-    #[arg(long, value_enum, default_value = "auto")]
+    /// Where the ray loop runs.
+    #[arg(long, value_enum, default_value = "auto", hide_short_help = true)]
     pub path: RenderPath,
-    /// Image size `WxH`.
+    /// Image size WxH in pixels.
     #[arg(long, value_parser = parse_size, default_value = "512x512")]
     pub size: [u32; 2],
     /// Camera placement.
@@ -249,49 +303,57 @@ pub struct RenderArgs {
     /// Effect parameters.
     #[command(flatten)]
     pub effects: super::effect_args::EffectArgs,
-    /// Transfer function: `auto` (chosen from the data: a CT preset for CT, mapped onto scanner
-    /// units where the file is not in HU; the MR default for MR), a preset name, or a JSON file.
+    /// Transfer function: auto, a preset name, or a JSON file.
+    ///
+    /// auto chooses from the data: a CT preset for CT (mapped onto the scanner's units where the
+    /// file is not in HU), the MR default for MR. Presets: ct-bone, ct-skin, ct-soft-tissue,
+    /// ct-angio, ct-brain, mr-default, mr-angio, object, grey-ramp.
     #[arg(long, default_value = "auto")]
     pub tf: String,
-    /// Sample step in units of the smallest voxel spacing.
-    #[arg(long, default_value_t = 0.5)]
+    /// Sample step, in units of the smallest voxel spacing.
+    #[arg(long, default_value_t = 0.5, help_heading = "Quality")]
     pub step: f64,
-    /// Jittered ray starts: each pixel's first sample at a stable per-pixel offset (against
-    /// wood-grain rings at coarse steps).
-    #[arg(long)]
+    /// Jitter ray starts per pixel: fine noise instead of wood-grain rings.
+    #[arg(long, help_heading = "Quality")]
     pub jitter: bool,
-    /// RC-t stops once accumulated opacity exceeds this.
-    #[arg(long, default_value_t = leapview::settings::DEFAULT_TERMINATION_ALPHA)]
+    /// Stop a ray (RC-t and the leaping strategies) once its opacity exceeds this.
+    #[arg(long, default_value_t = leapview::settings::DEFAULT_TERMINATION_ALPHA, help_heading = "Quality", hide_short_help = true)]
     pub termination: f64,
-    /// Pre-integrated classification (DVR): thin transfer-function features survive large steps.
-    #[arg(long)]
+    /// Pre-integrated classification (DVR): thin features survive large steps.
+    #[arg(long, help_heading = "Quality")]
     pub preintegrate: bool,
-    /// A quality preset (docs/accuracy): sets the step, termination, jitter, pre-integration,
-    /// gradients and iso refinement (--gradient and --iso-refine still override it).
-    #[arg(long, value_enum, conflicts_with_all = ["step", "termination", "jitter", "preintegrate"])]
+    /// Quality preset: sets the step, jitter, gradients and more.
+    ///
+    /// It decides the step, termination, jitter, pre-integration, gradients, iso refinement and
+    /// lighting threshold. --gradient, --iso-refine and --light-min-weight override it; --step,
+    /// --termination, --jitter and --preintegrate cannot be combined with it.
+    #[arg(long, value_enum, conflicts_with_all = ["step", "termination", "jitter", "preintegrate"], help_heading = "Quality")]
     pub quality: Option<leapview::settings::QualityPreset>,
-    /// Texel precision of the volume texture (auto: exact integers, f32 for floats).
-    #[arg(long, value_enum, default_value = "auto")]
+    /// Texel precision of the volume texture.
+    #[arg(
+        long,
+        value_enum,
+        default_value = "auto",
+        help_heading = "Quality",
+        hide_short_help = true
+    )]
     pub precision: leapview::settings::TexturePrecision,
-    /// Edge of the leaping blocks in voxels (RC-s, RC-s-df): 4, 8, 16, 32, 64 or 128 (default:
-    /// the edge measured fastest for the mode and strategy, 16 for the octree in isosurface,
-    /// MIP, MinIP and X-ray modes, else 4).
-    #[arg(long)]
+    /// Edge of the leaping blocks (RC-s, RC-s-df) in voxels: 4, 8, 16, 32, 64 or 128.
+    ///
+    /// Default: the edge measured fastest for the mode and strategy: 16 for the octree (RC-s) in
+    /// isosurface, MIP, MinIP and X-ray modes, else 4.
+    #[arg(long, help_heading = "Quality", hide_short_help = true)]
     pub block: Option<u32>,
-    /// Background colour `R,G,B` in 0..1.
-    #[arg(long, value_parser = parse_vec3, default_value = "0,0,0")]
+    /// Background colour R,G,B, each in 0..1.
+    #[arg(long, value_parser = parse_vec3, default_value = "0,0,0", hide_short_help = true)]
     pub background: [f64; 3],
-    /// Cropping box in voxel edges `x0:x1,y0:y1,z0:z1` (voxel i spans i..i+1, so
-    /// `0:NX,0:NY,0:NZ` is the whole volume): rays see only what lies inside it.
+    /// Crop to voxel edges x0:x1,y0:y1,z0:z1 (0:NX,0:NY,0:NZ keeps all).
     #[arg(long)]
     pub crop: Option<String>,
-    /// Progressive refinement: the mean of this many frames with their sample grids shifted
-    /// along the rays (as the window's "Refine when still"); 1 renders one frame.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    /// Average this many frames with shifted sample grids (1: one frame).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024), help_heading = "Quality")]
     pub refine: u32,
-    /// Print samples taken, samples with non-zero opacity (what any leaping scheme must still
-    /// take), empty regions leapt, rays, and GPU milliseconds (median of several frames after a
-    /// warm-up) including the leaping structures' rebuild.
+    /// Print sample counts, leaps and the GPU time of the frame.
     #[arg(long)]
     pub stats: bool,
 }
@@ -300,41 +362,55 @@ pub struct RenderArgs {
 #[derive(Args, Debug, Clone)]
 pub struct CameraArgs {
     /// Perspective or orthographic projection.
-    #[arg(long, value_enum, default_value = "perspective")]
+    #[arg(
+        long,
+        value_enum,
+        default_value = "perspective",
+        help_heading = "Camera"
+    )]
     pub projection: ProjectionKind,
-    /// Look at the patient from a side (`A`, `P`, `L`, `R`, `S`, `I`, by the file's orientation,
-    /// RAS where it has none), along an axis of the volume (`+x`, `-x`, `+y`, `-y`, `+z`, `-z`),
-    /// or `oblique`. The default, `A`, is the patient from the front, superior up, as the window
-    /// opens.
-    #[arg(long, allow_hyphen_values = true, default_value = "A")]
+    /// View from a patient side (A, P, L, R, S, I), a volume axis (+x … -z), or oblique.
+    ///
+    /// A, P, L, R, S and I look at the patient from the front, back, left, right, top and
+    /// bottom, by the file's orientation (RAS where it has none); +x, -x, +y, -y, +z and -z
+    /// look along an axis of the volume. A, the default, shows the patient from the front, head
+    /// up, as the window opens.
+    #[arg(
+        long,
+        allow_hyphen_values = true,
+        default_value = "A",
+        help_heading = "Camera"
+    )]
     pub view: String,
-    /// Orbit azimuth in degrees (0 looks along +y; overrides --view).
-    #[arg(long, allow_hyphen_values = true)]
+    /// Orbit azimuth in degrees; 0 looks along +y (overrides --view).
+    #[arg(long, allow_hyphen_values = true, help_heading = "Camera")]
     pub azimuth: Option<f64>,
-    /// Orbit elevation in degrees (with --azimuth; default 0).
-    #[arg(long, allow_hyphen_values = true)]
+    /// Orbit elevation in degrees, with --azimuth (default 0).
+    #[arg(long, allow_hyphen_values = true, help_heading = "Camera")]
     pub elevation: Option<f64>,
-    /// Explicit eye position `X,Y,Z` in world millimetres (voxel centre (i,j,k) at (i·sx, j·sy, k·sz)).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    /// Eye position X,Y,Z in world millimetres, where voxel (i, j, k) lies at (i·sx, j·sy, k·sz).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, help_heading = "Camera", hide_short_help = true)]
     pub eye: Option<[f64; 3]>,
     /// Point looked at, with --eye (default: the volume's centre).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, help_heading = "Camera", hide_short_help = true)]
     pub target: Option<[f64; 3]>,
-    /// Up direction, with --eye (default +z, or −y when looking along z).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    /// Up direction, with --eye (default +z, or -y when looking along z).
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true, help_heading = "Camera", hide_short_help = true)]
     pub up: Option<[f64; 3]>,
-    /// Vertical field of view in degrees (perspective).
-    #[arg(long)]
+    /// Vertical field of view in degrees (perspective projection only).
+    #[arg(long, help_heading = "Camera")]
     pub fov: Option<f64>,
 }
 
 /// `leapview info`.
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// The volume file.
+    /// Volume file or DICOM folder.
     pub file: PathBuf,
-    /// Also report the share of voxels this transfer function (preset or JSON file) makes
-    /// fully transparent.
+    /// Also report the share of voxels this transfer function makes transparent.
+    ///
+    /// A preset name or a JSON file; a voxel counts when the function gives its value no
+    /// opacity at all.
     #[arg(long)]
     pub tf: Option<String>,
     /// Print JSON instead of text.

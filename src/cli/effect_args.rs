@@ -10,37 +10,46 @@ use super::parse::{parse_vec3, parse_window};
 /// Effect parameters; each flag left out keeps the renderer's default.
 #[derive(Args, Debug, Clone, Default)]
 pub struct EffectArgs {
-    /// Isosurface value in data units (HU for CT); default: the middle of the value range.
-    #[arg(long, allow_hyphen_values = true)]
+    /// Isosurface value in data units, HU for CT (default: mid-range).
+    #[arg(long, allow_hyphen_values = true, help_heading = "Mode settings")]
     pub iso: Option<f64>,
-    /// Isosurface refinement steps (false position) between the samples around a hit, 0 to 16.
-    #[arg(long)]
+    /// Isosurface refinement steps (false position) between the two samples around a hit, 0 to 16
+    /// (default 4).
+    #[arg(long, help_heading = "Mode settings", hide_short_help = true)]
     pub iso_refine: Option<u32>,
-    /// Data window `LO,HI` mapped to black..white by MIP, MinIP and X-ray (default: the data's,
-    /// from the 0.1 to the 99.9 percentile of its values).
-    #[arg(long, value_parser = parse_window, allow_hyphen_values = true)]
+    /// Window LO,HI mapped to black..white by MIP, MinIP and X-ray.
+    ///
+    /// Default: the header's, else the 0.1 to 99.9 percentile of the data.
+    #[arg(long, value_parser = parse_window, allow_hyphen_values = true, help_heading = "Mode settings")]
     pub window: Option<[f64; 2]>,
-    /// Per-sample Phong lighting in DVR and isosurface modes.
-    #[arg(long, value_enum)]
+    /// Lighting in DVR and isosurface modes (default: on).
+    #[arg(long, value_enum, help_heading = "Lighting")]
     pub shading: Option<Shading>,
-    /// Light: `headlight` (at the eye) or a direction `X,Y,Z` the light shines along.
-    #[arg(long, value_parser = parse_light, allow_hyphen_values = true)]
+    /// Light: headlight (the default) or a direction X,Y,Z it shines along.
+    #[arg(long, value_parser = parse_light, allow_hyphen_values = true, help_heading = "Lighting")]
     pub light: Option<Light>,
-    /// Phong coefficients `KA,KD,KS,N` (ambient, diffuse, specular, exponent).
-    #[arg(long, value_parser = parse_phong)]
+    /// Phong coefficients KA,KD,KS,N: ambient, diffuse, specular, and the specular exponent
+    /// (default 0.3,0.7,0.25,24).
+    #[arg(long, value_parser = parse_phong, help_heading = "Lighting", hide_short_help = true)]
     pub phong: Option<Phong>,
-    /// Gradient estimator for lighting.
-    #[arg(long, value_enum)]
+    /// Gradient estimator for lighting (default: central).
+    #[arg(long, value_enum, help_heading = "Lighting", hide_short_help = true)]
     pub gradient: Option<GradientScheme>,
-    /// DVR: composite samples whose weight in the pixel, α·(1 − opacity in front), is below
-    /// this unlit, skipping their gradients (0: light every sample).
-    #[arg(long)]
+    /// DVR: composite samples whose weight in the pixel, α·(1 − opacity in front), is below this
+    /// unlit, skipping their gradients (default 0: light every sample).
+    #[arg(long, help_heading = "Lighting", hide_short_help = true)]
     pub light_min_weight: Option<f64>,
-    /// MIP and MinIP colour: grey through the window, or the transfer function's colour.
-    #[arg(long, value_enum)]
+    /// MIP and MinIP colour (default: window).
+    #[arg(
+        long,
+        value_enum,
+        help_heading = "Mode settings",
+        hide_short_help = true
+    )]
     pub mip_color: Option<MipColor>,
-    /// X-ray attenuation per millimetre at the window's top (`xray-attenuation` mode).
-    #[arg(long)]
+    /// X-ray attenuation per millimetre at the window's top, for the xray-attenuation mode (default
+    /// 0.019, about water's at 70 keV).
+    #[arg(long, help_heading = "Mode settings", hide_short_help = true)]
     pub xray_density: Option<f64>,
 }
 

@@ -30,7 +30,7 @@ pub enum Mode {
     MinIp,
     /// Mean of the windowed values along the ray's path inside the volume.
     Xray,
-    /// A radiograph: `1 − exp(−∫μ ds)` with μ proportional to the windowed value.
+    /// A radiograph: 1 − exp(−∫μ ds), with μ proportional to the windowed value.
     #[value(name = "xray-attenuation")]
     XrayAttenuation,
 }
@@ -73,19 +73,23 @@ pub enum Strategy {
     /// RC-t: stop once the accumulated opacity passes the termination threshold.
     #[value(name = "rc-t")]
     RcT,
-    /// RC-s: RC-t plus empty-space leaping over the min/max octree, climbing to the coarsest
-    /// empty node (the paper's hierarchical leaping).
+    /// RC-s: RC-t plus leaping over empty space by a min/max octree (the paper's).
+    ///
+    /// A ray climbs to the coarsest empty node: the paper's hierarchical leaping.
     #[value(name = "rc-s")]
     RcS,
-    /// RC-s with a distance field over blocks: one step clears the whole cube of blocks the
-    /// field proves empty (beyond the paper). On the H200 the fastest of the three on most
-    /// volumes of the benchmark, but RC-t can be faster where little can be skipped (dense
-    /// volumes, small images: docs/benchmarks; `auto` times both). The field is two-sided: a
-    /// ray also takes every sample of a cube of blocks that all matter without asking about
-    /// each. It leaps by the transfer function, the X-ray window or the iso value (one field per
-    /// side of it); MIP and MinIP leap by the octree as RC-s does.
+    /// RC-s with a distance field over blocks: one step clears a whole cube of empty blocks.
+    ///
+    /// Beyond the paper: one step clears the whole cube of blocks the field proves empty. On the
+    /// H200 the fastest of the three on most volumes of the benchmark, but RC-t can be faster
+    /// where little can be skipped (dense volumes, small images: docs/benchmarks; `auto` times
+    /// both). The field is two-sided: a ray also takes every sample of a cube of blocks that all
+    /// matter without asking about each. It leaps by the transfer function, the X-ray window or
+    /// the iso value (one field per side of it); MIP and MinIP leap by the octree as RC-s does.
     #[value(name = "rc-s-df")]
     RcSDistance,
+    /// RC-t or the mode's leaping strategy, whichever is timed faster on this GPU.
+    ///
     /// The default: RC-t or the mode's leaping strategy ([`Strategy::leaping`]), whichever renders
     /// this volume, transfer function, mode and image size faster on this GPU, timed when they
     /// change (`render::raycast::auto_strategy`); both give the same image (within 1/255). A CPU
@@ -152,12 +156,13 @@ impl Strategy {
 /// Which entry point runs the ray loop. Both share the same WGSL marching function.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]
 pub enum RenderPath {
-    /// Time both on the adapter once and use the faster; on a CPU driver, the compute path
-    /// (`render::raycast::auto_path`).
+    /// Time both once on this GPU and use the faster (a CPU driver takes compute).
+    ///
+    /// Resolved by `render::raycast::auto_path`.
     Auto,
     /// The paper's single pass: the ray loop runs in the fragment shader of the front faces.
     Fragment,
-    /// Entry and exit points are rasterised, then a compute shader runs the ray loop.
+    /// A compute shader runs the ray loop, each pixel's ray intersected with the volume's box.
     Compute,
 }
 

@@ -11,8 +11,9 @@ use serde::{Deserialize, Serialize};
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum TexturePrecision {
-    /// Exact integers in unorm texels, floats in 32-bit float texels, falling back to what the
-    /// adapter filters.
+    /// Exact integers in unorm texels, floats in 32-bit float texels (where the GPU filters them).
+    ///
+    /// Where the adapter cannot filter the exact format, it falls back to one that it can.
     #[default]
     Auto,
     /// 8-bit unorm: 256 levels over the value range (exact for 8-bit data).

@@ -12,15 +12,19 @@ use super::{DEFAULT_TERMINATION_ALPHA, RenderSettings};
 )]
 #[serde(rename_all = "lowercase")]
 pub enum QualityPreset {
-    /// One-voxel steps, early stop at 99 %, central gradients, jittered starts: 1.7–2.6× faster
-    /// than Balanced for 2.5–4.2× its RMSE on the scans (H100, docs/accuracy).
+    /// One-voxel steps, early stop at 99 %, central gradients, jittered starts.
+    ///
+    /// 1.7–2.6× faster than Balanced for 2.5–4.2× its RMSE on the scans (H100, docs/accuracy).
     Fast,
-    /// Half-voxel steps, fourth-order gradients: on the front of every dataset, 1.4–3.1× less
-    /// RMSE on the scans than the same step with central differences for 4–27 % more time.
+    /// Half-voxel steps, fourth-order gradients, four iso refinements.
+    ///
+    /// On the Pareto front of every dataset: 1.4–3.1× less RMSE on the scans than the same step
+    /// with central differences for 4–27 % more time.
     #[default]
     Balanced,
-    /// Eighth-voxel pre-integrated steps, fourth-order gradients, eight iso refinements: 4–6×
-    /// the time of Balanced for 1.7–4.1× less RMSE on the scans and 8–26× less on thin
+    /// Eighth-voxel pre-integrated steps, fourth-order gradients, eight iso refinements.
+    ///
+    /// 4–6× the time of Balanced for 1.7–4.1× less RMSE on the scans and 8–26× less on thin
     /// transfer-function features.
     Reference,
 }

@@ -416,6 +416,12 @@ pub fn resolve(arg: &str, kind: &DataKind) -> Result<Resolved, TransferError> {
             "transfer function {name}, mapped onto scanner units"
         )),
         (false, true) => Some(format!("{name} mapped onto scanner units")),
+        // A CT preset's points are Hounsfield units: on other values they land anywhere.
+        _ if name.starts_with("ct-") && !kind.is_ct() => Some(format!(
+            "{name} is for CT in Hounsfield units, and these values are {} (try {})",
+            kind.short_label(),
+            kind.default_preset()
+        )),
         _ => None,
     };
     Ok(Resolved {
@@ -429,6 +435,20 @@ pub fn resolve(arg: &str, kind: &DataKind) -> Result<Resolved, TransferError> {
 mod tests {
     use super::*;
     use crate::volume::stats::HISTOGRAM_BINS;
+
+    #[test]
+    fn a_ct_preset_on_other_data_says_so() {
+        let mr = DataKind::Mr { angio: false };
+        let note = resolve("ct-brain", &mr).expect("preset").note;
+        assert_eq!(
+            note.as_deref(),
+            Some(
+                "ct-brain is for CT in Hounsfield units, and these values are MR (try mr-default)"
+            )
+        );
+        let ct = DataKind::CtHounsfield { angio: false };
+        assert_eq!(resolve("ct-brain", &ct).expect("preset").note, None);
+    }
 
     /// A histogram over `range` with Gaussian peaks `(centre, width, voxels)`.
     fn peaks(range: ValueRange, peaks: &[(f64, f64, f64)]) -> Histogram {

@@ -625,3 +625,108 @@ fn render_writes_a_2d_colour_image_as_stored_in_its_colours() {
         "largest difference from pydicom's pixels: {worst} levels"
     );
 }
+
+/// `-h` and `--help` of the program and of every command: `-h` fits a terminal screen, neither
+/// shows Rust code paths or intra-doc links, and the top level names every file format.
+mod help {
+    use crate::common::leapview;
+
+    /// The most lines `-h` may print: a terminal screen.
+    const SCREEN_LINES: usize = 50;
+
+    /// Runs `leapview ARGS` and returns what it printed, which must be help.
+    fn help_text(args: &[&str]) -> String {
+        let o = leapview(args);
+        assert!(
+            o.status.success(),
+            "leapview {}: {}",
+            args.join(" "),
+            String::from_utf8_lossy(&o.stderr)
+        );
+        String::from_utf8(o.stdout).expect("help is UTF-8")
+    }
+
+    /// The commands the top-level help lists under "Commands:" (without `help` itself).
+    fn commands() -> Vec<String> {
+        let text = help_text(&["-h"]);
+        let commands: Vec<String> = text
+            .lines()
+            .skip_while(|l| *l != "Commands:")
+            .skip(1)
+            .take_while(|l| !l.trim().is_empty())
+            .filter_map(|l| l.split_whitespace().next())
+            .filter(|c| *c != "help")
+            .map(String::from)
+            .collect();
+        for expected in [
+            "render", "info", "bench", "accuracy", "generate", "slice", "shaders",
+        ] {
+            assert!(
+                commands.iter().any(|c| c == expected),
+                "{expected} missing from {commands:?}"
+            );
+        }
+        commands
+    }
+
+    /// Fails if `text` (the help of `what`) shows a Rust path, an intra-doc link or Markdown code.
+    fn assert_no_code(what: &str, text: &str) {
+        for bad in ["::", "[`", "`"] {
+            let line = text.lines().find(|l| l.contains(bad));
+            assert!(
+                line.is_none(),
+                "{what} shows {bad:?}: {}",
+                line.unwrap_or("")
+            );
+        }
+    }
+
+    #[test]
+    fn short_help_fits_a_screen_and_no_help_shows_code_paths() {
+        let mut invocations = vec![vec![]];
+        invocations.extend(commands().into_iter().map(|c| vec![c]));
+        for words in invocations {
+            let mut short: Vec<&str> = words.iter().map(String::as_str).collect();
+            let mut long = short.clone();
+            short.push("-h");
+            long.push("--help");
+            let what = format!("leapview {}", short.join(" "));
+            let text = help_text(&short);
+            let lines = text.lines().count();
+            assert!(
+                lines <= SCREEN_LINES,
+                "{what} prints {lines} lines, more than {SCREEN_LINES}:\n{text}"
+            );
+            assert_no_code(&what, &text);
+            let what = format!("leapview {}", long.join(" "));
+            let long_text = help_text(&long);
+            assert_no_code(&what, &long_text);
+            assert!(
+                long_text.lines().count() >= lines,
+                "{what} is shorter than -h"
+            );
+        }
+    }
+
+    #[test]
+    fn top_level_help_names_every_format() {
+        for flag in ["-h", "--help"] {
+            let text = help_text(&[flag]);
+            for format in [
+                "NRRD",
+                ".nhdr",
+                "NIfTI",
+                ".nii.gz",
+                "DICOM",
+                "MetaImage",
+                ".mha",
+                "raw",
+            ] {
+                assert!(
+                    text.contains(format),
+                    "leapview {flag} does not name {format}:\n{text}"
+                );
+            }
+        }
+    }
+}

@@ -1,15 +1,19 @@
-//! Every command in README.md's `sh` blocks, run as a user would, in order, in one empty folder
-//! (later commands use the files earlier ones wrote), joined by `&&` as a shell would. Each must
-//! succeed, and every PNG a command writes must show something besides its background.
+//! Every command in the `sh` blocks of README.md and then of docs/USER-GUIDE.md, run as a user
+//! would, in order, in one empty folder (later commands use the files earlier ones wrote: the
+//! guide's use the `phantom.nrrd` and `vessels.nrrd` the README's first commands write), joined
+//! by `&&` as a shell would. Each must succeed, and every PNG a command writes must show something
+//! besides its background. `text` blocks and other Markdown files are not run.
 //!
 //! What is substituted, and why:
 //! - `leapview` and `target/release/leapview`: the binary this test suite built (a debug build:
 //!   the same code).
-//! - `cargo build --release` and `cargo install --path .`: not run; the suite's own build stands
-//!   for them (a release build takes about nine minutes on two cores, and CI builds once).
+//! - `cargo build …` and `cargo install …` (`--release`, `--locked`, `--path .`): not run; the
+//!   suite's own build stands for them (a release build takes minutes on two cores, and CI builds
+//!   once).
 //! - `cargo test …`: not run: it is this test suite.
-//! - `cargo run --release [-- ARGS]`: the binary's window (with ARGS) on a virtual X server, closed
-//!   by itself after its first frame (`LEAPVIEW_EXIT_AFTER_FRAMES=1`).
+//! - `cargo run [--release] [--locked] [-- ARGS]`: the binary's window (with ARGS) on a virtual X
+//!   server, closed by itself after its first frame (`LEAPVIEW_EXIT_AFTER_FRAMES=1`).
+//! - `xvfb-run -a COMMAND`: COMMAND as above; the window runs on this test's own virtual X server.
 //! - `scripts/setup-debian.sh [--tests]`: with `--check` added, so that it installs nothing and
 //!   fails if anything is missing (CI ran it before the tests).
 //! - `../shared/data`: the team's data folder ([`common::data_dir`], `$LEAPVIEW_DATA_DIR` where
@@ -24,7 +28,7 @@ use std::time::{Duration, Instant};
 
 use leapview::imaging::ImageF32;
 
-/// The commands of README.md's `sh` blocks: comments dropped, continued lines joined, `&&`
+/// The commands of a Markdown file's `sh` blocks: comments dropped, continued lines joined, `&&`
 /// chains split, each a list of words.
 fn readme_commands(text: &str) -> Vec<Vec<String>> {
     let mut commands = Vec::new();
@@ -58,7 +62,7 @@ fn readme_commands(text: &str) -> Vec<Vec<String>> {
     }
     assert!(
         line.is_empty(),
-        "README ends inside a continued line: {line}"
+        "the text ends inside a continued line: {line}"
     );
     commands
 }
@@ -94,7 +98,7 @@ fn words(command: &str) -> Vec<String> {
     out
 }
 
-/// What a README command stands for here.
+/// What a documented command stands for here.
 enum Run {
     /// The `leapview` binary with these arguments.
     Leapview(Vec<String>),
@@ -120,6 +124,18 @@ fn substitute(words: &[String], data: &str) -> (Vec<(String, String)>, Run) {
         env.push((name.to_string(), value.to_string()));
         rest.remove(0);
     }
+    // `xvfb-run` starts a virtual X server for the command after it; the window below always runs
+    // on one of this test's own.
+    if rest.first().is_some_and(|w| w == "xvfb-run") {
+        rest.remove(0);
+        while let Some(flag) = rest.first().filter(|w| w.starts_with('-')) {
+            assert!(
+                flag == "-a" || flag == "--auto-servernum",
+                "the docs run xvfb-run {flag}: say here what stands for it"
+            );
+            rest.remove(0);
+        }
+    }
     let args = |from: usize| rest[from..].to_vec();
     let run = match rest.first().map(String::as_str) {
         Some("leapview" | "target/release/leapview") => Run::Leapview(args(1)),
@@ -133,7 +149,7 @@ fn substitute(words: &[String], data: &str) -> (Vec<(String, String)>, Run) {
             }
             Some("build" | "install") => Run::Skip("the suite's own build stands for it"),
             Some("test") => Run::Skip("it is this test suite"),
-            other => panic!("README runs cargo {other:?}: say here what stands for it"),
+            other => panic!("the docs run cargo {other:?}: say here what stands for it"),
         },
         Some(script) if script.starts_with("scripts/") => {
             let mut a = args(1);
@@ -142,7 +158,7 @@ fn substitute(words: &[String], data: &str) -> (Vec<(String, String)>, Run) {
             }
             Run::Script(Path::new(env!("CARGO_MANIFEST_DIR")).join(script), a)
         }
-        other => panic!("README runs {other:?}: say here what stands for it"),
+        other => panic!("the docs run {other:?}: say here what stands for it"),
     };
     (env, run)
 }
@@ -155,8 +171,9 @@ fn png_outputs(args: &[String], dir: &Path) -> Vec<PathBuf> {
         .collect()
 }
 
-/// Runs the window with `args` on a virtual X server until it closes itself after one frame.
-fn run_window(args: &[String], dir: &Path) {
+/// Runs the window with `args` and `env` on a virtual X server until it closes itself after one
+/// frame.
+fn run_window(args: &[String], env: &[(String, String)], dir: &Path) {
     let x = common::Xvfb::start();
     let runtime = dir.join("runtime");
     std::fs::create_dir_all(&runtime).expect("runtime folder");
@@ -164,6 +181,7 @@ fn run_window(args: &[String], dir: &Path) {
         .window_command(&runtime)
         .args(args)
         .current_dir(dir)
+        .envs(env.iter().map(|(k, v)| (k, v)))
         .env("LEAPVIEW_EXIT_AFTER_FRAMES", "1")
         .stdout(Stdio::null())
         .stderr(Stdio::null())
@@ -177,17 +195,31 @@ fn run_window(args: &[String], dir: &Path) {
     assert!(status.success(), "the window failed: {status}");
 }
 
+/// The documents whose `sh` blocks are run, in this order, and how many of each one's commands
+/// must at least run (not skipped): fewer means the parser lost some.
+const DOCUMENTS: [(&str, usize); 2] = [("README.md", 10), ("docs/USER-GUIDE.md", 15)];
+
 #[test]
-fn every_command_in_the_readme_runs_and_draws_something() {
-    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md"))
-        .expect("read README.md");
-    let commands = readme_commands(&readme);
-    assert!(commands.len() >= 20, "{} commands found", commands.len());
+fn every_command_in_the_readme_and_the_guide_runs_and_draws_something() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let data = common::data_dir();
     let data = data.to_str().expect("utf-8 path");
     let dir = common::TempDir::new("readme");
+    for (document, at_least) in DOCUMENTS {
+        let text = std::fs::read_to_string(root.join(document))
+            .unwrap_or_else(|e| panic!("read {document}: {e}"));
+        let ran = run_commands(&readme_commands(&text), data, dir.path());
+        assert!(
+            ran >= at_least,
+            "only {ran} commands of {document} ran (at least {at_least} expected)"
+        );
+    }
+}
+
+/// Runs `commands` in `dir`, in order, and checks what they write; returns how many ran.
+fn run_commands(commands: &[Vec<String>], data: &str, dir: &Path) -> usize {
     let mut ran = 0;
-    for words in &commands {
+    for words in commands {
         let shown = words.join(" ");
         let (env, run) = substitute(words, data);
         let (program, args) = match run {
@@ -197,7 +229,7 @@ fn every_command_in_the_readme_runs_and_draws_something() {
             }
             Run::Window(args) => {
                 let started = Instant::now();
-                run_window(&args, dir.path());
+                run_window(&args, &env, dir);
                 eprintln!(
                     "ran in {:.1} s (the window, closed after its first frame): {shown}",
                     started.elapsed().as_secs_f64()
@@ -213,7 +245,7 @@ fn every_command_in_the_readme_runs_and_draws_something() {
             .args(&args)
             .envs(env)
             .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-            .current_dir(dir.path())
+            .current_dir(dir)
             .output()
             .unwrap_or_else(|e| panic!("cannot run {shown}: {e}"));
         assert!(
@@ -223,7 +255,7 @@ fn every_command_in_the_readme_runs_and_draws_something() {
             String::from_utf8_lossy(&out.stdout),
             String::from_utf8_lossy(&out.stderr)
         );
-        for png in png_outputs(&args, dir.path()) {
+        for png in png_outputs(&args, dir) {
             let image = ImageF32::read_png(&png)
                 .unwrap_or_else(|e| panic!("`{shown}` wrote no readable {}: {e}", png.display()));
             let background = image.pixels[0];
@@ -250,17 +282,25 @@ fn every_command_in_the_readme_runs_and_draws_something() {
         eprintln!("ran in {:.1} s: {shown}", started.elapsed().as_secs_f64());
         ran += 1;
     }
-    assert!(ran >= 20, "only {ran} commands ran");
+    ran
 }
 
 #[test]
 fn readme_commands_are_parsed_as_a_shell_would() {
-    let text = "text\n```sh\n# a comment\nVAR=1 cargo run --release -- a.nrrd\nleapview render \"a b.nrrd\" \\\n    --out x.png && leapview info x\n```\n```text\nnot a command\n```\n";
+    let text = "text\n```sh\n# a comment\nVAR=1 cargo run --release --locked -- a.nrrd\nleapview render \"a b.nrrd\" \\\n    --out x.png && leapview info x\n```\n```text\nnot a command\n```\n";
     let commands = readme_commands(text);
     assert_eq!(
         commands,
         [
-            vec!["VAR=1", "cargo", "run", "--release", "--", "a.nrrd"],
+            vec![
+                "VAR=1",
+                "cargo",
+                "run",
+                "--release",
+                "--locked",
+                "--",
+                "a.nrrd"
+            ],
             vec!["leapview", "render", "a b.nrrd", "--out", "x.png"],
             vec!["leapview", "info", "x"],
         ]
@@ -268,6 +308,19 @@ fn readme_commands_are_parsed_as_a_shell_would() {
     let (env, run) = substitute(&commands[0], "/data");
     assert_eq!(env, [("VAR".to_string(), "1".to_string())]);
     assert!(matches!(run, Run::Window(a) if a == ["a.nrrd"]));
+    let (_, run) = substitute(&words("cargo run --release --locked"), "/d");
+    assert!(matches!(run, Run::Window(a) if a.is_empty()));
+    let (env, run) = substitute(&words("xvfb-run -a cargo run --release --locked"), "/d");
+    assert!(env.is_empty());
+    assert!(matches!(run, Run::Window(a) if a.is_empty()));
+    for skipped in [
+        "cargo build --release --locked",
+        "cargo install --locked --path .",
+        "cargo test --locked",
+    ] {
+        let (_, run) = substitute(&words(skipped), "/d");
+        assert!(matches!(run, Run::Skip(_)), "{skipped}");
+    }
     let (_, run) = substitute(&words("leapview info ../shared/data/x.nrrd"), "/d");
     assert!(matches!(run, Run::Leapview(a) if a == ["info", "/d/x.nrrd"]));
     let (_, run) = substitute(&words("scripts/setup-debian.sh --tests"), "/d");

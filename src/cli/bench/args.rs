@@ -15,33 +15,37 @@ pub struct BenchArgs {
     /// Folder holding the configuration's volume files.
     #[arg(long, default_value = "../shared/data")]
     pub data_dir: PathBuf,
-    /// Output folder (default `docs/benchmarks/<adapter>[-quick]`).
+    /// Output folder (default: docs/benchmarks/ADAPTER, or ADAPTER-quick with --quick).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Few views, small images, a subset of datasets and modes (for CPU drivers and CI).
+    /// Few views, small images, some datasets and modes (for CPU drivers and CI).
     #[arg(long)]
     pub quick: bool,
     /// Only these datasets (names from the configuration, comma-separated).
     #[arg(long, value_delimiter = ',')]
     pub datasets: Option<Vec<String>>,
-    /// Only these modes.
+    /// Only these modes, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub modes: Option<Vec<Mode>>,
-    /// Only these strategies.
+    /// Only these strategies, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub strategies: Option<Vec<Strategy>>,
-    /// Only these paths.
+    /// Only these paths, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub paths: Option<Vec<RenderPath>>,
-    /// Block edge in voxels of every run outside the block-size sweep (4, 8, 16, 32, 64 or 128),
-    /// in place of the configuration's `block_vox` (absent there: each mode's default).
+    /// Leaping block edge in voxels: 4, 8, 16, 32, 64 or 128.
+    ///
+    /// For every run outside the block-size sweep, in place of the configuration's block_vox
+    /// (absent there: each mode's default).
     #[arg(long)]
     pub block: Option<u32>,
-    /// Lighting in DVR and isosurfaces, in place of the configuration's `phong`.
+    /// Lighting in DVR and isosurfaces, in place of the configuration's phong.
     #[arg(long, value_enum)]
     pub shading: Option<Shading>,
-    /// Render nothing: merge the `frames.json` of these earlier output folders (comma-separated)
-    /// and write the report into --out.
+    /// Render nothing: merge the results of these earlier output folders.
+    ///
+    /// The frames.json of each folder (comma-separated) is merged, and the report written into
+    /// --out.
     #[arg(long, value_delimiter = ',', conflicts_with_all = ["quick", "datasets", "modes", "strategies", "paths", "block", "shading"])]
     pub merge: Option<Vec<PathBuf>>,
 }

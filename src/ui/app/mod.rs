@@ -429,7 +429,9 @@ impl eframe::App for LeapViewApp {
         let mut show_controls = self.state.show_controls;
         Panel::right("controls")
             .resizable(true)
-            .default_size(320.0)
+            // As wide as its widest row (the cropping sliders) from the first pass: a panel that
+            // grew once a volume's rows appeared would resize the view under its first frame.
+            .default_size(370.0)
             .show_collapsible(ui, &mut show_controls, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     let slices = &mut self.slices;
