@@ -27,7 +27,7 @@ pub fn view_label(side: Direction) -> String {
 }
 
 /// The controls, one `(gesture, effect)` pair a line, for the Help menu and the view's tooltip.
-pub const CONTROLS: [(&str, &str); 18] = [
+pub const CONTROLS: [(&str, &str); 19] = [
     (
         "Left drag",
         "orbit about the centre (horizontal: azimuth, vertical: elevation)",
@@ -68,6 +68,10 @@ pub const CONTROLS: [(&str, &str); 18] = [
     (
         "In a slice: left click or drag",
         "move the crosshair (the other slices follow); Shift + drag or middle drag pans",
+    ),
+    (
+        "F12",
+        "count samples: the developer readout adds samples taken and leapt (slower)",
     ),
     (
         "In a slice: wheel, Up/Down arrow keys, Page Up/Down; Ctrl + wheel",
@@ -203,7 +207,7 @@ pub fn menu_bar(
             ui.checkbox(&mut state.show_controls, "Controls panel");
             ui.checkbox(&mut state.show_readout, "Readout over the 3D view");
             ui.checkbox(&mut state.developer_readout, "Developer readout");
-            ui.checkbox(&mut state.statistics, "Count samples (slower)");
+            ui.checkbox(&mut state.statistics, "Count samples (slower; F12)");
             ui.checkbox(
                 &mut state.show_orientation_marker,
                 "Orientation marker (R, A, S)",

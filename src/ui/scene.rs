@@ -524,9 +524,14 @@ impl Scene {
                 }
                 let ms = job.started.map_or(0.0, |t| t.elapsed().as_secs_f64() * 1e3);
                 log::debug!(
-                    "rendered volume frame {} at {size:?} ({} bands, {ms:.0} ms)",
+                    "rendered volume frame {} at {size:?} ({} bands, {ms:.0} ms){}",
                     self.frames_rendered,
-                    self.plain_bands.len()
+                    self.plain_bands.len(),
+                    if job.inputs.stats {
+                        ", counting samples"
+                    } else {
+                        ""
+                    }
                 );
             }
             JobKind::Refinement => match mean {

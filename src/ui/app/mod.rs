@@ -351,13 +351,18 @@ impl LeapViewApp {
     fn global_input(&mut self, ctx: &egui::Context) {
         let open = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
         let quit = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
-        let (open, quit, dropped) = ctx.input_mut(|i| {
+        let statistics = KeyboardShortcut::new(Modifiers::NONE, Key::F12);
+        let (open, quit, count, dropped) = ctx.input_mut(|i| {
             (
                 i.consume_shortcut(&open),
                 i.consume_shortcut(&quit),
+                i.consume_shortcut(&statistics),
                 i.raw.dropped_files.first().map(|f| f.path().to_path_buf()),
             )
         });
+        if count {
+            self.state.statistics = !self.state.statistics;
+        }
         if open {
             self.apply(Action::OpenDialog, ctx);
         }
