@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs `leapview bench` on the GPU machine (see ../shared/GPU.md and docs/benchmarks/README.md).
+# Runs `leapview bench` on the GPU machine (see docs/benchmarks/README.md, "Rerunning").
 #
 #   scripts/gpu-bench.sh BIN OUT_DIR [bench flags…]
 #

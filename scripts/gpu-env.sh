@@ -17,5 +17,5 @@ if ! ls /usr/share/vulkan/icd.d/*nvidia* /etc/vulkan/icd.d/*nvidia* >/dev/null 2
     && [[ -f /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json ]]; then
     export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
 fi
-# GL on these machines fails at device creation or renders only background (GPU.md).
+# GL on these machines fails at device creation or renders only background (docs/benchmarks/README.md).
 export LEAPVIEW_BACKEND="${LEAPVIEW_BACKEND:-vulkan}"

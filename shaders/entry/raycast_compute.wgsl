@@ -1,5 +1,5 @@
-// The same ray loop in a compute shader, one invocation per pixel (GPU.md: far faster than
-// fragments on data-centre GPUs). Each invocation intersects its pixel's ray with the box itself,
+// The same ray loop in a compute shader, one invocation per pixel (docs/benchmarks/README.md: far
+// faster than fragments on data-centre GPUs). Each invocation intersects its pixel's ray with the box itself,
 // so the path needs no rasterised entry and exit points: on GPUs whose graphics slice is small,
 // those two full-screen passes cost more than the whole ray loop of a sparse volume.
 

@@ -122,7 +122,7 @@ impl GpuContext {
     }
 
     /// Creates a device without a window. Prefers Vulkan (on data-centre GPUs the GL backend
-    /// fails or renders nothing, see GPU.md); falls back to GL where there is no Vulkan driver.
+    /// fails or renders nothing, see docs/benchmarks/README.md); falls back to GL where there is no Vulkan driver.
     /// `LEAPVIEW_BACKEND=vulkan|gl` forces one.
     pub fn headless() -> Result<Self, GpuError> {
         // Try Vulkan first and GL only when Vulkan has no adapter: probing GL where it is not

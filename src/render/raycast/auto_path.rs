@@ -1,5 +1,5 @@
 //! `--path auto`: time the fragment and compute ray loops on the adapter once and keep the
-//! faster. On data-centre GPUs fragment work runs on a small part of the chip (GPU.md: about 30×
+//! faster. On data-centre GPUs fragment work runs on a small part of the chip (docs/benchmarks/README.md: about 30×
 //! slower), while on desktop GPUs the two are close. A CPU driver (lavapipe) gets the compute
 //! path without timing: measured faster there (Mesa 22.3, 192², idle: 22 against 38 ms a frame),
 //! and its wall-clock timing, the only one it has, follows the load of other processes, so two

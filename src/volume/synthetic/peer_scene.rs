@@ -1,7 +1,7 @@
-//! The scene LeapView is compared with its peers on (VTK, vispy, pygfx; `../shared/GPU.md`): an
-//! 8-bit cube, mostly zero, holding three Gaussian blobs, a hollow spherical shell and a thin
-//! rod — smooth fog, a hard thin surface and a sub-block feature, the three things a ray caster
-//! meets in practice.
+//! The scene LeapView is compared with its peers on (VTK, vispy, pygfx; docs/benchmarks/README.md,
+//! "The peers"): an 8-bit cube, mostly zero, holding three Gaussian blobs, a hollow spherical
+//! shell and a thin rod — smooth fog, a hard thin surface and a sub-block feature, the three things
+//! a ray caster meets in practice.
 
 use super::{coverage, cube_len, fill_slabs};
 use crate::volume::{Samples, ValueMapping, Volume, VolumeError};
