@@ -119,6 +119,45 @@ pub fn read_samples_with(
     }
 }
 
+/// The error of a stream that ended after `found_bytes` of the samples `layout` declares.
+fn too_short(layout: SampleLayout, found_bytes: u64) -> VolumeError {
+    VolumeError::DataTooShort {
+        dims: layout.dims,
+        scalar_type: layout.scalar_type,
+        declared_bytes: layout.byte_len(),
+        found_bytes,
+    }
+}
+
+/// An empty vector with room for `count` samples, reserved, not touched: memory is taken only as
+/// samples arrive, so a stream that stops short (or is cancelled) never held more than it
+/// delivered.
+fn reserved<T>(count: u64) -> Result<Vec<T>, VolumeError> {
+    let out_of_memory = || VolumeError::OutOfMemory {
+        bytes: count.saturating_mul(size_of::<T>() as u64),
+    };
+    let count = usize::try_from(count).map_err(|_| out_of_memory())?;
+    let mut values = Vec::new();
+    values
+        .try_reserve_exact(count)
+        .map_err(|_| out_of_memory())?;
+    Ok(values)
+}
+
+/// Checks that nothing follows the samples, puts them in the machine's byte order and types them.
+fn finish<T: Stored>(
+    reader: &mut impl Read,
+    layout: SampleLayout,
+    encoding: Encoding,
+    mut values: Vec<T>,
+) -> Result<Samples, VolumeError> {
+    check_nothing_follows(reader, layout, encoding)?;
+    if layout.big_endian != cfg!(target_endian = "big") && size_of::<T>() > 1 {
+        values.iter_mut().for_each(|v| *v = v.swap_bytes());
+    }
+    Ok(T::into_samples(values))
+}
+
 fn read_typed<T: Stored>(
     reader: &mut impl Read,
     layout: SampleLayout,
@@ -126,15 +165,6 @@ fn read_typed<T: Stored>(
     progress: Option<&LoadProgress>,
 ) -> Result<Samples, VolumeError> {
     let declared_bytes = layout.byte_len();
-    let too_short = |found_bytes: u64| VolumeError::DataTooShort {
-        dims: layout.dims,
-        scalar_type: layout.scalar_type,
-        declared_bytes,
-        found_bytes,
-    };
-    let out_of_memory = || VolumeError::OutOfMemory {
-        bytes: declared_bytes,
-    };
     if let Some(available) = super::limits::available_memory_bytes()
         && declared_bytes > available
     {
@@ -147,13 +177,9 @@ fn read_typed<T: Stored>(
     if stride > 1 && layout.dims[2] > 1 {
         return read_strided::<T>(reader, layout, encoding, progress, stride);
     }
-    let count = usize::try_from(layout.sample_count()).map_err(|_| out_of_memory())?;
-    // Reserved, not touched: memory is taken only as samples arrive, so a stream that stops
-    // short (or is cancelled) never held more than it delivered.
-    let mut values: Vec<T> = Vec::new();
-    values
-        .try_reserve_exact(count)
-        .map_err(|_| out_of_memory())?;
+    let mut values: Vec<T> = reserved(layout.sample_count())?;
+    // `reserved` checked that the count fits in memory, so in a usize.
+    let count = layout.sample_count() as usize;
     let chunk_len = (CHUNK_BYTES / size_of::<T>()).max(1);
     let mut chunk: Vec<T> = vec![T::zeroed(); chunk_len.min(count)];
     if let Some(p) = progress {
@@ -167,7 +193,7 @@ fn read_typed<T: Stored>(
         let want = chunk_len.min(count - values.len());
         let bytes: &mut [u8] = bytemuck::cast_slice_mut(&mut chunk[..want]);
         let filled = fill(reader, bytes, encoding).map_err(|e| match e {
-            Short(n) => too_short(read + n as u64),
+            Short(n) => too_short(layout, read + n as u64),
             Failed(e) => e,
         })?;
         debug_assert_eq!(filled, bytes.len());
@@ -177,11 +203,7 @@ fn read_typed<T: Stored>(
             p.advance(filled as u64);
         }
     }
-    check_nothing_follows(reader, layout, encoding)?;
-    if layout.big_endian != cfg!(target_endian = "big") && size_of::<T>() > 1 {
-        values.iter_mut().for_each(|v| *v = v.swap_bytes());
-    }
-    Ok(T::into_samples(values))
+    finish(reader, layout, encoding, values)
 }
 
 /// Every `stride`-th slice of `layout` (the first included), the others read past: at most
@@ -195,22 +217,8 @@ fn read_strided<T: Stored>(
 ) -> Result<Samples, VolumeError> {
     let plane = u64::from(layout.dims[0]) * u64::from(layout.dims[1]);
     let kept = u64::from(layout.dims[2].div_ceil(stride));
-    let too_short = |found_bytes: u64| VolumeError::DataTooShort {
-        dims: layout.dims,
-        scalar_type: layout.scalar_type,
-        declared_bytes: layout.byte_len(),
-        found_bytes,
-    };
-    let count = usize::try_from(plane * kept).map_err(|_| VolumeError::OutOfMemory {
-        bytes: plane * kept * size_of::<T>() as u64,
-    })?;
-    let mut values: Vec<T> = Vec::new();
-    values
-        .try_reserve_exact(count)
-        .map_err(|_| VolumeError::OutOfMemory {
-            bytes: (count * size_of::<T>()) as u64,
-        })?;
-    let plane_len = usize::try_from(plane).map_err(|_| too_short(0))?;
+    let mut values: Vec<T> = reserved(plane * kept)?;
+    let plane_len = usize::try_from(plane).map_err(|_| too_short(layout, 0))?;
     let mut slice: Vec<T> = vec![T::zeroed(); plane_len];
     if let Some(p) = progress {
         p.start(layout.byte_len());
@@ -222,7 +230,7 @@ fn read_strided<T: Stored>(
         }
         let bytes: &mut [u8] = bytemuck::cast_slice_mut(&mut slice[..]);
         let filled = fill(reader, bytes, encoding).map_err(|e| match e {
-            Short(n) => too_short(read + n as u64),
+            Short(n) => too_short(layout, read + n as u64),
             Failed(e) => e,
         })?;
         read += filled as u64;
@@ -233,11 +241,7 @@ fn read_strided<T: Stored>(
             p.advance(filled as u64);
         }
     }
-    check_nothing_follows(reader, layout, encoding)?;
-    if layout.big_endian != cfg!(target_endian = "big") && size_of::<T>() > 1 {
-        values.iter_mut().for_each(|v| *v = v.swap_bytes());
-    }
-    Ok(T::into_samples(values))
+    finish(reader, layout, encoding, values)
 }
 
 /// Why [`fill`] stopped short.

@@ -106,18 +106,7 @@ fn a_strategy_carried_over_while_busy_is_timed_once_the_user_is_quiet() {
     // (the one in progress, if any, is dropped for it). A key, not the menu: on a loaded machine
     // the window may take both clicks of a menu in one pass, the second before the menu is drawn.
     let before = std::fs::read_to_string(&log_path).unwrap_or_default().len();
-    xdotool(
-        &x.display,
-        &[
-            "search",
-            "--name",
-            "LeapView",
-            "windowfocus",
-            "--sync",
-            "key",
-            "F12",
-        ],
-    );
+    press(&x.display, "F12");
     let counting = |log: &str| {
         log.get(before..)
             .is_some_and(|l| l.contains(", counting samples"))
@@ -265,9 +254,9 @@ fn run_scripted(
     (dir, log)
 }
 
-/// Quits the window with Ctrl + Q (giving it the keyboard first: without a window manager it has
-/// it only once given) and waits up to a minute for it to close, killing it after that.
-fn quit(display: &str, app: &mut std::process::Child) {
+/// Presses `key` in the window, giving it the keyboard first (without a window manager it has it
+/// only once given).
+fn press(display: &str, key: &str) {
     xdotool(
         display,
         &[
@@ -277,9 +266,15 @@ fn quit(display: &str, app: &mut std::process::Child) {
             "windowfocus",
             "--sync",
             "key",
-            "ctrl+q",
+            key,
         ],
     );
+}
+
+/// Quits the window with Ctrl + Q (giving it the keyboard first: without a window manager it has
+/// it only once given) and waits up to a minute for it to close, killing it after that.
+fn quit(display: &str, app: &mut std::process::Child) {
+    press(display, "ctrl+q");
     let deadline = Instant::now() + Duration::from_secs(60);
     while app.try_wait().expect("wait for the window").is_none() {
         if Instant::now() > deadline {
