@@ -338,7 +338,9 @@ fn sampling_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
     ui.label("Jitter");
     ui.checkbox(&mut render.jitter, "jittered ray starts")
         .on_hover_text(
-            "A per-pixel offset of the first sample: fine noise instead of wood-grain rings",
+            "A per-pixel offset of the first sample: fine noise instead of wood-grain rings. \
+             While \"Refine when still\" is above 1 frame, still views are always jittered: \
+             their mean converges as without it",
         );
     ui.end_row();
 

@@ -11,11 +11,12 @@ use crate::mpr::PlaneKind;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Layout {
     /// The 3D view only.
-    #[default]
     ThreeD,
     /// Axial and coronal on top, sagittal and 3D below.
     Grid,
-    /// The 3D view large, the three slices in a column on its right.
+    /// The 3D view large, the three slices in a column on its right: what a volume opens in, as
+    /// a reader of CT and MR expects the slices beside the rendering.
+    #[default]
     OnePlusThree,
     /// A 2D image alone, as a slice view of the plane it lies in: what a single image opens in.
     Image(PlaneKind),

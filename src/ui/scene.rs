@@ -330,7 +330,7 @@ impl Scene {
         let still = super::band_pump::Still {
             camera,
             size,
-            settings: state.render,
+            settings: refinable(state.render, state.refine_frames > 1),
             transfer: state.editor.tf().clone(),
             frames: state.refine_frames,
             path,
@@ -435,7 +435,9 @@ impl Scene {
             if shared.job.is_some() {
                 log::debug!("frame in progress dropped for new inputs");
             }
-            let settings = inputs.settings;
+            // Jittered whenever refinement is on, previews too: one set of settings for every
+            // frame of a view, so `auto` times one choice.
+            let settings = refinable(inputs.settings, state.refine_frames > 1);
             shared.job = Some(FrameJob::new(
                 inputs,
                 settings,
@@ -448,7 +450,7 @@ impl Scene {
             let index = self.refined.0;
             let settings = crate::settings::RenderSettings {
                 sample_offset: crate::render::raycast::refine::offset(index),
-                ..inputs.settings
+                ..refinable(inputs.settings, true)
             };
             shared.job = Some(FrameJob::new(inputs, settings, JobKind::Refinement, None));
             true
@@ -769,5 +771,18 @@ fn look(state: &ViewerState) -> String {
         crate::settings::Mode::MinIp => format!("MinIP · {}", window()),
         crate::settings::Mode::Xray => format!("X-ray mean · {}", window()),
         crate::settings::Mode::XrayAttenuation => format!("radiograph · {}", window()),
+    }
+}
+
+/// The settings the window renders with while refinement is on: ray starts jittered per pixel,
+/// so that the first frame shows fine noise rather than wood-grain rings, while the mean's
+/// offsets rotate each pixel's jitter and converge as without it (docs/benchmarks/window-jitter.md).
+fn refinable(
+    settings: crate::settings::RenderSettings,
+    refine: bool,
+) -> crate::settings::RenderSettings {
+    crate::settings::RenderSettings {
+        jitter: settings.jitter || refine,
+        ..settings
     }
 }

@@ -162,14 +162,48 @@ pub struct ViewComparison {
     pub differing: u64,
 }
 
+/// How far from a line drawn over the view its pixels may be changed, physical pixels: half of a
+/// 1.5-point stroke at up to 2 pixels per point, and egui's one-pixel feathering.
+const LINE_REACH_PX: f32 = 2.5;
+
+/// What is drawn over the view and so left out of the comparison, in physical pixels.
+#[derive(Clone, Debug, Default)]
+pub struct Overdrawn {
+    /// Boxes `[x0, y0, x1, y1]` (the readout, the orientation marker).
+    pub rects: Vec<[usize; 4]>,
+    /// Line segments (the slice planes' outlines), each with [`LINE_REACH_PX`] around it.
+    pub lines: Vec<[[f32; 2]; 2]>,
+}
+
+impl Overdrawn {
+    fn covers(&self, x: usize, y: usize) -> bool {
+        let in_rect = self
+            .rects
+            .iter()
+            .any(|&[x0, y0, x1, y1]| x >= x0 && x < x1 && y >= y0 && y < y1);
+        // The pixel's centre against each segment.
+        let p = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+        in_rect
+            || self.lines.iter().any(|&[a, b]| {
+                let (a, b) = (glam::Vec2::from(a), glam::Vec2::from(b));
+                let ab = b - a;
+                let t = if ab.length_squared() > 0.0 {
+                    ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                p.distance(a + t * ab) <= LINE_REACH_PX
+            })
+    }
+}
+
 /// Compares the screenshot's pixels at `origin_px` (top-left of the view, physical pixels) with
-/// `rendered`, skipping pixels inside any of `skip_px` (`[x0, y0, x1, y1]`, e.g. under the
-/// readout and the orientation marker).
+/// `rendered`, skipping the pixels `skip` covers (what the window draws over the view).
 pub fn compare_view(
     shot: &ColorImage,
     origin_px: [usize; 2],
     rendered: &image::RgbaImage,
-    skip_px: &[[usize; 4]],
+    skip: &Overdrawn,
 ) -> ViewComparison {
     let mut out = ViewComparison {
         pixels: 0,
@@ -179,10 +213,7 @@ pub fn compare_view(
     let [sw, sh] = shot.size;
     for (x, y, px) in rendered.enumerate_pixels() {
         let (sx, sy) = (origin_px[0] + x as usize, origin_px[1] + y as usize);
-        let skipped = skip_px
-            .iter()
-            .any(|&[x0, y0, x1, y1]| sx >= x0 && sx < x1 && sy >= y0 && sy < y1);
-        if sx >= sw || sy >= sh || skipped {
+        if sx >= sw || sy >= sh || skip.covers(sx, sy) {
             continue;
         }
         let c = shot.pixels[sy * sw + sx];
@@ -230,12 +261,31 @@ mod tests {
     fn comparison_finds_offsets_and_skips_the_readout() {
         let mut shot = ColorImage::filled([8, 6], Color32::from_rgb(10, 20, 30));
         let rendered = image::RgbaImage::from_pixel(4, 3, image::Rgba([10, 20, 30, 255]));
-        let same = compare_view(&shot, [2, 2], &rendered, &[]);
+        let none = Overdrawn::default();
+        let same = compare_view(&shot, [2, 2], &rendered, &none);
         assert_eq!((same.pixels, same.max_levels, same.differing), (12, 0, 0));
         shot.pixels[2 * 8 + 2] = Color32::from_rgb(13, 20, 30);
-        let off = compare_view(&shot, [2, 2], &rendered, &[]);
+        let off = compare_view(&shot, [2, 2], &rendered, &none);
         assert_eq!((off.max_levels, off.differing), (3, 1));
-        let skipped = compare_view(&shot, [2, 2], &rendered, &[[0, 0, 3, 3]]);
+        let boxed = Overdrawn {
+            rects: vec![[0, 0, 3, 3]],
+            lines: Vec::new(),
+        };
+        let skipped = compare_view(&shot, [2, 2], &rendered, &boxed);
         assert_eq!((skipped.pixels, skipped.max_levels), (11, 0));
+    }
+
+    #[test]
+    fn comparison_skips_the_pixels_near_a_line_drawn_over_the_view() {
+        let shot = ColorImage::filled([40, 10], Color32::from_rgb(10, 20, 30));
+        let rendered = image::RgbaImage::from_pixel(40, 10, image::Rgba([10, 20, 30, 255]));
+        // A vertical line at x = 20: columns 17 to 22 (centres 17.5 … 22.5, within 2.5 px) are
+        // left out.
+        let line = Overdrawn {
+            rects: Vec::new(),
+            lines: vec![[[20.0, 0.0], [20.0, 10.0]]],
+        };
+        let c = compare_view(&shot, [0, 0], &rendered, &line);
+        assert_eq!(c.pixels, 400 - 6 * 10);
     }
 }

@@ -355,10 +355,16 @@ fn a_click_in_a_slice_moves_the_crosshair_and_the_other_slices_follow() {
     let (x, _dir, log_path, mut app) = start_as_a_user("window-slices", &[]);
     let log = wait_for_log(&log_path, "showing ", Duration::from_secs(240));
     assert!(log.contains("showing "), "no volume shown:\n{log}");
-    // The toolbar's "2 × 2" beside the menus (see tests/snapshots/menu_bar_view.png), then a
+    // The window opens in 1 + 3: its slices are drawn; the toolbar's "2 × 2" beside the menus
+    // (see tests/snapshots/menu_bar_view.png) resizes the panes, which draws them again. Then a
     // click in the axial pane (top left), away from its centre.
-    xdotool(&x.display, &["mousemove", "205", "12", "click", "1"]);
+    let sagittal = |log: &str| log.matches("sagittal slice drawn").count();
     let log = wait_for_log(&log_path, "sagittal slice drawn", Duration::from_secs(60));
+    let drawn = sagittal(&log);
+    assert!(drawn > 0, "no slices drawn in the first layout:\n{log}");
+    xdotool(&x.display, &["mousemove", "205", "12", "click", "1"]);
+    let log = wait_for_log_count(&log_path, &sagittal, drawn + 1, Duration::from_secs(60))
+        .unwrap_or_else(|| panic!("the slices were not drawn again in 2 × 2"));
     assert!(log.contains("axial slice drawn"), "no slices drawn:\n{log}");
     xdotool(&x.display, &["mousemove", "150", "120", "click", "1"]);
     let log = wait_for_log(&log_path, "crosshair moved to", Duration::from_secs(30));

@@ -66,11 +66,18 @@ impl LeapViewApp {
         };
         let px = |v: f32| (v * ppp).round().max(0.0) as usize;
         let origin = [px(self.view_rect.min.x), px(self.view_rect.min.y)];
-        let skip: Vec<[usize; 4]> = [self.readout_rect, self.marker_rect]
-            .into_iter()
-            .flatten()
-            .map(|r| [px(r.min.x), px(r.min.y), px(r.max.x), px(r.max.y)])
-            .collect();
+        let skip = screenshot::Overdrawn {
+            rects: [self.readout_rect, self.marker_rect]
+                .into_iter()
+                .flatten()
+                .map(|r| [px(r.min.x), px(r.min.y), px(r.max.x), px(r.max.y)])
+                .collect(),
+            lines: self
+                .plane_lines
+                .iter()
+                .map(|[a, b]| [[a.x * ppp, a.y * ppp], [b.x * ppp, b.y * ppp]])
+                .collect(),
+        };
         let c = screenshot::compare_view(image, origin, &rendered, &skip);
         log::info!(
             "window vs rendered image: {} pixels compared, {} differ, largest difference {} levels",

@@ -104,6 +104,8 @@ struct LeapViewApp {
     readout_rect: Option<egui::Rect>,
     /// Where the orientation marker was drawn over the view in the last pass.
     marker_rect: Option<egui::Rect>,
+    /// The slice planes' outlines drawn over the 3D view in the last pass (segments, points).
+    plane_lines: Vec<[egui::Pos2; 2]>,
     /// The "Save image" window, while open.
     save_image: Option<SaveImageForm>,
     /// The view's size in pixels last pass.
@@ -154,6 +156,7 @@ impl LeapViewApp {
             view_rect: egui::Rect::NOTHING,
             readout_rect: None,
             marker_rect: None,
+            plane_lines: Vec::new(),
             save_image: None,
             view_px: [1, 1],
             last_motion: None,

@@ -170,12 +170,14 @@ impl LeapViewApp {
             self.marker_rect =
                 orientation_marker::draw(ui, area.rect, &camera, &volume.orientation_or_assumed());
         }
+        self.plane_lines.clear();
         if self.state.layout.has_slices()
             && self.state.show_slice_planes
             && let Some((camera, bounds)) = self.scene.camera_and_bounds()
         {
-            self.slices
-                .draw_planes_3d(ui, area.rect, area.size_px, &camera, &bounds);
+            self.plane_lines =
+                self.slices
+                    .draw_planes_3d(ui, area.rect, area.size_px, &camera, &bounds);
         }
         if self.state.show_crop_box
             && let Some((camera, bounds)) = self.scene.camera_and_bounds()

@@ -249,7 +249,8 @@ impl SliceViews {
     }
 
     /// Outlines the three slice planes over the 3D view in `rect` (its image `size_px` pixels,
-    /// seen by `camera`, the volume in `bounds`), in each pane's colour.
+    /// seen by `camera`, the volume in `bounds`), in each pane's colour; returns the segments
+    /// drawn.
     pub fn draw_planes_3d(
         &self,
         ui: &egui::Ui,
@@ -257,7 +258,7 @@ impl SliceViews {
         size_px: [u32; 2],
         camera: &crate::camera::Camera,
         bounds: &crate::camera::Aabb,
-    ) {
+    ) -> Vec<[egui::Pos2; 2]> {
         if let Some(source) = &self.source {
             let planes: Vec<(PlaneKind, Plane)> = self
                 .panes
@@ -265,7 +266,9 @@ impl SliceViews {
                 .zip(&self.planes)
                 .map(|(pane, plane)| (pane.kind(), plane.through(self.crosshair)))
                 .collect();
-            planes_3d::draw(ui, rect, size_px, camera, bounds, &source.frame, &planes);
+            planes_3d::draw(ui, rect, size_px, camera, bounds, &source.frame, &planes)
+        } else {
+            Vec::new()
         }
     }
 

@@ -19,7 +19,8 @@ pub fn colour(kind: PlaneKind) -> Color32 {
     }
 }
 
-/// Draws `planes` (each with its pane's kind, for its colour) over the 3D view.
+/// Draws `planes` (each with its pane's kind, for its colour) over the 3D view; returns the
+/// segments drawn.
 pub fn draw(
     ui: &egui::Ui,
     rect: Rect,
@@ -28,7 +29,7 @@ pub fn draw(
     bounds: &Aabb,
     frame: &PatientFrame,
     planes: &[(PlaneKind, Plane)],
-) {
+) -> Vec<[egui::Pos2; 2]> {
     let projector = Projector {
         clip_from_world: camera.clip_from_world(size_px, bounds),
         rect,
@@ -40,6 +41,7 @@ pub fn draw(
         frame.axes().z_axis.length(),
     );
     let painter = ui.painter_at(rect);
+    let mut segments = Vec::new();
     for (kind, plane) in planes {
         let kind = *kind;
         let cut = cut_polygon(plane, frame);
@@ -51,7 +53,9 @@ pub fn draw(
             && points.len() >= 3
         {
             points.push(points[0]);
+            segments.extend(points.windows(2).map(|w| [w[0], w[1]]));
             painter.line(points, Stroke::new(1.5, colour(kind)));
         }
     }
+    segments
 }

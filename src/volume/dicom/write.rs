@@ -131,6 +131,10 @@ pub fn write_series(
         );
         put(tags::RESCALE_INTERCEPT, VR::DS, ds(&[mapping.intercept]));
         put(tags::RESCALE_SLOPE, VR::DS, ds(&[mapping.slope]));
+        if let Some([lo, hi]) = volume.provenance().window {
+            put(tags::WINDOW_CENTER, VR::DS, ds(&[(lo + hi) / 2.0]));
+            put(tags::WINDOW_WIDTH, VR::DS, ds(&[hi - lo]));
+        }
         put(
             tags::PIXEL_DATA,
             if bits == 8 { VR::OB } else { VR::OW },

@@ -58,6 +58,10 @@ pub const PSF_SIGMA_MM: f64 = 1.0;
 /// How many standard deviations of the point-spread function an edge reaches; beyond it the
 /// coverage is exactly 0 or 1 (the Gaussian tail there is below 10⁻⁸).
 const PSF_REACH: f64 = 6.0;
+/// The display window a scanner would store with it (DICOM `WindowCenter` 45, `WindowWidth` 90):
+/// every soft-tissue region apart, from the ventricles' 5 HU to the brightest lesion's 80 HU, as
+/// the classic Shepp–Logan picture shows them.
+pub const DISPLAY_WINDOW_HU: [f64; 2] = [0.0, 90.0];
 /// Standard deviation of the noise on tissue; 3 HU is a low-noise head CT.
 pub const NOISE_SIGMA_HU: f64 = 3.0;
 /// The largest deviation the noise can cause (it is bounded, see [`super::rng::unit_noise`]).
@@ -298,6 +302,10 @@ pub(crate) fn generate(n: u32, noise_sigma_hu: f64) -> Result<Volume, VolumeErro
     .map(|v| {
         v.with_modality(Some(crate::volume::Modality::Ct { angio: false }))
             .with_orientation(Some(ORIENTATION))
+            .with_provenance(crate::volume::Provenance {
+                window: Some(DISPLAY_WINDOW_HU),
+                ..Default::default()
+            })
     })
 }
 

@@ -676,3 +676,20 @@ fn a_lying_element_length_is_refused_before_dicom_rs_allocates_it() {
         );
     }
 }
+
+/// The generated phantom written as a DICOM series keeps its display window
+/// (`WindowCenter`/`WindowWidth`), which the reader gives back as the same lowest and highest
+/// value, and the samples.
+#[test]
+fn a_written_series_keeps_its_display_window() {
+    let dir = common::TempDir::new("dicom-window");
+    let phantom = leapview::volume::synthetic::shepp_logan(16).expect("phantom");
+    leapview::volume::dicom::write::write_series(&phantom, dir.path(), "phantom", None)
+        .expect("written");
+    let back = load_volume(dir.path(), &LoadOptions::default()).expect("read back");
+    assert_eq!(
+        back.provenance().window,
+        Some(leapview::volume::synthetic::shepp_logan::DISPLAY_WINDOW_HU)
+    );
+    assert_eq!(back.value(8, 8, 8), phantom.value(8, 8, 8));
+}

@@ -273,3 +273,24 @@ fn surfaces_span_the_point_spread_function_not_one_voxel() {
     );
     assert!(values[x_out..].iter().all(|&h| h == AIR_HU));
 }
+
+#[test]
+fn the_display_window_shows_every_soft_tissue_region_apart() {
+    // The window a scanner would store: each documented soft-tissue value lies inside it, at
+    // least 5 HU (1/18 of the width) from either end, so none is clipped to black or white.
+    let phantom = shepp_logan(16).expect("valid size");
+    let [lo, hi] = phantom
+        .provenance()
+        .window
+        .expect("the phantom has a window");
+    assert_eq!([lo, hi], DISPLAY_WINDOW_HU);
+    for (name, _, hu) in PROBES
+        .iter()
+        .filter(|(n, ..)| *n != "air" && !n.starts_with("skull"))
+    {
+        assert!(
+            hu - lo >= 5.0 && hi - hu >= 5.0,
+            "{name}: {hu} HU at the window's edge"
+        );
+    }
+}
