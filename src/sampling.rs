@@ -6,7 +6,7 @@
 //! sample at `t_k = min((k + offset)·Δt, L)` with weight `w_k = min(Δt, L − kΔt) / Δt`. The
 //! weight scales the opacity correction, `α' = 1 − (1 − α)^(w_k·Δt/d₀)`, so a ray through a
 //! homogeneous region composites exactly `1 − (1 − α)^(L/d₀)` whatever the step. Only the last
-//! segment can be partial. The WGSL ray loop (`shaders/shared/march.wgsl`) implements the same rule.
+//! segment can be partial. The WGSL ray loop (`shaders/march/`) implements the same rule.
 
 /// The samples of one ray.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -3,7 +3,7 @@
 // so the path needs no rasterised entry and exit points: on GPUs whose graphics slice is small,
 // those two full-screen passes cost more than the whole ray loop of a sparse volume.
 
-#include "shared/march.wgsl"
+#include "march/march.wgsl"
 
 @group(1) @binding(0) var out_tex: texture_storage_2d<rgba16float, write>;
 
@@ -59,7 +59,7 @@ fn pixel_of(id: vec3<u32>) -> vec3<u32> {
 // so that a frame of few rays, or of rays of very different lengths, is not as long as its
 // longest ray (src/render/raycast/variant.rs says which variants do this).
 var<workgroup> parts: array<Acc, WORKGROUP * SPLIT_GROUP_ROWS * RAY_PARTS>;
-#ifdef LEAP_RUNS
+#ifdef LOOP_RUNS
 // Whether a part's share of the priming settled its pixel.
 var<workgroup> settled_parts: array<u32, WORKGROUP * SPLIT_GROUP_ROWS * RAY_PARTS>;
 #endif
@@ -91,7 +91,7 @@ fn cs_raycast(@builtin(global_invocation_id) id: vec3<u32>, @builtin(local_invoc
     var acc = acc_init();
     var primes = 0u;
     var settled = false;
-#ifdef LEAP_RUNS
+#ifdef LOOP_RUNS
     // The parts share the ray's priming: each takes its share, then all start from the join.
     var primed = vec2<u32>(0u);
     if hit && ray.length_mm > 0.0 {

@@ -2,7 +2,7 @@
 // reading the exit point that pass 1 rendered from the back faces.
 
 #include "shared/proxy.wgsl"
-#include "shared/march.wgsl"
+#include "march/march.wgsl"
 
 @group(1) @binding(0) var exit_tex: texture_2d<f32>;
 

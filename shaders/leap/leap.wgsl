@@ -6,9 +6,10 @@
 // min/max octree (the paper's hierarchical leaping) or, with LEAP_DISTANCE, the cube of blocks
 // the distance field proves empty; the mode decides where exactly it lands (acc_leap_target).
 // The exit is the exact ray/box exit, so the samples taken are exactly the plain strategy's
-// samples that can change the image. Two ways to walk (shared/march.wgsl): block runs
-// (leap_region: one question per block, then its samples without any) and sample by sample
-// (leap_from: asks again at the first sample past the region the last answer covered).
+// samples that can change the image. Two ways to walk: block runs (march/runs.wgsl, leap_region:
+// one question per block, then its samples without any) and sample by sample
+// (march/samplewise.wgsl, leap_from: asks again at the first sample past the region the last
+// answer covered).
 
 #include "leap/pyramid.wgsl"
 

@@ -11,8 +11,8 @@ macro_rules! modules {
 }
 
 /// The shader modules, compiled into the binary, by folder: the entry points of every pipeline,
-/// the ray loop and what it shares, one module per mode family, leaping, and the builders of the
-/// leaping structures.
+/// what they share, the ray loop (one file per loop kind), one module per mode family, leaping,
+/// and the builders of the leaping structures.
 const MODULES: &[(&str, &str)] = modules![
     "entry/raycast_fragment.wgsl",
     "entry/raycast_compute.wgsl",
@@ -26,7 +26,12 @@ const MODULES: &[(&str, &str)] = modules![
     "shared/stats.wgsl",
     "shared/shade.wgsl",
     "shared/preintegrate.wgsl",
-    "shared/march.wgsl",
+    "march/march.wgsl",
+    "march/plain.wgsl",
+    "march/samplewise.wgsl",
+    "march/runs.wgsl",
+    "march/batch.wgsl",
+    "march/parts.wgsl",
     "modes/dvr.wgsl",
     "modes/iso.wgsl",
     "modes/mip.wgsl",
@@ -187,7 +192,7 @@ mod tests {
 
     #[test]
     fn includes_once_and_honours_defines() {
-        let plain = compose("shared/march.wgsl", &[]).expect("composes");
+        let plain = compose("march/march.wgsl", &["LOOP_PLAIN"]).expect("composes");
         assert_eq!(
             plain.matches("struct Frame").count(),
             1,
@@ -196,12 +201,49 @@ mod tests {
         assert!(!plain.contains("atomicAdd"));
         assert!(!plain.contains("frame.termination_alpha"));
         let full = compose(
-            "shared/march.wgsl",
-            &["MODE_DVR", "STATS", "EARLY_TERMINATION"],
+            "march/march.wgsl",
+            &["MODE_DVR", "LOOP_PLAIN", "STATS", "EARLY_TERMINATION"],
         )
         .expect("composes");
         assert!(full.contains("atomicAdd"));
         assert!(full.contains("frame.termination_alpha"));
+    }
+
+    /// The folders of `shaders/` include one another without a circle (entry → march → modes,
+    /// leap → shared): no folder includes back into one that includes it.
+    #[test]
+    fn folders_include_without_a_circle() {
+        let folder = |name: &str| name.split('/').next().unwrap_or("").to_string();
+        let mut arrows = std::collections::BTreeSet::new();
+        for (name, source) in MODULES {
+            for line in source.lines() {
+                if let Some(included) = line.trim().strip_prefix("#include ") {
+                    let (from, to) = (folder(name), folder(included.trim_matches('"')));
+                    if from != to {
+                        arrows.insert((from, to));
+                    }
+                }
+            }
+        }
+        // Repeatedly drop folders that include nothing left: a circle is what remains.
+        let mut left = arrows.clone();
+        loop {
+            let sources: std::collections::BTreeSet<_> =
+                left.iter().map(|(f, _)| f.clone()).collect();
+            let before = left.len();
+            left.retain(|(_, to)| sources.contains(to));
+            if left.len() == before {
+                break;
+            }
+        }
+        assert!(
+            left.is_empty(),
+            "folders in a circle: {left:?} (all: {arrows:?})"
+        );
+        assert!(
+            arrows.contains(&("entry".into(), "march".into())),
+            "{arrows:?}"
+        );
     }
 
     #[test]

@@ -274,7 +274,7 @@ fn lighting_only_where_it_shows_changes_the_image_by_less_than_its_threshold_all
     }
 }
 
-/// The octree's MIP, MinIP, isosurface and X-ray walk in block runs (shaders/shared/march.wgsl):
+/// The octree's MIP, MinIP, isosurface and X-ray walk in block runs (shaders/march/runs.wgsl):
 /// the counters show that no grid sample is taken twice or lost between runs and leaps: samples
 /// taken + leapt = RC-t's samples exactly, and for MIP and MinIP at most the five priming
 /// samples per ray more.

@@ -38,6 +38,42 @@ pub struct PipelineKey {
     pub missing: bool,
 }
 
+/// The ray loops, one file each in `shaders/march/`, picked by [`PipelineKey::ray_loop`] as the
+/// mode picks its mode file. Each was chosen by measurement on an H200 (the figures are in
+/// `docs/benchmarks/`):
+///
+/// - [`Loop::Plain`], `march/plain.wgsl`: RC and RC-t; every sample, four texture reads at once
+///   (faster than one by one: `nvidia-h200-sample-batch`).
+/// - [`Loop::SampleWise`], `march/samplewise.wgsl`: leaping DVR (pre-integrated too); a lookup
+///   where a sample passes the last region found. Its rays end early at different samples: block
+///   runs measured up to 1.9× slower (`nvidia-h200-leap-walk`, `nvidia-h200-two-sided`).
+/// - [`Loop::Runs`], `march/runs.wgsl`: leaping isosurface, MIP, MinIP and X-ray; one question
+///   per block, then its samples four reads at once (faster than sample by sample:
+///   `nvidia-h200-leap-walk`, `nvidia-h200-two-sided`, `nvidia-h200-iso-landing`).
+///
+/// Any loop may march a ray in parts (`RAY_SPLIT`, `march/parts.wgsl`) on the compute path of
+/// small images: [`PipelineKey::new`] says where (`nvidia-h200-ray-split`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Loop {
+    /// RC and RC-t: every grid sample.
+    Plain,
+    /// Leaping, asking again where a sample passes the last region found.
+    SampleWise,
+    /// Leaping in block runs.
+    Runs,
+}
+
+impl Loop {
+    /// The preprocessor symbol that includes its file (shaders/march/march.wgsl).
+    fn define(self) -> &'static str {
+        match self {
+            Self::Plain => "LOOP_PLAIN",
+            Self::SampleWise => "LOOP_SAMPLEWISE",
+            Self::Runs => "LOOP_RUNS",
+        }
+    }
+}
+
 /// The compute entry point of every ray-casting variant (shaders/entry/raycast_compute.wgsl).
 pub const COMPUTE_ENTRY: &str = "cs_raycast";
 /// The vertex entry point of the fragment path's proxy geometry (shaders/shared/proxy.wgsl).
@@ -185,21 +221,8 @@ impl PipelineKey {
         }
         if self.strategy.leaps() {
             defines.push("LEAP");
-            // How the leaping loop walks (shaders/shared/march.wgsl), chosen by measurement on
-            // an H200: block runs for MIP, MinIP, isosurfaces and X-ray (octree MIP 1.1-2x
-            // faster, docs/benchmarks/nvidia-h200-leap-walk; X-ray with the two-sided distance
-            // field: median frame time 0.89x at 512², 0.97x at 1080p, from 0.80x to 1.17x,
-            // docs/benchmarks/nvidia-h200-two-sided); sample by sample for DVR (octree runs up to
-            // 1.55x slower, its rays end early at different samples; distance-field runs
-            // 1.19-1.88x slower). Never with PREINTEGRATED (DVR only), and DVR's mode module has
-            // no acc_prime.
-            if self.walks_in_runs() {
-                defines.push("LEAP_RUNS");
-            }
         }
-        if self.batches_samples() {
-            defines.push("SAMPLE_BATCH");
-        }
+        defines.push(self.ray_loop().define());
         if self.split {
             defines.push("RAY_SPLIT");
         }
@@ -218,16 +241,13 @@ impl PipelineKey {
         defines
     }
 
-    /// Whether the loop takes samples four at a time, their texture reads issued together
-    /// (`take_batch`, shaders/shared/march.wgsl): only in loops that take runs of samples with
-    /// no per-sample leaping test, i.e. without leaping or in block runs.
-    pub fn batches_samples(&self) -> bool {
-        !self.strategy.leaps() || self.walks_in_runs()
-    }
-
-    /// Whether a leaping variant walks in block runs (LEAP_RUNS) rather than sample by sample.
-    fn walks_in_runs(&self) -> bool {
-        self.strategy.leaps() && self.mode != Mode::Dvr
+    /// The loop this variant's rays walk in ([`Loop`]).
+    fn ray_loop(&self) -> Loop {
+        match (self.strategy.leaps(), self.mode) {
+            (false, _) => Loop::Plain,
+            (true, Mode::Dvr) => Loop::SampleWise,
+            (true, _) => Loop::Runs,
+        }
     }
 
     /// The composed WGSL of this variant.
@@ -284,18 +304,25 @@ mod tests {
         assert!(key(&unlit, ConcretePath::Compute, small).split);
     }
 
-    /// The batched loop has no leaping test: a variant that leaps sample by sample must never
-    /// batch, or it would stop leaping (march.wgsl takes the batch in place of that walk).
+    /// Every variant walks exactly one loop: the plain one without leaping, block runs for every
+    /// leaping mode but DVR, sample by sample for leaping DVR (pre-integrated included).
     #[test]
-    fn only_loops_without_per_sample_leaping_batch() {
+    fn every_variant_walks_one_loop() {
         let keys = PipelineKey::all();
-        assert!(keys.iter().any(|k| k.defines().contains(&"SAMPLE_BATCH")));
-        for key in keys {
+        for key in &keys {
             let defines = key.defines();
-            let batches = defines.contains(&"SAMPLE_BATCH");
+            let loops: Vec<_> = defines.iter().filter(|d| d.starts_with("LOOP_")).collect();
+            assert_eq!(loops.len(), 1, "{key:?}: {defines:?}");
             let leaps = defines.contains(&"LEAP");
-            let runs = defines.contains(&"LEAP_RUNS");
-            assert_eq!(batches, !leaps || runs, "{key:?}: {defines:?}");
+            let expected = match (leaps, key.mode) {
+                (false, _) => "LOOP_PLAIN",
+                (true, Mode::Dvr) => "LOOP_SAMPLEWISE",
+                (true, _) => "LOOP_RUNS",
+            };
+            assert_eq!(*loops[0], expected, "{key:?}");
+        }
+        for l in [Loop::Plain, Loop::SampleWise, Loop::Runs] {
+            assert!(keys.iter().any(|k| k.ray_loop() == l), "{l:?} never used");
         }
     }
 }
