@@ -132,10 +132,12 @@ fn a_strategy_carried_over_while_busy_is_timed_once_the_user_is_quiet() {
     let again = after
         .matches("frame rendered again to time the auto strategy")
         .count();
-    if after.contains("(carried over, not yet timed)") {
-        assert_eq!(again, 1, "{after}");
-    } else {
-        assert_eq!(again, 0, "{after}");
+    // Rendered again only for a choice carried over, and at most once; a choice carried over
+    // by a preview (the machine slow enough for the click to count as a drag) is timed by the
+    // full frame that follows once the user is quiet, with nothing rendered again.
+    assert!(again <= 1, "{after}");
+    if again == 1 {
+        assert!(after.contains("(carried over, not yet timed)"), "{after}");
     }
     eprintln!("rendered again to time auto: {again}");
 }
