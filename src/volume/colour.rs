@@ -4,7 +4,7 @@
 //! the transfer function's opacity, the leaping structures and the statistics work on, as VTK
 //! does with dependent components; the samples' own colour is what the picture shows.
 
-use super::Samples;
+use super::samples::Samples;
 
 /// The red, green and blue channels of every voxel, each stored as the file stores it.
 #[derive(Clone, Debug, PartialEq)]

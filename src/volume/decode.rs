@@ -8,7 +8,7 @@ use std::path::Path;
 
 use super::error::VolumeError;
 use super::progress::{CHUNK_BYTES, LoadProgress};
-use super::{Samples, ScalarType};
+use super::{samples::Samples, samples::ScalarType};
 
 /// What the loaders know about the samples before reading them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

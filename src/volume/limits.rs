@@ -7,7 +7,7 @@
 //! [`MAX_VOLUME_BYTES`].
 
 use super::error::VolumeError;
-use super::{ScalarType, error};
+use super::{error, samples::ScalarType};
 
 /// Hard cap on the decoded sample bytes of one volume: 8 GiB.
 pub const MAX_VOLUME_BYTES: u64 = 8 << 30;
@@ -24,7 +24,7 @@ pub const MAX_DEFLATE_RATIO: u64 = 1032;
 /// Asks `progress`'s admission check (if any) whether a volume of `dims` and `scalar_type` (a
 /// colour one where `colour`) can be taken, before a sample is read.
 pub fn admit(
-    progress: Option<&super::LoadProgress>,
+    progress: Option<&super::progress::LoadProgress>,
     dims: [u32; 3],
     scalar_type: ScalarType,
     colour: bool,

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::error::{LoadError, VolumeError};
 use super::raw::RawParams;
-use super::{Volume, decode, dicom, metaimage, nifti, nrrd, raw};
+use super::{decode, dicom, metaimage, model::Volume, nifti, nrrd, raw};
 
 /// How to open a file beyond what its name tells.
 #[derive(Clone, Debug, Default)]
@@ -12,9 +12,9 @@ pub struct LoadOptions {
     /// Layout of a headerless raw file; required for raw files, ignored otherwise.
     pub raw: Option<RawParams>,
     /// Where to report how much of the samples was read, and to look for a cancellation.
-    pub progress: Option<std::sync::Arc<super::LoadProgress>>,
+    pub progress: Option<std::sync::Arc<super::progress::LoadProgress>>,
     /// The user's orientation, in place of the header's (or of none), in the file's index frame.
-    pub orientation: Option<super::Orientation>,
+    pub orientation: Option<super::orientation::Orientation>,
     /// Which DICOM series of a folder to open (`--series`); the default is the image series
     /// with the most slices, or the one holding the file named.
     pub series: Option<super::dicom::SeriesChoice>,
@@ -118,7 +118,7 @@ fn format_of(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::volume::ScalarType;
+    use crate::volume::samples::ScalarType;
 
     #[test]
     fn formats_follow_the_name_unless_raw_parameters_are_given() {

@@ -14,7 +14,10 @@ use super::decode::{self, Encoding, SampleLayout};
 use super::error::VolumeError;
 use super::limits::{self, DataSource};
 use super::progress::LoadProgress;
-use super::{Orientation, Provenance, ScalarType, ValueMapping, Volume};
+use super::{
+    model::Provenance, model::Volume, orientation::Orientation, samples::ScalarType,
+    samples::ValueMapping,
+};
 
 const FORMAT: &str = "MetaImage";
 /// The longest header read: a MetaImage header is a few hundred bytes.

@@ -17,7 +17,7 @@ use super::decode::{self, Encoding, SampleLayout};
 use super::error::VolumeError;
 use super::limits::{self, DataSource};
 use super::progress::LoadProgress;
-use super::{Samples, Volume};
+use super::{model::Volume, samples::Samples};
 
 use fields::NrrdHeader;
 use header::HeaderEnd;
@@ -58,9 +58,9 @@ pub fn read_nrrd(
     }
     .with_orientation(nrrd.orientation)
     .with_modality(nrrd.modality)
-    .with_provenance(super::Provenance {
+    .with_provenance(super::model::Provenance {
         origin_lps: nrrd.origin_lps,
-        ..super::Provenance::default()
+        ..super::model::Provenance::default()
     }))
 }
 

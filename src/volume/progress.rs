@@ -8,7 +8,7 @@
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
-use super::ScalarType;
+use super::samples::ScalarType;
 
 /// What a header says of a volume before its samples are read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,10 +74,10 @@ impl LoadProgress {
 
     /// Asks the admission check (if any) whether a volume of `shape` can be taken: every reader
     /// calls this once it knows the shape and before it reads a sample.
-    pub fn admit(&self, shape: Shape) -> Result<(), super::VolumeError> {
+    pub fn admit(&self, shape: Shape) -> Result<(), super::error::VolumeError> {
         match &self.admission {
             Some(check) => {
-                check(&shape).map_err(|reason| super::VolumeError::NotAdmitted { reason })
+                check(&shape).map_err(|reason| super::error::VolumeError::NotAdmitted { reason })
             }
             None => Ok(()),
         }

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use super::decode::{self, Encoding, SampleLayout};
 use super::error::VolumeError;
-use super::{ScalarType, ValueMapping, Volume, limits};
+use super::{limits, model::Volume, samples::ScalarType, samples::ValueMapping};
 
 /// Layout of a raw file: everything a header would otherwise say.
 #[derive(Clone, Debug, PartialEq)]
@@ -26,7 +26,7 @@ pub fn read_raw(
     path: &Path,
     name: String,
     params: &RawParams,
-    progress: Option<&super::LoadProgress>,
+    progress: Option<&super::progress::LoadProgress>,
 ) -> Result<Volume, VolumeError> {
     let (dims, expected_bytes) =
         limits::check_dims(params.dims.map(u64::from), params.scalar_type)?;

@@ -160,3 +160,31 @@ impl Samples {
         each_variant!(self, v => v.iter().for_each(|&x| f(x as f64)))
     }
 }
+
+/// The affine map from stored sample values to data units: `data = stored * slope + intercept`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ValueMapping {
+    /// Multiplier applied to stored values (NIfTI `scl_slope`); never zero or non-finite.
+    pub slope: f64,
+    /// Offset added after the multiplication (NIfTI `scl_inter`, DICOM rescale intercept).
+    pub intercept: f64,
+}
+
+impl ValueMapping {
+    /// The identity mapping: data units are the stored values.
+    pub const IDENTITY: Self = Self {
+        slope: 1.0,
+        intercept: 0.0,
+    };
+
+    /// Maps a stored value to data units.
+    pub fn apply(&self, stored: f64) -> f64 {
+        stored * self.slope + self.intercept
+    }
+}
+
+impl Default for ValueMapping {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}

@@ -1,6 +1,6 @@
 //! Value statistics of a volume in data units: range, histogram, percentiles, empty fraction.
 
-use super::{Samples, ValueMapping};
+use super::{samples::Samples, samples::ValueMapping};
 
 /// Number of histogram bins kept with every volume.
 pub const HISTOGRAM_BINS: usize = 256;

@@ -6,6 +6,7 @@
 
 pub mod auto_path;
 pub mod auto_strategy;
+pub mod gpu_volume;
 pub mod layouts;
 pub mod leap;
 pub mod passes;
@@ -14,10 +15,9 @@ pub mod refine;
 pub mod renderer;
 pub mod strategy_choice;
 pub mod targets;
-pub mod transfer;
+pub mod transfer_tables;
 pub mod uniforms;
 pub mod variant;
-pub mod volume;
 
 pub use renderer::{FrameRequest, RenderError, SubmittedFrame, VolumeRenderer, WorkCounts};
 pub use variant::PipelineKey;

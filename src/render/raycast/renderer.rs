@@ -17,6 +17,7 @@ use crate::settings::{
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
+use super::gpu_volume::{FrameShared, GpuVolume};
 use super::leap::{Builds, LeapRequest, LeapStructures};
 use super::passes::RaycastPasses;
 use super::pipelines::Pipelines;
@@ -25,7 +26,6 @@ use super::strategy_choice::{self, ChoiceKey, StrategyChoice};
 use super::targets::Targets;
 use super::uniforms::FrameGeometry;
 use super::variant::PipelineKey;
-use super::volume::{FrameShared, GpuVolume};
 use crate::render::gpu_data::{FrameUniforms, SPLIT_GROUP_ROWS, WORKGROUP};
 
 /// Why a frame could not be rendered.
@@ -210,7 +210,7 @@ pub struct VolumeRenderer {
     /// The frame uniforms (rewritten every frame) and the volume sampler.
     uniforms: wgpu::Buffer,
     sampler: wgpu::Sampler,
-    transfer: super::transfer::TransferTables,
+    transfer: super::transfer_tables::TransferTables,
     volume: Option<GpuVolume>,
     targets: Option<Targets>,
     measurements: Measurements,
@@ -253,7 +253,7 @@ impl VolumeRenderer {
             work: WorkCounts::default(),
         };
         Ok(Self {
-            transfer: super::transfer::TransferTables::new(&ctx),
+            transfer: super::transfer_tables::TransferTables::new(&ctx),
             ctx,
             pipelines,
             uniforms,

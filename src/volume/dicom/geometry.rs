@@ -10,8 +10,8 @@
 //! note says where and why. Several slices at one position (echoes, phases, repeats in one series)
 //! are refused: LeapView does not guess which volume a user wants. Pure: no file is touched.
 
-use super::error::DicomError;
 use super::header::FrameHeader;
+use crate::volume::error::dicom::DicomError;
 
 /// Slice spacing may differ from the median by this share (or [`MIN_TOLERANCE_MM`], whichever is
 /// larger) before the series counts as irregular: positions are written rounded.

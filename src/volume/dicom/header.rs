@@ -111,24 +111,7 @@ impl Rescale {
     };
 }
 
-/// The facts of a series that a person reads: shown by `leapview info` and in the window.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct SeriesFacts {
-    /// `SeriesInstanceUID`.
-    pub uid: String,
-    /// `SeriesNumber`, where given.
-    pub number: Option<i64>,
-    /// `Modality` (CT, MR, RTDOSE, …).
-    pub modality: String,
-    /// `SeriesDescription`.
-    pub description: String,
-    /// `SeriesDate`, else `StudyDate`, as written (YYYYMMDD).
-    pub date: String,
-    /// `FrameOfReferenceUID`.
-    pub frame_of_reference: String,
-    /// `SOPClassUID` of the series' objects.
-    pub sop_class: String,
-}
+pub use crate::volume::model::SeriesFacts;
 
 /// One frame of a DICOM image: a slice of a classic series, or one frame of a multi-frame
 /// (enhanced CT/MR, RT dose) object.

@@ -6,7 +6,6 @@
 pub mod codec;
 pub mod colour;
 pub mod csa;
-pub mod error;
 pub mod geometry;
 pub mod guard;
 pub mod header;
@@ -21,12 +20,12 @@ pub mod write;
 
 use std::path::Path;
 
-pub use error::DicomError;
+pub use crate::volume::error::dicom::DicomError;
 pub use header::{FrameHeader, SeriesFacts};
 pub use series::{Series, SeriesChoice};
 
 use super::error::VolumeError;
-use super::{LoadProgress, Volume};
+use super::{model::Volume, progress::LoadProgress};
 
 /// The series found under a path, and which one opens by default.
 #[derive(Debug)]

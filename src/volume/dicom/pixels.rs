@@ -11,9 +11,9 @@ use dicom_transfer_syntax_registry::{TransferSyntaxIndex, TransferSyntaxRegistry
 
 use super::codec::{Codec, fragments};
 use super::colour::read_palette;
-use super::error::DicomError;
 use super::header::{FrameHeader, Photometric, PixelFormat};
-use crate::volume::ScalarType;
+use crate::volume::error::dicom::DicomError;
+use crate::volume::samples::ScalarType;
 
 /// The stored type that holds `format`'s values exactly: the smallest integer of its stored bits
 /// and signedness.

@@ -8,7 +8,6 @@ use std::sync::atomic::{AtomicU16, Ordering};
 
 use super::codec::Codec;
 use super::colour::{Layout, frame_rgb};
-use super::error::DicomError;
 use super::geometry::{AxesFrom, Geometry, SlicePlan, assemble};
 use super::header::{FrameHeader, Photometric, Rescale};
 use super::pixels::{Decoded, Stored, convert_frame, decode_file, scalar_type};
@@ -16,9 +15,11 @@ use super::resample::resample_slice;
 use super::scan::parallel;
 use super::series::{Alternatives, Series};
 use crate::volume::error::VolumeError;
+use crate::volume::error::dicom::DicomError;
 use crate::volume::{
-    Colour, LoadProgress, Modality, Orientation, OrientationSource, Samples, ScalarType,
-    ValueMapping, Volume, limits,
+    colour::Colour, limits, modality::Modality, model::Volume, orientation::Orientation,
+    orientation::OrientationSource, progress::LoadProgress, samples::Samples, samples::ScalarType,
+    samples::ValueMapping,
 };
 
 /// The series' files, and the copies of each that can stand in for it.
@@ -534,7 +535,7 @@ pub fn read_series(
     let volume = volume
         .with_orientation(orientation)
         .with_modality(Modality::parse(&series.facts.modality));
-    Ok(volume.with_provenance(crate::volume::Provenance {
+    Ok(volume.with_provenance(crate::volume::model::Provenance {
         notes,
         window,
         series: Some(series.facts.clone()),

@@ -10,10 +10,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use dicom_dictionary_std::tags;
 use dicom_object::OpenFileOptions;
 
-use super::error::DicomError;
 use super::guard::{Encoding, ImplicitForExplicit};
 use super::header::FrameHeader;
 use super::tags::{Contents, contents};
+use crate::volume::error::dicom::DicomError;
 
 /// Deepest folder nesting searched (PACS exports nest patient, study, series and more; a deeper
 /// folder is counted and named in the message when nothing is found).

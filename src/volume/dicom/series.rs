@@ -3,8 +3,8 @@
 //! is split into parts, each its own volume (PS3.3 C.7.6.2 makes positions comparable only within
 //! one frame of reference and orientation). Pure: no file is touched.
 
-use super::error::DicomError;
 use super::header::{FrameHeader, SeriesFacts};
+use crate::volume::error::dicom::DicomError;
 
 /// One series (or one part of a series), its frames in the order they were found.
 #[derive(Clone, Debug, PartialEq)]

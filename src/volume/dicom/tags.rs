@@ -8,8 +8,8 @@ use dicom_dictionary_std::{tags, uids};
 use dicom_object::InMemDicomObject;
 use dicom_object::mem::InMemElement;
 
-use super::error::DicomError;
 use super::header::{FrameHeader, Photometric, PixelFormat, Rescale, SeriesFacts};
+use crate::volume::error::dicom::DicomError;
 
 /// A DICOM object as dicom-rs reads a file.
 pub type Object = dicom_object::DefaultDicomObject;

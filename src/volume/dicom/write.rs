@@ -10,14 +10,14 @@ use dicom_dictionary_std::{tags, uids};
 use dicom_object::{FileMetaTableBuilder, InMemDicomObject};
 
 use super::scan::parallel;
-use crate::volume::{Samples, Volume};
+use crate::volume::{model::Volume, samples::Samples};
 
 /// A failure to write the series.
 #[derive(Debug, thiserror::Error)]
 pub enum WriteError {
     /// Only 8- and 16-bit integer volumes are written.
     #[error("only 8- and 16-bit integer volumes are written as DICOM, not {0}")]
-    UnsupportedType(crate::volume::ScalarType),
+    UnsupportedType(crate::volume::samples::ScalarType),
     /// A file could not be written.
     #[error("cannot write {path}: {reason}")]
     Io {

@@ -19,7 +19,10 @@ use super::decode::{self, Encoding, SampleLayout};
 use super::error::VolumeError;
 use super::limits::{self, DataSource};
 use super::progress::LoadProgress;
-use super::{Orientation, ScalarType, ValueMapping, Volume, VolumeIndex};
+use super::{
+    model::Volume, model::VolumeIndex, orientation::Orientation, samples::ScalarType,
+    samples::ValueMapping,
+};
 
 const NIFTI: &str = "NIfTI";
 
@@ -180,11 +183,11 @@ fn read_stream(
         Volume::new(stream.name, dims, spacing, samples, mapping_of(&header))?
     }
     .with_orientation(orientation_of(&header))
-    .with_provenance(super::Provenance {
+    .with_provenance(super::model::Provenance {
         origin_lps: origin_of(&header),
         notes,
         volumes,
-        ..super::Provenance::default()
+        ..super::model::Provenance::default()
     }))
 }
 

@@ -3,12 +3,12 @@
 
 use crate::volume::decode::Encoding;
 use crate::volume::error::VolumeError;
-use crate::volume::{ScalarType, ValueMapping};
+use crate::volume::{samples::ScalarType, samples::ValueMapping};
 
 use super::header::HeaderText;
 use super::names::{parse_encoding, parse_type};
 
-use crate::volume::{Modality, Orientation};
+use crate::volume::{modality::Modality, orientation::Orientation};
 
 const NRRD: &str = "NRRD";
 

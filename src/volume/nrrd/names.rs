@@ -1,9 +1,9 @@
 //! NRRD names of sample types and encodings: every spelling the format allows for the types
 //! LeapView stores, and the encodings it decodes.
 
-use crate::volume::ScalarType;
 use crate::volume::decode::Encoding;
 use crate::volume::error::VolumeError;
+use crate::volume::samples::ScalarType;
 
 /// Every NRRD spelling of the types LeapView stores.
 pub fn parse_type(name: &str) -> Result<ScalarType, VolumeError> {

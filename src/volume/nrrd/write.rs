@@ -8,7 +8,9 @@ use std::path::Path;
 use flate2::Compression;
 use flate2::write::GzEncoder;
 
-use crate::volume::{Direction, Samples, ValueMapping, Volume};
+use crate::volume::{
+    model::Volume, orientation::Direction, samples::Samples, samples::ValueMapping,
+};
 
 /// Writes `volume` to `path`; `comment` becomes a `#` line (provenance). A `.nhdr` path gets a
 /// detached header and the samples raw, little-endian, in a file of the same name ending in
@@ -135,7 +137,9 @@ fn write_samples(samples: &Samples, out: &mut impl Write) -> std::io::Result<()>
 mod tests {
     use super::*;
     use crate::volume::synthetic::{shepp_logan, vessel_tree};
-    use crate::volume::{LoadOptions, Modality, Orientation, load_volume};
+    use crate::volume::{
+        load::LoadOptions, load::load_volume, modality::Modality, orientation::Orientation,
+    };
 
     fn round_trip(volume: &Volume, name: &str) -> Volume {
         let dir = std::env::temp_dir().join(format!("leapview-write-{}", std::process::id()));
@@ -162,7 +166,7 @@ mod tests {
         let raw = LoadOptions {
             raw: Some(crate::volume::raw::RawParams {
                 dims: [20; 3],
-                scalar_type: crate::volume::ScalarType::I16,
+                scalar_type: crate::volume::samples::ScalarType::I16,
                 spacing_mm: phantom.spacing_mm(),
                 big_endian: false,
             }),
@@ -195,7 +199,7 @@ mod tests {
         };
         let o = Orientation {
             axes: [Direction::Left, Direction::Posterior, Direction::Superior],
-            source: crate::volume::OrientationSource::Header,
+            source: crate::volume::orientation::OrientationSource::Header,
         };
         let v = Volume::new("f", [2, 2, 2], [0.5, 0.75, 2.0], samples, mapping)
             .expect("volume")

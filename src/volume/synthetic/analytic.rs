@@ -2,7 +2,9 @@
 //! test can predict what a ray must see (a constant, a slab, a sphere, a ramp, a checkerboard).
 
 use super::{coverage, fill_slabs};
-use crate::volume::{Samples, ScalarType, ValueMapping, Volume, VolumeError};
+use crate::volume::{
+    error::VolumeError, model::Volume, samples::Samples, samples::ScalarType, samples::ValueMapping,
+};
 
 /// An axis of the volume grid.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -220,7 +222,7 @@ mod tests {
     #[test]
     fn ramp_runs_from_zero_to_full_scale_along_its_axis() {
         let v = ramp([4, 3, 6], [1.0; 3], Axis::Z).expect("valid");
-        assert_eq!(v.scalar_type(), crate::volume::ScalarType::U16);
+        assert_eq!(v.scalar_type(), crate::volume::samples::ScalarType::U16);
         for z in 0..6 {
             let expected = (65535.0 * z as f64 / 5.0).round();
             assert_eq!(v.value(3, 2, z), expected);

@@ -17,7 +17,7 @@ use glam::{DMat3, DVec3};
 
 use super::rng::{SplitMix64, unit_noise};
 use super::{coverage, cube_len, fill_slabs};
-use crate::volume::{Samples, ValueMapping, Volume, VolumeError};
+use crate::volume::{error::VolumeError, model::Volume, samples::Samples, samples::ValueMapping};
 
 /// Edge of the cubic field of view, millimetres (0.78 mm voxels at `n = 256`).
 pub const FIELD_OF_VIEW_MM: f64 = 200.0;
@@ -131,7 +131,7 @@ fn ventricle(u: [f64; 3], h: f64) -> f64 {
 ///
 /// Fails with [`VolumeError::ZeroDimension`] when `n` is zero.
 pub fn dense_head(n: u32, seed: u64) -> Result<Volume, VolumeError> {
-    let len = cube_len(n, crate::volume::ScalarType::U8)?;
+    let len = cube_len(n, crate::volume::samples::ScalarType::U8)?;
     let nu = n as usize;
     let h = 2.0 / n as f64;
     let mut rng = SplitMix64::new(seed);

@@ -25,7 +25,7 @@ pub use peer_scene::peer_scene;
 pub use shepp_logan::shepp_logan;
 pub use vessels::vessel_tree;
 
-use super::VolumeError;
+use super::error::VolumeError;
 
 /// Partial-volume coverage of a voxel whose centre lies at signed distance `d` from a surface
 /// (negative inside), for voxels `voxel` long: `clamp(0.5 − d / voxel, 0, 1)`.
@@ -35,7 +35,10 @@ pub(crate) fn coverage(d: f64, voxel: f64) -> f64 {
 
 /// `n³` samples of `scalar_type` as a `Vec` length; refuses a zero `n` and sizes past the
 /// loaders' limits (`limits::check_dims`) before anything is allocated.
-pub(crate) fn cube_len(n: u32, scalar_type: super::ScalarType) -> Result<usize, VolumeError> {
+pub(crate) fn cube_len(
+    n: u32,
+    scalar_type: super::samples::ScalarType,
+) -> Result<usize, VolumeError> {
     let (dims, _) = super::limits::check_dims([n as u64; 3], scalar_type)?;
     Ok(dims.iter().map(|&d| d as usize).product())
 }

@@ -4,7 +4,7 @@
 //! a ray caster meets in practice.
 
 use super::{coverage, cube_len, fill_slabs};
-use crate::volume::{Samples, ValueMapping, Volume, VolumeError};
+use crate::volume::{error::VolumeError, model::Volume, samples::Samples, samples::ValueMapping};
 
 /// Blobs: centre (fractions of the edge), standard deviation (fraction of the edge), peak value.
 const BLOBS: [([f64; 3], f64, f64); 3] = [
@@ -21,7 +21,7 @@ const ROD: ([f64; 2], f64, f64) = ([0.72, 0.26], 1.5, 250.0);
 
 /// The scene at `n³` voxels of 1 mm (uint8; about 84 % of the voxels are zero).
 pub fn peer_scene(n: u32) -> Result<Volume, VolumeError> {
-    let len = cube_len(n, crate::volume::ScalarType::U8)?;
+    let len = cube_len(n, crate::volume::samples::ScalarType::U8)?;
     let nu = n as usize;
     let edge = f64::from(n);
     let mut samples = vec![0u8; len];

@@ -41,7 +41,7 @@ use glam::DVec3;
 
 use super::rng::{UNIT_NOISE_BOUND, unit_noise};
 use super::{coverage, cube_len, fill_slabs};
-use crate::volume::{Samples, ValueMapping, Volume, VolumeError};
+use crate::volume::{error::VolumeError, model::Volume, samples::Samples, samples::ValueMapping};
 
 /// Width of the field of view along every axis, millimetres (256 voxels: 0.898 mm each).
 pub const FIELD_OF_VIEW_MM: f64 = 230.0;
@@ -239,7 +239,7 @@ pub fn shepp_logan(n: u32) -> Result<Volume, VolumeError> {
 
 /// The phantom with noise of standard deviation `noise_sigma_hu` on tissue (0 for none).
 pub(crate) fn generate(n: u32, noise_sigma_hu: f64) -> Result<Volume, VolumeError> {
-    let len = cube_len(n, crate::volume::ScalarType::I16)?;
+    let len = cube_len(n, crate::volume::samples::ScalarType::I16)?;
     let nu = n as usize;
     let voxel = 2.0 / n as f64;
     let psf_sigma = PSF_SIGMA_MM * 2.0 / FIELD_OF_VIEW_MM;
@@ -300,9 +300,9 @@ pub(crate) fn generate(n: u32, noise_sigma_hu: f64) -> Result<Volume, VolumeErro
         ValueMapping::IDENTITY,
     )
     .map(|v| {
-        v.with_modality(Some(crate::volume::Modality::Ct { angio: false }))
+        v.with_modality(Some(crate::volume::modality::Modality::Ct { angio: false }))
             .with_orientation(Some(ORIENTATION))
-            .with_provenance(crate::volume::Provenance {
+            .with_provenance(crate::volume::model::Provenance {
                 window: Some(DISPLAY_WINDOW_HU),
                 ..Default::default()
             })
@@ -311,14 +311,15 @@ pub(crate) fn generate(n: u32, noise_sigma_hu: f64) -> Result<Volume, VolumeErro
 
 /// The phantom's anatomical orientation: DICOM's LPS (i to the patient's left, j to the back,
 /// k to the head), as the axes above say.
-pub const ORIENTATION: crate::volume::Orientation = crate::volume::Orientation {
-    axes: [
-        crate::volume::Direction::Left,
-        crate::volume::Direction::Posterior,
-        crate::volume::Direction::Superior,
-    ],
-    source: crate::volume::OrientationSource::Header,
-};
+pub const ORIENTATION: crate::volume::orientation::Orientation =
+    crate::volume::orientation::Orientation {
+        axes: [
+            crate::volume::orientation::Direction::Left,
+            crate::volume::orientation::Direction::Posterior,
+            crate::volume::orientation::Direction::Superior,
+        ],
+        source: crate::volume::orientation::OrientationSource::Header,
+    };
 
 #[cfg(test)]
 mod tests;

@@ -18,7 +18,7 @@ use glam::{DQuat, DVec3};
 
 use super::rng::{SplitMix64, unit_noise};
 use super::{coverage, cube_len, fill_slabs};
-use crate::volume::{Samples, ValueMapping, Volume, VolumeError};
+use crate::volume::{error::VolumeError, model::Volume, samples::Samples, samples::ValueMapping};
 
 /// Edge of the cubic field of view, millimetres (a head CTA's; 0.70 mm voxels at `n = 256`).
 pub const FIELD_OF_VIEW_MM: f64 = 180.0;
@@ -173,7 +173,7 @@ fn grow_branch(
 ///
 /// Fails with [`VolumeError::ZeroDimension`] when `n` is zero.
 pub fn vessel_tree(n: u32, seed: u64) -> Result<Volume, VolumeError> {
-    let len = cube_len(n, crate::volume::ScalarType::U8)?;
+    let len = cube_len(n, crate::volume::samples::ScalarType::U8)?;
     let nu = n as usize;
     let voxel = FIELD_OF_VIEW_MM / n as f64;
     let capsules = grow(seed);
@@ -233,7 +233,7 @@ pub fn vessel_tree(n: u32, seed: u64) -> Result<Volume, VolumeError> {
         Samples::U8(samples),
         ValueMapping::IDENTITY,
     )
-    .map(|v| v.with_modality(Some(crate::volume::Modality::Mr { angio: true })))
+    .map(|v| v.with_modality(Some(crate::volume::modality::Modality::Mr { angio: true })))
 }
 
 #[cfg(test)]

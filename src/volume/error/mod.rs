@@ -1,9 +1,11 @@
-//! Errors from building and loading volumes. Every message says what is wrong in words a user can
-//! act on; [`LoadError`] adds the file, last.
+//! Errors from building and loading volumes, the DICOM reader's among them ([`dicom`]). Every
+//! message says what is wrong in words a user can act on; [`LoadError`] adds the file, last.
+
+pub mod dicom;
 
 use std::path::PathBuf;
 
-use super::ScalarType;
+use crate::volume::samples::ScalarType;
 
 /// What is wrong with a volume or its file, independent of where it came from.
 #[derive(Debug, thiserror::Error)]
@@ -41,7 +43,7 @@ pub enum VolumeError {
 
     /// A DICOM file, folder or series that cannot be read.
     #[error(transparent)]
-    Dicom(super::dicom::error::DicomError),
+    Dicom(dicom::DicomError),
 
     /// The file does not exist.
     #[error("no such file")]
@@ -351,10 +353,10 @@ fn fmt_found_more(declared: u64, found: u64, exact: bool) -> String {
     }
 }
 
-impl From<super::dicom::error::DicomError> for VolumeError {
-    fn from(e: super::dicom::error::DicomError) -> Self {
+impl From<dicom::DicomError> for VolumeError {
+    fn from(e: dicom::DicomError) -> Self {
         match e {
-            super::dicom::error::DicomError::Cancelled => Self::Cancelled,
+            dicom::DicomError::Cancelled => Self::Cancelled,
             e => Self::Dicom(e),
         }
     }

@@ -11,7 +11,7 @@ use crate::render::gpu_data::FrameUniforms;
 
 use super::layouts::{FrameResources, Layouts};
 use super::leap::LeapStructures;
-use super::transfer::TransferTables;
+use super::transfer_tables::TransferTables;
 use super::uniforms::{FrameGeometry, LeapLevels, SampleDecoding, frame_uniforms};
 
 /// The resources group 0 binds that outlive any one volume.
