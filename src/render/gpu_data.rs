@@ -94,7 +94,7 @@ fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
     constants
 }
 
-/// The WGSL module `generated/constants.wgsl`: [`shared_constants`] as WGSL `const`s.
+/// The WGSL module `generated/constants.wgsl`: `shared_constants` as WGSL `const`s.
 pub fn wgsl_constants() -> String {
     let mut out = String::from(
         "// Generated from src/render/gpu_data.rs at start-up; there is no file to edit.\n",

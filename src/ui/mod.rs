@@ -9,32 +9,18 @@
 //! every GPU object live in the scene, never in a widget.
 
 pub mod app;
-pub mod band_pump;
-pub mod controls;
-pub mod crop;
-pub mod dialogs;
-pub mod effects;
-pub mod frame_job;
+pub mod frames;
+pub mod gestures;
 #[cfg(test)]
 mod glyphs;
-pub mod interaction;
 pub mod layout;
 pub mod loading;
-pub mod lod;
-pub mod menu;
-pub mod orientation_controls;
-pub mod orientation_marker;
-pub mod overlay;
-pub mod redraw;
-pub mod save_image;
-pub mod scene;
+pub mod panels;
 pub mod screenshot;
 pub mod slices;
 pub mod state;
-pub mod tf_editor;
-pub mod viewport;
+pub mod view;
 pub mod window;
-pub mod window_level;
 
 use crate::camera::ProjectionKind;
 use crate::camera::ViewPreset;

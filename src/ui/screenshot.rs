@@ -171,7 +171,7 @@ const LINE_REACH_PX: f32 = 2.5;
 pub struct Overdrawn {
     /// Boxes `[x0, y0, x1, y1]` (the readout, the orientation marker).
     pub rects: Vec<[usize; 4]>,
-    /// Line segments (the slice planes' outlines), each with [`LINE_REACH_PX`] around it.
+    /// Line segments (the slice planes' outlines), each with `LINE_REACH_PX` around it.
     pub lines: Vec<[[f32; 2]; 2]>,
 }
 

@@ -22,11 +22,11 @@ use leapview::camera::{ProjectionKind, ViewPreset};
 use leapview::settings::Strategy;
 use leapview::transfer::editor::TfEditor;
 use leapview::transfer::presets::preset;
-use leapview::ui::controls::{PanelInfo, controls_ui};
-use leapview::ui::dialogs::Dialogs;
 use leapview::ui::layout::Layout;
-use leapview::ui::menu::menu_bar;
-use leapview::ui::tf_editor::tf_editor_ui;
+use leapview::ui::panels::controls::{PanelInfo, controls_ui};
+use leapview::ui::panels::dialogs::Dialogs;
+use leapview::ui::panels::menu::menu_bar;
+use leapview::ui::panels::tf_editor::tf_editor_ui;
 use leapview::ui::{Action, ViewerState, VolumeSummary};
 use leapview::volume::ValueRange;
 use leapview::volume::synthetic::shepp_logan;
@@ -435,7 +435,7 @@ fn loading_shows_a_bar_then_says_the_histogram_is_being_computed() {
     let mut h = harness([360.0, 120.0]).build_ui_state(
         |ui, (s, cancelled): &mut (leapview::ui::loading::LoadStatus, bool)| {
             let view = ui.max_rect();
-            *cancelled |= leapview::ui::overlay::draw_loading(ui, view, s);
+            *cancelled |= leapview::ui::view::overlay::draw_loading(ui, view, s);
         },
         (status(None), false),
     );

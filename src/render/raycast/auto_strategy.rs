@@ -105,7 +105,7 @@ fn skips_timing(renderer: &VolumeRenderer) -> bool {
 }
 
 /// Times RC-t and the leaping strategy of `settings`' mode at `size` (GPU timestamps; the wall
-/// clock where the adapter has none) on `camera` and on the views [`VIEW_TURNS_DEG`] about its
+/// clock where the adapter has none) on `camera` and on the views `VIEW_TURNS_DEG` about its
 /// target from it, and returns the choice for these inputs, without keeping it. A choice holds
 /// until the settings change, whatever the camera does: the views stand for the others, where
 /// one view alone was misleading (on the H200, leaping chosen on one view of an orbit of 12 was

@@ -139,7 +139,7 @@ pub struct LeapStructures {
     /// Layout of the pyramid.
     pub pyramid: Pyramid,
     level_buffer: wgpu::Buffer,
-    /// Per-node (min, max) of normalised values, all levels (vec2<f32>).
+    /// Per-node (min, max) of normalised values, all levels (`vec2<f32>`).
     pub minmax: wgpu::Buffer,
     /// Per-node emptiness flags (u32 0/1; two side bits under [`FlagRule::Iso`]), all levels.
     pub node_empty: wgpu::Buffer,

@@ -15,17 +15,17 @@ use egui::{CentralPanel, Key, KeyboardShortcut, Modifiers, Panel, ViewportComman
 
 use crate::render::RenderError;
 use crate::transfer::fit::preset_for_kind;
-use crate::ui::controls::{PanelInfo, controls_ui};
-use crate::ui::dialogs::Dialogs;
-use crate::ui::effects::effects_ui;
+use crate::ui::frames::redraw::FrameInputs;
+use crate::ui::frames::scene::Scene;
 use crate::ui::layout::Layout;
 use crate::ui::loading::{Loader, VolumeSource};
-use crate::ui::menu::menu_bar;
-use crate::ui::redraw::FrameInputs;
-use crate::ui::save_image::{SaveImageEvent, SaveImageForm, save_image_window};
-use crate::ui::scene::Scene;
+use crate::ui::panels::controls::{PanelInfo, controls_ui};
+use crate::ui::panels::dialogs::Dialogs;
+use crate::ui::panels::effects::effects_ui;
+use crate::ui::panels::menu::menu_bar;
+use crate::ui::panels::save_image::{SaveImageEvent, SaveImageForm, save_image_window};
+use crate::ui::panels::tf_editor::tf_editor_ui;
 use crate::ui::screenshot::{Automation, AutomationError};
-use crate::ui::tf_editor::tf_editor_ui;
 use crate::ui::window::native_options;
 use crate::ui::{Action, ViewerState};
 use crate::volume::{LoadOptions, Volume};

@@ -6,14 +6,14 @@ use std::time::{Duration, Instant};
 use egui::Color32;
 
 use crate::ui::Action;
-use crate::ui::crop::{crop_handles, hint as crop_hint};
+use crate::ui::frames::lod::STILL_AFTER;
+use crate::ui::gestures::window_level::{self, WindowLevelEdit};
 use crate::ui::layout::{Pane, panes};
-use crate::ui::lod::STILL_AFTER;
-use crate::ui::orientation_marker;
-use crate::ui::overlay::{draw_first_frame_status, draw_loading, draw_readout};
 use crate::ui::screenshot::TURN_DEG_PER_FRAME;
-use crate::ui::viewport::{ViewArea, view_ui};
-use crate::ui::window_level::{self, WindowLevelEdit};
+use crate::ui::view::crop::{crop_handles, hint as crop_hint};
+use crate::ui::view::orientation_marker;
+use crate::ui::view::overlay::{draw_first_frame_status, draw_loading, draw_readout};
+use crate::ui::view::viewport::{ViewArea, view_ui};
 
 use super::LeapViewApp;
 

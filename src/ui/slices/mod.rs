@@ -1,7 +1,7 @@
 //! The slice views beside the 3D view: axial, coronal and sagittal planes through one crosshair
 //! point in the patient's frame, sampled on the GPU by `render::slice` from the ray caster's own
 //! volume texture, each redrawn only when what it shows changed. Gestures per pane
-//! ([`pane`]): click or drag to move the crosshair, the wheel (or arrow keys, Page Up/Down) to
+//! (`pane`): click or drag to move the crosshair, the wheel (or arrow keys, Page Up/Down) to
 //! step one voxel along the plane's normal, Ctrl+wheel to zoom, a middle- or Shift-drag to pan,
 //! a right-drag for window/level.
 

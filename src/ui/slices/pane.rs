@@ -12,7 +12,7 @@ use crate::mpr::{Plane, PlaneKind, Slab, SliceView};
 use crate::render::gpu_data::SliceParams;
 use crate::render::slice::{DisplayTarget, Output, SliceLook, SliceSource, slice_params};
 use crate::render::table_texture::TableTexture;
-use crate::ui::window_level::window_drag;
+use crate::ui::gestures::window_level::window_drag;
 use crate::volume::Direction;
 
 use super::{SliceGpu, Source, crop_edit};
@@ -140,7 +140,7 @@ impl SlicePane {
         look: PaneLook<'_>,
     ) -> Outcome {
         let ppp = ui.ctx().pixels_per_point();
-        let (rect, size_px) = crate::ui::viewport::pixel_aligned(rect, ppp);
+        let (rect, size_px) = crate::ui::view::viewport::pixel_aligned(rect, ppp);
         let size_px = size_px.map(|n| n.max(1));
         let response = ui.allocate_rect(rect, Sense::click_and_drag());
         let plane = look.plane;

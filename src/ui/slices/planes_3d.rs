@@ -8,7 +8,7 @@ use glam::DVec3;
 use crate::camera::{Aabb, Camera};
 use crate::mpr::view::cut_polygon;
 use crate::mpr::{PatientFrame, Plane, PlaneKind};
-use crate::ui::crop::Projector;
+use crate::ui::view::crop::Projector;
 
 /// A plane's colour in every view that shows it.
 pub fn colour(kind: PlaneKind) -> Color32 {

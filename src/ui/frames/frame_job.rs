@@ -2,7 +2,7 @@
 //! waits long for the GPU: the window's own drawing shares the queue with the ray caster, so a
 //! frame that keeps the GPU busy for a second (a CPU driver, a large view, a dense volume) would
 //! hold every click and key press for that second and deliver them late in one batch. A band is
-//! sized from the measured cost of its rows ([`super::lod::Lod::band_end`]) to take about
+//! sized from the measured cost of its rows ([`crate::ui::frames::lod::Lod::band_end`]) to take about
 //! [`BAND_BUDGET_MS`] while the user is active; the next band is
 //! submitted only once the last has finished, so the queue never holds more than one band ahead
 //! of the window. A frame whose inputs change, or a refinement frame when the user does anything,
@@ -14,7 +14,7 @@ use std::time::Instant;
 
 use crate::settings::RenderSettings;
 
-use super::redraw::FrameInputs;
+use crate::ui::frames::redraw::FrameInputs;
 
 /// Time one band should take from submission to completion while the user is active: a 60 Hz
 /// refresh. A click waits for at most about one band.

@@ -9,7 +9,7 @@
 //! its completion as the window sees it, not the GPU's timestamps: what the user waits for is
 //! the whole frame, including what the timestamps do not see (the queue, the window's own
 //! drawing, a CPU driver's scheduling). The same model sizes the bands a frame is rendered in
-//! ([`crate::ui::frame_job`]).
+//! ([`crate::ui::frames::frame_job`]).
 
 use std::time::Duration;
 

@@ -1,5 +1,5 @@
 //! The band pump: a thread that feeds the frame in progress to the GPU one band at a time
-//! ([`super::frame_job`]), so that the window's thread never waits for long GPU work and never
+//! ([`crate::ui::frames::frame_job`]), so that the window's thread never waits for long GPU work and never
 //! has to run a pass (on a CPU driver, about 50 ms of drawing the whole window) just to submit
 //! the next band. The renderer and the frame in progress live in [`Shared`], behind a mutex; the
 //! window's thread only ever `try_lock`s it in a pass, so the slow CPU work the pump may do
@@ -9,7 +9,7 @@
 //!
 //! The pump submits a band once the GPU has finished the last one (it polls every millisecond):
 //! the queue never holds more than one band ahead of the window's own drawing, which therefore
-//! waits at most one band ([`super::frame_job::band_budget_ms`]).
+//! waits at most one band ([`crate::ui::frames::frame_job::band_budget_ms`]).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, TryLockError};
@@ -21,8 +21,8 @@ use crate::render::raycast::{auto_path, auto_strategy};
 use crate::render::{FrameRequest, RenderError, VolumeRenderer};
 use crate::settings::{ConcretePath, Strategy};
 
-use super::frame_job::{BandInFlight, Completion, FrameJob, JobKind, band_budget_ms};
-use super::lod::{Lod, STILL_AFTER};
+use crate::ui::frames::frame_job::{BandInFlight, Completion, FrameJob, JobKind, band_budget_ms};
+use crate::ui::frames::lod::{Lod, STILL_AFTER};
 
 /// How long the pump lets the window draw "preparing" before slow work holds the renderer.
 const PREPARE_NOTICE: Duration = Duration::from_millis(30);

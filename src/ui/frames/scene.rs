@@ -1,7 +1,7 @@
 //! The volume on screen: the window's one [`VolumeRenderer`] (run by the band pump,
-//! [`super::band_pump`]), the camera, the egui texture the image is shown through, and the frame
+//! [`crate::ui::frames::band_pump`]), the camera, the egui texture the image is shown through, and the frame
 //! bookkeeping — render only when the inputs changed, in bands that never keep the GPU (and so
-//! the window) busy for long ([`super::frame_job`]), refine a still view, frames per second, GPU
+//! the window) busy for long ([`crate::ui::frames::frame_job`]), refine a still view, frames per second, GPU
 //! time of the last frame.
 
 use std::sync::Arc;
@@ -16,14 +16,14 @@ use crate::render::{GpuContext, RenderError, VolumeRenderer};
 use crate::settings::{ConcretePath, Strategy};
 use crate::volume::Volume;
 
-use super::band_pump::{BandPump, Finished, Shared, lock, try_lock};
-use super::frame_job::{FrameJob, JobKind};
-use super::interaction::{framed, with_projection};
-use super::lod::{STILL_AFTER, scaled_size};
-use super::overlay::{FpsCounter, Readout};
-use super::redraw::{FrameInputs, RedrawTracker};
-use super::viewport::ViewTexture;
-use super::{ViewerState, VolumeSummary};
+use crate::ui::frames::band_pump::{BandPump, Finished, Shared, lock, try_lock};
+use crate::ui::frames::frame_job::{FrameJob, JobKind};
+use crate::ui::frames::lod::{STILL_AFTER, scaled_size};
+use crate::ui::frames::redraw::{FrameInputs, RedrawTracker};
+use crate::ui::gestures::interaction::{framed, with_projection};
+use crate::ui::view::overlay::{FpsCounter, Readout};
+use crate::ui::view::viewport::ViewTexture;
+use crate::ui::{ViewerState, VolumeSummary};
 
 /// The renderer and everything about the frame on screen.
 pub struct Scene {
@@ -316,7 +316,7 @@ impl Scene {
     }
 
     /// Starts rendering the current view at `size` pixels at full quality and writing it to
-    /// `path`, on a thread of its own ([`super::band_pump::save_still`]); the outcome, a line
+    /// `path`, on a thread of its own ([`crate::ui::frames::band_pump::save_still`]); the outcome, a line
     /// for the user, arrives on the returned channel. The window's frame in progress starts
     /// again afterwards.
     pub fn save_still(
@@ -327,7 +327,7 @@ impl Scene {
         ctx: &egui::Context,
     ) -> Result<std::sync::mpsc::Receiver<Result<String, String>>, String> {
         let camera = self.camera.ok_or("no volume on screen")?;
-        let still = super::band_pump::Still {
+        let still = crate::ui::frames::band_pump::Still {
             camera,
             size,
             settings: refinable(state.render, state.refine_frames > 1),
@@ -337,7 +337,7 @@ impl Scene {
         };
         // The still leaves the renderer's output at its size: the view renders again after it.
         self.redraw.invalidate();
-        super::band_pump::save_still(self.pump.handle(), still, ctx.clone())
+        crate::ui::frames::band_pump::save_still(self.pump.handle(), still, ctx.clone())
     }
 
     /// Notes that the user did something this pass (pointer, keys, wheel): a refinement frame

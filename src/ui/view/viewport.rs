@@ -7,7 +7,7 @@ use egui::{Color32, CursorIcon, PointerButton, Pos2, Rect, Sense, TextureId, pos
 
 use crate::camera::Camera;
 
-use super::interaction::{orbit_drag, pan_drag, zoom_scroll};
+use crate::ui::gestures::interaction::{orbit_drag, pan_drag, zoom_scroll};
 
 /// The area allocated for the view this pass.
 pub struct ViewArea {
@@ -19,7 +19,7 @@ pub struct ViewArea {
     pub size_px: [u32; 2],
     /// Whether R was pressed (reset view) while the view had the keyboard.
     pub reset_requested: bool,
-    /// Degrees to roll the view by ([ and ]: 90° anticlockwise and clockwise), when asked.
+    /// Degrees to roll the view by (`[` and `]`: 90° anticlockwise and clockwise), when asked.
     pub roll_deg: Option<f64>,
     /// Pointer motion of a right-drag this pass (window/level), in points.
     pub window_drag: Option<[f32; 2]>,

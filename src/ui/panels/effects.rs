@@ -6,7 +6,7 @@ use egui::{ComboBox, DragValue, Sense, Slider, SliderClamping, Stroke, vec2};
 use crate::settings::{GradientScheme, Light, MAX_ISO_REFINEMENT, MipColor, Mode, Shading};
 use crate::volume::ValueRange;
 
-use super::ViewerState;
+use crate::ui::ViewerState;
 
 /// Height of the histogram under the iso slider, in points.
 const HISTOGRAM_HEIGHT: f32 = 56.0;

@@ -12,8 +12,8 @@ use egui::{Align2, Color32, Frame, Rect, RichText, UiBuilder};
 use crate::counters::FrameCounters;
 use crate::settings::ConcretePath;
 
-use super::VolumeSummary;
-use super::loading::LoadStatus;
+use crate::ui::VolumeSummary;
+use crate::ui::loading::LoadStatus;
 
 /// The window the frame rate is measured over.
 pub const FPS_WINDOW: Duration = Duration::from_secs(1);

@@ -12,8 +12,8 @@ use crate::settings::{
 use crate::text::number;
 use crate::transfer::presets::NAMES;
 
-use super::menu::VIEWS;
-use super::{Action, ViewerState, VolumeSummary};
+use crate::ui::panels::menu::VIEWS;
+use crate::ui::{Action, ViewerState, VolumeSummary};
 
 /// Step slider range in voxels: 1/8 voxel is finer than any visible difference; 4 voxels is
 /// coarse enough to show the undersampling artefacts the step trades against speed.
@@ -73,7 +73,7 @@ pub fn controls_ui(
     if let Some(volume) = info.volume {
         ui.heading("Cropping");
         let crop = &mut state.render.crop;
-        super::crop::crop_ui(ui, crop, &mut state.show_crop_box, volume.dims);
+        crate::ui::view::crop::crop_ui(ui, crop, &mut state.show_crop_box, volume.dims);
         ui.separator();
     }
     ui.heading("View");
@@ -246,7 +246,7 @@ fn readout_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
         .on_hover_text(format!(
             "While you drag, a frame that would take more than {} ms renders at a lower \
              resolution; the full-quality frame follows once the pointer is still",
-            super::lod::BUDGET_MS
+            crate::ui::frames::lod::BUDGET_MS
         ));
     ui.end_row();
 }
@@ -309,7 +309,7 @@ fn quality_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
     ui.add(
         Slider::new(
             &mut state.refine_frames,
-            1..=super::state::MAX_REFINE_FRAMES,
+            1..=crate::ui::state::MAX_REFINE_FRAMES,
         )
         .logarithmic(true)
         .suffix(" frames"),
@@ -417,7 +417,7 @@ fn view_section(ui: &mut egui::Ui, volume: Option<&VolumeSummary>) -> Option<Act
         for side in crate::volume::Direction::VIEWS {
             if ui
                 .button(side.letter().to_string())
-                .on_hover_text(super::menu::view_label(side))
+                .on_hover_text(crate::ui::panels::menu::view_label(side))
                 .clicked()
             {
                 action = Some(Action::ViewFrom(side));
@@ -452,7 +452,7 @@ fn view_section(ui: &mut egui::Ui, volume: Option<&VolumeSummary>) -> Option<Act
         }
     });
     if let Some(v) = volume
-        && let Some(a) = super::orientation_controls::orientation_ui(ui, v)
+        && let Some(a) = crate::ui::panels::orientation_controls::orientation_ui(ui, v)
     {
         action = Some(a);
     }

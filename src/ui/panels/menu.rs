@@ -6,9 +6,9 @@ use egui::MenuBar;
 use crate::camera::{ProjectionKind, ViewPreset};
 use crate::volume::Direction;
 
-use super::layout::Layout;
-use super::{Action, ViewerState};
 use crate::mpr::PlaneKind;
+use crate::ui::layout::Layout;
+use crate::ui::{Action, ViewerState};
 
 /// The standard views with their menu labels, in menu order.
 pub const VIEWS: [(ViewPreset, &str); 7] = [
