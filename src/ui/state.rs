@@ -120,6 +120,35 @@ impl Default for ViewerState {
 }
 
 impl ViewerState {
+    /// What the picture shows, in a reader's words: the transfer function's preset, the iso value,
+    /// or the window of a projection.
+    pub fn look(&self) -> String {
+        let render = &self.render;
+        let window = || match render.window {
+            Some([lo, hi]) => format!(
+                "window {} … {} (W {} L {})",
+                crate::text::number(lo),
+                crate::text::number(hi),
+                crate::text::number(hi - lo),
+                crate::text::number(0.5 * (lo + hi))
+            ),
+            None => "window: the data's".to_string(),
+        };
+        // The preset the transfer function started from (fitted to the data, perhaps edited since).
+        let preset = || format!("preset {}", self.preset);
+        match render.mode {
+            crate::settings::Mode::Dvr => preset(),
+            crate::settings::Mode::Iso => match render.iso.value {
+                Some(v) => format!("isosurface at {}", crate::text::number(v)),
+                None => "isosurface".to_string(),
+            },
+            crate::settings::Mode::Mip => format!("MIP · {}", window()),
+            crate::settings::Mode::MinIp => format!("MinIP · {}", window()),
+            crate::settings::Mode::Xray => format!("X-ray mean · {}", window()),
+            crate::settings::Mode::XrayAttenuation => format!("radiograph · {}", window()),
+        }
+    }
+
     /// Loads preset `name` into the editor (one undo step); an unknown name changes nothing.
     pub fn choose_preset(&mut self, name: &str) -> Result<(), String> {
         let kind = self.fitted_to.clone().unwrap_or(DataKind::Other);

@@ -290,18 +290,24 @@ impl LeapViewApp {
             Action::LoadPhantom => self.start_loading(VolumeSource::SheppLogan, ctx),
             Action::LoadVessels => self.start_loading(VolumeSource::VesselTree, ctx),
             Action::Quit => ctx.send_viewport_cmd(ViewportCommand::Close),
-            Action::SetView(preset) => self.scene.set_view(preset, self.state.projection),
-            Action::ViewFrom(side) => self.scene.view_from(side, self.state.projection),
-            Action::ResetView => self.scene.reset_view(self.state.projection),
+            Action::SetView(preset) => self
+                .scene
+                .framing_mut()
+                .set_view(preset, self.state.projection),
+            Action::ViewFrom(side) => self
+                .scene
+                .framing_mut()
+                .view_from(side, self.state.projection),
+            Action::ResetView => self.scene.framing_mut().reset_view(self.state.projection),
             Action::Roll(deg) => {
-                if let Some(camera) = self.scene.camera_mut() {
+                if let Some(camera) = self.scene.framing_mut().camera_mut() {
                     camera.roll(deg);
                 }
             }
             Action::Reorient(orientation) => self.reorient(orientation, ctx),
             Action::SetProjection(kind) => {
                 self.state.projection = kind;
-                self.scene.set_projection(kind);
+                self.scene.framing_mut().set_projection(kind);
             }
             Action::SetLayout(layout) => self.state.layout = layout,
             Action::OpenRecent(path) => self.open_file(path, ctx),

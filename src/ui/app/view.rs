@@ -59,7 +59,7 @@ impl LeapViewApp {
     /// The 3D view: gestures, the frame, the image and what is drawn over it.
     fn view_3d(&mut self, ui: &mut egui::Ui) {
         let ctx = ui.ctx().clone();
-        let area = view_ui(ui, self.scene.camera_mut());
+        let area = view_ui(ui, self.scene.framing_mut().camera_mut());
         self.view_gestures(&area, &ctx);
         self.render_view(&area, &ctx);
         self.view_rect = area.rect;
@@ -91,7 +91,7 @@ impl LeapViewApp {
         // With slices shown, a click on the 3D view moves the crosshair to what it points at.
         if self.state.layout.has_slices()
             && let Some([x, y]) = area.clicked_px
-            && let Some((camera, _)) = self.scene.camera_and_bounds()
+            && let Some((camera, _)) = self.scene.framing().camera_and_bounds()
         {
             let tf = self.state.editor.tf().clone();
             self.slices.pick(
@@ -120,7 +120,7 @@ impl LeapViewApp {
             .wants_another_frame(self.scene.frames_rendered())
             && !self.scene.rendering_new_frame()
         {
-            if let Some(camera) = self.scene.camera_mut() {
+            if let Some(camera) = self.scene.framing_mut().camera_mut() {
                 camera.orbit(TURN_DEG_PER_FRAME, 0.0);
             }
             ctx.request_repaint();
@@ -164,7 +164,7 @@ impl LeapViewApp {
     fn draw_over_view(&mut self, ui: &mut egui::Ui, area: &ViewArea) {
         self.marker_rect = None;
         if self.state.show_orientation_marker
-            && let Some((camera, _)) = self.scene.camera_and_bounds()
+            && let Some((camera, _)) = self.scene.framing().camera_and_bounds()
             && let Some(volume) = self.scene.volume()
         {
             self.marker_rect =
@@ -173,14 +173,14 @@ impl LeapViewApp {
         self.plane_lines.clear();
         if self.state.layout.has_slices()
             && self.state.show_slice_planes
-            && let Some((camera, bounds)) = self.scene.camera_and_bounds()
+            && let Some((camera, bounds)) = self.scene.framing().camera_and_bounds()
         {
             self.plane_lines =
                 self.slices
                     .draw_planes_3d(ui, area.rect, area.size_px, &camera, &bounds);
         }
         if self.state.show_crop_box
-            && let Some((camera, bounds)) = self.scene.camera_and_bounds()
+            && let Some((camera, bounds)) = self.scene.framing().camera_and_bounds()
         {
             let crop = &mut self.state.render.crop;
             // Moved faces render in the next pass.

@@ -70,7 +70,46 @@ pub struct Shared {
     pub last_input: Option<Instant>,
 }
 
+/// What the window knows of the pump's work, from the last pass that could look.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Busy {
+    /// The frame in progress.
+    pub frame: Option<InProgress>,
+    /// Whether a band is on the GPU.
+    pub in_flight: bool,
+    /// Slow CPU work before the next band.
+    pub preparing: Option<&'static str>,
+    /// Whether a frame was ever added to a refinement mean (lavapipe's timestamps go wrong
+    /// after one).
+    pub accumulated: bool,
+}
+
+/// The frame in progress, as the window sees it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InProgress {
+    /// What it is for.
+    pub kind: JobKind,
+    /// The share of its rows submitted, 0 to 1.
+    pub submitted: f64,
+    /// Whether it has sent out a band yet.
+    pub sent_band: bool,
+}
+
 impl Shared {
+    /// What the window needs to know of the pump's state.
+    pub fn busy(&self) -> Busy {
+        Busy {
+            frame: self.job.as_ref().map(|j| InProgress {
+                kind: j.kind,
+                submitted: j.progress(),
+                sent_band: !j.bands.is_empty(),
+            }),
+            in_flight: self.in_flight.is_some(),
+            preparing: self.preparing,
+            accumulated: self.renderer.has_accumulated(),
+        }
+    }
+
     /// Notes a finished band (its wall time feeds the cost model), then submits the frame's next
     /// band if the GPU is free. `may_prepare`: whether slow CPU work (compiling the frame's shader
     /// variant, timing the `auto` path) may be done first (the pump's thread: yes; the window's:

@@ -4,6 +4,9 @@
 
 pub mod band_pump;
 pub mod frame_job;
+pub mod frame_stats;
+pub mod framing;
 pub mod lod;
 pub mod redraw;
 pub mod scene;
+pub mod shown;

@@ -91,8 +91,8 @@ pub struct Readout<'a> {
     pub tf_latency_ms: Option<f64>,
     /// Resolution scale of the frame on screen when it is an interaction preview.
     pub preview_scale: Option<f64>,
-    /// Frames in the refined mean on screen and the number aimed at, while refining or refined.
-    pub refined: Option<(u32, u32)>,
+    /// The refinement mean on screen, while refining or refined.
+    pub refined: Option<crate::ui::frames::shown::Refinement>,
     /// Why the picture shows nothing, when it cannot ([`crate::transfer::blank::why_blank`]).
     pub blank: Option<String>,
     /// Share of the next frame's rows rendered, while a frame takes more than one band.
@@ -175,7 +175,7 @@ impl Readout<'_> {
         if let Some(ms) = self.frame_ms {
             lines.push(format!("full frame predicted {ms:.1} ms"));
         }
-        if let Some((n, target)) = self.refined {
+        if let Some(crate::ui::frames::shown::Refinement { done: n, target }) = self.refined {
             lines.push(if n < target {
                 format!("refining: mean of {n} of {target} frames")
             } else {
@@ -444,7 +444,7 @@ mod tests {
             rebuild_ms: Some(0.25),
             tf_latency_ms: Some(3.5),
             preview_scale: None,
-            refined: Some((3, 8)),
+            refined: Some(crate::ui::frames::shown::Refinement { done: 3, target: 8 }),
             blank: None,
             rendering: None,
             preparing: None,
