@@ -4,7 +4,7 @@ use anyhow::Context;
 use leapview::camera::Aabb;
 use leapview::render::RenderError;
 use leapview::render::raycast::{auto_path, auto_strategy};
-use leapview::render::{FrameRequest, GpuContext, VolumeRenderer};
+use leapview::render::{FrameRequest, GpuContext, RefineRun, VolumeRenderer};
 use leapview::settings::{RenderSettings, Strategy};
 use leapview::transfer::blank::why_blank;
 use leapview::transfer::fit::{self, DataKind};
@@ -156,12 +156,15 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     let (submitted, first) = renderer.render_and_wait(&request).map_err(render_failure)?;
     let image = if args.refine > 1 {
         renderer
-            .render_refined_reporting(
+            .render_refined(
                 &camera,
                 args.size,
                 &settings,
-                args.refine,
-                Some(&mut refine_progress()),
+                RefineRun {
+                    frames: args.refine,
+                    band_end: None,
+                    done: Some(&mut refine_progress()),
+                },
             )
             .map_err(render_failure)?
     } else {

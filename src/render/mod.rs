@@ -20,5 +20,6 @@ pub mod volume_texture;
 pub use context::{GpuContext, GpuError};
 pub use probe::FrameResults;
 pub use raycast::{
-    FrameRequest, PipelineKey, RenderError, SubmittedFrame, VolumeRenderer, WorkCounts,
+    Accumulate, FrameRequest, PipelineKey, RefineRun, RenderError, SubmittedFrame, VolumeRenderer,
+    WorkCounts,
 };

@@ -32,11 +32,6 @@ impl ScalarType {
         }
     }
 
-    /// Whether the type can hold NaN or infinities.
-    pub fn is_float(self) -> bool {
-        matches!(self, Self::F32 | Self::F64)
-    }
-
     /// The name used by NRRD headers and the command line (`uint8`, `int16`, `float`…).
     pub fn name(self) -> &'static str {
         match self {

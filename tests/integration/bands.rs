@@ -5,7 +5,7 @@
 use crate::common;
 
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
-use leapview::render::{FrameRequest, VolumeRenderer};
+use leapview::render::{Accumulate, FrameRequest, RefineRun, VolumeRenderer};
 use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
 use leapview::transfer::presets::preset;
 use leapview::volume::synthetic;
@@ -16,7 +16,7 @@ fn banded(
     r: &mut VolumeRenderer,
     request: &FrameRequest,
     band: u32,
-    accumulate: Option<bool>,
+    accumulate: Option<Accumulate>,
 ) -> (Option<u32>, leapview::render::FrameResults) {
     let height = request.size[1];
     let mut first = 0;
@@ -96,7 +96,7 @@ fn a_banded_frame_starts_and_joins_the_refinement_mean() {
         ..RenderSettings::default()
     };
     let whole = r
-        .render_refined(&camera, size, &settings, 2)
+        .render_refined(&camera, size, &settings, RefineRun::frames(2))
         .expect("whole");
     fn request<'a>(camera: &'a Camera, size: [u32; 2], s: &'a RenderSettings) -> FrameRequest<'a> {
         FrameRequest {
@@ -107,10 +107,20 @@ fn a_banded_frame_starts_and_joins_the_refinement_mean() {
         }
     }
     settings.sample_offset = leapview::render::raycast::refine::offset(0);
-    let (mean, _) = banded(&mut r, &request(&camera, size, &settings), 10, Some(true));
+    let (mean, _) = banded(
+        &mut r,
+        &request(&camera, size, &settings),
+        10,
+        Some(Accumulate::Restart),
+    );
     assert_eq!(mean, Some(1), "the last band restarts the mean");
     settings.sample_offset = leapview::render::raycast::refine::offset(1);
-    let (mean, _) = banded(&mut r, &request(&camera, size, &settings), 10, Some(false));
+    let (mean, _) = banded(
+        &mut r,
+        &request(&camera, size, &settings),
+        10,
+        Some(Accumulate::Add),
+    );
     assert_eq!(mean, Some(2), "and adds to it");
     assert_eq!(r.read_refined().expect("mean"), whole);
 }

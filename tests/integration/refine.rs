@@ -8,6 +8,7 @@ use crate::common;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
 use leapview::reference;
+use leapview::render::RefineRun;
 use leapview::render::raycast::refine::offset;
 use leapview::settings::{RenderPath, RenderSettings, Strategy};
 use leapview::transfer::{TransferFunction, ValueSpace};
@@ -81,7 +82,7 @@ fn the_gpu_mean_is_the_mean_of_the_reference_at_the_same_offsets() {
         for path in [RenderPath::Fragment, RenderPath::Compute] {
             let settings = RenderSettings { path, ..base };
             let actual = r
-                .render_refined(&camera, size, &settings, FRAMES)
+                .render_refined(&camera, size, &settings, RefineRun::frames(FRAMES))
                 .expect("refined render");
             let name = format!("refine-mean-jitter-{jitter}-{path:?}");
             // Measured on lavapipe: at most 3.4e-4 (f16 output, f32 against f64); a level of
@@ -125,7 +126,7 @@ fn the_mean_of_coarse_frames_is_closer_to_a_fine_step_than_one_frame() {
     let mut last = one_error;
     for frames in [4, 16] {
         let refined = r
-            .render_refined(&camera, size, &coarse, frames)
+            .render_refined(&camera, size, &coarse, RefineRun::frames(frames))
             .expect("refined");
         let error = refined.diff(&truth).expect("same size").rmse;
         eprintln!(

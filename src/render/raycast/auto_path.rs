@@ -15,7 +15,9 @@ use std::time::Instant;
 use crate::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use crate::settings::{ConcretePath, RenderPath, RenderSettings};
 
-use super::renderer::{FrameRequest, RenderError, VolumeRenderer};
+use super::error::RenderError;
+use super::renderer::VolumeRenderer;
+use super::request::FrameRequest;
 
 /// Calibration image edge: large enough to keep the GPU busy, small enough for a CPU driver.
 const SIZE: u32 = 192;

@@ -16,7 +16,9 @@ use std::time::Instant;
 use crate::camera::Camera;
 use crate::settings::{RenderSettings, Strategy};
 
-use super::renderer::{FrameRequest, RenderError, VolumeRenderer};
+use super::error::RenderError;
+use super::renderer::VolumeRenderer;
+use super::request::FrameRequest;
 use super::strategy_choice::{ChoiceBasis, StrategyChoice};
 
 /// Timed rounds of each strategy's frames on the views, alternating (a clock that changes

@@ -6,18 +6,26 @@
 
 pub mod auto_path;
 pub mod auto_strategy;
+pub mod error;
 pub mod gpu_volume;
 pub mod layouts;
 pub mod leap;
+mod measurements;
 pub mod passes;
 pub mod pipelines;
 pub mod refine;
+pub mod refined;
 pub mod renderer;
+pub mod request;
 pub mod strategy_choice;
 pub mod targets;
 pub mod transfer_tables;
 pub mod uniforms;
 pub mod variant;
+mod waited;
 
-pub use renderer::{FrameRequest, RenderError, SubmittedFrame, VolumeRenderer, WorkCounts};
+pub use error::RenderError;
+pub use refined::RefineRun;
+pub use renderer::VolumeRenderer;
+pub use request::{Accumulate, FrameRequest, SubmittedFrame, WorkCounts};
 pub use variant::PipelineKey;

@@ -85,11 +85,6 @@ impl Pipelines {
         })
     }
 
-    /// Number of ray-casting variants built so far.
-    pub fn variant_count(&self) -> usize {
-        self.raycast.len()
-    }
-
     /// Whether the variant `key` is built (a frame that needs it does not compile a shader).
     pub fn has(&self, key: &PipelineKey) -> bool {
         self.raycast.contains_key(key)

@@ -1,223 +1,47 @@
 //! The long-lived volume renderer. It orchestrates small owners, one per lifetime: the pipelines
 //! (the device's), the volume's resources, the transfer function's tables, the per-size targets,
-//! and the probes and refinement of frames. The window, the command line and the tests all render
-//! through it.
+//! and the probes (`measurements.rs`) and refinement of frames. The window, the command
+//! line and the tests all render through it: a frame's request and result types are in
+//! [`super::request`], its errors in [`super::error`], refined images in [`super::refined`], and
+//! the frames a caller waits for, with their pixels, in `waited.rs`.
 
-use crate::camera::Camera;
-use crate::imaging::ImageF32;
 use crate::render::context::GpuContext;
 use crate::render::pack::Rgba8Reader;
-use crate::render::probe::{FrameResults, ProbePool, ProbeSlot};
-use crate::render::readback::read_texture;
-use crate::render::shader::ShaderError;
-use crate::render::volume_texture::{VolumeTexture, VolumeTextureError};
-use crate::settings::{
-    ConcretePath, Mode, RenderPath, RenderSettings, SettingsError, TexturePrecision,
-};
+use crate::render::probe::{FrameResults, ProbePool};
+use crate::render::volume_texture::VolumeTexture;
+use crate::settings::{ConcretePath, Mode, RenderPath, RenderSettings, TexturePrecision};
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
+use super::error::RenderError;
 use super::gpu_volume::{FrameShared, GpuVolume};
-use super::leap::{Builds, LeapRequest, LeapStructures};
+use super::leap::{LeapRequest, LeapStructures};
+use super::measurements::Measurements;
 use super::passes::RaycastPasses;
 use super::pipelines::Pipelines;
-use super::refine::{self, Accumulator};
+use super::refine::Accumulator;
+use super::request::{Accumulate, FrameRequest, SubmittedFrame, WorkCounts};
 use super::strategy_choice::{self, ChoiceKey, StrategyChoice};
 use super::targets::Targets;
 use super::uniforms::FrameGeometry;
 use super::variant::PipelineKey;
 use crate::render::gpu_data::{FrameUniforms, SPLIT_GROUP_ROWS, WORKGROUP};
 
-/// Why a frame could not be rendered.
-#[derive(Debug, thiserror::Error)]
-pub enum RenderError {
-    /// `render` was called before any volume was set.
-    #[error("no volume is loaded")]
-    NoVolume,
-    /// A setting is out of range.
-    #[error(transparent)]
-    Settings(#[from] SettingsError),
-    /// The path is `auto` but no path was chosen for this renderer yet (a bug of the caller: run
-    /// [`super::auto_path::choose`] first).
-    #[error("the ray-loop path is 'auto' but the paths have not been timed on this GPU yet")]
-    AutoPathNotChosen,
-    /// The image is larger than the adapter's 2D texture limit (or empty).
-    #[error(
-        "an image of {width}×{height} pixels is not possible on this GPU ({adapter}): each side must be 1 to {max}"
-    )]
-    ImageSize {
-        /// Requested width.
-        width: u32,
-        /// Requested height.
-        height: u32,
-        /// The adapter's `max_texture_dimension_2d`.
-        max: u32,
-        /// Adapter name.
-        adapter: String,
-    },
-    /// The GPU refused the textures of an image this size (out of memory, or past a limit).
-    #[error(
-        "this GPU ({adapter}) cannot hold the textures of a {width}×{height} image (about \
-         {megabytes:.0} MB): {reason}; render a smaller image"
-    )]
-    TargetsRefused {
-        /// Requested width.
-        width: u32,
-        /// Requested height.
-        height: u32,
-        /// What the image's textures take.
-        megabytes: f64,
-        /// Adapter name.
-        adapter: String,
-        /// What wgpu said, first line.
-        reason: String,
-    },
-    /// The volume could not be put on the GPU.
-    #[error(transparent)]
-    Volume(#[from] VolumeTextureError),
-    /// A shader module is malformed (a bug).
-    #[error("internal shader error: {0}")]
-    Shader(#[from] ShaderError),
-    /// The GPU reported an error while rendering.
-    #[error("the GPU reported an error: {0}")]
-    Gpu(String),
-}
-
-impl RenderError {
-    /// Whether the caller's input is at fault (a volume or an image past the GPU's limits, a
-    /// setting out of range) rather than the GPU or the program: the command line's status 2.
-    pub fn is_bad_input(&self) -> bool {
-        matches!(
-            self,
-            Self::Volume(_)
-                | Self::ImageSize { .. }
-                | Self::TargetsRefused { .. }
-                | Self::Settings(_)
-        )
-    }
-}
-
-/// One frame to render.
-#[derive(Clone, Copy, Debug)]
-pub struct FrameRequest<'a> {
-    /// Camera in world millimetres.
-    pub camera: &'a Camera,
-    /// Image size in pixels.
-    pub size: [u32; 2],
-    /// Mode, strategy, path and quality knobs.
-    pub settings: &'a RenderSettings,
-    /// Use the statistics variant (counts samples; slower).
-    pub stats: bool,
-}
-
-/// What was submitted for a frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SubmittedFrame {
-    /// Sequence number (matches [`FrameResults::frame`]).
-    pub frame: u64,
-    /// The pipeline variant used.
-    pub key: PipelineKey,
-}
-
-/// How often the renderer did each piece of work since it was made: what tests read to prove
-/// that nothing is recomputed that did not change.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct WorkCounts {
-    /// Frames submitted.
-    pub frames: u64,
-    /// Lookup tables baked and uploaded (transfer function, value range or step changed).
-    pub lut_bakes: u64,
-    /// Min/max pyramids built (once per volume, on the first leaping frame).
-    pub minmax_builds: u64,
-    /// Emptiness tables and node flags built (transfer function, or the X-ray window for the
-    /// distance field, changed).
-    pub flag_builds: u64,
-    /// Distance fields built (flags or block size changed).
-    pub distance_builds: u64,
-    /// Pre-integration tables built (transfer function or value range changed while
-    /// pre-integration is on).
-    pub integral_builds: u64,
-}
-
-/// A frame added to the refinement mean: whether it starts a new mean.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Accumulate {
-    restart: bool,
-}
-
-/// The frames' measurements: GPU timestamps and counters, the statistics variants' group, and
-/// what was done so far.
-struct Measurements {
-    probes: ProbePool,
-    stats_group: wgpu::BindGroup,
-    frames_submitted: u64,
-    work: WorkCounts,
-}
-
-impl Measurements {
-    /// Counts a new submission and takes a probe for it (none when all are in flight); clears
-    /// the counters of a statistics frame when `first` (the first band of a frame rendered in
-    /// bands: the counters add up over its bands). The `last` band of a statistics frame
-    /// carries the frame's counters, so it waits for a probe rather than go without.
-    fn begin(
-        &mut self,
-        device: &wgpu::Device,
-        stats: bool,
-        [first, last]: [bool; 2],
-        encoder: &mut wgpu::CommandEncoder,
-    ) -> Option<ProbeSlot> {
-        self.frames_submitted += 1;
-        self.work.frames += 1;
-        if stats && first {
-            self.probes.clear_counters(encoder);
-        }
-        if stats && last {
-            self.probes
-                .acquire_or_wait(device, self.frames_submitted, stats)
-        } else {
-            self.probes.acquire(self.frames_submitted, stats)
-        }
-    }
-
-    /// Counts what the leaping structures' preparation built.
-    fn count_builds(&mut self, builds: Builds) {
-        self.work.minmax_builds += u64::from(builds.minmax);
-        self.work.flag_builds += u64::from(builds.flags);
-        self.work.distance_builds += u64::from(builds.distance);
-    }
-
-    /// Resolves the frame's probe into its read-back buffer, submits, and starts the read-back.
-    fn submit(
-        &mut self,
-        ctx: &GpuContext,
-        mut encoder: wgpu::CommandEncoder,
-        slot: Option<ProbeSlot>,
-    ) {
-        if let Some(s) = &slot {
-            self.probes.finish(s, &mut encoder);
-        }
-        ctx.queue.submit([encoder.finish()]);
-        if let Some(s) = slot {
-            self.probes.submitted(s);
-        }
-    }
-}
-
 /// The renderer. See the module documentation.
 pub struct VolumeRenderer {
-    ctx: GpuContext,
+    pub(super) ctx: GpuContext,
     pipelines: Pipelines,
     /// The frame uniforms (rewritten every frame) and the volume sampler.
     uniforms: wgpu::Buffer,
     sampler: wgpu::Sampler,
     transfer: super::transfer_tables::TransferTables,
     volume: Option<GpuVolume>,
-    targets: Option<Targets>,
+    pub(super) targets: Option<Targets>,
     measurements: Measurements,
     /// The running mean of progressive refinement (built on first use).
     refine: Option<Accumulator>,
     /// The 8-bit read-back (built on first use).
-    rgba8: Option<Rgba8Reader>,
+    pub(super) rgba8: Option<Rgba8Reader>,
     /// The path `auto` stands for on this adapter, once chosen ([`super::auto_path::choose`]).
     auto_path: Option<ConcretePath>,
     /// What the `auto` strategy stands for on the inputs last chosen for
@@ -396,14 +220,14 @@ impl VolumeRenderer {
     /// in bands, one submission each, so that no submission keeps the GPU busy for long (whatever
     /// else shares the queue, such as the window's own drawing, waits behind it). Bands must come
     /// in order, from row 0 to the last row, with the same request. The first band clears the
-    /// image; the last one adds it to the refinement mean when `accumulate` is `Some(restart)`
+    /// image; the last one adds it to the refinement mean when `accumulate` says how
     /// (returning the frames the mean then holds). Each band has its own measurements (GPU time;
     /// a statistics frame's counters add up over its bands, complete in the last band's).
     pub fn render_band(
         &mut self,
         request: &FrameRequest,
         rows: [u32; 2],
-        accumulate: Option<bool>,
+        accumulate: Option<Accumulate>,
     ) -> Result<(SubmittedFrame, Option<u32>), RenderError> {
         if rows[0] >= rows[1] || rows[1] > request.size[1] {
             return Err(RenderError::Gpu(format!(
@@ -414,7 +238,6 @@ impl VolumeRenderer {
         if accumulate.is_some() && self.refine.is_none() {
             self.refine = Some(Accumulator::new(&self.ctx.device)?);
         }
-        let accumulate = accumulate.map(|restart| Accumulate { restart });
         self.render_frame(request, accumulate, rows)
     }
 
@@ -508,7 +331,7 @@ impl VolumeRenderer {
                 &mut encoder,
                 &targets.output_view,
                 targets.size,
-                a.restart,
+                a == Accumulate::Restart,
             ),
             _ => None,
         };
@@ -532,54 +355,6 @@ impl VolumeRenderer {
     /// [`Self::collect_results`] without waiting and asks for another pass while this is true.
     pub fn results_pending(&self) -> bool {
         self.measurements.probes.any_in_flight()
-    }
-
-    /// Renders a frame and waits for its measurements.
-    pub fn render_and_wait(
-        &mut self,
-        request: &FrameRequest,
-    ) -> Result<(SubmittedFrame, FrameResults), RenderError> {
-        let submitted = self.render(request)?;
-        let results = self.wait_for_results(&submitted);
-        Ok((submitted, results))
-    }
-
-    /// Waits for the measurements of `submitted` (empty where it had none).
-    pub fn wait_for_results(&mut self, submitted: &SubmittedFrame) -> FrameResults {
-        self.collect_results(true)
-            .into_iter()
-            .find(|r| r.frame == submitted.frame)
-            .unwrap_or_default()
-    }
-
-    /// The rendered image (to copy it for display), once a frame was rendered.
-    pub fn output_texture(&self) -> Option<&wgpu::Texture> {
-        self.targets.as_ref().map(|t| &t.output)
-    }
-
-    /// Copies the last rendered image to the CPU (waits for the GPU).
-    pub fn read_image(&self) -> Result<ImageF32, RenderError> {
-        let targets = self.targets.as_ref().ok_or(RenderError::NoVolume)?;
-        read_texture(&self.ctx, &targets.output, targets.size).map_err(RenderError::Gpu)
-    }
-
-    /// Copies the last rendered image to the CPU as 8-bit RGBA, quantised on the GPU (waits for
-    /// the GPU): the same bytes as [`Self::read_image`] followed by [`ImageF32::to_rgba8`], in
-    /// half the bytes and without the CPU's conversion. An image too large for one storage
-    /// buffer takes that slower way.
-    pub fn read_image_rgba8(&mut self) -> Result<image::RgbaImage, RenderError> {
-        let targets = self.targets.as_ref().ok_or(RenderError::NoVolume)?;
-        let reader = match &mut self.rgba8 {
-            Some(reader) => reader,
-            empty => empty.insert(Rgba8Reader::new(&self.ctx.device)?),
-        };
-        let packed = reader
-            .read(&self.ctx, &targets.output_view, targets.size)
-            .map_err(RenderError::Gpu)?;
-        match packed {
-            Some(image) => Ok(image),
-            None => Ok(self.read_image()?.to_rgba8()),
-        }
     }
 
     /// The path `path` stands for: itself, or for `auto` the path chosen on this adapter
@@ -659,11 +434,6 @@ impl VolumeRenderer {
         }
     }
 
-    /// Number of pipeline variants built so far.
-    pub fn pipeline_count(&self) -> usize {
-        self.pipelines.variant_count()
-    }
-
     /// What work the renderer has done so far.
     pub fn work_counts(&self) -> WorkCounts {
         self.measurements.work
@@ -679,158 +449,8 @@ impl VolumeRenderer {
         self.volume.as_ref().map(|v| &v.leap)
     }
 
-    /// Renders `camera` at `size` and returns the image (waits for the GPU).
-    pub fn render_image(
-        &mut self,
-        camera: &Camera,
-        size: [u32; 2],
-        settings: &RenderSettings,
-    ) -> Result<ImageF32, RenderError> {
-        self.render(&FrameRequest {
-            camera,
-            size,
-            settings,
-            stats: false,
-        })?;
-        self.read_image()
-    }
-}
-
-impl VolumeRenderer {
-    /// Renders `request` and adds it to the refinement mean (`restart`: as its first frame);
-    /// returns the frame and the frames the mean holds, `None` when the image is too large for
-    /// the per-pixel sums (more than the device's largest storage buffer: 128 MiB, 8.4 M pixels,
-    /// by default).
-    pub fn render_accumulated(
-        &mut self,
-        request: &FrameRequest,
-        restart: bool,
-    ) -> Result<(SubmittedFrame, Option<u32>), RenderError> {
-        if self.refine.is_none() {
-            self.refine = Some(Accumulator::new(&self.ctx.device)?);
-        }
-        let rows = [0, request.size[1]];
-        self.render_frame(request, Some(Accumulate { restart }), rows)
-    }
-
-    /// Whether any frame was ever added to a refinement mean.
-    pub fn has_accumulated(&self) -> bool {
-        self.refine.as_ref().is_some_and(|a| a.count() > 0)
-    }
-
-    /// The refinement mean's view (for display), once a frame was added to it.
-    pub fn refined_view(&self) -> Option<&wgpu::TextureView> {
-        self.refine.as_ref()?.mean().map(|(_, view, _)| view)
-    }
-
-    /// Copies the refinement mean to the CPU (waits for the GPU).
-    pub fn read_refined(&self) -> Result<ImageF32, RenderError> {
-        let (texture, _, size) = self
-            .refine
-            .as_ref()
-            .and_then(Accumulator::mean)
-            .ok_or(RenderError::NoVolume)?;
-        read_texture(&self.ctx, texture, size).map_err(RenderError::Gpu)
-    }
-
-    /// Renders `frames` frames of the view at the offsets of [`refine::offset`] and returns
-    /// their mean (one plain frame for `frames` ≤ 1, or when the image is too large for the
-    /// sums: then with a warning in the log).
-    pub fn render_refined(
-        &mut self,
-        camera: &Camera,
-        size: [u32; 2],
-        settings: &RenderSettings,
-        frames: u32,
-    ) -> Result<ImageF32, RenderError> {
-        self.render_refined_reporting(camera, size, settings, frames, None)
-    }
-
-    /// [`Self::render_refined`], waiting for each frame and telling `done` how many of the
-    /// `frames` are finished, where given (a long refinement's progress).
-    pub fn render_refined_reporting(
-        &mut self,
-        camera: &Camera,
-        size: [u32; 2],
-        settings: &RenderSettings,
-        frames: u32,
-        done: Option<&mut dyn FnMut(u32, u32)>,
-    ) -> Result<ImageF32, RenderError> {
-        let height = size[1];
-        self.render_refined_in_bands(camera, size, settings, frames, &mut |_| height, done)
-    }
-
-    /// [`Self::render_refined_reporting`] with each frame rendered in bands of rows
-    /// `[first, band_end(first))`; when a frame takes more than one band, each is waited for
-    /// before the next goes out, so that whatever else shares the queue (a window's drawing)
-    /// waits for at most one band.
-    pub fn render_refined_in_bands(
-        &mut self,
-        camera: &Camera,
-        size: [u32; 2],
-        settings: &RenderSettings,
-        frames: u32,
-        band_end: &mut dyn FnMut(u32) -> u32,
-        mut done: Option<&mut dyn FnMut(u32, u32)>,
-    ) -> Result<ImageF32, RenderError> {
-        let refine = frames > 1;
-        for k in 0..frames.max(1) {
-            let shifted = RenderSettings {
-                sample_offset: if refine {
-                    refine::offset(k)
-                } else {
-                    settings.sample_offset
-                },
-                ..*settings
-            };
-            let request = FrameRequest {
-                camera,
-                size,
-                settings: &shifted,
-                stats: false,
-            };
-            let mean = self.render_bands(&request, refine.then_some(k == 0), band_end)?;
-            if refine && mean.is_none() {
-                log::warn!(
-                    "a {}×{} image is too large to refine; rendered once",
-                    size[0],
-                    size[1]
-                );
-                return self.render_refined_in_bands(camera, size, settings, 1, band_end, None);
-            }
-            if let Some(report) = done.as_mut() {
-                self.collect_results(true);
-                report(k + 1, frames);
-            }
-        }
-        // The frames' timings are nobody's: free their probes for the frames that follow.
-        self.collect_results(true);
-        if refine {
-            self.read_refined()
-        } else {
-            self.read_image()
-        }
-    }
-
-    /// Renders `request`'s frame in bands `[first, band_end(first))` (see
-    /// [`Self::render_band`]), waiting for each but the last; returns the frames the
-    /// refinement mean then holds.
-    fn render_bands(
-        &mut self,
-        request: &FrameRequest,
-        accumulate: Option<bool>,
-        band_end: &mut dyn FnMut(u32) -> u32,
-    ) -> Result<Option<u32>, RenderError> {
-        let height = request.size[1];
-        let (mut first, mut mean) = (0, None);
-        while first < height {
-            let end = band_end(first).clamp(first + 1, height);
-            mean = self.render_band(request, [first, end], accumulate)?.1;
-            if end < height {
-                self.collect_results(true);
-            }
-            first = end;
-        }
-        Ok(mean)
+    /// The refinement mean's accumulator, once a frame was added to one.
+    pub(super) fn refinement(&self) -> Option<&Accumulator> {
+        self.refine.as_ref()
     }
 }

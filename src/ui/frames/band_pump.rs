@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 
 use crate::render::gpu_data::WORKGROUP;
 use crate::render::raycast::{auto_path, auto_strategy};
-use crate::render::{FrameRequest, RenderError, VolumeRenderer};
+use crate::render::{Accumulate, FrameRequest, RefineRun, RenderError, VolumeRenderer};
 use crate::settings::{ConcretePath, Strategy};
 
 use crate::ui::frames::frame_job::{BandInFlight, Completion, FrameJob, JobKind, band_budget_ms};
@@ -225,8 +225,8 @@ impl Shared {
             stats: job.inputs.stats,
         };
         let accumulate = match job.kind {
-            JobKind::Plain { refine } => refine.then_some(true),
-            JobKind::Refinement => Some(false),
+            JobKind::Plain { refine } => refine.then_some(Accumulate::Restart),
+            JobKind::Refinement => Some(Accumulate::Add),
         };
         let submitted_at = Instant::now();
         let (submitted, mean) = match self.renderer.render_band(&request, band, accumulate) {
@@ -457,12 +457,10 @@ fn render_still(s: &mut Shared, still: &Still) -> Result<crate::imaging::ImageF3
     auto_path::choose(renderer, still.settings.path)?;
     let size = still.size;
     auto_strategy::choose(renderer, &still.settings, size, &still.camera, true)?;
-    renderer.render_refined_in_bands(
-        &still.camera,
-        size,
-        &still.settings,
-        still.frames,
-        &mut |first| lod.band_end(size, first, band_budget_ms(None), WORKGROUP),
-        None,
-    )
+    let run = RefineRun {
+        frames: still.frames,
+        band_end: Some(&mut |first| lod.band_end(size, first, band_budget_ms(None), WORKGROUP)),
+        done: None,
+    };
+    renderer.render_refined(&still.camera, size, &still.settings, run)
 }

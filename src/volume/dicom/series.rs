@@ -26,14 +26,6 @@ impl Series {
             .is_some_and(|f| f.pixel.unsupported().is_none())
     }
 
-    /// The number of distinct files the frames come from.
-    pub fn file_count(&self) -> usize {
-        let mut files: Vec<usize> = self.frames.iter().map(|f| f.file).collect();
-        files.sort_unstable();
-        files.dedup();
-        files.len()
-    }
-
     /// A one-line description for lists: number, modality, description, slices, size, spacing.
     pub fn summary(&self, number: usize) -> String {
         let Some(first) = self.frames.first() else {
