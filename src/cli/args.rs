@@ -107,17 +107,6 @@ pub struct ShadersArgs {
     pub json: bool,
 }
 
-/// How a thick slab's samples combine (`leapview slice --mode`).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SlabModeArg {
-    /// The largest value (maximum intensity projection).
-    Mip,
-    /// The smallest value (minimum intensity projection).
-    Minip,
-    /// The mean value.
-    Mean,
-}
-
 /// `leapview slice`.
 #[derive(Args, Debug)]
 pub struct SliceArgs {
@@ -177,8 +166,8 @@ pub struct SliceArgs {
     #[arg(long)]
     pub slab: Option<f64>,
     /// How a slab's samples combine.
-    #[arg(long, value_enum, default_value_t = SlabModeArg::Mip)]
-    pub mode: SlabModeArg,
+    #[arg(long, value_enum, default_value_t = leapview::mpr::SlabMode::Mip)]
+    pub mode: leapview::mpr::SlabMode,
     /// Also time the slice on the GPU, this many passes between timestamps: prints the median time
     /// per slice for passes of one slice and of 50 (what one more slice adds, without a pass's
     /// fixed cost). Needs an adapter with timestamp queries.

@@ -9,6 +9,7 @@ use leapview::volume::{LoadProgress, OrientationSource, ValueMapping, Volume};
 use super::args::{InfoArgs, RawArgs};
 use super::text::{number, outln, print_stdout};
 use super::{Failure, load};
+use crate::cli::OrFail;
 
 /// The share of voxels whose stored value is below `min + 0.1 * (P99.9 - min)` (the "air"
 /// definition of ../shared/data/README.md), on stored values.
@@ -86,8 +87,7 @@ fn load_sampled(
     options.progress = Some(std::sync::Arc::new(
         LoadProgress::default().with_slice_stride(stride),
     ));
-    let volume =
-        leapview::volume::load_volume(path, &options).map_err(|e| Failure::BadInput(e.into()))?;
+    let volume = leapview::volume::load_volume(path, &options).bad_input()?;
     Ok((volume, stride, shape.map(|s| s.dims)))
 }
 
@@ -96,11 +96,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
     let (volume, stride, header_dims) = load_sampled(&args.file, raw)?;
     let kind = DataKind::of(&volume);
     let tf = match &args.tf {
-        Some(name) => Some(
-            fit::resolve(name, &kind)
-                .map_err(|e| Failure::BadInput(e.into()))?
-                .tf,
-        ),
+        Some(name) => Some(fit::resolve(name, &kind).bad_input()?.tf),
         None => None,
     };
     let q = |p| quantile(volume.samples(), volume.mapping(), p);
@@ -162,7 +158,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
             "patient_box_lps_mm": patient_box(&volume, dims[2], stride),
             "slices_read_every": stride,
         });
-        return print_stdout(&format!("{value:#}\n")).map_err(|e| Failure::Other(e.into()));
+        return print_stdout(&format!("{value:#}\n")).failed();
     }
     let mut out = String::new();
     // The header's dimensions and spacing, where only every few slices were read.
@@ -276,7 +272,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
             100.0 * share
         );
     }
-    print_stdout(&out).map_err(|e| Failure::Other(e.into()))
+    print_stdout(&out).failed()
 }
 
 /// A DICOM series' facts, and the other series found beside it.

@@ -42,6 +42,25 @@ impl From<anyhow::Error> for Failure {
     }
 }
 
+/// The one way a command turns an error into a [`Failure`]: `.bad_input()?` where the user's
+/// input is at fault (exit status 2), `.failed()?` otherwise (exit status 1).
+pub trait OrFail<T> {
+    /// The error as bad input.
+    fn bad_input(self) -> Result<T, Failure>;
+    /// The error as any other failure.
+    fn failed(self) -> Result<T, Failure>;
+}
+
+impl<T, E: Into<anyhow::Error>> OrFail<T> for Result<T, E> {
+    fn bad_input(self) -> Result<T, Failure> {
+        self.map_err(|e| Failure::BadInput(e.into()))
+    }
+
+    fn failed(self) -> Result<T, Failure> {
+        self.map_err(|e| Failure::Other(e.into()))
+    }
+}
+
 /// Runs a subcommand.
 pub fn run(command: Command, raw: &args::RawArgs) -> Result<(), Failure> {
     match command {
@@ -63,7 +82,7 @@ pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
         .as_deref()
         .map(leapview::volume::Orientation::parse_code)
         .transpose()
-        .map_err(|e| Failure::BadInput(e.into()))?;
+        .bad_input()?;
     let series = raw
         .series
         .as_deref()
@@ -102,7 +121,7 @@ pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
 /// Loads a volume, turning any problem into a one-line bad-input failure.
 pub fn load(path: &Path, raw: &args::RawArgs) -> Result<Volume, Failure> {
     let options = load_options(raw)?;
-    load_volume(path, &options).map_err(|e| Failure::BadInput(e.into()))
+    load_volume(path, &options).bad_input()
 }
 
 /// [`load`] for the GPU of `ctx`: the volume's shape is checked against it (its 3D texture
@@ -118,7 +137,7 @@ pub fn load_for_gpu(
             leapview::render::volume_texture::admission(ctx),
         ),
     ));
-    load_volume(path, &options).map_err(|e| Failure::BadInput(e.into()))
+    load_volume(path, &options).bad_input()
 }
 
 /// The camera the flags describe, for a volume with bounds `bounds`.

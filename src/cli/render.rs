@@ -12,6 +12,7 @@ use leapview::transfer::fit::{self, DataKind};
 use super::args::{RawArgs, RenderArgs};
 use super::text::{outln, print_stdout};
 use super::{Failure, camera_from_args};
+use crate::cli::OrFail;
 
 /// Frames timed for `--stats`, after one warm-up frame; the median is reported.
 const TIMED_FRAMES: usize = 5;
@@ -82,30 +83,18 @@ fn render_image(
         no_leap: false,
         tf: None,
         slab: None,
-        mode: super::args::SlabModeArg::Mip,
+        mode: leapview::mpr::SlabMode::Mip,
         repeat: 0,
     };
     super::slice::write_slice(volume, &slice, &ctx)
 }
 
-/// Runs the command.
-pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
-    // Refused before anything is loaded or rendered.
-    leapview::imaging::check_output_path(&args.out).map_err(|e| Failure::BadInput(e.into()))?;
-    let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
-    let volume = super::load_for_gpu(&args.file, raw, &ctx)?;
-    if let Some(plane) = leapview::mpr::frame::image_plane(&volume) {
-        return render_image(&volume, plane, &args, ctx);
-    }
-    let kind = DataKind::of(&volume);
-    let resolved = fit::resolve(&args.tf, &kind).map_err(|e| Failure::BadInput(e.into()))?;
-    if let Some(note) = &resolved.note {
-        eprintln!(
-            "leapview: note: {note} ({})",
-            kind.describe(volume.modality())
-        );
-    }
-    let tf = resolved.tf;
+/// The render settings `args` ask for on `volume`: the knobs given, the quality preset over
+/// them, the effects, the default window, the crop; checked.
+fn settings_of(
+    args: &RenderArgs,
+    volume: &leapview::volume::Volume,
+) -> Result<RenderSettings, Failure> {
     let mut settings = RenderSettings {
         mode: args.mode,
         strategy: args.strategy,
@@ -124,20 +113,40 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     args.effects.apply(&mut settings);
     // MIP, MinIP and X-ray without a window: the header's, else the data's, a few outliers left
     // out.
-    settings.window = settings.window.or_else(|| fit::default_window_of(&volume));
+    settings.window = settings.window.or_else(|| fit::default_window_of(volume));
     if let Some(crop) = &args.crop {
-        settings.crop = leapview::settings::CropBox::parse_voxels(crop, volume.dims())
-            .map_err(|e| Failure::BadInput(e.into()))?;
+        settings.crop =
+            leapview::settings::CropBox::parse_voxels(crop, volume.dims()).bad_input()?;
     }
-    settings
-        .validate()
-        .map_err(|e| Failure::BadInput(e.into()))?;
+    settings.validate().bad_input()?;
+    Ok(settings)
+}
+
+/// Runs the command.
+pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
+    // Refused before anything is loaded or rendered.
+    leapview::imaging::check_output_path(&args.out).bad_input()?;
+    let ctx = GpuContext::headless().failed()?;
+    let volume = super::load_for_gpu(&args.file, raw, &ctx)?;
+    if let Some(plane) = leapview::mpr::frame::image_plane(&volume) {
+        return render_image(&volume, plane, &args, ctx);
+    }
+    let kind = DataKind::of(&volume);
+    let resolved = fit::resolve(&args.tf, &kind).bad_input()?;
+    if let Some(note) = &resolved.note {
+        eprintln!(
+            "leapview: note: {note} ({})",
+            kind.describe(volume.modality())
+        );
+    }
+    let tf = resolved.tf;
+    let settings = settings_of(&args, &volume)?;
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let orientation = volume
         .orientation()
         .unwrap_or(leapview::volume::Orientation::ASSUMED);
     let camera = camera_from_args(&args.camera, &bounds, orientation)?;
-    let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
+    let ctx = GpuContext::headless().failed()?;
     let adapter = ctx.adapter_summary();
     let mut renderer = VolumeRenderer::new(ctx).map_err(render_failure)?;
     renderer
@@ -266,7 +275,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
                 );
             }
         }
-        print_stdout(&out).map_err(|e| Failure::Other(e.into()))?;
+        print_stdout(&out).failed()?;
     } else if let Some(ms) = first.gpu_ms {
         eprintln!(
             "rendered {}x{} in {ms:.2} ms GPU ({:?} path, first frame) on {adapter}",

@@ -14,6 +14,7 @@ use leapview::settings::{ConcretePath, Mode, RenderPath, RenderSettings, Strateg
 use super::Failure;
 use super::args::ShadersArgs;
 use super::text::{outln, print_stdout};
+use crate::cli::OrFail;
 
 /// The fragment path's pipeline: the proxy's vertex stage and the ray loop's fragment stage.
 const FRAGMENT_STAGES: Stages<'static> = Stages::Graphics {
@@ -111,7 +112,7 @@ pub fn run(args: &ShadersArgs) -> Result<(), Failure> {
     })?;
     let mut rows = Vec::new();
     for (key, size) in variants {
-        let source = key.source().map_err(|e| Failure::Other(e.into()))?;
+        let source = key.source().failed()?;
         let (stages, path) = match key.path {
             ConcretePath::Compute => (Stages::Compute(COMPUTE_ENTRY), "compute"),
             ConcretePath::Fragment => (FRAGMENT_STAGES, "fragment"),
@@ -139,14 +140,13 @@ pub fn run(args: &ShadersArgs) -> Result<(), Failure> {
             "driver": device.driver(),
             "variants": rows,
         });
-        let mut text =
-            serde_json::to_string_pretty(&value).map_err(|e| Failure::Other(e.into()))?;
+        let mut text = serde_json::to_string_pretty(&value).failed()?;
         text.push('\n');
         text
     } else {
         table(device.name(), device.driver(), &rows)
     };
-    print_stdout(&text).map_err(|e| Failure::Other(e.into()))
+    print_stdout(&text).failed()
 }
 
 /// A Markdown table: a row per variant (and executable, where a pipeline has more than one), a

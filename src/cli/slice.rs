@@ -3,7 +3,7 @@
 
 use anyhow::anyhow;
 use glam::DVec3;
-use leapview::mpr::{PatientFrame, Plane, PlaneKind, Slab, SlabMode, SliceView};
+use leapview::mpr::{PatientFrame, Plane, PlaneKind, Slab, SliceView};
 use leapview::render::context::GpuContext;
 use leapview::render::slice::{
     DisplayTarget, Output, SliceError, SliceLook, SliceRenderer, SliceSource, SliceTarget,
@@ -13,9 +13,10 @@ use leapview::render::volume_texture::{VolumeTexture, VolumeTextureError};
 use leapview::transfer::fit;
 
 use super::Failure;
-use super::args::{RawArgs, SlabModeArg, SliceArgs};
+use super::args::{RawArgs, SliceArgs};
 use super::parse::parse_vec3;
 use super::text::number;
+use crate::cli::OrFail;
 
 /// Slices in one timed pass for the batched figure of `--repeat`.
 const SLICES_PER_BATCH: u32 = 50;
@@ -36,7 +37,7 @@ fn parse_plane(name: &str, at: DVec3) -> Result<Plane, String> {
 /// Writes the slice `args` describes.
 pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
     check_args(args)?;
-    let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
+    let ctx = GpuContext::headless().failed()?;
     let volume = super::load_for_gpu(&args.file, raw, &ctx)?;
     write_slice(&volume, args, &ctx)
 }
@@ -54,7 +55,7 @@ fn check_args(args: &SliceArgs) -> Result<(), Failure> {
             args.out.display()
         )));
     }
-    leapview::imaging::check_output_path(&args.out).map_err(|e| Failure::BadInput(e.into()))?;
+    leapview::imaging::check_output_path(&args.out).bad_input()?;
     slab_of(args)?;
     Ok(())
 }
@@ -66,11 +67,7 @@ fn slab_of(args: &SliceArgs) -> Result<Option<Slab>, Failure> {
         None => None,
         Some(mm) if mm.is_finite() && mm > 0.0 => Some(Slab {
             thickness_mm: mm,
-            mode: match args.mode {
-                SlabModeArg::Mip => SlabMode::Mip,
-                SlabModeArg::Minip => SlabMode::MinIp,
-                SlabModeArg::Mean => SlabMode::Mean,
-            },
+            mode: args.mode,
         }),
         Some(mm) => {
             return Err(bad(format!(
@@ -80,12 +77,19 @@ fn slab_of(args: &SliceArgs) -> Result<Option<Slab>, Failure> {
     })
 }
 
-/// Writes the slice `args` describe of `volume` (loaded from `args.file`) on the GPU of `ctx`.
-pub fn write_slice(
-    volume: &leapview::volume::Volume,
+/// What `args` ask of the slice of `volume`: the view (plane, point, size), the look (window,
+/// sampling, slab, colour, inversion) and the transfer function that colours it; checked.
+struct SliceSettings {
+    view: SliceView,
+    look: SliceLook,
+    tf: Option<leapview::transfer::TransferFunction>,
+}
+
+/// Builds [`SliceSettings`] from the command's arguments.
+fn settings_of(
     args: &SliceArgs,
-    ctx: &GpuContext,
-) -> Result<(), Failure> {
+    volume: &leapview::volume::Volume,
+) -> Result<SliceSettings, Failure> {
     let bad = |e: String| Failure::BadInput(anyhow!(e));
     check_args(args)?;
     let slab = slab_of(args)?;
@@ -127,33 +131,46 @@ pub fn write_slice(
             ));
         }
         Some(name) => {
-            let resolved = fit::resolve(name, &fit::DataKind::of(volume))
-                .map_err(|e| Failure::BadInput(e.into()))?;
+            let resolved = fit::resolve(name, &fit::DataKind::of(volume)).bad_input()?;
             Some(resolved.tf)
         }
         None => None,
     };
+    let look = SliceLook {
+        window,
+        nearest: args.nearest,
+        slab,
+        leap: !args.no_leap,
+        colour: tf.is_some(),
+        invert: match args.invert {
+            Some(choice) => choice == super::args::YesNo::Yes,
+            None => volume.provenance().invert_grey,
+        },
+    };
+    Ok(SliceSettings { view, look, tf })
+}
+
+/// Writes the slice `args` describe of `volume` (loaded from `args.file`) on the GPU of `ctx`.
+pub fn write_slice(
+    volume: &leapview::volume::Volume,
+    args: &SliceArgs,
+    ctx: &GpuContext,
+) -> Result<(), Failure> {
+    let SliceSettings { view, look, tf } = settings_of(args, volume)?;
+    let slab = look.slab;
+    let frame = PatientFrame::of(volume);
+    let (plane, window) = (view.plane, look.window);
+    let at = plane.point;
     let texture = VolumeTexture::upload(ctx, volume).map_err(|e| match e {
         VolumeTextureError::TooLarge { .. } | VolumeTextureError::OutOfMemory { .. } => {
             Failure::BadInput(e.into())
         }
         other => Failure::Other(other.into()),
     })?;
-    let renderer = SliceRenderer::new(&ctx.device).map_err(|e| Failure::Other(e.into()))?;
+    let renderer = SliceRenderer::new(&ctx.device).failed()?;
     let colours = tf
         .as_ref()
         .map(|tf| renderer.colour_table(&ctx.device, &ctx.queue, tf, volume));
-    let look = SliceLook {
-        window,
-        nearest: args.nearest,
-        slab,
-        leap: !args.no_leap,
-        colour: colours.is_some(),
-        invert: match args.invert {
-            Some(choice) => choice == super::args::YesNo::Yes,
-            None => volume.provenance().invert_grey,
-        },
-    };
     let bricks = if slab.is_some() && !args.no_leap {
         renderer.bricks_of(ctx, volume, &texture)
     } else {

@@ -8,12 +8,15 @@ use super::frame::PatientFrame;
 /// Most samples across one slab: a bound on a pixel's work.
 pub const MAX_SLAB_SAMPLES: u32 = 2048;
 
-/// How a slab's samples become one value.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+/// How a slab's samples become one value (`leapview slice --mode`).
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
+)]
 pub enum SlabMode {
     /// The largest value (maximum intensity projection).
     Mip,
     /// The smallest value (minimum intensity projection).
+    #[value(name = "minip")]
     MinIp,
     /// The mean.
     Mean,

@@ -26,6 +26,7 @@ pub use args::AccuracyArgs;
 use super::Failure;
 use super::datasets;
 use super::measuring::{environment, orbit};
+use crate::cli::OrFail;
 use measure::{Dataset, Method, NotMeasured};
 
 /// Name of the generated phantom measured against the f64 CPU reference.
@@ -108,10 +109,10 @@ pub fn run(args: AccuracyArgs) -> Result<(), Failure> {
     } else {
         (args.size, args.views.max(1), args.frames.max(1))
     };
-    let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
+    let ctx = GpuContext::headless().failed()?;
     let env = environment(&ctx, args.quick);
     let max_3d = ctx.limits.max_texture_dimension_3d;
-    let mut renderer = VolumeRenderer::new(ctx).map_err(|e| Failure::Other(e.into()))?;
+    let mut renderer = VolumeRenderer::new(ctx).failed()?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| Failure::Other(anyhow::anyhow!("creating {}: {e}", args.out.display())))?;
     eprintln!(
@@ -124,8 +125,8 @@ pub fn run(args: AccuracyArgs) -> Result<(), Failure> {
     let mut progress = |what: &str| eprintln!("  {what}");
 
     if wanted(PHANTOM) {
-        let volume = shepp_logan(PHANTOM_VOX).map_err(|e| Failure::Other(e.into()))?;
-        let tf = preset("ct-bone").map_err(|e| Failure::Other(e.into()))?;
+        let volume = shepp_logan(PHANTOM_VOX).failed()?;
+        let tf = preset("ct-bone").failed()?;
         let phantom_size = size.map(|s| s.min(PHANTOM_SIZE));
         let data = Dataset {
             name: PHANTOM,
@@ -297,7 +298,7 @@ fn write(
         measurements: all,
         not_measured,
     };
-    let json = serde_json::to_string_pretty(&report).map_err(|e| Failure::Other(e.into()))?;
+    let json = serde_json::to_string_pretty(&report).failed()?;
     let path = out.join("results.json");
     std::fs::write(&path, json).map_err(|e| io(&path, e))?;
     let path = out.join("results.csv");

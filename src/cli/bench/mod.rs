@@ -22,6 +22,7 @@ pub use args::BenchArgs;
 
 use super::measuring::environment;
 use super::{Failure, datasets};
+use crate::cli::OrFail;
 use progress::Progress;
 
 /// Warm-up frames of a dataset's first run, right after its upload.
@@ -38,7 +39,7 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
         let summary = output::write_all(&out, &results, true)?;
         return finish(&out, &summary);
     }
-    let mut config = BenchConfig::load(&args.config).map_err(|e| Failure::BadInput(e.into()))?;
+    let mut config = BenchConfig::load(&args.config).bad_input()?;
     if args.quick {
         config.quick();
     }
@@ -50,18 +51,16 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
         block_vox: args.block,
         shading: args.shading,
     };
-    config
-        .narrow(&filters)
-        .map_err(|e| Failure::BadInput(e.into()))?;
+    config.narrow(&filters).bad_input()?;
     let config_dir = args.config.parent().unwrap_or(Path::new(".")).to_path_buf();
-    let ctx = GpuContext::headless().map_err(|e| Failure::Other(e.into()))?;
+    let ctx = GpuContext::headless().failed()?;
     let environment = environment(&ctx, args.quick);
     let out = args
         .out
         .clone()
         .unwrap_or_else(|| default_out(&environment));
     let max_3d = ctx.limits.max_texture_dimension_3d;
-    let mut renderer = VolumeRenderer::new(ctx).map_err(|e| Failure::Other(e.into()))?;
+    let mut renderer = VolumeRenderer::new(ctx).failed()?;
     let mut results = BenchResults {
         environment,
         ..BenchResults::default()
