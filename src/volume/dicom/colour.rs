@@ -6,8 +6,8 @@
 
 use dicom_dictionary_std::tags;
 
+use super::header::sample_value;
 use super::header::{Photometric, PixelFormat};
-use super::pixels::sample_value;
 
 /// A palette: the index of the first entry, and each channel's table.
 #[derive(Clone, Debug, PartialEq)]

@@ -71,7 +71,7 @@ impl TransferSyntaxIndex for ImplicitForExplicit {
         let uid = uid.trim_end_matches(['\0', ' ']);
         let ts = TransferSyntaxRegistry.get(uid)?;
         // Every standard syntax but these two is explicit VR little endian.
-        if uid == IMPLICIT_VR_LITTLE_ENDIAN || uid == super::pixels::EXPLICIT_VR_BIG_ENDIAN {
+        if uid == IMPLICIT_VR_LITTLE_ENDIAN || uid == super::header::EXPLICIT_VR_BIG_ENDIAN {
             return Some(ts);
         }
         match ts.codec() {
@@ -121,7 +121,7 @@ fn declares_explicit_little_endian(path: &Path) -> bool {
         .is_some_and(|m| {
             let uid = m.transfer_syntax().trim_end_matches(['\0', ' ']);
             uid != IMPLICIT_VR_LITTLE_ENDIAN
-                && uid != super::pixels::EXPLICIT_VR_BIG_ENDIAN
+                && uid != super::header::EXPLICIT_VR_BIG_ENDIAN
                 && TransferSyntaxRegistry
                     .get(uid)
                     .is_some_and(|ts| !matches!(ts.codec(), Codec::Dataset(_)))

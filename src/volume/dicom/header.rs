@@ -213,3 +213,19 @@ impl FrameHeader {
             .then(|| [centre - width / 2.0, centre + width / 2.0])
     }
 }
+
+/// Explicit VR big endian: retired from the standard, still in old archives.
+pub const EXPLICIT_VR_BIG_ENDIAN: &str = "1.2.840.10008.1.2.2";
+
+/// The value of one sample from its `bits_allocated`-bit container (little endian): the stored
+/// bits below `HighBit`, sign-extended.
+pub fn sample_value(container: u32, format: &PixelFormat, shift: u32) -> i64 {
+    let bits = u32::from(format.bits_stored.clamp(1, 32));
+    let mask: u64 = (1u64 << bits) - 1;
+    let raw = (u64::from(container) >> shift) & mask;
+    if format.signed && raw >> (bits - 1) & 1 == 1 {
+        raw as i64 - (1i64 << bits)
+    } else {
+        raw as i64
+    }
+}

@@ -11,7 +11,7 @@ use dicom_transfer_syntax_registry::{TransferSyntaxIndex, TransferSyntaxRegistry
 
 use super::codec::{Codec, fragments};
 use super::colour::read_palette;
-use super::header::{FrameHeader, Photometric, PixelFormat};
+use super::header::{EXPLICIT_VR_BIG_ENDIAN, FrameHeader, Photometric, PixelFormat, sample_value};
 use crate::volume::error::dicom::DicomError;
 use crate::volume::samples::ScalarType;
 
@@ -64,19 +64,6 @@ impl Stored for f32 {
     }
     fn from_f64_rounded(v: f64) -> Self {
         v as f32
-    }
-}
-
-/// The value of one sample from its `bits_allocated`-bit container (little endian): the stored
-/// bits below `HighBit`, sign-extended.
-pub fn sample_value(container: u32, format: &PixelFormat, shift: u32) -> i64 {
-    let bits = u32::from(format.bits_stored.clamp(1, 32));
-    let mask: u64 = (1u64 << bits) - 1;
-    let raw = (u64::from(container) >> shift) & mask;
-    if format.signed && raw >> (bits - 1) & 1 == 1 {
-        raw as i64 - (1i64 << bits)
-    } else {
-        raw as i64
     }
 }
 
@@ -141,9 +128,6 @@ pub fn transfer_syntax_name(uid: &str) -> String {
         |ts| ts.name().to_string(),
     )
 }
-
-/// Explicit VR big endian: retired from the standard, still in old archives.
-pub const EXPLICIT_VR_BIG_ENDIAN: &str = "1.2.840.10008.1.2.2";
 
 /// Native (uncompressed) pixel data as little-endian containers of `bits_allocated` bits, from
 /// the value dicom-rs read: bytes (OB) in file order, or 16- or 32-bit words (OW, OL) already

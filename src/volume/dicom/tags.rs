@@ -43,7 +43,7 @@ fn is_uncompressed(uid: &str) -> bool {
         uid,
         uids::IMPLICIT_VR_LITTLE_ENDIAN
             | uids::EXPLICIT_VR_LITTLE_ENDIAN
-            | super::pixels::EXPLICIT_VR_BIG_ENDIAN
+            | super::header::EXPLICIT_VR_BIG_ENDIAN
     )
 }
 
