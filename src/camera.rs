@@ -57,7 +57,7 @@ impl Aabb {
 
     /// The affine map from normalised box coordinates `[0,1]³` (the volume's texture
     /// coordinates) to world millimetres.
-    pub fn world_from_box(&self) -> DMat4 {
+    pub(crate) fn world_from_box(&self) -> DMat4 {
         DMat4::from_translation(self.min) * DMat4::from_scale(self.size())
     }
 
@@ -220,7 +220,7 @@ impl Camera {
     }
 
     /// The view matrix (world → view, right-handed, looking down −z).
-    pub fn view_from_world(&self) -> DMat4 {
+    pub(crate) fn view_from_world(&self) -> DMat4 {
         let forward = self.forward();
         let up = if self.up.cross(forward).length_squared() > 1e-12 {
             self.up
@@ -233,7 +233,7 @@ impl Camera {
     /// View-space depth range `(near, far)` that contains `bounds`: far just beyond the farthest
     /// corner; near just before the nearest corner, or a small fraction of `far` when the eye is
     /// inside or close to the box (then rays start on the near plane).
-    pub fn near_far(&self, bounds: &Aabb) -> (f64, f64) {
+    pub(crate) fn near_far(&self, bounds: &Aabb) -> (f64, f64) {
         let view = self.view_from_world();
         let depths = bounds.corners().map(|c| -view.transform_point3(c).z);
         let d_min = depths.iter().copied().fold(f64::INFINITY, f64::min);
@@ -246,7 +246,7 @@ impl Camera {
     }
 
     /// The projection matrix (view → clip, wgpu depth 0..1) for a viewport aspect `w / h`.
-    pub fn clip_from_view(&self, aspect: f64, near: f64, far: f64) -> DMat4 {
+    fn clip_from_view(&self, aspect: f64, near: f64, far: f64) -> DMat4 {
         match self.projection {
             Projection::Perspective { fov_y_deg } => {
                 DMat4::perspective_rh(fov_y_deg.to_radians(), aspect, near, far)
@@ -260,7 +260,7 @@ impl Camera {
     }
 
     /// World → clip for a viewport of `size` pixels framing `bounds`.
-    pub fn clip_from_world(&self, size: [u32; 2], bounds: &Aabb) -> DMat4 {
+    pub(crate) fn clip_from_world(&self, size: [u32; 2], bounds: &Aabb) -> DMat4 {
         let aspect = size[0].max(1) as f64 / size[1].max(1) as f64;
         let (near, far) = self.near_far(bounds);
         self.clip_from_view(aspect, near, far) * self.view_from_world()
@@ -292,7 +292,7 @@ impl Camera {
 
     /// Turns the view about its viewing direction by `deg` degrees, clockwise on screen for
     /// positive angles (the picture turns, the eye stays): a rolled patient is put upright.
-    pub fn roll(&mut self, deg: f64) {
+    pub(crate) fn roll(&mut self, deg: f64) {
         let forward = self.forward();
         let up = self.up.normalize_or(DVec3::Z);
         // Up rotated anticlockwise about the line of sight (as seen from the eye) turns the
@@ -304,7 +304,7 @@ impl Camera {
     }
 
     /// Moves eye and target together by a fraction of the view's size: `dx` to the right, `dy` up.
-    pub fn pan(&mut self, dx: f64, dy: f64, view_height_mm: f64) {
+    pub(crate) fn pan(&mut self, dx: f64, dy: f64, view_height_mm: f64) {
         let forward = self.forward();
         let right = forward.cross(self.up).normalize_or(DVec3::X);
         let up = right.cross(forward);
@@ -314,7 +314,7 @@ impl Camera {
     }
 
     /// Height of the visible region at the target's distance, in millimetres.
-    pub fn view_height_at_target_mm(&self) -> f64 {
+    pub(crate) fn view_height_at_target_mm(&self) -> f64 {
         match self.projection {
             Projection::Perspective { fov_y_deg } => {
                 2.0 * (self.eye - self.target).length() * (0.5 * fov_y_deg.to_radians()).tan()
@@ -325,7 +325,7 @@ impl Camera {
 
     /// Zooms by `factor` (> 1 moves closer): dolly for perspective, shrink the view for
     /// orthographic. The distance never drops below a micrometre.
-    pub fn zoom(&mut self, factor: f64) {
+    pub(crate) fn zoom(&mut self, factor: f64) {
         let factor = if factor.is_finite() && factor > 0.0 {
             factor
         } else {
@@ -343,7 +343,7 @@ impl Camera {
 }
 
 /// NDC coordinates of a point given in pixels (y down) for a viewport of `size` pixels.
-pub fn pixel_to_ndc(p: DVec2, size: [u32; 2]) -> DVec2 {
+pub(crate) fn pixel_to_ndc(p: DVec2, size: [u32; 2]) -> DVec2 {
     DVec2::new(
         2.0 * p.x / size[0].max(1) as f64 - 1.0,
         1.0 - 2.0 * p.y / size[1].max(1) as f64,
@@ -351,7 +351,7 @@ pub fn pixel_to_ndc(p: DVec2, size: [u32; 2]) -> DVec2 {
 }
 
 /// World point at NDC `(x, y)` and clip depth `z`.
-pub fn unproject(world_from_clip: DMat4, ndc: DVec2, z: f64) -> DVec3 {
+pub(crate) fn unproject(world_from_clip: DMat4, ndc: DVec2, z: f64) -> DVec3 {
     let p = world_from_clip * DVec4::new(ndc.x, ndc.y, z, 1.0);
     p.truncate() / p.w
 }

@@ -34,7 +34,7 @@ impl FrameCounters {
 
     /// Samples taken over the samples with non-zero opacity (the oracle a perfect leaping
     /// scheme would take); 1 means no sample was wasted. `None` when nothing was visible.
-    pub fn oracle_ratio(&self) -> Option<f64> {
+    pub(crate) fn oracle_ratio(&self) -> Option<f64> {
         (self.visible_samples > 0).then(|| self.samples as f64 / self.visible_samples as f64)
     }
 

@@ -6,6 +6,10 @@
 //! the wgpu renderer that the window, the command line and the tests share; `ui`, the window. A
 //! module imports only from its own layer or below.
 
+// Items used only inside the crate are `pub(crate)`, and the docs of public ones may name them:
+// the crate's documentation is read with `cargo doc --document-private-items`.
+#![allow(rustdoc::private_intra_doc_links)]
+
 pub mod accel;
 pub mod accuracy;
 pub mod bench;

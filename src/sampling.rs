@@ -57,13 +57,13 @@ impl SampleGrid {
 
 /// Extinction per `d₀` of an opacity `alpha` per `d₀`: `−ln(1 − α)`, infinite for α ≥ 1 (callers
 /// cap it to what their tables hold).
-pub fn extinction(alpha: f64) -> f64 {
+pub(crate) fn extinction(alpha: f64) -> f64 {
     -(1.0 - alpha.clamp(0.0, 1.0)).ln()
 }
 
 /// Opacity of a sample of weight `weight` (fraction of a step), for a transfer-function opacity
 /// `alpha` defined per `d0` and a step of `step_over_d0` units of `d0`.
-pub fn corrected_opacity(alpha: f64, step_over_d0: f64, weight: f64) -> f64 {
+pub(crate) fn corrected_opacity(alpha: f64, step_over_d0: f64, weight: f64) -> f64 {
     let alpha = alpha.clamp(0.0, 1.0);
     if alpha >= 1.0 {
         return 1.0;
@@ -75,7 +75,7 @@ pub fn corrected_opacity(alpha: f64, step_over_d0: f64, weight: f64) -> f64 {
 /// "lowbias32" finaliser) of the pixel, the same on the GPU (`pixel_jitter` in
 /// `shaders/shared/common.wgsl`) bit for bit, so the CPU reference can follow it. Stable from frame to
 /// frame: a still image does not shimmer.
-pub fn pixel_jitter(x: u32, y: u32) -> f64 {
+fn pixel_jitter(x: u32, y: u32) -> f64 {
     let mut h = x
         .wrapping_mul(1973)
         .wrapping_add(y.wrapping_mul(9277))
@@ -89,7 +89,7 @@ pub fn pixel_jitter(x: u32, y: u32) -> f64 {
 /// The first-sample offset of pixel `(x, y)` with jitter: its [`pixel_jitter`] rotated by
 /// `sample_offset − ½` (mod 1), so the default offset ½ gives the hash itself and progressive
 /// refinement's offsets rotate every pixel's start alike.
-pub fn jittered_offset(x: u32, y: u32, sample_offset: f64) -> f64 {
+pub(crate) fn jittered_offset(x: u32, y: u32, sample_offset: f64) -> f64 {
     (pixel_jitter(x, y) + (sample_offset - 0.5)).rem_euclid(1.0)
 }
 

@@ -9,7 +9,7 @@ pub fn number(v: f64) -> String {
 
 /// `v` to `significant` digits, without trailing zeros: integers as integers, magnitudes below
 /// 1e-4 or from 1e9 on in scientific notation (`1.7976931348623157e308` → `1.79769e308` at six).
-pub fn number_to(v: f64, significant: u32) -> String {
+pub(crate) fn number_to(v: f64, significant: u32) -> String {
     if !v.is_finite() {
         return format!("{v}");
     }

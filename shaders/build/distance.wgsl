@@ -12,7 +12,7 @@
 // looks outward from itself only as far as can still lower its distances, and the rows go back
 // out. `distance_pass` (any row) has one invocation per block read its whole window,
 // 2 · MAX_DISTANCE + 1 entries, from the buffer. src/render/raycast/leap.rs chooses per pass.
-// (A linear-time sweep per row, one invocation each, measured slower on the H200 but at 1024³:
+// (A linear-time sweep per row, one invocation each, measured slower but at 1024³:
 // docs/benchmarks/nvidia-h200-distance-rows.)
 
 #include "leap/pyramid.wgsl"

@@ -358,8 +358,8 @@ fn shade(id: vec2<u32>) {
 
 // One invocation per column and band of rows: it shades rows id.y, id.y + stride, ... where
 // the dispatch covers height / rows of them (`render::slice::dispatch`: thin slices several rows
-// per invocation, which halves a 1080p slice's time on an H200; slabs one, their samples keep
-// the invocations busy).
+// per invocation, measured faster; slabs one, their samples keep the invocations busy;
+// docs/benchmarks/README.md, "Figures moved from code comments").
 @compute @workgroup_size(WORKGROUP, WORKGROUP, 1)
 fn slice(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     if id.x >= params.width {

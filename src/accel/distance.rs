@@ -17,7 +17,7 @@ pub const MAX_DISTANCE: u32 = 31;
 
 /// Chebyshev distances for a grid of `nodes` blocks where `empty[i]` says block `i` (x fastest)
 /// is empty.
-pub fn chebyshev(nodes: [u32; 3], empty: &[bool]) -> Vec<u32> {
+fn chebyshev(nodes: [u32; 3], empty: &[bool]) -> Vec<u32> {
     let [nx, ny, nz] = nodes.map(|n| n as usize);
     let mut d: Vec<u32> = empty
         .iter()

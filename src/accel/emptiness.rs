@@ -50,8 +50,9 @@ impl OpacityIndex {
         self.prefix[end + 1] == self.prefix[first]
     }
 
+    #[cfg(test)] // Only the tests ask.
     /// Whether a node with range `m` can be skipped.
-    pub fn is_node_empty(&self, m: MinMax) -> bool {
+    fn is_node_empty(&self, m: MinMax) -> bool {
         self.is_empty(m.min, m.max)
     }
 

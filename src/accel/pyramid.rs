@@ -88,7 +88,7 @@ impl Pyramid {
 
     /// The voxels (inclusive, clamped to the volume) that samples in node `i0` of `level` can
     /// read along `axis`.
-    pub fn voxel_range(&self, level: &Level, i0: u32, axis: usize) -> (u32, u32) {
+    fn voxel_range(&self, level: &Level, i0: u32, axis: usize) -> (u32, u32) {
         let b = level.brick_vox as i64;
         let lo = (i0 as i64 * b - 1).max(0);
         let hi = ((i0 as i64 + 1) * b).min(self.dims[axis] as i64 - 1);
@@ -114,7 +114,7 @@ impl MinMax {
     };
 
     /// The union of two ranges.
-    pub fn union(self, other: Self) -> Self {
+    pub(crate) fn union(self, other: Self) -> Self {
         Self {
             min: self.min.min(other.min),
             max: self.max.max(other.max),
@@ -176,7 +176,7 @@ pub fn build_cpu(pyramid: &Pyramid, values: &[f32]) -> Vec<MinMax> {
 }
 
 /// Calls `f` with every node coordinate of `level`.
-pub fn for_each_node(level: &Level, mut f: impl FnMut([u32; 3])) {
+fn for_each_node(level: &Level, mut f: impl FnMut([u32; 3])) {
     for z in 0..level.nodes[2] {
         for y in 0..level.nodes[1] {
             for x in 0..level.nodes[0] {

@@ -108,7 +108,7 @@ pub fn markdown_table(rows: &[&Measurement]) -> String {
 }
 
 /// Pareto-optimal rows among DVR rows and, separately, among isosurface rows.
-pub fn front_of(rows: &[&Measurement]) -> Vec<usize> {
+fn front_of(rows: &[&Measurement]) -> Vec<usize> {
     let mut front = Vec::new();
     for iso in [false, true] {
         let idx: Vec<usize> = (0..rows.len())

@@ -72,16 +72,8 @@ pub struct RunSummary {
 }
 
 impl RunSummary {
-    /// The strategy as tables show it: `auto` with what it stood for (`auto → RC-t`).
-    pub fn strategy_cell(&self) -> String {
-        match &self.auto {
-            Some(a) => format!("{} → {}", self.key.strategy, a.strategy),
-            None => self.key.strategy.clone(),
-        }
-    }
-
     /// Samples taken per second of frame time, in billions (the loop's per-sample rate).
-    pub fn gsamples_per_s(&self) -> f64 {
+    pub(crate) fn gsamples_per_s(&self) -> f64 {
         self.samples_per_frame / (self.median_ms * 1e6)
     }
 

@@ -55,7 +55,7 @@ pub struct AgainstRcT {
 
 impl AgainstRcT {
     /// The strategy as the tables show it: `auto → RC-t` for `auto`.
-    pub fn strategy_cell(&self) -> String {
+    fn strategy_cell(&self) -> String {
         match &self.chose {
             Some(c) => format!("{} → {c}", self.strategy),
             None => self.strategy.clone(),
@@ -65,7 +65,7 @@ impl AgainstRcT {
 
 /// Every non-sweep run of a leaping strategy or of `auto` that has an RC-t run beside it, in run
 /// order.
-pub fn against_rc_t(runs: &[RunSummary]) -> Vec<AgainstRcT> {
+pub(crate) fn against_rc_t(runs: &[RunSummary]) -> Vec<AgainstRcT> {
     let same = |a: &RunSummary, b: &RunSummary| {
         let (a, b) = (&a.key, &b.key);
         (&a.dataset, &a.mode, &a.path, a.width, a.height, a.sweep)
@@ -135,7 +135,7 @@ pub struct DefaultAgainstRcT {
 }
 
 /// The default strategy's rows of `rows`, gathered per mode, path and size (in first-seen order).
-pub fn default_against_rc_t(rows: &[AgainstRcT]) -> Vec<DefaultAgainstRcT> {
+fn default_against_rc_t(rows: &[AgainstRcT]) -> Vec<DefaultAgainstRcT> {
     let default = RenderSettings::default().strategy;
     let mut groups: Vec<(DefaultAgainstRcT, Vec<f64>, Vec<f64>)> = Vec::new();
     for row in rows {
@@ -199,7 +199,7 @@ fn median(values: &mut [f64]) -> Option<f64> {
 }
 
 /// The table of [`default_against_rc_t`] in Markdown (empty without rows).
-pub fn default_markdown(rows: &[AgainstRcT]) -> String {
+pub(crate) fn default_markdown(rows: &[AgainstRcT]) -> String {
     let groups = default_against_rc_t(rows);
     if groups.is_empty() {
         return String::new();

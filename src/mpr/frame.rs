@@ -35,7 +35,10 @@ pub fn image_plane(volume: &Volume) -> Option<crate::mpr::PlaneKind> {
 }
 
 /// [`image_plane`] of a volume of `dims` in `orientation`.
-pub fn image_plane_of(dims: [u32; 3], orientation: Orientation) -> Option<crate::mpr::PlaneKind> {
+pub(crate) fn image_plane_of(
+    dims: [u32; 3],
+    orientation: Orientation,
+) -> Option<crate::mpr::PlaneKind> {
     use crate::mpr::PlaneKind;
     let thin = (0..3)
         .rev()
@@ -174,7 +177,7 @@ impl PatientFrame {
 
     /// The spacing along the patient direction `d` (unit vector): the length of one voxel step
     /// of the axis closest to it, for stepping a slice "one voxel" along its normal.
-    pub fn step_along(&self, d: DVec3) -> f64 {
+    pub(crate) fn step_along(&self, d: DVec3) -> f64 {
         let cols = [self.axes.x_axis, self.axes.y_axis, self.axes.z_axis];
         cols.iter()
             .map(|c| (c.normalize_or_zero().dot(d).abs(), c.length()))

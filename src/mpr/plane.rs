@@ -117,8 +117,9 @@ impl Plane {
         self
     }
 
+    #[cfg(test)] // Only the tests ask.
     /// The plane moved `mm` along its normal.
-    pub fn stepped(mut self, mm: f64) -> Self {
+    pub(crate) fn stepped(mut self, mm: f64) -> Self {
         self.point += self.normal() * mm;
         self
     }
@@ -156,7 +157,7 @@ impl Plane {
 /// The patient directions a screen direction `d` (unit, LPS) points to, as radiology viewers
 /// write them: the main one first, then any other with at least a third of its weight (an
 /// oblique edge reads e.g. "LA").
-pub fn direction_label(d: DVec3) -> String {
+fn direction_label(d: DVec3) -> String {
     let mut parts: Vec<(f64, char)> = (0..3)
         .filter_map(|a| {
             let v = d[a];

@@ -87,7 +87,7 @@ impl SliceView {
     }
 
     /// The pixel coordinates of patient point `p` projected on the plane.
-    pub fn to_pixel(&self, p: DVec3) -> DVec2 {
+    pub(crate) fn to_pixel(self, p: DVec3) -> DVec2 {
         let [w, h] = self.size.map(f64::from);
         let d = p - self.centre;
         DVec2::new(
@@ -117,7 +117,7 @@ impl SliceView {
     }
 
     /// The same view of another plane position or tilt: the centre follows onto the new plane.
-    pub fn with_plane(mut self, plane: Plane) -> Self {
+    pub(crate) fn with_plane(mut self, plane: Plane) -> Self {
         let moved = self.centre - plane.normal() * plane.distance(self.centre);
         self.plane = plane;
         self.centre = moved;
@@ -139,7 +139,7 @@ impl SliceView {
 /// The bounds of the plane's cut through the volume's box, in the plane's (right, up)
 /// coordinates from its point (mm): the polygon where the plane crosses the box's edges; the
 /// whole box projected when the plane misses it.
-pub fn slice_extent(plane: &Plane, frame: &PatientFrame) -> (DVec2, DVec2) {
+fn slice_extent(plane: &Plane, frame: &PatientFrame) -> (DVec2, DVec2) {
     let mut points = cut_polygon(plane, frame);
     if points.is_empty() {
         points.extend(frame.corners());
@@ -168,7 +168,12 @@ pub fn cut_polygon(plane: &Plane, frame: &PatientFrame) -> Vec<DVec3> {
 
 /// The polygon where the plane cuts the box from `lo` to `hi` in voxel coordinates (a cropping
 /// box), in patient mm, in order around the cut; empty when the plane misses it.
-pub fn cut_polygon_of(plane: &Plane, frame: &PatientFrame, lo: DVec3, hi: DVec3) -> Vec<DVec3> {
+pub(crate) fn cut_polygon_of(
+    plane: &Plane,
+    frame: &PatientFrame,
+    lo: DVec3,
+    hi: DVec3,
+) -> Vec<DVec3> {
     let corners: [DVec3; 8] = std::array::from_fn(|c| {
         let pick = |a: usize| if c >> a & 1 == 1 { hi[a] } else { lo[a] };
         frame.to_patient(DVec3::new(pick(0), pick(1), pick(2)))

@@ -11,12 +11,7 @@ use super::trilinear::sample_trilinear;
 
 /// The value (data units) at voxel coordinates `v`: `None` outside the volume's box, or where a
 /// NaN or infinite sample takes part.
-pub fn sample_at_voxel(
-    volume: &Volume,
-    frame: &PatientFrame,
-    v: DVec3,
-    nearest: bool,
-) -> Option<f64> {
+fn sample_at_voxel(volume: &Volume, frame: &PatientFrame, v: DVec3, nearest: bool) -> Option<f64> {
     if nearest {
         let [i, j, k] = frame.voxel_index(v)?;
         let value = volume.value(i, j, k);

@@ -20,7 +20,7 @@ pub fn sample_trilinear(volume: &Volume, p: DVec3) -> Option<f64> {
 
 /// A colour volume's own colour at `p` (each channel's 8 bits as 0–1), interpolated as the
 /// texture unit blends it; `None` for grey volumes.
-pub fn sample_colour(volume: &Volume, p: DVec3) -> Option<DVec3> {
+pub(crate) fn sample_colour(volume: &Volume, p: DVec3) -> Option<DVec3> {
     let colour = volume.colour()?;
     let (sum, _) = corners(volume, p, |i, j, k| {
         let [r, g, b] = colour.rgb8(volume.index(i, j, k));

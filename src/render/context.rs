@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 /// Optional features LeapView uses when the adapter has them.
-pub fn wanted_features() -> wgpu::Features {
+fn wanted_features() -> wgpu::Features {
     wgpu::Features::TIMESTAMP_QUERY
         | wgpu::Features::TEXTURE_FORMAT_16BIT_NORM
         | wgpu::Features::FLOAT32_FILTERABLE
@@ -83,7 +83,7 @@ const CHECKED_FORMATS: [wgpu::TextureFormat; 5] = [
 /// What `adapter` lacks of what the renderer needs, if anything: the fragment path renders exit
 /// points to RGBA32F, the compute path stores its image as RGBA16F (Mesa's GL drivers, for one,
 /// cannot render to RGBA32F).
-pub fn unsuitable(adapter: &wgpu::Adapter) -> Option<String> {
+pub(crate) fn unsuitable(adapter: &wgpu::Adapter) -> Option<String> {
     use wgpu::TextureUsages as U;
     let needs = [
         (
@@ -112,7 +112,11 @@ impl GpuContext {
     /// Bytes of a storage buffer holding `bytes_per_pixel` for each pixel of an image of `size`,
     /// or `None` when that is empty or more than a shader can bind whole (the smaller of the
     /// binding and buffer limits).
-    pub fn per_pixel_storage_bytes(&self, size: [u32; 2], bytes_per_pixel: u64) -> Option<u64> {
+    pub(crate) fn per_pixel_storage_bytes(
+        &self,
+        size: [u32; 2],
+        bytes_per_pixel: u64,
+    ) -> Option<u64> {
         let bytes = u64::from(size[0]) * u64::from(size[1]) * bytes_per_pixel;
         let largest = self
             .limits
@@ -195,7 +199,7 @@ impl GpuContext {
     }
 
     /// Whether `format` can be sampled with linear filtering on this adapter.
-    pub fn is_filterable(&self, format: wgpu::TextureFormat) -> bool {
+    pub(crate) fn is_filterable(&self, format: wgpu::TextureFormat) -> bool {
         let needs_feature = match format {
             wgpu::TextureFormat::R16Unorm => self
                 .features

@@ -95,7 +95,7 @@ fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
 }
 
 /// The WGSL module `generated/constants.wgsl`: `shared_constants` as WGSL `const`s.
-pub fn wgsl_constants() -> String {
+pub(crate) fn wgsl_constants() -> String {
     let mut out = String::from(
         "// Generated from src/render/gpu_data.rs at start-up; there is no file to edit.\n",
     );

@@ -35,7 +35,7 @@ impl Rgba8Reader {
 
     /// Bytes of the packed image of `size` pixels, or `None` when it is empty or larger than
     /// the device's largest storage buffer (128 MiB by default: 33.5 M pixels).
-    pub fn packed_bytes(ctx: &GpuContext, size: [u32; 2]) -> Option<u64> {
+    fn packed_bytes(ctx: &GpuContext, size: [u32; 2]) -> Option<u64> {
         ctx.per_pixel_storage_bytes(size, 4)
     }
 

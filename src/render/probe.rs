@@ -113,7 +113,7 @@ impl ProbePool {
     }
 
     /// Takes a free probe for frame `frame`, or `None` when all are still in flight.
-    pub fn acquire(&mut self, frame: u64, has_counters: bool) -> Option<ProbeSlot> {
+    pub(crate) fn acquire(&mut self, frame: u64, has_counters: bool) -> Option<ProbeSlot> {
         let index = self
             .probes
             .iter()
@@ -129,7 +129,7 @@ impl ProbePool {
     /// when none is free (their results are kept for the next [`Self::collect`]): for a frame
     /// whose measurements must not be skipped, such as the last band of a statistics frame,
     /// which alone carries the frame's counters.
-    pub fn acquire_or_wait(
+    pub(crate) fn acquire_or_wait(
         &mut self,
         device: &wgpu::Device,
         frame: u64,
@@ -144,7 +144,7 @@ impl ProbePool {
     }
 
     /// Timestamp writes for a render pass: `first` writes the start, `last` the end.
-    pub fn render_timestamps(
+    pub(crate) fn render_timestamps(
         &self,
         slot: &ProbeSlot,
         first: bool,
@@ -160,7 +160,7 @@ impl ProbePool {
 
     /// Timestamp writes for a compute pass (always the last pass of a frame); `first` also
     /// writes the start (when it is the only pass).
-    pub fn compute_timestamps(
+    pub(crate) fn compute_timestamps(
         &self,
         slot: &ProbeSlot,
         first: bool,
@@ -174,7 +174,7 @@ impl ProbePool {
     }
 
     /// Timestamp writes for the rebuild's compute passes: `first` writes its start, `last` its end.
-    pub fn rebuild_timestamps(
+    pub(crate) fn rebuild_timestamps(
         &mut self,
         slot: &ProbeSlot,
         first: bool,
@@ -191,7 +191,7 @@ impl ProbePool {
     }
 
     /// Clears the counters before a statistics frame.
-    pub fn clear_counters(&self, encoder: &mut wgpu::CommandEncoder) {
+    pub(crate) fn clear_counters(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.clear_buffer(&self.counters, 0, None);
     }
 
@@ -230,7 +230,7 @@ impl ProbePool {
     }
 
     /// Whether any frame's results are still on their way.
-    pub fn any_in_flight(&self) -> bool {
+    pub(crate) fn any_in_flight(&self) -> bool {
         self.probes
             .iter()
             .any(|p| p.state.load(Ordering::Acquire) == IN_FLIGHT)

@@ -32,7 +32,7 @@ pub(super) fn submit_and_map(
 /// The copy goes through staging buffers of at most the device's `max_buffer_size`, one band of
 /// rows each: the largest image a device takes can need more (lavapipe: 16384² pixels, 2³¹
 /// bytes, one byte more than its largest buffer).
-pub fn read_texture(
+pub(crate) fn read_texture(
     ctx: &GpuContext,
     texture: &wgpu::Texture,
     size: [u32; 2],

@@ -45,7 +45,11 @@ const MODULES: &[(&str, &str)] = modules![
 ];
 
 /// A WGSL module from composed source.
-pub fn shader_module(device: &wgpu::Device, label: &str, source: String) -> wgpu::ShaderModule {
+pub(crate) fn shader_module(
+    device: &wgpu::Device,
+    label: &str,
+    source: String,
+) -> wgpu::ShaderModule {
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),
         source: wgpu::ShaderSource::Wgsl(source.into()),
@@ -53,7 +57,7 @@ pub fn shader_module(device: &wgpu::Device, label: &str, source: String) -> wgpu
 }
 
 /// A compute pipeline of `module`'s `entry`, its layout derived from the shader.
-pub fn compute_pipeline(
+pub(crate) fn compute_pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     entry: &str,

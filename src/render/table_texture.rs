@@ -17,10 +17,9 @@ pub struct TableTexture {
 
 impl TableTexture {
     /// The lookup table of `entries` texels, RGBA16F: 16-bit floats filter at full rate, 32-bit
-    /// ones at a fraction of it. On the H200, RC-t DVR at 1920×1080 with an RGBA32F table took
-    /// 24.3 ms on the peer scene in the fragment path and 1.38 ms on cta_avm in compute; with
-    /// RGBA16F, 14.5 and 0.79 ms. The depths are stored scaled
-    /// ([`crate::transfer::lut::f16_depth_scale`]) so that faint ones stay normal numbers.
+    /// ones at a fraction of it, and RGBA32F made RC-t DVR measurably slower on both paths
+    /// (docs/benchmarks/README.md, "Figures moved from code comments"). The depths are stored
+    /// scaled ([`crate::transfer::lut::f16_depth_scale`]) so that faint ones stay normal numbers.
     pub fn lut(ctx: &GpuContext, entries: u32) -> Self {
         Self::new(
             &ctx.device,
@@ -32,7 +31,7 @@ impl TableTexture {
 
     /// The colours a slice view blends in (`transfer::lut::slice_colours`): `entries` texels of
     /// RGBA16F, sampled linearly as the lookup table.
-    pub fn slice_colours(device: &wgpu::Device, entries: u32) -> Self {
+    pub(crate) fn slice_colours(device: &wgpu::Device, entries: u32) -> Self {
         Self::new(
             device,
             "slice colours",

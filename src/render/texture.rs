@@ -1,7 +1,7 @@
 //! Plain 2D textures: the one constructor every per-size target and table uses.
 
 /// A 2D texture of `size` pixels, one mip level, no multisampling.
-pub fn texture_2d(
+pub(crate) fn texture_2d(
     device: &wgpu::Device,
     size: [u32; 2],
     format: wgpu::TextureFormat,
@@ -30,7 +30,7 @@ pub fn extent([width, height]: [u32; 2]) -> wgpu::Extent3d {
 }
 
 /// The default view of all of `texture`.
-pub fn full_view(texture: &wgpu::Texture) -> wgpu::TextureView {
+pub(crate) fn full_view(texture: &wgpu::Texture) -> wgpu::TextureView {
     texture.create_view(&wgpu::TextureViewDescriptor::default())
 }
 

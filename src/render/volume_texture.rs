@@ -39,7 +39,7 @@ pub struct TexelEncoding {
 }
 
 /// The format `precision` forces, `None` for `Auto`.
-pub fn forced_format(precision: TexturePrecision) -> Option<wgpu::TextureFormat> {
+pub(crate) fn forced_format(precision: TexturePrecision) -> Option<wgpu::TextureFormat> {
     match precision {
         TexturePrecision::Auto => None,
         TexturePrecision::Unorm8 => Some(wgpu::TextureFormat::R8Unorm),
@@ -62,7 +62,7 @@ fn candidates(scalar: ScalarType, has_non_finite: bool) -> &'static [wgpu::Textu
 }
 
 /// Picks the format and encoding for `volume` given which formats the adapter can filter.
-pub fn choose_encoding(
+fn choose_encoding(
     volume: &Volume,
     filterable: impl Fn(wgpu::TextureFormat) -> bool,
 ) -> TexelEncoding {
@@ -83,7 +83,7 @@ pub fn choose_encoding(
 
 /// The encoding of `volume` in `format`: exact integers where the format is the scalar type's
 /// natural unorm, else the normalised value (quantised in a unorm format).
-pub fn encoding_for(volume: &Volume, format: wgpu::TextureFormat) -> TexelEncoding {
+fn encoding_for(volume: &Volume, format: wgpu::TextureFormat) -> TexelEncoding {
     let scalar = volume.scalar_type();
     let range = volume.normalization_range();
     let mapping = volume.mapping();
@@ -175,7 +175,7 @@ fn unorm_max(format: wgpu::TextureFormat) -> f64 {
 }
 
 /// Bytes per texel of the volume formats.
-pub fn bytes_per_texel(format: wgpu::TextureFormat) -> usize {
+pub(crate) fn bytes_per_texel(format: wgpu::TextureFormat) -> usize {
     match format {
         wgpu::TextureFormat::R8Unorm => 1,
         wgpu::TextureFormat::R16Unorm | wgpu::TextureFormat::R16Float => 2,
@@ -185,7 +185,7 @@ pub fn bytes_per_texel(format: wgpu::TextureFormat) -> usize {
 }
 
 /// Appends the texels of samples `range` of `volume` in `encoding` to `out` (little-endian).
-pub fn encode_texels(
+fn encode_texels(
     volume: &Volume,
     encoding: &TexelEncoding,
     range: std::ops::Range<usize>,
@@ -370,7 +370,7 @@ impl VolumeTexture {
     }
 
     /// [`Self::upload`] with the texel precision forced (`Auto`: as `upload`).
-    pub fn upload_with(
+    pub(crate) fn upload_with(
         ctx: &GpuContext,
         volume: &Volume,
         precision: TexturePrecision,

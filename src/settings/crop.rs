@@ -56,7 +56,7 @@ impl CropBox {
     };
 
     /// Whether the box is the whole volume (no cropping).
-    pub fn is_full(&self) -> bool {
+    pub(crate) fn is_full(&self) -> bool {
         *self == Self::FULL
     }
 

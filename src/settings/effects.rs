@@ -85,13 +85,8 @@ pub struct IsoSettings {
     pub refine_iterations: u32,
 }
 
-/// Default isosurface refinement steps (each one fetch). Measured on the H100 (CThead at iso
-/// 1300, 1920×1080, against 16 steps): at a 0.5-voxel step 0 steps leave 0.114 % of channels more
-/// than one 8-bit level off, 1 step 0.026 %, 2 steps 0.011 %, 4 steps 0.003 %, 8 steps 0.000 %;
-/// at a 2-voxel step 1.57 %, 0.29 %, 0.056 %, 0.008 %, 0.002 %. Frame times stayed within
-/// ±0.01 ms of each other from 0 to 16 steps (frames of 1.55–1.68 ms, measured before the compute
-/// path dropped its rasterised entry and exit points; the refinement's cost is to be measured
-/// again by the accuracy benchmark). Four steps take the error below visibility at both steps.
+/// Default isosurface refinement steps (each one fetch): four took the error below visibility
+/// at ½- and 2-voxel steps, at a small cost in frame time (docs/accuracy/README.md).
 pub const DEFAULT_ISO_REFINEMENT: u32 = 4;
 /// Most refinement steps accepted.
 pub const MAX_ISO_REFINEMENT: u32 = 16;

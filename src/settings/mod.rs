@@ -47,7 +47,7 @@ impl Mode {
     ];
 
     /// Whether the mode can light its samples (and so needs gradients).
-    pub fn can_shade(self) -> bool {
+    pub(crate) fn can_shade(self) -> bool {
         matches!(self, Self::Dvr | Self::Iso)
     }
 
@@ -80,8 +80,8 @@ pub enum Strategy {
     RcS,
     /// RC-s with a distance field over blocks: one step clears a whole cube of empty blocks.
     ///
-    /// Beyond the paper: one step clears the whole cube of blocks the field proves empty. On the
-    /// H200 the fastest of the three on most volumes of the benchmark, but RC-t can be faster
+    /// Beyond the paper: one step clears the whole cube of blocks the field proves empty.
+    /// Measured the fastest of the three on most volumes of the benchmark, but RC-t can be faster
     /// where little can be skipped (dense volumes, small images: docs/benchmarks; `auto` times
     /// both). The field is two-sided: a ray also takes every sample of a cube of blocks that all
     /// matter without asking about each. It leaps by the transfer function, the X-ray window or
@@ -266,14 +266,13 @@ impl Default for RenderSettings {
 }
 
 /// Default leaping block edge in voxels for DVR and for the distance field: the fastest edge for
-/// DVR RC-s-df on every dataset of the block-size sweeps on the H100 and the H200
-/// (docs/benchmarks, Table 2), 1–26 % ahead of 8³.
+/// DVR RC-s-df on every dataset of the block-size sweeps, 8³ next (Table 2 in
+/// docs/benchmarks/nvidia-h100-block-sweep-1080p and nvidia-h200-block-sweep-1080p).
 pub const DEFAULT_BLOCK_VOX: u32 = 4;
 
 /// Default leaping block edge in voxels for the octree (RC-s) in the modes that walk in block
 /// runs (isosurface, MIP, MinIP, X-ray): larger blocks cost fewer octree climbs, which there
-/// cost more than the samples they save (the H200 sweeps in
-/// docs/benchmarks/nvidia-h200-block-edge).
+/// cost more than the samples they save (the sweeps in docs/benchmarks/nvidia-h200-block-edge).
 pub const OCTREE_RUNS_BLOCK_VOX: u32 = 16;
 
 /// The leaf block edge measured fastest for `mode` leaping with `strategy` (the strategy in use,
@@ -294,7 +293,7 @@ pub const STEP_VOX_RANGE: (f64, f64) = (1.0 / 1024.0, 1024.0);
 impl RenderSettings {
     /// The step, in units of `d₀`, that sample opacities are corrected for: the step itself, or 1
     /// with opacity correction off (each sample then counts as one voxel length).
-    pub fn opacity_step_vox(&self) -> f64 {
+    pub(crate) fn opacity_step_vox(&self) -> f64 {
         if self.opacity_correction {
             self.step_vox
         } else {

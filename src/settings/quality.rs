@@ -1,5 +1,5 @@
 //! Quality presets: Fast, Balanced and Reference, chosen from the Pareto front of the accuracy
-//! benchmark on the H100 (docs/accuracy/README.md gives the figures and the reasoning).
+//! benchmark (docs/accuracy/README.md gives the figures and the reasoning).
 
 use serde::{Deserialize, Serialize};
 
@@ -14,7 +14,8 @@ use super::{DEFAULT_TERMINATION_ALPHA, RenderSettings};
 pub enum QualityPreset {
     /// One-voxel steps, early stop at 99 %, central gradients, jittered starts.
     ///
-    /// 1.7–2.6× faster than Balanced for 2.5–4.2× its RMSE on the scans (H100, docs/accuracy).
+    /// The fast end of every accuracy front: much faster than Balanced for several times its
+    /// RMSE on the scans (docs/accuracy/README.md).
     Fast,
     /// Half-voxel steps, fourth-order gradients, four iso refinements.
     ///
@@ -30,14 +31,14 @@ pub enum QualityPreset {
 }
 
 /// Early termination of the Fast preset: what is left behind a ray stopped at 99 % adds at most
-/// 1 % (2.6 levels of 255); against 1 − 1/255 the RMSE changed by −3…+2 % and the time by
-/// 0…−11 % on the H100 (docs/accuracy).
+/// 1 % (2.6 levels of 255); against 1 − 1/255 it barely changed the RMSE and saved a little time
+/// (docs/accuracy/README.md).
 pub const FAST_TERMINATION_ALPHA: f64 = 0.99;
 
 /// Lighting threshold of Balanced: DVR samples weighing less than 10⁻³ of their pixel are left
-/// unlit. On the H200 (accuracy benchmark, 512², five datasets) it made lit DVR 22 % faster on
-/// the MR head (mr_head_t1) for 7 % more RMSE, and 0–3 % faster elsewhere with the RMSE changed
-/// by at most 1 %; 3·10⁻³ cost the MR head 54 % more RMSE (docs/accuracy/nvidia-h200-lighting).
+/// unlit. Measured faster on the MR head, whose fog of faint samples is where lighting is wasted,
+/// for a little more RMSE, and no worse elsewhere; 3·10⁻³ cost the MR head much more RMSE
+/// (docs/accuracy/nvidia-h200-lighting).
 pub const BALANCED_LIGHT_MIN_WEIGHT: f64 = 1e-3;
 
 /// Lighting threshold of Fast: 3·10⁻³, 32 % faster on the MR head at its RMSE's cost (+54 %

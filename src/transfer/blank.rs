@@ -18,7 +18,7 @@ pub fn why_blank(
 }
 
 /// [`why_blank`] for a volume whose finite values span `range` (`None`: no finite value).
-pub fn why_blank_in(
+pub(crate) fn why_blank_in(
     range: Option<ValueRange>,
     tf: &TransferFunction,
     settings: &RenderSettings,

@@ -82,7 +82,7 @@ impl TfEditor {
     }
 
     /// Whether [`Self::redo`] would change anything.
-    pub fn can_redo(&self) -> bool {
+    pub(crate) fn can_redo(&self) -> bool {
         !self.redo.is_empty()
     }
 
@@ -95,7 +95,7 @@ impl TfEditor {
     }
 
     /// Ends a drag: the next move starts a new undo step.
-    pub fn end_gesture(&mut self) {
+    pub(crate) fn end_gesture(&mut self) {
         self.dragging = None;
         self.remapping = false;
     }
@@ -103,7 +103,7 @@ impl TfEditor {
     /// Moves every point of both curves to `f(value)` (a window/level drag: shift and scale);
     /// `f` must be increasing, so the order is kept. Calls until [`Self::end_gesture`] are one
     /// undo step. A non-finite result leaves the function unchanged.
-    pub fn remap(&mut self, f: impl Fn(f64) -> f64) {
+    pub(crate) fn remap(&mut self, f: impl Fn(f64) -> f64) {
         let mut tf = self.tf.clone();
         tf.opacity.iter_mut().for_each(|p| p[0] = f(p[0]));
         tf.color.iter_mut().for_each(|p| p[0] = f(p[0]));
@@ -133,13 +133,13 @@ impl TfEditor {
     }
 
     /// Loads a named preset as one undo step.
-    pub fn load_preset(&mut self, name: &str) -> Result<(), TransferError> {
+    pub(crate) fn load_preset(&mut self, name: &str) -> Result<(), TransferError> {
         self.set(preset(name)?);
         Ok(())
     }
 
     /// Adds an opacity point (alpha clamped to 0..1); returns its index.
-    pub fn add_opacity(&mut self, value: f64, alpha: f64) -> Result<usize, EditError> {
+    pub(crate) fn add_opacity(&mut self, value: f64, alpha: f64) -> Result<usize, EditError> {
         finite(value)?;
         self.end_gesture();
         self.record();
@@ -149,7 +149,7 @@ impl TfEditor {
     }
 
     /// Adds a colour stop (components clamped to 0..1); returns its index.
-    pub fn add_color(&mut self, value: f64, rgb: [f64; 3]) -> Result<usize, EditError> {
+    pub(crate) fn add_color(&mut self, value: f64, rgb: [f64; 3]) -> Result<usize, EditError> {
         finite(value)?;
         self.end_gesture();
         self.record();
@@ -160,7 +160,7 @@ impl TfEditor {
     }
 
     /// Moves opacity point `index` to `(value, alpha)`; returns its index after re-sorting.
-    pub fn move_opacity(
+    pub(crate) fn move_opacity(
         &mut self,
         index: usize,
         value: f64,
@@ -176,7 +176,7 @@ impl TfEditor {
     }
 
     /// Moves colour stop `index` to `value`, keeping its colour; returns its new index.
-    pub fn move_color(&mut self, index: usize, value: f64) -> Result<usize, EditError> {
+    pub(crate) fn move_color(&mut self, index: usize, value: f64) -> Result<usize, EditError> {
         finite(value)?;
         self.check(Curve::Color, index)?;
         self.begin_move(Curve::Color, index);
@@ -189,7 +189,7 @@ impl TfEditor {
 
     /// Sets the colour of stop `index` (one undo step per call; the colour picker calls it
     /// once its dialog closes).
-    pub fn set_color(&mut self, index: usize, rgb: [f64; 3]) -> Result<(), EditError> {
+    pub(crate) fn set_color(&mut self, index: usize, rgb: [f64; 3]) -> Result<(), EditError> {
         self.check(Curve::Color, index)?;
         self.end_gesture();
         self.record();

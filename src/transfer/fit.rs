@@ -55,7 +55,7 @@ impl HuCalibration {
     }
 
     /// The data value that corresponds to `hu`.
-    pub fn value_of(&self, hu: f64) -> f64 {
+    pub(crate) fn value_of(&self, hu: f64) -> f64 {
         (hu - self.offset) / self.scale
     }
 }
@@ -117,7 +117,7 @@ impl DataKind {
     }
 
     /// A few words for the side panel: `CT (HU)`, `CT (scanner units → HU)`, `MR`, …
-    pub fn short_label(&self) -> &'static str {
+    pub(crate) fn short_label(&self) -> &'static str {
         match self {
             Self::CtHounsfield { angio: false } => "CT, Hounsfield units",
             Self::CtHounsfield { angio: true } => "CT angiography, Hounsfield units",
@@ -155,7 +155,7 @@ impl DataKind {
 
 /// The classification behind [`DataKind::of`]; `eight_bit_unscaled` says the values are 8-bit
 /// samples taken as they are (which cannot hold HU).
-pub fn classify(
+pub(crate) fn classify(
     modality: Option<&Modality>,
     range: Option<ValueRange>,
     histogram: &Histogram,
@@ -195,7 +195,7 @@ const TISSUE_WINDOW_HU: [f64; 2] = [-200.0, 200.0];
 const MIN_LANDMARK_SHARE: f64 = 0.005;
 
 /// Whether the histogram has voxels where CT in Hounsfield units has air and soft tissue.
-pub fn hounsfield_landmarks(histogram: &Histogram) -> bool {
+fn hounsfield_landmarks(histogram: &Histogram) -> bool {
     let total = histogram.total() as f64;
     let n = histogram.counts.len();
     if total == 0.0 || n == 0 || histogram.range.width() <= 0.0 {
@@ -220,7 +220,7 @@ pub fn hounsfield_landmarks(histogram: &Histogram) -> bool {
 
 /// Finds air and soft tissue in a CT histogram; `None` unless both are clear and the line through
 /// them is a plausible scanner calibration.
-pub fn calibrate(histogram: &Histogram) -> Option<HuCalibration> {
+fn calibrate(histogram: &Histogram) -> Option<HuCalibration> {
     let counts = &histogram.counts;
     let n = counts.len();
     let total = histogram.total() as f64;
@@ -332,7 +332,10 @@ pub fn default_window_of(volume: &crate::volume::Volume) -> Option<[f64; 2]> {
 
 /// The preset `name` fitted to data of `kind`: a CT preset (in HU) on calibrated CT is mapped
 /// onto the data's values; anything else is the preset as written.
-pub fn fitted_preset(name: &str, kind: &DataKind) -> Result<TransferFunction, TransferError> {
+pub(crate) fn fitted_preset(
+    name: &str,
+    kind: &DataKind,
+) -> Result<TransferFunction, TransferError> {
     Ok(fit(preset(name)?, kind).0)
 }
 
@@ -366,7 +369,7 @@ pub fn mapped(tf: &TransferFunction, to_hu: &HuCalibration) -> TransferFunction 
 /// The preset to use after opening a volume of `kind`: the current one when it suits the kind (a
 /// `ct-*` preset for CT, an `mr-*` one for MR, a range-relative one for other data, the grey ramp
 /// for any), else the kind's default.
-pub fn preset_for_kind(current: &str, kind: &DataKind) -> &'static str {
+pub(crate) fn preset_for_kind(current: &str, kind: &DataKind) -> &'static str {
     let suits = current == "grey-ramp"
         || match kind {
             DataKind::CtHounsfield { .. } | DataKind::CtCalibrated { .. } => {

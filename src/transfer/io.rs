@@ -68,7 +68,7 @@ impl TransferFunction {
     }
 
     /// The JSON text of this transfer function (pretty-printed).
-    pub fn to_json_string(&self) -> String {
+    pub(crate) fn to_json_string(&self) -> String {
         // Serialising plain vectors of numbers cannot fail.
         serde_json::to_string_pretty(self).unwrap_or_default()
     }

@@ -22,7 +22,7 @@ pub const MAX_OPTICAL_DEPTH: f64 = 1.0e4;
 
 /// Optical depth of a step of `step_over_d0` units of `d₀` through a value whose opacity per
 /// `d₀` is `alpha`.
-pub fn optical_depth(alpha: f64, step_over_d0: f64) -> f64 {
+fn optical_depth(alpha: f64, step_over_d0: f64) -> f64 {
     (crate::sampling::extinction(alpha) * step_over_d0).min(MAX_OPTICAL_DEPTH)
 }
 
@@ -33,7 +33,7 @@ const F16_MAX: f64 = 65504.0;
 /// (the shader multiplies them back): the largest that keeps the deepest entry finite, so the
 /// smallest depths stay normal numbers (f16 is normal from 2⁻¹⁴ on: a 5·10⁻⁷ depth stored as
 /// it is would lose 5 % to the subnormal spacing of 6·10⁻⁸). 1 for a table without depth.
-pub fn f16_depth_scale(table: &[[f32; 4]]) -> f32 {
+pub(crate) fn f16_depth_scale(table: &[[f32; 4]]) -> f32 {
     let deepest = table.iter().map(|e| f64::from(e[3])).fold(0.0, f64::max);
     if deepest.is_nan() || deepest <= 0.0 {
         return 1.0;
@@ -58,7 +58,7 @@ pub fn bake(tf: &TransferFunction, range: ValueRange, step_over_d0: f64) -> Vec<
 
 /// The table a slice view colours by (`LUT_SIZE` entries over `range`, as [`bake`]): the
 /// straight colour and the opacity per `d₀` of each value, as the transfer function gives them.
-pub fn slice_colours(tf: &TransferFunction, range: ValueRange) -> Vec<[f32; 4]> {
+pub(crate) fn slice_colours(tf: &TransferFunction, range: ValueRange) -> Vec<[f32; 4]> {
     (0..LUT_SIZE)
         .map(|i| {
             let value = range.denormalize(i as f64 / (LUT_SIZE - 1) as f64);

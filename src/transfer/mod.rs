@@ -57,7 +57,7 @@ impl TransferFunction {
     }
 
     /// Converts a point value to data units for a volume whose value range is `range`.
-    pub fn to_data(&self, value: f64, range: ValueRange) -> f64 {
+    pub(crate) fn to_data(&self, value: f64, range: ValueRange) -> f64 {
         match self.space {
             ValueSpace::Data => value,
             ValueSpace::Normalized => range.denormalize(value),

@@ -34,14 +34,14 @@ pub const TAU_MAX: f64 = 64.0;
 pub const INTEGRAL_ROWS: usize = 4;
 
 /// Extinction per `d₀` of an opacity per `d₀`, capped at [`TAU_MAX`].
-pub fn extinction(alpha: f64) -> f64 {
+pub(crate) fn extinction(alpha: f64) -> f64 {
     crate::sampling::extinction(alpha).min(TAU_MAX)
 }
 
 /// The running-integral table for `tf` over `range`, row by row ([`INTEGRAL_ROWS`] ×
 /// [`LUT_SIZE`] texels). Entry `i` is the value `i / (N − 1)`; between entries `τ` and `cτ` are
 /// taken as linear (the trapezoid rule), matching the linear filtering of the ordinary table.
-pub fn integral_table(tf: &TransferFunction, range: ValueRange) -> Vec<[f32; 4]> {
+pub(crate) fn integral_table(tf: &TransferFunction, range: ValueRange) -> Vec<[f32; 4]> {
     let n = LUT_SIZE;
     let h = 1.0 / (n - 1) as f64;
     let entry = |i: usize| {

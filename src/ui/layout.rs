@@ -37,12 +37,12 @@ impl Layout {
     }
 
     /// Whether it shows the 3D view.
-    pub fn has_3d(self) -> bool {
+    pub(crate) fn has_3d(self) -> bool {
         !matches!(self, Self::Image(_))
     }
 
     /// Whether it shows slice views.
-    pub fn has_slices(self) -> bool {
+    pub(crate) fn has_slices(self) -> bool {
         self != Self::ThreeD
     }
 }

@@ -47,7 +47,7 @@ impl VolumeSource {
 
     /// The preset the volume is made for, where that is known: the vessel tree is an
     /// angiogram without units, so the MR angiography preset suits it.
-    pub fn preferred_preset(&self) -> Option<&'static str> {
+    pub(crate) fn preferred_preset(&self) -> Option<&'static str> {
         match self {
             Self::VesselTree => Some("mr-angio"),
             // Its inside: ventricles, lesions, the skull translucent.
@@ -132,7 +132,7 @@ pub struct Loader {
 
 impl Loader {
     /// Checks every volume loaded from now on against `gpu` before its samples are read.
-    pub fn check_against(&mut self, gpu: crate::render::GpuContext) {
+    pub(crate) fn check_against(&mut self, gpu: crate::render::GpuContext) {
         self.gpu = Some(gpu);
     }
 
@@ -198,7 +198,7 @@ impl Loader {
     }
 
     /// The result of the load in progress, with its source, once it has arrived.
-    pub fn poll(&mut self) -> Option<(VolumeSource, Result<Volume, LoadFailure>)> {
+    pub(crate) fn poll(&mut self) -> Option<(VolumeSource, Result<Volume, LoadFailure>)> {
         let pending = self.pending.as_ref()?;
         let result = match pending.rx.try_recv() {
             Ok(result) => result,

@@ -83,14 +83,14 @@ impl VolumeSummary {
     }
 
     /// The orientation the anatomical views use: the header's, or RAS where it gave none.
-    pub fn orientation_or_assumed(&self) -> crate::volume::Orientation {
+    pub(crate) fn orientation_or_assumed(&self) -> crate::volume::Orientation {
         self.orientation
             .unwrap_or(crate::volume::Orientation::ASSUMED)
     }
 
     /// The orientation in the file's own index frame (before the reversal along i that loading
     /// does for a mirrored one): what the user's flips start from.
-    pub fn file_orientation_or_assumed(&self) -> crate::volume::Orientation {
+    pub(crate) fn file_orientation_or_assumed(&self) -> crate::volume::Orientation {
         let o = self.orientation_or_assumed();
         if self.reversed_i {
             o.with_axis_reversed(0)

@@ -62,7 +62,7 @@ impl Automation {
 
     /// Whether a script drives the window (then nothing is restored or saved between runs, so
     /// the same command gives the same pictures).
-    pub fn is_active(&self) -> bool {
+    pub(crate) fn is_active(&self) -> bool {
         self.exit_after_frames.is_some() || self.screenshot.is_some()
     }
 
@@ -73,26 +73,26 @@ impl Automation {
     }
 
     /// Whether the camera should turn now so that one more frame is rendered.
-    pub fn wants_another_frame(&self, frames_rendered: u64) -> bool {
+    pub(crate) fn wants_another_frame(&self, frames_rendered: u64) -> bool {
         frames_rendered >= 1
             && self.screenshot_settled()
             && self.exit_after_frames.is_some_and(|n| frames_rendered < n)
     }
 
     /// Whether the window should close now.
-    pub fn should_close(&self, frames_rendered: u64) -> bool {
+    pub(crate) fn should_close(&self, frames_rendered: u64) -> bool {
         self.screenshot_settled() && self.exit_after_frames.is_some_and(|n| frames_rendered >= n)
     }
 
     /// Whether the screenshot is still to be requested (the app then keeps passes coming until
     /// the view is settled).
-    pub fn screenshot_waiting(&self) -> bool {
+    pub(crate) fn screenshot_waiting(&self) -> bool {
         matches!(self.screenshot, Some((_, Shot::Waiting)))
     }
 
     /// At the end of a pass: requests the screenshot when `ready` (a settled frame and its
     /// measurements are on screen), and hands it over once it has arrived.
-    pub fn poll_screenshot(&mut self, ctx: &egui::Context, ready: bool) -> ShotEvent {
+    pub(crate) fn poll_screenshot(&mut self, ctx: &egui::Context, ready: bool) -> ShotEvent {
         let Some((path, shot)) = self.screenshot.as_mut() else {
             return ShotEvent::None;
         };
@@ -199,7 +199,7 @@ impl Overdrawn {
 
 /// Compares the screenshot's pixels at `origin_px` (top-left of the view, physical pixels) with
 /// `rendered`, skipping the pixels `skip` covers (what the window draws over the view).
-pub fn compare_view(
+pub(crate) fn compare_view(
     shot: &ColorImage,
     origin_px: [usize; 2],
     rendered: &image::RgbaImage,

@@ -150,13 +150,13 @@ impl ViewerState {
     }
 
     /// Loads preset `name` into the editor (one undo step); an unknown name changes nothing.
-    pub fn choose_preset(&mut self, name: &str) -> Result<(), String> {
+    pub(crate) fn choose_preset(&mut self, name: &str) -> Result<(), String> {
         let kind = self.fitted_to.clone().unwrap_or(DataKind::Other);
         self.choose_preset_for(name, kind)
     }
 
     /// Loads preset `name` fitted to data of `kind` (one undo step), and remembers the kind.
-    pub fn choose_preset_for(&mut self, name: &str, kind: DataKind) -> Result<(), String> {
+    pub(crate) fn choose_preset_for(&mut self, name: &str, kind: DataKind) -> Result<(), String> {
         let tf = fitted_preset(name, &kind).map_err(|e| e.to_string())?;
         self.editor.set(tf);
         self.preset = name.to_string();
@@ -167,7 +167,7 @@ impl ViewerState {
 
     /// Puts `path` first in the recent files (once), dropping the oldest beyond
     /// [`RECENT_FILES`].
-    pub fn remember_file(&mut self, path: &std::path::Path) {
+    pub(crate) fn remember_file(&mut self, path: &std::path::Path) {
         self.recent.retain(|p| p != path);
         self.recent.insert(0, path.to_path_buf());
         self.recent.truncate(RECENT_FILES);
@@ -175,13 +175,13 @@ impl ViewerState {
 
     /// The orientation the user gave for the file at `path`, if any (a stored code that no
     /// longer parses is ignored).
-    pub fn orientation_for(&self, path: &std::path::Path) -> Option<Orientation> {
+    pub(crate) fn orientation_for(&self, path: &std::path::Path) -> Option<Orientation> {
         let code = self.orientations.get(&orientation_key(path))?;
         Orientation::parse_code(code).ok()
     }
 
     /// Remembers `orientation` for the file at `path` (`None`: back to the header's).
-    pub fn set_orientation_for(
+    pub(crate) fn set_orientation_for(
         &mut self,
         path: &std::path::Path,
         orientation: Option<Orientation>,
@@ -204,20 +204,20 @@ impl ViewerState {
 
     /// The strategy frames use: the chosen one, or RC-s where the mode cannot use the
     /// distance field.
-    pub fn strategy_in_use(&self) -> Strategy {
+    pub(crate) fn strategy_in_use(&self) -> Strategy {
         self.render.strategy.for_mode(self.render.mode)
     }
 
     /// Forgets the values in data units (iso value, window) and the cropping box when another
     /// volume opens: they belong to the old volume.
-    pub fn forget_volume_values(&mut self) {
+    pub(crate) fn forget_volume_values(&mut self) {
         self.render.iso.value = None;
         self.render.window = None;
         self.render.crop = crate::settings::CropBox::FULL;
     }
 
     /// Switches between the headlight and a directional light from [`Self::light_angles`].
-    pub fn set_headlight(&mut self, headlight: bool) {
+    pub(crate) fn set_headlight(&mut self, headlight: bool) {
         self.render.light = if headlight {
             Light::Headlight
         } else {
@@ -226,7 +226,7 @@ impl ViewerState {
     }
 
     /// Sets the directional light's angles (and the light, unless the headlight is on).
-    pub fn set_light_angles(&mut self, angles: [f64; 2]) {
+    pub(crate) fn set_light_angles(&mut self, angles: [f64; 2]) {
         self.light_angles = angles;
         if self.render.light != Light::Headlight {
             self.render.light = light_from(angles);
@@ -235,21 +235,21 @@ impl ViewerState {
 
     /// The background as 8-bit RGB (what the colour button edits; stored into the image as it
     /// is, like the PNG output).
-    pub fn background_rgb8(&self) -> [u8; 3] {
+    pub(crate) fn background_rgb8(&self) -> [u8; 3] {
         self.render
             .background
             .map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8)
     }
 
     /// Sets the background from 8-bit RGB.
-    pub fn set_background_rgb8(&mut self, rgb: [u8; 3]) {
+    pub(crate) fn set_background_rgb8(&mut self, rgb: [u8; 3]) {
         self.render.background = rgb.map(|c| f64::from(c) / 255.0);
     }
 }
 
 /// A light shining from the direction azimuth/elevation `angles` (degrees) name, towards the
 /// volume.
-pub fn light_from(angles: [f64; 2]) -> Light {
+fn light_from(angles: [f64; 2]) -> Light {
     let [az, el] = angles.map(f64::to_radians);
     let from = [el.cos() * az.sin(), el.cos() * az.cos(), el.sin()];
     Light::Direction(from.map(|c| -c))

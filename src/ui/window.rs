@@ -65,7 +65,7 @@ fn select_adapter(
 
 /// eframe's options for a window titled `title`: size, drag-and-drop, the wgpu setup above,
 /// and no dithering.
-pub fn native_options(title: &str) -> eframe::NativeOptions {
+pub(crate) fn native_options(title: &str) -> eframe::NativeOptions {
     let mut setup = egui_wgpu::WgpuSetupCreateNew::without_display_handle();
     setup.instance_descriptor.backends = backends();
     setup.native_adapter_selector = Some(Arc::new(select_adapter));

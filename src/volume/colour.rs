@@ -53,7 +53,7 @@ impl Colour {
     }
 
     /// Mirrors every channel along x (`row` samples a row), as [`Samples::reverse_rows`].
-    pub fn reverse_rows(&mut self, row: usize) {
+    pub(crate) fn reverse_rows(&mut self, row: usize) {
         for c in &mut self.channels {
             c.reverse_rows(row);
         }

@@ -28,12 +28,12 @@ impl SampleLayout {
     }
 
     /// Number of bytes the samples take.
-    pub fn byte_len(&self) -> u64 {
+    pub(crate) fn byte_len(&self) -> u64 {
         self.sample_count() * self.scalar_type.size_bytes() as u64
     }
 }
 
-/// How the bytes handed to [`read_samples`] were encoded, for reporting read errors.
+/// How the bytes handed to [`read_samples_with`] were encoded, for reporting read errors.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Encoding {
     /// Uncompressed bytes straight from a file.
@@ -89,18 +89,11 @@ stored_float!(f64, F64);
 /// The caller has already checked the declared size against [`super::limits`]; this allocates
 /// exactly that size (failing cleanly when memory is short), never grows it, and reads at most one
 /// byte past it to detect more data than declared.
-pub fn read_samples(
-    reader: &mut impl Read,
-    layout: SampleLayout,
-    encoding: Encoding,
-) -> Result<Samples, VolumeError> {
-    read_samples_with(reader, layout, encoding, None)
-}
-
-/// [`read_samples`], reporting to `progress` (and stopping with [`VolumeError::Cancelled`] when
-/// it is cancelled) after each chunk of at most [`CHUNK_BYTES`]; first, `progress`'s admission
+///
+/// With `progress`, reports to it (and stops with [`VolumeError::Cancelled`] when it is
+/// cancelled) after each chunk of at most [`CHUNK_BYTES`]; first, `progress`'s admission
 /// check is asked whether a volume of this layout can be taken.
-pub fn read_samples_with(
+pub(crate) fn read_samples_with(
     reader: &mut impl Read,
     layout: SampleLayout,
     encoding: Encoding,
@@ -308,7 +301,7 @@ fn check_nothing_follows(
 const TRAILING_GZIP_CHECK_BYTES: u64 = 64 << 20;
 
 /// A read error in the user's terms: a decompressor error means corrupt data.
-pub fn read_error(e: std::io::Error, encoding: Encoding) -> VolumeError {
+pub(crate) fn read_error(e: std::io::Error, encoding: Encoding) -> VolumeError {
     match encoding {
         Encoding::Gzip if e.kind() == ErrorKind::UnexpectedEof => VolumeError::CorruptGzip {
             reason: "the stream ends before its end marker; the file may be truncated".into(),
@@ -346,7 +339,7 @@ pub fn open_file(path: &Path) -> Result<(File, u64), VolumeError> {
 }
 
 /// What a file that is neither a regular file nor a folder is (`None` for those two).
-pub fn special_kind(metadata: &std::fs::Metadata) -> Option<&'static str> {
+pub(crate) fn special_kind(metadata: &std::fs::Metadata) -> Option<&'static str> {
     let kind = metadata.file_type();
     if kind.is_file() || kind.is_dir() {
         return None;
@@ -368,7 +361,7 @@ pub fn special_kind(metadata: &std::fs::Metadata) -> Option<&'static str> {
 }
 
 /// Skips `count` bytes of `reader` (decompressed bytes for gzip), reporting a short stream.
-pub fn skip_bytes(
+pub(crate) fn skip_bytes(
     reader: &mut impl Read,
     count: u64,
     encoding: Encoding,
@@ -443,23 +436,26 @@ mod tests {
     #[test]
     fn both_byte_orders_decode() {
         let le = [1u8, 2, 3, 4];
-        let s = read_samples(
+        let s = read_samples_with(
             &mut &le[..],
             layout(2, ScalarType::U16, false),
             Encoding::Raw,
+            None,
         );
         assert_eq!(s.ok(), Some(Samples::U16(vec![0x0201, 0x0403])));
-        let s = read_samples(
+        let s = read_samples_with(
             &mut &le[..],
             layout(2, ScalarType::I16, true),
             Encoding::Raw,
+            None,
         );
         assert_eq!(s.ok(), Some(Samples::I16(vec![0x0102, 0x0304])));
         let be = (-1.5f64).to_be_bytes();
-        let s = read_samples(
+        let s = read_samples_with(
             &mut &be[..],
             layout(1, ScalarType::F64, true),
             Encoding::Raw,
+            None,
         );
         assert_eq!(s.ok(), Some(Samples::F64(vec![-1.5])));
     }
@@ -467,19 +463,21 @@ mod tests {
     #[test]
     fn short_and_long_data_are_reported() {
         let bytes = [0u8; 7];
-        let r = read_samples(
+        let r = read_samples_with(
             &mut &bytes[..],
             layout(4, ScalarType::U16, false),
             Encoding::Raw,
+            None,
         );
         assert!(
             matches!(r, Err(VolumeError::DataTooShort { found_bytes: 7, .. })),
             "{r:?}"
         );
-        let r = read_samples(
+        let r = read_samples_with(
             &mut &bytes[..],
             layout(3, ScalarType::U16, false),
             Encoding::Raw,
+            None,
         );
         assert!(
             matches!(r, Err(VolumeError::DataTooLong { exact: false, .. })),
@@ -491,10 +489,11 @@ mod tests {
     fn at_most_one_byte_past_the_data_is_read() {
         // An endless reader: the read must stop right after the declared bytes plus one.
         let mut endless = std::io::repeat(7).take(u64::MAX);
-        let r = read_samples(
+        let r = read_samples_with(
             &mut endless,
             layout(5, ScalarType::U8, false),
             Encoding::Raw,
+            None,
         );
         assert!(matches!(r, Err(VolumeError::DataTooLong { .. })), "{r:?}");
         assert_eq!(endless.limit(), u64::MAX - 6);

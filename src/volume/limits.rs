@@ -7,7 +7,7 @@
 //! [`MAX_VOLUME_BYTES`].
 
 use super::error::VolumeError;
-use super::{error, samples::ScalarType};
+use super::samples::ScalarType;
 
 /// Hard cap on the decoded sample bytes of one volume: 8 GiB.
 pub const MAX_VOLUME_BYTES: u64 = 8 << 30;
@@ -23,7 +23,7 @@ pub const MAX_DEFLATE_RATIO: u64 = 1032;
 
 /// Asks `progress`'s admission check (if any) whether a volume of `dims` and `scalar_type` (a
 /// colour one where `colour`) can be taken, before a sample is read.
-pub fn admit(
+pub(crate) fn admit(
     progress: Option<&super::progress::LoadProgress>,
     dims: [u32; 3],
     scalar_type: ScalarType,
@@ -41,7 +41,7 @@ pub fn admit(
 
 /// The memory the system can give without swapping (Linux `MemAvailable`), or `None` where it
 /// does not say. A loader refuses samples larger than this before reading any.
-pub fn available_memory_bytes() -> Option<u64> {
+pub(crate) fn available_memory_bytes() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     mem_available(&text)
 }
@@ -73,7 +73,10 @@ pub enum DataSource {
 
 /// Checks declared dimensions against the per-axis cap and the size cap; returns the dimensions
 /// as `u32` and the number of sample bytes they call for.
-pub fn check_dims(dims: [u64; 3], scalar_type: ScalarType) -> Result<([u32; 3], u64), VolumeError> {
+pub(crate) fn check_dims(
+    dims: [u64; 3],
+    scalar_type: ScalarType,
+) -> Result<([u32; 3], u64), VolumeError> {
     if dims.iter().any(|&d| d > u64::from(MAX_DIMENSION)) {
         return Err(VolumeError::DimensionTooLarge {
             dims,
@@ -102,7 +105,7 @@ pub fn check_dims(dims: [u64; 3], scalar_type: ScalarType) -> Result<([u32; 3], 
 ///
 /// Uncompressed data shorter than declared fails here, before anything is read; uncompressed data
 /// longer than declared is left to the reader, which knows whether trailing bytes are allowed.
-pub fn check_fits(
+pub(crate) fn check_fits(
     dims: [u32; 3],
     scalar_type: ScalarType,
     declared_bytes: u64,
@@ -139,9 +142,10 @@ pub fn check_fits(
     }
 }
 
+#[cfg(test)] // Only the tests ask.
 /// Checks a declared size against every limit: [`check_dims`] then [`check_fits`]. Returns the
 /// dimensions as `u32` and the sample bytes, which are then safe to allocate.
-pub fn check_declared_size(
+fn check_declared_size(
     dims: [u64; 3],
     scalar_type: ScalarType,
     source: DataSource,
@@ -150,8 +154,8 @@ pub fn check_declared_size(
     check_fits(dims32, scalar_type, declared_bytes, source)?;
     log::debug!(
         "declared {} {scalar_type} samples ({}) fit {source:?}",
-        error::fmt_dims(&dims32),
-        error::fmt_bytes(declared_bytes)
+        super::error::fmt_dims(&dims32),
+        super::error::fmt_bytes(declared_bytes)
     );
     Ok((dims32, declared_bytes))
 }

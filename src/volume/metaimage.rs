@@ -388,7 +388,7 @@ fn open_data(header: &Path, name: &str) -> Result<(File, u64), VolumeError> {
 }
 
 /// Reads a MetaImage volume; `name` becomes the volume's name.
-pub fn read_metaimage(
+pub(crate) fn read_metaimage(
     path: &Path,
     name: String,
     progress: Option<&LoadProgress>,

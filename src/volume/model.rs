@@ -166,7 +166,7 @@ impl Volume {
     /// The volume with the orientation the user gave (`--orientation`, the window's orientation
     /// controls) in place of the header's, or of none: for files that lack one or state it wrong.
     /// Call before [`Volume::unmirrored`]; the header's stays in [`Volume::header_orientation`].
-    pub fn with_user_orientation(mut self, orientation: Orientation) -> Self {
+    pub(crate) fn with_user_orientation(mut self, orientation: Orientation) -> Self {
         self.orientation = Some(orientation.said_by(OrientationSource::User));
         self
     }
@@ -193,7 +193,7 @@ impl Volume {
     }
 
     /// The volume with the modality its file declared.
-    pub fn with_modality(mut self, modality: Option<Modality>) -> Self {
+    pub(crate) fn with_modality(mut self, modality: Option<Modality>) -> Self {
         self.modality = modality;
         self
     }
@@ -275,8 +275,9 @@ impl Volume {
             .fold(f64::INFINITY, f64::min)
     }
 
+    #[cfg(test)] // Only the tests ask.
     /// Size of the bounding box (`dims * spacing`) in millimetres.
-    pub fn extent_mm(&self) -> [f64; 3] {
+    pub(crate) fn extent_mm(&self) -> [f64; 3] {
         std::array::from_fn(|a| self.dims[a] as f64 * self.spacing_mm[a])
     }
 

@@ -23,7 +23,7 @@ use fields::NrrdHeader;
 use header::HeaderEnd;
 
 /// Reads a NRRD volume; `name` becomes the volume's name.
-pub fn read_nrrd(
+pub(crate) fn read_nrrd(
     path: &Path,
     name: String,
     progress: Option<&LoadProgress>,

@@ -44,7 +44,7 @@ impl Direction {
     }
 
     /// The opposite direction.
-    pub fn opposite(self) -> Self {
+    pub(crate) fn opposite(self) -> Self {
         match self {
             Self::Right => Self::Left,
             Self::Left => Self::Right,
@@ -56,7 +56,7 @@ impl Direction {
     }
 
     /// One-letter code (R, L, A, P, S, I).
-    pub fn letter(self) -> char {
+    pub(crate) fn letter(self) -> char {
         match self {
             Self::Right => 'R',
             Self::Left => 'L',
@@ -80,7 +80,7 @@ impl Direction {
     }
 
     /// The direction a letter names (R, L, A, P, S, I, any case).
-    pub fn from_letter(letter: char) -> Option<Self> {
+    fn from_letter(letter: char) -> Option<Self> {
         let upper = letter.to_ascii_uppercase();
         [
             Self::Right,
@@ -95,7 +95,7 @@ impl Direction {
     }
 
     /// The RAS axis this direction lies on: 0 for R/L, 1 for A/P, 2 for S/I.
-    pub fn ras_axis(self) -> usize {
+    fn ras_axis(self) -> usize {
         match self {
             Self::Right | Self::Left => 0,
             Self::Anterior | Self::Posterior => 1,
@@ -186,7 +186,7 @@ impl Orientation {
     }
 
     /// The same axes, as said by `source`.
-    pub fn said_by(mut self, source: OrientationSource) -> Self {
+    pub(crate) fn said_by(mut self, source: OrientationSource) -> Self {
         self.source = source;
         self
     }
@@ -194,7 +194,7 @@ impl Orientation {
     /// The same orientation with the index axis that points along `direction`'s pair (R/L, A/P
     /// or S/I) pointing the other way: "this file's k axis points inferior, not superior". The
     /// result is the user's word.
-    pub fn flipped(self, direction: Direction) -> Self {
+    pub(crate) fn flipped(self, direction: Direction) -> Self {
         let flipped = match self
             .axes
             .iter()
@@ -233,7 +233,7 @@ impl Orientation {
 
     /// From the direction of each index axis in LPS coordinates (DICOM's, and NRRD's
     /// `left-posterior-superior` space).
-    pub fn from_lps_columns(columns: [[f64; 3]; 3]) -> Option<Self> {
+    pub(crate) fn from_lps_columns(columns: [[f64; 3]; 3]) -> Option<Self> {
         Self::from_ras_columns(columns.map(|[x, y, z]| [-x, -y, z]))
     }
 
@@ -270,7 +270,7 @@ impl Orientation {
     }
 
     /// The same orientation with index axis `axis` (0, 1 or 2) pointing the other way.
-    pub fn with_axis_reversed(mut self, axis: usize) -> Self {
+    pub(crate) fn with_axis_reversed(mut self, axis: usize) -> Self {
         if let Some(d) = self.axes.get_mut(axis) {
             *d = d.opposite();
         }

@@ -68,13 +68,13 @@ impl LoadProgress {
     }
 
     /// Every how many slices one is read (1: all).
-    pub fn slice_stride(&self) -> u32 {
+    pub(crate) fn slice_stride(&self) -> u32 {
         self.slice_stride.max(1)
     }
 
     /// Asks the admission check (if any) whether a volume of `shape` can be taken: every reader
     /// calls this once it knows the shape and before it reads a sample.
-    pub fn admit(&self, shape: Shape) -> Result<(), super::error::VolumeError> {
+    pub(crate) fn admit(&self, shape: Shape) -> Result<(), super::error::VolumeError> {
         match &self.admission {
             Some(check) => {
                 check(&shape).map_err(|reason| super::error::VolumeError::NotAdmitted { reason })
@@ -107,7 +107,7 @@ impl LoadProgress {
     }
 
     /// Whether [`LoadProgress::cancel`] was called.
-    pub fn is_cancelled(&self) -> bool {
+    pub(crate) fn is_cancelled(&self) -> bool {
         self.cancelled.load(Ordering::Relaxed)
     }
 }

@@ -22,7 +22,7 @@ pub struct RawParams {
 }
 
 /// Reads a raw volume laid out as `params` says; `name` becomes the volume's name.
-pub fn read_raw(
+pub(crate) fn read_raw(
     path: &Path,
     name: String,
     params: &RawParams,

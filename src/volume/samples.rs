@@ -143,7 +143,7 @@ impl Samples {
 
     /// Reverses the order of the samples inside every run of `row` consecutive ones: with `row`
     /// the x dimension, mirrors the volume along x in place. `row` of 0 changes nothing.
-    pub fn reverse_rows(&mut self, row: usize) {
+    pub(crate) fn reverse_rows(&mut self, row: usize) {
         if row > 0 {
             each_variant!(self, v => v.chunks_mut(row).for_each(<[_]>::reverse))
         }

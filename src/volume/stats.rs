@@ -28,7 +28,7 @@ impl ValueRange {
     /// The range used to normalise values of a volume whose finite values span `range`: the range
     /// itself, widened to a unit interval when it is a single value (or there is none), so that
     /// normalising never divides by zero.
-    pub fn normalization(range: Option<ValueRange>) -> ValueRange {
+    pub(crate) fn normalization(range: Option<ValueRange>) -> ValueRange {
         match range {
             Some(r) if r.max > r.min => r,
             Some(r) => ValueRange {
@@ -56,7 +56,7 @@ pub struct Histogram {
 
 impl Histogram {
     /// The bin a value falls into, clamped to the first and last bin.
-    pub fn bin_of(&self, value: f64) -> usize {
+    fn bin_of(&self, value: f64) -> usize {
         let n = self.counts.len();
         if n == 0 || self.range.width() <= 0.0 {
             return 0;

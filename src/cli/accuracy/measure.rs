@@ -16,7 +16,7 @@ use crate::cli::measuring::timed_frame;
 /// Warm-up frames after each change of variant (pipeline creation, structure rebuilds).
 const WARMUP_FRAMES: u32 = 3;
 /// Warm-up frames of the first variant after an upload: as in the benchmark, three were too few
-/// right after a 512³ upload on the H100 (the first vessels run came out 1.7× slow).
+/// right after a 512³ upload (docs/accuracy/README.md, "Figures moved from code comments").
 const SETTLE_FRAMES: u32 = 30;
 /// Passes over the variant list (see `measure`).
 const PASSES: usize = 2;
@@ -102,9 +102,9 @@ pub fn measure(
     let mut uploaded = None;
     let mut settle = true;
     let mut out: Vec<Option<Measurement>> = vec![None; variants.len()];
-    // Every variant twice, keeping the faster median: on the H100 the first variants timed
-    // after an upload came out up to 1.8× slow even after 30 warm-up frames (cause unknown),
-    // while a second pass over the list agrees with itself.
+    // Every variant twice, keeping the faster median: the first variants timed after an upload
+    // came out slow even after the warm-up, and a second pass over the list agrees with itself
+    // (docs/accuracy/README.md, "Caveats").
     for (index, variant) in (0..PASSES).flat_map(|_| variants.iter().enumerate()) {
         progress(&format!(
             "{}: {} {}",

@@ -134,8 +134,8 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
                 &spec.tf,
                 planned,
                 &cameras,
-                // The first run after an upload warms up longer: on the H100 three frames
-                // were not enough right after a 512³ upload (its first run came out 2–3× slow).
+                // The first run after an upload warms up longer: three frames were not enough
+                // right after a 512³ upload (docs/benchmarks/README.md, "Warm-up").
                 if index == 0 {
                     config.warmup_frames.max(SETTLE_FRAMES)
                 } else {

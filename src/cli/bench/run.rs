@@ -105,8 +105,8 @@ pub fn plan(config: &BenchConfig, spec: &DatasetSpec) -> Vec<Planned> {
 /// The shortest warm-up before a run is timed.
 pub const WARMUP_TIME: Duration = Duration::from_millis(250);
 /// The shortest warm-up of a dataset's first run, right after its upload: the GPU idled while
-/// the volume was read or generated, and on the H200 a few 512³ first runs still came out 3–4×
-/// slow after 250 ms (docs/benchmarks/README.md, the H200 runs of 2026-12-03).
+/// the volume was read or generated, and a few 512³ first runs still came out slow after
+/// [`WARMUP_TIME`] (docs/benchmarks/README.md, "Warm-up").
 pub const SETTLE_TIME: Duration = Duration::from_secs(1);
 /// The most warm-up frames spent reaching the warm-up time.
 const WARMUP_MAX_FRAMES: u32 = 5000;
@@ -135,11 +135,11 @@ pub fn measure(
     let Some((first, _)) = cameras.first() else {
         return Err(RenderError::NoVolume);
     };
-    // At least `warmup` frames and `warmup_time`: an idle GPU clocks down (the H200 idles at a
-    // sixth of its clock), and a few sub-millisecond frames do not bring it back up. The first
-    // frame builds the pipeline and names the path; the rest go in batches without a wait, each
-    // sized by the last frames' time so as not to run much past the warm-up time (the first
-    // frame's, pipeline build included, is an overestimate).
+    // At least `warmup` frames and `warmup_time`: an idle GPU clocks down
+    // (docs/benchmarks/nvidia-h200-ray-split, "The warm-up"), and a few sub-millisecond frames
+    // do not bring it back up. The first frame builds the pipeline and names the path; the rest
+    // go in batches without a wait, each sized by the last frames' time so as not to run much
+    // past the warm-up time (the first frame's, pipeline build included, is an overestimate).
     let started = Instant::now();
     let path = timed_frame(renderer, &request(first, false))?.2;
     let mut per_frame = started.elapsed().as_secs_f64();

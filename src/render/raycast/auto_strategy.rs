@@ -1,8 +1,8 @@
 //! `--strategy auto`, the default: time RC-t and the mode's leaping strategy on the frame's own
 //! inputs and keep the faster. Both render the same image (within 1/255: the benchmark's image
 //! check and the tests), so the choice only changes the time. Leaping wins on most volumes, but
-//! not everywhere: on the H200, RC-t was faster on some dense volumes at 512² and in some modes
-//! (MinIP on ct_bonsai at 0.65×, docs/benchmarks), and which one wins depends on the volume, the
+//! not everywhere: RC-t was measured faster on some dense volumes at 512² and in some modes
+//! (docs/benchmarks/nvidia-h200-auto), and which one wins depends on the volume, the
 //! transfer function (what is empty), the mode and the image size, so it is measured, not
 //! guessed. A CPU driver takes the leaping strategy untimed (its wall clock, the only clock it
 //! has, follows the machine's load, as `auto_path` found).
@@ -110,11 +110,9 @@ fn skips_timing(renderer: &VolumeRenderer) -> bool {
 /// clock where the adapter has none) on `camera` and on the views `VIEW_TURNS_DEG` about its
 /// target from it, and returns the choice for these inputs, without keeping it. A choice holds
 /// until the settings change, whatever the camera does: the views stand for the others, where
-/// one view alone was misleading (on the H200, leaping chosen on one view of an orbit of 12 was
-/// slower than RC-t over the orbit in 7 of 132 cases, to 0.91×; chosen on three views 120° apart
-/// with [`StrategyChoice::LEAPING_MARGIN`], in none of 132, in two runs: every case left under
-/// 0.98× was a choice of RC-t itself, within the spread of two runs;
-/// docs/benchmarks/nvidia-h200-auto).
+/// one view alone was misleading: leaping chosen on one view was slower than RC-t over the orbit
+/// in some cases, on three views with [`StrategyChoice::LEAPING_MARGIN`] in none
+/// (docs/benchmarks/nvidia-h200-auto).
 pub fn measure(
     renderer: &mut VolumeRenderer,
     settings: &RenderSettings,

@@ -91,7 +91,7 @@ impl GpuVolume {
     /// The uniforms of a frame of this volume of `size` pixels seen through `geometry`, for a
     /// lookup table of `lut_entries` whose stored depths are in units of `lut_depth_unit`
     /// (leaping levels still unset).
-    pub fn uniforms(
+    pub(crate) fn uniforms(
         &self,
         (size, settings): ([u32; 2], &RenderSettings),
         geometry: &FrameGeometry,

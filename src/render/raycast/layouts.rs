@@ -178,7 +178,11 @@ impl Layouts {
     }
 
     /// Group 0 for one volume.
-    pub fn frame_group(&self, device: &wgpu::Device, r: &FrameResources<'_>) -> wgpu::BindGroup {
+    pub(crate) fn frame_group(
+        &self,
+        device: &wgpu::Device,
+        r: &FrameResources<'_>,
+    ) -> wgpu::BindGroup {
         use wgpu::BindingResource::{Sampler, TextureView};
         group(
             device,
@@ -195,7 +199,7 @@ impl Layouts {
     }
 
     /// Group 1 of the fragment path: the exit points of one image size.
-    pub fn fragment_io_group(
+    pub(crate) fn fragment_io_group(
         &self,
         device: &wgpu::Device,
         exit: &wgpu::TextureView,
@@ -205,7 +209,7 @@ impl Layouts {
     }
 
     /// Group 1 of the compute path: the output image of one image size.
-    pub fn compute_io_group(
+    pub(crate) fn compute_io_group(
         &self,
         device: &wgpu::Device,
         output: &wgpu::TextureView,
@@ -215,7 +219,11 @@ impl Layouts {
     }
 
     /// Group 2: the statistics counters.
-    pub fn stats_group(&self, device: &wgpu::Device, counters: &wgpu::Buffer) -> wgpu::BindGroup {
+    pub(crate) fn stats_group(
+        &self,
+        device: &wgpu::Device,
+        counters: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
         group(
             device,
             "stats",
@@ -225,7 +233,11 @@ impl Layouts {
     }
 
     /// Group 3: one volume's leaping structures.
-    pub fn leap_group(&self, device: &wgpu::Device, r: &LeapResources<'_>) -> wgpu::BindGroup {
+    pub(crate) fn leap_group(
+        &self,
+        device: &wgpu::Device,
+        r: &LeapResources<'_>,
+    ) -> wgpu::BindGroup {
         group(
             device,
             "leap",

@@ -106,7 +106,7 @@ pub enum DistancePass {
 }
 
 /// The pass along `axis` over a leaf level of `nodes`.
-pub fn distance_pass_for(nodes: [u32; 3], axis: usize) -> DistancePass {
+fn distance_pass_for(nodes: [u32; 3], axis: usize) -> DistancePass {
     if nodes[axis] > DISTANCE_ROW_MAX {
         return DistancePass::Window;
     }
@@ -419,7 +419,7 @@ impl LeapStructures {
     }
 
     /// What the ray loop's bind group (group 3) binds.
-    pub fn resources(&self) -> LeapResources<'_> {
+    pub(crate) fn resources(&self) -> LeapResources<'_> {
         LeapResources {
             levels: &self.level_buffer,
             node_empty: &self.node_empty,
@@ -429,7 +429,7 @@ impl LeapStructures {
     }
 
     /// Number of pyramid levels.
-    pub fn level_count(&self) -> u32 {
+    pub(crate) fn level_count(&self) -> u32 {
         self.pyramid.levels.len() as u32
     }
 }
@@ -468,7 +468,7 @@ impl LeapStructures {
     /// it: the iso value); the distance field when its flags or the block size changed. MIP,
     /// MinIP, octree isosurfaces and octree X-ray read the min/max pyramid directly. The rebuild
     /// is timed into `probe` when given.
-    pub fn prepare(
+    pub(crate) fn prepare(
         &mut self,
         ctx: &GpuContext,
         pipelines: &LeapPipelines,

@@ -68,7 +68,7 @@ impl Pipelines {
     }
 
     /// The pipelines of a frame rendered with variant `key`, building the variant on first use.
-    pub fn for_frame(
+    pub(crate) fn for_frame(
         &mut self,
         device: &wgpu::Device,
         key: PipelineKey,

@@ -61,7 +61,7 @@ impl Accumulator {
 
     /// Bytes of the per-pixel sums for `size`, checked against the device's limits: `None` when
     /// the image is too large to refine.
-    pub fn sum_bytes(ctx: &GpuContext, size: [u32; 2]) -> Option<u64> {
+    fn sum_bytes(ctx: &GpuContext, size: [u32; 2]) -> Option<u64> {
         ctx.per_pixel_storage_bytes(size, 16)
     }
 

@@ -37,12 +37,12 @@ impl RefineRun<'_> {
 
 impl VolumeRenderer {
     /// Whether any frame was ever added to a refinement mean.
-    pub fn has_accumulated(&self) -> bool {
+    pub(crate) fn has_accumulated(&self) -> bool {
         self.refinement().is_some_and(|a| a.count() > 0)
     }
 
     /// The refinement mean's view (for display), once a frame was added to it.
-    pub fn refined_view(&self) -> Option<&wgpu::TextureView> {
+    pub(crate) fn refined_view(&self) -> Option<&wgpu::TextureView> {
         self.refinement()?.mean().map(|(_, view, _)| view)
     }
 

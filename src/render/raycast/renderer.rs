@@ -149,7 +149,7 @@ impl VolumeRenderer {
 
     /// The transfer function's generation: it changes exactly when the function does, so it is
     /// the one signal that a frame must be rendered again for a new function.
-    pub fn transfer_generation(&self) -> u64 {
+    pub(crate) fn transfer_generation(&self) -> u64 {
         self.transfer.generation()
     }
 
@@ -324,7 +324,7 @@ impl VolumeRenderer {
         };
         passes.record(&mut encoder, slot.as_ref().map(|s| (&m.probes, s)));
         // In the frame's own submission: a separate one upsets lavapipe's timestamps of every
-        // later frame (they read ~0.1 ms; seen with Mesa 22.3, not on the H100).
+        // later frame (they read ~0.1 ms; seen with Mesa 22.3, not on a data-centre GPU).
         let accumulated = match (accumulate.filter(|_| last), self.refine.as_mut()) {
             (Some(a), Some(acc)) => acc.add(
                 &self.ctx,
@@ -353,7 +353,7 @@ impl VolumeRenderer {
 
     /// Whether measurements of submitted frames are still on their way. The window polls
     /// [`Self::collect_results`] without waiting and asks for another pass while this is true.
-    pub fn results_pending(&self) -> bool {
+    pub(crate) fn results_pending(&self) -> bool {
         self.measurements.probes.any_in_flight()
     }
 
@@ -373,14 +373,14 @@ impl VolumeRenderer {
     }
 
     /// Sets the path `auto` stands for (what [`super::auto_path::choose`] measured).
-    pub fn set_auto_path(&mut self, path: ConcretePath) {
+    pub(crate) fn set_auto_path(&mut self, path: ConcretePath) {
         self.auto_path = Some(path);
     }
 
     /// Whether a frame with `settings` (and statistics when `stats`) can be submitted without
     /// slow work on the CPU first: its path is known (`auto` was timed) and its shader variant is
     /// compiled, for an image of `size` pixels. A window keeps such work off its own thread.
-    pub fn ready_for(&self, settings: &RenderSettings, stats: bool, size: [u32; 2]) -> bool {
+    pub(crate) fn ready_for(&self, settings: &RenderSettings, stats: bool, size: [u32; 2]) -> bool {
         let settings = &self.concrete_settings(settings, size);
         self.resolve_path(settings.path).is_ok_and(|path| {
             self.pipelines.has(
@@ -393,7 +393,7 @@ impl VolumeRenderer {
     /// Compiles the shader variant a frame with `settings` (and statistics when `stats`) needs,
     /// for an image of `size` pixels, if it is not built yet (slow on a CPU driver: a second or
     /// so).
-    pub fn prepare_pipeline(
+    pub(crate) fn prepare_pipeline(
         &mut self,
         settings: &RenderSettings,
         stats: bool,
@@ -426,7 +426,7 @@ impl VolumeRenderer {
     /// `settings` as a frame at `size` renders them: the `auto` strategy replaced by the
     /// strategy chosen for these inputs, or the leaping one where none was
     /// ([`strategy_choice::concrete`]).
-    pub fn concrete_settings(&self, settings: &RenderSettings, size: [u32; 2]) -> RenderSettings {
+    fn concrete_settings(&self, settings: &RenderSettings, size: [u32; 2]) -> RenderSettings {
         let key = self.choice_key(settings, size);
         RenderSettings {
             strategy: strategy_choice::concrete(settings, &key, self.strategy_choice.as_ref()),

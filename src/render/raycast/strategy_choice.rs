@@ -71,9 +71,9 @@ impl StrategyChoice {
     /// How much faster than RC-t the leaping strategy must have been timed to be chosen: a
     /// fraction of RC-t's time. A choice holds for every view, and is timed on a few, so a
     /// near-tie goes to RC-t, which costs at most this much where leaping was really faster.
-    /// Chosen by replaying the rule on an H200 run's frames (132 volume, mode and size cases,
-    /// docs/benchmarks/nvidia-h200-auto): on three views, 130–132 cases at ≥ 0.98× RC-t's fps
-    /// over the orbit without a margin and 131–132 with 5 %, depending on which views were timed.
+    /// Chosen by replaying the rule offline on a benchmark run's frames: timed on three views, a
+    /// 5 % margin left fewer cases under 0.98× RC-t's fps over the orbit than none
+    /// (docs/benchmarks/nvidia-h200-auto).
     pub const LEAPING_MARGIN: f64 = 0.05;
 
     /// The choice between RC-t and the leaping strategy of `key`'s mode timed at `rct_ms` and

@@ -53,19 +53,24 @@ impl TransferTables {
     }
 
     /// The function's generation: changes exactly when the function does.
-    pub fn generation(&self) -> u64 {
+    pub(crate) fn generation(&self) -> u64 {
         self.generation
     }
 
     /// Marks both tables stale (a new volume brings a new value range).
-    pub fn invalidate(&mut self) {
+    pub(crate) fn invalidate(&mut self) {
         self.lut_baked_for = None;
         self.integrals_built_for = None;
     }
 
     /// Re-bakes the lookup table when the function or the step changed since it was baked for
     /// `range`; returns whether it did.
-    pub fn refresh_lut(&mut self, ctx: &GpuContext, range: ValueRange, step_vox: f64) -> bool {
+    pub(crate) fn refresh_lut(
+        &mut self,
+        ctx: &GpuContext,
+        range: ValueRange,
+        step_vox: f64,
+    ) -> bool {
         let wanted = (self.generation, step_vox.to_bits());
         if self.lut_baked_for == Some(wanted) {
             return false;
@@ -81,7 +86,7 @@ impl TransferTables {
 
     /// Rebuilds the pre-integration table when the function changed since it was built for
     /// `range` (it does not depend on the step); returns whether it did.
-    pub fn refresh_integrals(&mut self, ctx: &GpuContext, range: ValueRange) -> bool {
+    pub(crate) fn refresh_integrals(&mut self, ctx: &GpuContext, range: ValueRange) -> bool {
         if self.integrals_built_for == Some(self.generation) {
             return false;
         }
@@ -97,7 +102,7 @@ impl TransferTables {
     }
 
     /// What the lookup table's stored depths are multiplied by to give optical depths.
-    pub fn depth_unit(&self) -> f32 {
+    pub(crate) fn depth_unit(&self) -> f32 {
         self.depth_unit
     }
 

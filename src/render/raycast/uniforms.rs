@@ -80,7 +80,7 @@ pub struct SampleDecoding {
 }
 
 /// Builds the uniforms of one frame.
-pub fn frame_uniforms(
+pub(crate) fn frame_uniforms(
     geometry: &FrameGeometry,
     size: [u32; 2],
     dims: [u32; 3],

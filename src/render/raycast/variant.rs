@@ -93,13 +93,11 @@ impl PipelineKey {
     /// On the compute path, images of at most [`SPLIT_MAX_PIXELS`] split each ray into
     /// `RAY_PARTS` parts marched by as many invocations and joined in order (`RAY_SPLIT`,
     /// shaders/entry/raycast_compute.wgsl): a small image has too few rays to fill a large GPU,
-    /// so a frame lasts as long as its longest rays, and parts shorten those. Measured on an
-    /// H200 (docs/benchmarks/nvidia-h200-ray-split), against one invocation per ray: 512²
-    /// frames took a median 0.56–0.83× the time per mode and strategy (DVR, isosurface, MIP,
-    /// X-ray); at 1024² four parts made DVR and isosurfaces 1.07–1.35× slower (median), at
-    /// 1920 × 1080 1.15–1.48× (more invocations, each paying for a ray's set-up, on a GPU
-    /// already full). MinIP never splits (its rays mostly end at their first sample: an earlier
-    /// version of the split made its 512² frames a median 1.8–2.2× slower, up to 4×), nor does
+    /// so a frame lasts as long as its longest rays, and parts shorten those. Against one
+    /// invocation per ray, splitting measured faster at 512² and slower at 1024² and
+    /// 1920 × 1080 (more invocations, each paying for a ray's set-up, on a GPU already full;
+    /// docs/benchmarks/nvidia-h200-ray-split). MinIP never splits (its rays mostly end at their
+    /// first sample: splitting measured slower), nor does
     /// pre-integrated DVR (its segments would have to start across the parts' joints), nor DVR
     /// lit only where a sample's weight α·(1 − A) passes a threshold (a part does not know the
     /// A in front of it). Images are those of one invocation per ray, except DVR's with early
@@ -141,7 +139,7 @@ impl PipelineKey {
     }
 
     /// The same variant for a volume that has non-finite voxels (`missing`) or not.
-    pub fn for_volume(self, missing: bool) -> Self {
+    pub(crate) fn for_volume(self, missing: bool) -> Self {
         Self { missing, ..self }
     }
 

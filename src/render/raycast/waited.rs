@@ -32,7 +32,7 @@ impl VolumeRenderer {
     }
 
     /// The rendered image (to copy it for display), once a frame was rendered.
-    pub fn output_texture(&self) -> Option<&wgpu::Texture> {
+    pub(crate) fn output_texture(&self) -> Option<&wgpu::Texture> {
         self.targets.as_ref().map(|t| &t.output)
     }
 

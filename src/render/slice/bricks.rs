@@ -18,7 +18,7 @@ impl SliceRenderer {
     /// (unorm; 0 for a float texture, whose texels are `u`). Submits its own pass. `None` when
     /// the bricks would not fit in one storage buffer of `device` (slabs then take every
     /// sample).
-    pub fn build_bricks(
+    pub(crate) fn build_bricks(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,

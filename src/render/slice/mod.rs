@@ -107,9 +107,9 @@ pub struct SliceImage {
     pub grey: Vec<u8>,
 }
 
-/// Rows of pixels each invocation of a thin slice shades (measured on an H200 at 1920 x 1080:
-/// 11.8-13.7 µs per slice with 4, 25.0 µs with 1; a slab's samples keep one row per invocation
-/// busy: four rows each made a 20 mm slab slower in the run that tried it).
+/// Rows of pixels each invocation of a thin slice shades: four measured about twice as fast as
+/// one at 1080p, while a slab's samples keep one row per invocation busy and four made it slower
+/// (docs/benchmarks/README.md, "Figures moved from code comments").
 const THIN_ROWS_PER_INVOCATION: u32 = 4;
 
 /// The workgroups of the pass of `params`: one invocation per column and band of rows.
@@ -299,7 +299,7 @@ impl SliceRenderer {
 
     /// Records the pass of `params` from `source` into `output` (the parameters are written
     /// now, so each view needs its own target within one submission).
-    pub fn encode(
+    pub(crate) fn encode(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,

@@ -288,7 +288,7 @@ pub fn lock(shared: &Mutex<Shared>) -> MutexGuard<'_, Shared> {
 
 /// The shared state, unless the pump holds it (it is preparing a frame): a window's pass never
 /// waits.
-pub fn try_lock(shared: &Mutex<Shared>) -> Option<MutexGuard<'_, Shared>> {
+pub(crate) fn try_lock(shared: &Mutex<Shared>) -> Option<MutexGuard<'_, Shared>> {
     match shared.try_lock() {
         Ok(guard) => Some(guard),
         Err(TryLockError::Poisoned(p)) => Some(p.into_inner()),
@@ -337,7 +337,7 @@ impl BandPump {
     }
 
     /// Wakes the pump for new work.
-    pub fn wake(&self) {
+    pub(crate) fn wake(&self) {
         if let Some(t) = &self.thread {
             t.thread().unpark();
         }
@@ -414,7 +414,7 @@ pub struct Still {
 /// keeps drawing (its passes find the renderer busy and leave it alone) and its own drawing waits
 /// for at most one band. The outcome arrives on the returned channel as a line for the user, and
 /// `ctx` is asked to draw when it does.
-pub fn save_still(
+pub(crate) fn save_still(
     shared: Arc<Mutex<Shared>>,
     still: Still,
     ctx: egui::Context,

@@ -32,7 +32,7 @@ pub const IDLE_AFTER_MS: f64 = 1000.0;
 
 /// The time a band may take when the user's last input was `since_input_ms` ago (`None`:
 /// never).
-pub fn band_budget_ms(since_input_ms: Option<f64>) -> f64 {
+pub(crate) fn band_budget_ms(since_input_ms: Option<f64>) -> f64 {
     match since_input_ms {
         Some(ms) if ms < IDLE_AFTER_MS => BAND_BUDGET_MS,
         _ => IDLE_BAND_BUDGET_MS,
@@ -62,7 +62,7 @@ impl Completion {
     }
 
     /// Whether the GPU has finished.
-    pub fn is_done(&self) -> bool {
+    pub(crate) fn is_done(&self) -> bool {
         self.0.load(Ordering::Acquire)
     }
 }
@@ -120,7 +120,7 @@ impl FrameJob {
 
     /// The rows of the next band, up to row `end` (at least one row, at most the image's);
     /// `None` once all are submitted.
-    pub fn next_band(&self, end: u32) -> Option<[u32; 2]> {
+    pub(crate) fn next_band(&self, end: u32) -> Option<[u32; 2]> {
         let height = self.inputs.size_px[1];
         (self.next_row < height).then(|| [self.next_row, end.clamp(self.next_row + 1, height)])
     }
@@ -133,7 +133,7 @@ impl FrameJob {
     }
 
     /// Whether every row was submitted.
-    pub fn is_complete(&self) -> bool {
+    pub(crate) fn is_complete(&self) -> bool {
         self.next_row >= self.inputs.size_px[1]
     }
 

@@ -64,7 +64,7 @@ impl FrameStats {
     }
 
     /// Notes that the renderer was given the editor's function, `changed` or not.
-    pub fn transfer_given(&mut self, changed: bool) {
+    pub(crate) fn transfer_given(&mut self, changed: bool) {
         if changed && self.transfer_given {
             self.tf_edit_at = Some(Instant::now());
         }
@@ -73,7 +73,7 @@ impl FrameStats {
 
     /// A plain frame of `bands` (renderer frame numbers) and `pixels` pixels is on screen: its
     /// GPU time adds up from now on; `stats`: whether it counted samples.
-    pub fn plain_frame(&mut self, bands: Vec<u64>, pixels: u64, stats: bool) {
+    pub(crate) fn plain_frame(&mut self, bands: Vec<u64>, pixels: u64, stats: bool) {
         self.frames_rendered += 1;
         self.fps.record(Instant::now());
         self.last_pixels = pixels;
@@ -85,7 +85,7 @@ impl FrameStats {
     }
 
     /// Bands of the plain frame on screen.
-    pub fn plain_band_count(&self) -> usize {
+    pub(crate) fn plain_band_count(&self) -> usize {
         self.plain_bands.len()
     }
 
@@ -117,7 +117,7 @@ impl FrameStats {
     }
 
     /// When the frame rate shown changes by itself (down to idle), if it will.
-    pub fn fps_next_change(&self, now: Instant) -> Option<Duration> {
+    pub(crate) fn fps_next_change(&self, now: Instant) -> Option<Duration> {
         self.fps.next_change(now)
     }
 }

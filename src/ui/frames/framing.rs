@@ -25,7 +25,7 @@ impl Framing {
     }
 
     /// Which volume is on screen (counts the volumes shown).
-    pub fn generation(&self) -> u64 {
+    pub(crate) fn generation(&self) -> u64 {
         self.generation
     }
 
@@ -38,7 +38,7 @@ impl Framing {
     /// orientation, RAS where it has none), as a radiologist looks at a 3D rendering; a 2D image
     /// faces the viewer as its slice view shows it (axial from the feet, coronal from the front,
     /// sagittal from the left).
-    pub fn reset_view(&mut self, projection: ProjectionKind) {
+    pub(crate) fn reset_view(&mut self, projection: ProjectionKind) {
         use crate::mpr::PlaneKind;
         use crate::volume::orientation::Direction;
         let plane = self
@@ -59,17 +59,17 @@ impl Framing {
     }
 
     /// The camera and the volume's bounding box, once a volume is shown.
-    pub fn camera_and_bounds(&self) -> Option<(Camera, Aabb)> {
+    pub(crate) fn camera_and_bounds(&self) -> Option<(Camera, Aabb)> {
         self.camera.zip(self.bounds)
     }
 
     /// The camera, once a volume is shown.
-    pub fn camera_mut(&mut self) -> Option<&mut Camera> {
+    pub(crate) fn camera_mut(&mut self) -> Option<&mut Camera> {
         self.camera.as_mut()
     }
 
     /// Looks along `preset`, framing the whole volume.
-    pub fn set_view(&mut self, preset: ViewPreset, projection: ProjectionKind) {
+    pub(crate) fn set_view(&mut self, preset: ViewPreset, projection: ProjectionKind) {
         if let Some(bounds) = &self.bounds {
             self.camera = Some(framed(bounds, preset, projection));
         }
@@ -89,7 +89,7 @@ impl Framing {
     }
 
     /// Switches projection without a jump in size.
-    pub fn set_projection(&mut self, kind: ProjectionKind) {
+    pub(crate) fn set_projection(&mut self, kind: ProjectionKind) {
         self.camera = self.camera.map(|c| with_projection(&c, kind));
     }
 }

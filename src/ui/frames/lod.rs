@@ -67,7 +67,7 @@ fn strips_of(rows: [u32; 2], height: u32) -> std::ops::Range<usize> {
 impl Lod {
     /// Takes a measurement: rows `rows` of a frame of `size` pixels took `ms` milliseconds from
     /// submission to completion.
-    pub fn observe(&mut self, size: [u32; 2], rows: [u32; 2], ms: f64) {
+    pub(crate) fn observe(&mut self, size: [u32; 2], rows: [u32; 2], ms: f64) {
         let pixels = f64::from(size[0]) * f64::from(rows[1].saturating_sub(rows[0]));
         if pixels == 0.0 || !ms.is_finite() || ms < 0.0 {
             return;
@@ -113,12 +113,12 @@ impl Lod {
     }
 
     /// Forgets the cost (a new volume or other settings make the old one meaningless).
-    pub fn forget(&mut self) {
+    pub(crate) fn forget(&mut self) {
         self.strips.fill(None);
     }
 
     /// Predicted milliseconds of a frame of `size` pixels, once a band was measured.
-    pub fn predicted_ms(&self, size: [u32; 2]) -> Option<f64> {
+    pub(crate) fn predicted_ms(&self, size: [u32; 2]) -> Option<f64> {
         let [width, height] = size;
         (0..height)
             .map(|row| self.row_cost(row, height).map(|c| c * f64::from(width)))
@@ -142,7 +142,7 @@ impl Lod {
 }
 
 /// `size` scaled by `scale` per axis, at least one pixel.
-pub fn scaled_size(size: [u32; 2], scale: f64) -> [u32; 2] {
+pub(crate) fn scaled_size(size: [u32; 2], scale: f64) -> [u32; 2] {
     size.map(|s| ((f64::from(s) * scale).round() as u32).clamp(1, s.max(1)))
 }
 

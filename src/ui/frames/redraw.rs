@@ -31,19 +31,19 @@ pub struct RedrawTracker {
 
 impl RedrawTracker {
     /// Whether a frame with `inputs` would differ from the last one.
-    pub fn needs_render(&self, inputs: &FrameInputs) -> bool {
+    pub(crate) fn needs_render(&self, inputs: &FrameInputs) -> bool {
         self.last.as_ref() != Some(inputs)
     }
 
     /// Records that a frame with `inputs` was rendered — or was attempted and failed, so that a
     /// failing frame is not retried on every pass until something changes.
-    pub fn mark_rendered(&mut self, inputs: FrameInputs) {
+    pub(crate) fn mark_rendered(&mut self, inputs: FrameInputs) {
         self.last = Some(inputs);
     }
 
     /// Forgets the last frame, so the next pass renders even if nothing changed (after the
     /// renderer's output was used for something else, such as an image of another size).
-    pub fn invalidate(&mut self) {
+    pub(crate) fn invalidate(&mut self) {
         self.last = None;
     }
 

@@ -25,7 +25,7 @@ pub struct Refinement {
 
 impl Refinement {
     /// Whether another refinement frame is to come.
-    pub fn under_way(self) -> bool {
+    pub(crate) fn under_way(self) -> bool {
         self.done > 0 && self.done < self.target
     }
 }
@@ -46,7 +46,7 @@ impl ShownFrame {
     /// Copies the renderer's output (the plain frame just finished) to the texture the view
     /// shows, so that the next frame's bands do not show before it is complete. Call it under
     /// the pump's lock: no band of the next frame can go out before this copy.
-    pub fn copy_plain(
+    pub(crate) fn copy_plain(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
@@ -120,12 +120,12 @@ impl ShownFrame {
 
     /// Draws the image with its top-left corner at `origin` (a preview stretched over the view
     /// it stands for).
-    pub fn paint(&self, ui: &egui::Ui, origin: egui::Pos2) {
+    pub(crate) fn paint(&self, ui: &egui::Ui, origin: egui::Pos2) {
         self.texture.paint(ui, origin, self.preview_of);
     }
 
     /// The preview's scale (per axis) when the frame on screen is a reduced preview.
-    pub fn preview_scale(&self) -> Option<f64> {
+    pub(crate) fn preview_scale(&self) -> Option<f64> {
         let view = self.preview_of?;
         Some(f64::from(self.texture.size_px()[0]) / f64::from(view[0].max(1)))
     }

@@ -13,7 +13,7 @@ pub const ZOOM_PER_POINT: f64 = 0.0025;
 
 /// Orbits for a drag of `delta` points: horizontal motion turns about the up axis (azimuth),
 /// vertical motion tilts (elevation). The surface under the pointer follows it.
-pub fn orbit_drag(camera: &mut Camera, delta: [f32; 2]) {
+pub(crate) fn orbit_drag(camera: &mut Camera, delta: [f32; 2]) {
     camera.orbit(
         f64::from(delta[0]) * ORBIT_DEG_PER_POINT,
         f64::from(delta[1]) * ORBIT_DEG_PER_POINT,
@@ -22,7 +22,7 @@ pub fn orbit_drag(camera: &mut Camera, delta: [f32; 2]) {
 
 /// Pans for a drag of `delta` points in a view `view_height_points` tall: what lies at the
 /// target's depth moves with the pointer.
-pub fn pan_drag(camera: &mut Camera, delta: [f32; 2], view_height_points: f32) {
+pub(crate) fn pan_drag(camera: &mut Camera, delta: [f32; 2], view_height_points: f32) {
     if view_height_points <= 0.0 {
         return;
     }
@@ -35,7 +35,7 @@ pub fn pan_drag(camera: &mut Camera, delta: [f32; 2], view_height_points: f32) {
 
 /// Zooms for `scrolled` points of wheel motion (positive = away from the user = closer) and a
 /// pinch or Ctrl+wheel factor `pinch` (1 = none).
-pub fn zoom_scroll(camera: &mut Camera, scrolled: f32, pinch: f32) {
+pub(crate) fn zoom_scroll(camera: &mut Camera, scrolled: f32, pinch: f32) {
     let factor = (ZOOM_PER_POINT * f64::from(scrolled)).exp() * f64::from(pinch);
     if factor != 1.0 {
         camera.zoom(factor);
@@ -43,14 +43,14 @@ pub fn zoom_scroll(camera: &mut Camera, scrolled: f32, pinch: f32) {
 }
 
 /// A camera looking along `preset` that frames the whole volume.
-pub fn framed(bounds: &Aabb, preset: ViewPreset, kind: ProjectionKind) -> Camera {
+pub(crate) fn framed(bounds: &Aabb, preset: ViewPreset, kind: ProjectionKind) -> Camera {
     let (dir, up) = preset.direction_and_up();
     Camera::framing(bounds, dir, up, kind)
 }
 
 /// `camera` with projection `kind`, keeping the height of the view at the target: the volume
 /// does not jump in size when the projection changes.
-pub fn with_projection(camera: &Camera, kind: ProjectionKind) -> Camera {
+pub(crate) fn with_projection(camera: &Camera, kind: ProjectionKind) -> Camera {
     let mut out = *camera;
     let height_mm = camera.view_height_at_target_mm();
     match (camera.projection, kind) {
@@ -68,8 +68,9 @@ pub fn with_projection(camera: &Camera, kind: ProjectionKind) -> Camera {
     out
 }
 
+#[cfg(test)] // Only the tests ask.
 /// The kind of `camera`'s projection.
-pub fn projection_kind(camera: &Camera) -> ProjectionKind {
+fn projection_kind(camera: &Camera) -> ProjectionKind {
     match camera.projection {
         Projection::Perspective { .. } => ProjectionKind::Perspective,
         Projection::Orthographic { .. } => ProjectionKind::Orthographic,

@@ -76,7 +76,7 @@ pub fn drag(
 /// The window after a drag of `delta` points: horizontal motion widens (right) or narrows the
 /// window, vertical motion moves its centre (down = higher level, so the image darkens). The
 /// width stays at least [`NARROWEST_SHARE`] of the range.
-pub fn window_drag(window: [f64; 2], range: ValueRange, delta: [f32; 2]) -> [f64; 2] {
+pub(crate) fn window_drag(window: [f64; 2], range: ValueRange, delta: [f32; 2]) -> [f64; 2] {
     let k = range.width() / WINDOW_POINTS_PER_RANGE;
     let width =
         (window[1] - window[0] + f64::from(delta[0]) * k).max(range.width() * NARROWEST_SHARE);
@@ -87,7 +87,7 @@ pub fn window_drag(window: [f64; 2], range: ValueRange, delta: [f32; 2]) -> [f64
 /// The same drag applied to a transfer function whose opacity points span `width` around
 /// `centre` (in the function's coordinates, `unit` of them per data unit): the scale follows the
 /// width's change, the shift the level's.
-pub fn transfer_drag(
+fn transfer_drag(
     centre: f64,
     width: f64,
     range: ValueRange,

@@ -587,7 +587,7 @@ fn path_label(path: RenderPath) -> &'static str {
     }
 }
 
-/// What a quality preset is for, from docs/accuracy (H100 figures).
+/// What a quality preset is for, from the figures in docs/accuracy/README.md.
 fn quality_hint(preset: QualityPreset) -> &'static str {
     match preset {
         QualityPreset::Fast => {

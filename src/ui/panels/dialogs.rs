@@ -45,17 +45,17 @@ impl Dialogs {
     }
 
     /// Opens the path prompt.
-    pub fn open_prompt(&mut self) {
+    pub(crate) fn open_prompt(&mut self) {
         self.prompt.get_or_insert_with(|| (String::new(), false));
     }
 
     /// Opens the system file dialog, or the path prompt where there can be none.
-    pub fn open_file_dialog(&mut self, ctx: &egui::Context) {
+    pub(crate) fn open_file_dialog(&mut self, ctx: &egui::Context) {
         self.open_dialog(ctx, false);
     }
 
     /// Opens the system folder dialog (for a DICOM series), or the path prompt.
-    pub fn open_folder_dialog(&mut self, ctx: &egui::Context) {
+    pub(crate) fn open_folder_dialog(&mut self, ctx: &egui::Context) {
         self.open_dialog(ctx, true);
     }
 

@@ -24,7 +24,7 @@ fn mode_label(mode: Mode) -> &'static str {
 }
 
 /// Draws the section; `range` and `histogram` describe the volume on screen, if any.
-pub fn effects_ui(
+pub(crate) fn effects_ui(
     ui: &mut egui::Ui,
     state: &mut ViewerState,
     range: Option<ValueRange>,

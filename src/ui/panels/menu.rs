@@ -22,7 +22,7 @@ pub const VIEWS: [(ViewPreset, &str); 7] = [
 ];
 
 /// Menu label of the view from `side`, e.g. "From anterior (A)".
-pub fn view_label(side: Direction) -> String {
+pub(crate) fn view_label(side: Direction) -> String {
     format!("From {} ({})", side.name().to_lowercase(), side.letter())
 }
 
@@ -240,7 +240,7 @@ pub fn menu_bar(
 }
 
 /// The controls as a two-column grid.
-pub fn controls_grid(ui: &mut egui::Ui) {
+fn controls_grid(ui: &mut egui::Ui) {
     egui::Grid::new("controls help")
         .num_columns(2)
         .striped(true)

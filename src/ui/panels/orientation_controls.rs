@@ -11,7 +11,7 @@ use crate::volume::{Direction, Orientation, OrientationSource};
 const CODE_FIELD: &str = "orientation code field";
 
 /// The orientation line and, folded under it, the controls that correct it.
-pub fn orientation_ui(ui: &mut egui::Ui, v: &VolumeSummary) -> Option<Action> {
+pub(crate) fn orientation_ui(ui: &mut egui::Ui, v: &VolumeSummary) -> Option<Action> {
     let mut action = None;
     ui.horizontal(|ui| {
         ui.label("Orientation");
@@ -105,7 +105,7 @@ fn code_row(ui: &mut egui::Ui, file: &Orientation) -> Option<Action> {
 }
 
 /// The volume's orientation code, who gave it, and whether it was read reversed along i.
-pub fn orientation_label(ui: &mut egui::Ui, v: &VolumeSummary) {
+fn orientation_label(ui: &mut egui::Ui, v: &VolumeSummary) {
     let o = v.orientation_or_assumed();
     let file = v.file_orientation_or_assumed().code();
     let said = match (o.source, v.header_orientation) {

@@ -34,7 +34,7 @@ pub enum SaveImageEvent {
 }
 
 /// Draws the window; `view_px` is the view's current size for the "window size" button.
-pub fn save_image_window(
+pub(crate) fn save_image_window(
     ctx: &egui::Context,
     form: &mut SaveImageForm,
     view_px: [u32; 2],

@@ -54,7 +54,12 @@ pub fn draw(ui: &egui::Ui, rect: Rect, view: &SliceView, frame: &PatientFrame, c
 
 /// The face whose line on the pane passes within [`GRAB_PX`] of pixel `px`, inside the box's
 /// extent along the other axes.
-pub fn face_at(grid: &VoxelGrid, frame: &PatientFrame, crop: &CropBox, px: DVec2) -> Option<Face> {
+pub(crate) fn face_at(
+    grid: &VoxelGrid,
+    frame: &PatientFrame,
+    crop: &CropBox,
+    px: DVec2,
+) -> Option<Face> {
     let (lo, hi) = voxel_box(crop, frame.dims());
     // Pixel centres sit at +0.5.
     let v = grid.first + grid.step_x * (px.x - 0.5) + grid.step_y * (px.y - 0.5);

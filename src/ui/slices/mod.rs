@@ -194,7 +194,7 @@ impl SliceViews {
     }
 
     /// Moves the crosshair (the planes follow), clamped into the volume's box.
-    pub fn set_crosshair(&mut self, p: DVec3) {
+    fn set_crosshair(&mut self, p: DVec3) {
         self.crosshair = match &self.source {
             Some(s) => {
                 let dims = s.frame.dims();
@@ -244,14 +244,14 @@ impl SliceViews {
     }
 
     /// Back to the standard axial, coronal and sagittal planes.
-    pub fn reset_planes(&mut self) {
+    pub(crate) fn reset_planes(&mut self) {
         self.planes = standard_planes();
     }
 
     /// Outlines the three slice planes over the 3D view in `rect` (its image `size_px` pixels,
     /// seen by `camera`, the volume in `bounds`), in each pane's colour; returns the segments
     /// drawn.
-    pub fn draw_planes_3d(
+    pub(crate) fn draw_planes_3d(
         &self,
         ui: &egui::Ui,
         rect: egui::Rect,

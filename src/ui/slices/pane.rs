@@ -125,7 +125,7 @@ impl SlicePane {
     }
 
     /// Forgets zoom and pan (a new volume): the next pass fits the slice to the pane.
-    pub fn forget_view(&mut self) {
+    pub(crate) fn forget_view(&mut self) {
         self.view = None;
         self.drawn = None;
     }
@@ -459,7 +459,7 @@ fn new_pane_gpu(gpu: &SliceGpu, size: [u32; 2], id: Option<egui::TextureId>) -> 
 }
 
 /// A pane that cannot show a slice: its reason, centred.
-pub fn draw_message(ui: &mut egui::Ui, rect: Rect, text: &str) {
+pub(crate) fn draw_message(ui: &mut egui::Ui, rect: Rect, text: &str) {
     ui.allocate_rect(rect, Sense::hover());
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 0.0, Color32::from_gray(20));

@@ -18,7 +18,12 @@ const AXES: [&str; 3] = ["x", "y", "z"];
 /// Six sliders (low and high face per axis, in voxel edges of a volume of `dims`) and a reset
 /// button; `show_box` toggles the box and its handles over the view. Returns whether the box
 /// changed.
-pub fn crop_ui(ui: &mut egui::Ui, crop: &mut CropBox, show_box: &mut bool, dims: [u32; 3]) -> bool {
+pub(crate) fn crop_ui(
+    ui: &mut egui::Ui,
+    crop: &mut CropBox,
+    show_box: &mut bool,
+    dims: [u32; 3],
+) -> bool {
     let before = *crop;
     let (mut lo, mut hi) = crop.voxels(dims);
     egui::Grid::new("crop sliders")
@@ -125,7 +130,7 @@ const EDGES: [(usize, usize); 12] = [
 /// a volume with bounding box `bounds`) with a handle at each face's centre; dragging a handle
 /// moves its face along its axis, following the pointer's motion along the axis's image on
 /// screen. Returns whether the box changed.
-pub fn crop_handles(
+pub(crate) fn crop_handles(
     ui: &mut egui::Ui,
     rect: Rect,
     size_px: [u32; 2],

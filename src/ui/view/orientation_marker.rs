@@ -25,7 +25,7 @@ pub struct Arm {
 }
 
 /// The six arms for `camera`, farthest first (the drawing order).
-pub fn arms(camera: &Camera, orientation: &Orientation) -> Vec<Arm> {
+fn arms(camera: &Camera, orientation: &Orientation) -> Vec<Arm> {
     let view = camera.view_from_world();
     let mut arms: Vec<Arm> = Direction::VIEWS
         .iter()

@@ -39,7 +39,7 @@ impl FpsCounter {
 
     /// How long until the count changes by itself (the oldest frame leaving the window), so that
     /// the readout can be refreshed then; `None` when idle.
-    pub fn next_change(&self, now: Instant) -> Option<Duration> {
+    pub(crate) fn next_change(&self, now: Instant) -> Option<Duration> {
         self.frames
             .front()
             .map(|&oldest| (oldest + FPS_WINDOW).saturating_duration_since(now))
@@ -215,7 +215,7 @@ impl Readout<'_> {
 }
 
 /// Draws the readout in the top-left corner of `view`; returns the rectangle it covers.
-pub fn draw_readout(ui: &mut egui::Ui, view: Rect, readout: &Readout) -> Rect {
+pub(crate) fn draw_readout(ui: &mut egui::Ui, view: Rect, readout: &Readout) -> Rect {
     let area = view.shrink(8.0);
     let mut child = ui.new_child(UiBuilder::new().max_rect(area));
     // Never over a neighbouring pane (a slice view in the 2 × 2 layout), however long a line.
@@ -286,7 +286,7 @@ pub fn draw_loading(ui: &mut egui::Ui, view: Rect, status: &LoadStatus) -> bool 
 /// (`preparing`, or rendering with `progress` of the frame's rows done), so that a slow first
 /// frame (a shader compiling, the ray loops being timed, a second of work on a CPU driver) is
 /// never a blank, seemingly frozen window.
-pub fn draw_first_frame_status(
+pub(crate) fn draw_first_frame_status(
     ui: &mut egui::Ui,
     view: Rect,
     preparing: Option<&str>,

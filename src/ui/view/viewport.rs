@@ -29,7 +29,7 @@ pub struct ViewArea {
 
 /// `rect` with its corner on a physical pixel and a whole number of pixels wide and high (at
 /// `ppp` pixels per point), and that size in pixels: what makes texels map 1:1 onto the screen.
-pub fn pixel_aligned(rect: Rect, ppp: f32) -> (Rect, [u32; 2]) {
+pub(crate) fn pixel_aligned(rect: Rect, ppp: f32) -> (Rect, [u32; 2]) {
     let min = pos2(
         (rect.min.x * ppp).round() / ppp,
         (rect.min.y * ppp).round() / ppp,
@@ -43,7 +43,7 @@ pub fn pixel_aligned(rect: Rect, ppp: f32) -> (Rect, [u32; 2]) {
 }
 
 /// Allocates all remaining space for the view and applies the pointer gestures to `camera`.
-pub fn view_ui(ui: &mut egui::Ui, camera: Option<&mut Camera>) -> ViewArea {
+pub(crate) fn view_ui(ui: &mut egui::Ui, camera: Option<&mut Camera>) -> ViewArea {
     let ppp = ui.ctx().pixels_per_point();
     let (rect, size_px) = pixel_aligned(ui.available_rect_before_wrap(), ppp);
     let response = ui.allocate_rect(rect, Sense::click_and_drag());
@@ -145,13 +145,18 @@ impl ViewTexture {
     }
 
     /// Size of the image on display, in physical pixels.
-    pub fn size_px(&self) -> [u32; 2] {
+    pub(crate) fn size_px(&self) -> [u32; 2] {
         self.size_px
     }
 
     /// Draws the image with its top-left corner at `origin`, one texel per physical pixel, or,
     /// for a reduced preview, stretched over `view_px` physical pixels.
-    pub fn paint(&self, ui: &egui::Ui, origin: Pos2, view_px: Option<[u32; 2]>) -> Option<Rect> {
+    pub(crate) fn paint(
+        &self,
+        ui: &egui::Ui,
+        origin: Pos2,
+        view_px: Option<[u32; 2]>,
+    ) -> Option<Rect> {
         let id = self.id?;
         let ppp = ui.ctx().pixels_per_point();
         let size = view_px.unwrap_or(self.size_px);

@@ -34,7 +34,7 @@ impl Palette {
 
 /// Reads the red, green and blue palette tables of `obj` (descriptors and data; segmented
 /// tables are not read).
-pub fn read_palette(obj: &super::tags::Object, big_endian: bool) -> Result<Palette, String> {
+pub(crate) fn read_palette(obj: &super::tags::Object, big_endian: bool) -> Result<Palette, String> {
     let descriptors = [
         tags::RED_PALETTE_COLOR_LOOKUP_TABLE_DESCRIPTOR,
         tags::GREEN_PALETTE_COLOR_LOOKUP_TABLE_DESCRIPTOR,
@@ -118,7 +118,7 @@ pub enum Layout {
 /// One frame's pixels as RGB values (three per pixel, each of the format's stored bits, or a
 /// palette's bits), from `bytes` (containers of `BitsAllocated` bits, little endian) laid out
 /// as `layout` says.
-pub fn frame_rgb(
+pub(crate) fn frame_rgb(
     bytes: &[u8],
     format: &PixelFormat,
     layout: Layout,
@@ -187,7 +187,7 @@ pub fn frame_rgb(
 
 /// YCbCr (full range, `bits` bits) to RGB, as the standard (C.7.6.3.1.2) and pydicom give it:
 /// chroma centred on half the range, rounded half up, clamped.
-pub fn ybr_full_to_rgb([y, cb, cr]: [i64; 3], bits: u16) -> [u32; 3] {
+fn ybr_full_to_rgb([y, cb, cr]: [i64; 3], bits: u16) -> [u32; 3] {
     let max = ((1u64 << bits.clamp(1, 32)) - 1) as f64;
     let half = (1u64 << (bits.clamp(1, 32) - 1)) as f64;
     let (y, cb, cr) = (y as f64, cb as f64 - half, cr as f64 - half);

@@ -99,7 +99,7 @@ pub enum Encoding {
 /// reading its data set as its meta information says or, where that fails for explicit VR little
 /// endian, as implicit VR (which the caller then reads it as). The first failure's reason
 /// otherwise.
-pub fn check_lengths(path: &Path) -> Result<Encoding, String> {
+pub(crate) fn check_lengths(path: &Path) -> Result<Encoding, String> {
     match check_lengths_as(path, Encoding::AsDeclared) {
         Ok(()) => Ok(Encoding::AsDeclared),
         Err(reason) => match check_lengths_as(path, Encoding::ImplicitForExplicit) {

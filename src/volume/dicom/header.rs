@@ -41,7 +41,7 @@ impl Photometric {
     }
 
     /// Whether pixels are shown in colour (three samples, or a palette).
-    pub fn is_colour(self) -> bool {
+    pub(crate) fn is_colour(self) -> bool {
         !matches!(self, Self::Monochrome1 | Self::Monochrome2)
     }
 }
@@ -179,7 +179,7 @@ pub struct Mosaic {
 impl FrameHeader {
     /// How messages name the frame's file: its path below the folder scanned (the label
     /// without the frame or the mosaic slice).
-    pub fn file_label(&self) -> &str {
+    pub(crate) fn file_label(&self) -> &str {
         if self.frames_in_file <= 1 {
             return &self.label;
         }
@@ -190,7 +190,7 @@ impl FrameHeader {
     }
 
     /// What the header says one frame holds, for the codecs to check their streams against.
-    pub fn frame_spec(&self) -> super::codec::FrameSpec {
+    pub(crate) fn frame_spec(&self) -> super::codec::FrameSpec {
         // A mosaic's tiles are cut from one frame of the mosaic's size.
         let (rows, columns) = self
             .mosaic
@@ -207,7 +207,7 @@ impl FrameHeader {
     }
 
     /// The window as its lowest and highest value in data units: `centre ∓ width / 2`.
-    pub fn window_range(&self) -> Option<[f64; 2]> {
+    pub(crate) fn window_range(&self) -> Option<[f64; 2]> {
         let [centre, width] = self.window?;
         (centre.is_finite() && width.is_finite() && width > 0.0)
             .then(|| [centre - width / 2.0, centre + width / 2.0])
@@ -219,7 +219,7 @@ pub const EXPLICIT_VR_BIG_ENDIAN: &str = "1.2.840.10008.1.2.2";
 
 /// The value of one sample from its `bits_allocated`-bit container (little endian): the stored
 /// bits below `HighBit`, sign-extended.
-pub fn sample_value(container: u32, format: &PixelFormat, shift: u32) -> i64 {
+pub(crate) fn sample_value(container: u32, format: &PixelFormat, shift: u32) -> i64 {
     let bits = u32::from(format.bits_stored.clamp(1, 32));
     let mask: u64 = (1u64 << bits) - 1;
     let raw = (u64::from(container) >> shift) & mask;

@@ -18,7 +18,7 @@ pub struct MosaicFacts {
 }
 
 /// The headers of `mosaic`'s tiles (its one frame), each a slice of the volume it holds.
-pub fn tiles(mosaic: &FrameHeader, facts: MosaicFacts) -> Result<Vec<FrameHeader>, String> {
+pub(crate) fn tiles(mosaic: &FrameHeader, facts: MosaicFacts) -> Result<Vec<FrameHeader>, String> {
     let images = facts.images;
     if images == 0 || images > 4096 {
         return Err(format!("NumberOfImagesInMosaic is {images}"));

@@ -70,7 +70,7 @@ impl Stored for f32 {
 /// Converts one frame's bytes (`bits_allocated / 8` per sample, little endian) into `out`.
 /// `encapsulated`: the pixels came from a codec, which puts the value in the low bits whatever
 /// `HighBit` says.
-pub fn convert_frame<T: Stored>(
+pub(crate) fn convert_frame<T: Stored>(
     bytes: &[u8],
     format: &PixelFormat,
     encapsulated: bool,
@@ -122,7 +122,7 @@ impl Decoded {
 }
 
 /// The name of a transfer syntax, for messages.
-pub fn transfer_syntax_name(uid: &str) -> String {
+fn transfer_syntax_name(uid: &str) -> String {
     TransferSyntaxRegistry.get(uid).map_or_else(
         || "an unknown transfer syntax".to_string(),
         |ts| ts.name().to_string(),
@@ -134,7 +134,7 @@ pub fn transfer_syntax_name(uid: &str) -> String {
 /// in the machine's order. In big endian files a 32-bit sample in OW words is the first word's
 /// bits above the second's (an RT dose grid); 8-bit samples in OW words take the low byte of
 /// each word first in either byte order (as pydicom reads them).
-pub fn native_bytes(
+fn native_bytes(
     value: &dicom_core::PrimitiveValue,
     big_endian: bool,
     bits_allocated: u16,
@@ -163,7 +163,11 @@ pub fn native_bytes(
 
 /// Opens `path` whole and decodes the pixel data of its frames, each as `header` (any of its
 /// frames' headers) says (checked against what the codestreams hold).
-pub fn decode_file(path: &Path, label: &str, header: &FrameHeader) -> Result<Decoded, DicomError> {
+pub(crate) fn decode_file(
+    path: &Path,
+    label: &str,
+    header: &FrameHeader,
+) -> Result<Decoded, DicomError> {
     let spec = &header.frame_spec();
     // A mosaic's tiles come from one frame of its size.
     let frames = if header.mosaic.is_some() {

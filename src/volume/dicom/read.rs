@@ -468,7 +468,7 @@ fn colour_name(photometric: Photometric) -> &'static str {
 
 /// Reads `series` (its frames from `paths`; `alternatives` names copies of a file to read where
 /// it cannot be decoded) into a volume named `name`.
-pub fn read_series(
+pub(crate) fn read_series(
     paths: &[PathBuf],
     alternatives: &Alternatives,
     series: &Series,

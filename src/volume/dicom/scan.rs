@@ -99,7 +99,7 @@ impl Scan {
 }
 
 /// Whether `path` is a file that starts like DICOM Part 10 (`DICM` after the 128-byte preamble).
-pub fn looks_like_dicom(path: &Path) -> bool {
+pub(crate) fn looks_like_dicom(path: &Path) -> bool {
     use std::io::Read;
     let mut head = [0u8; 132];
     std::fs::File::open(path)

@@ -20,7 +20,7 @@ pub struct Series {
 
 impl Series {
     /// Whether this series can be shown: grey or colour, 8 to 32 bits.
-    pub fn is_shown(&self) -> bool {
+    fn is_shown(&self) -> bool {
         self.frames
             .first()
             .is_some_and(|f| f.pixel.unsupported().is_none())

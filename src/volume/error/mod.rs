@@ -309,7 +309,7 @@ pub struct LoadError {
 }
 
 /// `256×256×113`.
-pub fn fmt_dims(dims: &[u32; 3]) -> String {
+pub(crate) fn fmt_dims(dims: &[u32; 3]) -> String {
     format!("{}×{}×{}", dims[0], dims[1], dims[2])
 }
 
@@ -318,7 +318,7 @@ fn fmt_dims_u64(dims: &[u64; 3]) -> String {
 }
 
 /// A byte count in decimal units a person reads at a glance: `512 bytes`, `1.2 kB`, `14.8 MB`.
-pub fn fmt_bytes(bytes: u64) -> String {
+pub(crate) fn fmt_bytes(bytes: u64) -> String {
     const UNITS: [&str; 5] = ["kB", "MB", "GB", "TB", "PB"];
     if bytes < 1000 {
         return format!("{bytes} bytes");

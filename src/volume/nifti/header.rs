@@ -75,7 +75,7 @@ impl Fields<'_> {
 }
 
 /// The header version and byte order the first four bytes (`sizeof_hdr`) give, or `None`.
-pub fn version_of(first: [u8; 4]) -> Option<(u8, bool)> {
+pub(crate) fn version_of(first: [u8; 4]) -> Option<(u8, bool)> {
     let (le, be) = (i32::from_le_bytes(first), i32::from_be_bytes(first));
     match (le, be) {
         (348, _) => Some((1, false)),

@@ -29,7 +29,7 @@ const NIFTI: &str = "NIfTI";
 /// Reads a NIfTI volume, gzip-compressed or not (told by the content, not the name); `name`
 /// becomes the volume's name. Of a 4-D file, volume `volume` (counted from 0; the first when
 /// `None`).
-pub fn read_nifti(
+pub(crate) fn read_nifti(
     path: &Path,
     name: String,
     volume: Option<u32>,

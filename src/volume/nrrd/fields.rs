@@ -43,7 +43,7 @@ pub struct NrrdHeader {
 }
 
 /// Interprets the fields of a header.
-pub fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
+pub(crate) fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
     let field = |name: &'static str| text.fields.get(name).map(String::as_str);
     let required = |name: &'static str, why: &'static str| {
         field(name).ok_or(VolumeError::MissingField {

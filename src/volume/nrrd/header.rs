@@ -29,7 +29,7 @@ pub struct HeaderText {
 
 /// Reads the header from the start of `reader`, leaving it at the first byte after the blank line.
 /// Returns the text, how it ended, and the number of bytes it took.
-pub fn read_header_text(
+pub(crate) fn read_header_text(
     reader: &mut impl BufRead,
 ) -> Result<(HeaderText, HeaderEnd, u64), VolumeError> {
     let mut text = HeaderText::default();
@@ -133,7 +133,7 @@ fn trim_line_end(line: &[u8]) -> &[u8] {
 }
 
 /// A [`VolumeError::BadHeader`] for NRRD.
-pub fn bad_header(reason: String) -> VolumeError {
+pub(crate) fn bad_header(reason: String) -> VolumeError {
     VolumeError::BadHeader {
         format: "NRRD",
         reason,

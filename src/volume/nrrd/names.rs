@@ -6,7 +6,7 @@ use crate::volume::error::VolumeError;
 use crate::volume::samples::ScalarType;
 
 /// Every NRRD spelling of the types LeapView stores.
-pub fn parse_type(name: &str) -> Result<ScalarType, VolumeError> {
+pub(crate) fn parse_type(name: &str) -> Result<ScalarType, VolumeError> {
     let t = match name.trim().to_ascii_lowercase().as_str() {
         "uchar" | "unsigned char" | "uint8" | "uint8_t" => ScalarType::U8,
         // Teem reads a plain "char" as signed.
@@ -31,7 +31,7 @@ pub fn parse_type(name: &str) -> Result<ScalarType, VolumeError> {
 }
 
 /// `raw`, or `gzip`/`gz`; anything else (text, hex, bzip2, …) is refused.
-pub fn parse_encoding(name: &str) -> Result<Encoding, VolumeError> {
+pub(crate) fn parse_encoding(name: &str) -> Result<Encoding, VolumeError> {
     match name.to_ascii_lowercase().as_str() {
         "raw" => Ok(Encoding::Raw),
         "gzip" | "gz" => Ok(Encoding::Gzip),

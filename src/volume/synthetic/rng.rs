@@ -14,7 +14,7 @@ pub struct SplitMix64 {
 const GOLDEN_GAMMA: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// The SplitMix64 output function: a bijective 64-bit mix.
-pub fn mix64(mut z: u64) -> u64 {
+fn mix64(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)
@@ -27,13 +27,13 @@ impl SplitMix64 {
     }
 
     /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
+    pub(crate) fn next_u64(&mut self) -> u64 {
         self.state = self.state.wrapping_add(GOLDEN_GAMMA);
         mix64(self.state)
     }
 
     /// Uniform in `[0, 1)` with 53 random bits.
-    pub fn next_f64(&mut self) -> f64 {
+    fn next_f64(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
 
@@ -43,7 +43,7 @@ impl SplitMix64 {
     }
 
     /// `true` with probability `p`.
-    pub fn chance(&mut self, p: f64) -> bool {
+    pub(crate) fn chance(&mut self, p: f64) -> bool {
         self.next_f64() < p
     }
 }
@@ -51,7 +51,7 @@ impl SplitMix64 {
 /// Zero-mean noise of unit standard deviation at voxel `index` for stream `seed`, bounded by
 /// [`UNIT_NOISE_BOUND`]: the sum of three uniform variables (Irwin–Hall, close to Gaussian but
 /// with hard limits, so tests can bound it exactly).
-pub fn unit_noise(seed: u64, index: u64) -> f64 {
+pub(crate) fn unit_noise(seed: u64, index: u64) -> f64 {
     let h = mix64(index ^ mix64(seed));
     let third = |shift: u32| ((h >> shift) & 0x1F_FFFF) as f64 / 0x1F_FFFF as f64 - 0.5;
     // Each term has variance 1/12; three of them 1/4, so doubling gives unit variance.

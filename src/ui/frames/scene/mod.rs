@@ -91,7 +91,7 @@ impl Scene {
     /// Uploads `volume` (`from_file`: read from a file, not generated) and frames it in the
     /// default view. On error the old volume stays. Waits for the pump if it is preparing a
     /// frame.
-    pub fn show_volume(
+    pub(crate) fn show_volume(
         &mut self,
         volume: &Volume,
         projection: ProjectionKind,
@@ -141,13 +141,13 @@ impl Scene {
     }
 
     /// The camera, the volume's box and its summary, to change the view.
-    pub fn framing_mut(&mut self) -> &mut Framing {
+    pub(crate) fn framing_mut(&mut self) -> &mut Framing {
         &mut self.framing
     }
 
     /// Takes what the pump finished and the GPU measurements that arrived; returns whether more
     /// are on their way. Looks only when the pump is not preparing a frame (no pass waits).
-    pub fn collect_measurements(&mut self) -> bool {
+    pub(crate) fn collect_measurements(&mut self) -> bool {
         let handle = self.pump.handle();
         let Some(mut shared) = try_lock(&handle) else {
             // Whoever holds the renderer (the pump preparing a frame, an image being saved) asks
@@ -185,7 +185,7 @@ impl Scene {
     /// `path`, on a thread of its own ([`crate::ui::frames::band_pump::save_still`]); the outcome, a line
     /// for the user, arrives on the returned channel. The window's frame in progress starts
     /// again afterwards.
-    pub fn save_still(
+    pub(crate) fn save_still(
         &mut self,
         state: &ViewerState,
         size: [u32; 2],
@@ -209,7 +209,7 @@ impl Scene {
     /// Notes that the user did something this pass (pointer, keys, wheel): a refinement frame
     /// in progress is dropped, and refinement waits until the user has been quiet for
     /// [`STILL_AFTER`].
-    pub fn note_input(&mut self) {
+    pub(crate) fn note_input(&mut self) {
         self.last_input = Some(Instant::now());
         if !self
             .busy
@@ -238,7 +238,7 @@ impl Scene {
     /// submits its first band at once where that needs no slow CPU work, and leaves the rest to
     /// the pump. Returns whether a frame was started; an error is a one-line message for the
     /// user. When the pump is preparing a frame, nothing happens this pass.
-    pub fn render_if_changed(
+    pub(crate) fn render_if_changed(
         &mut self,
         state: &mut ViewerState,
         view_px: [u32; 2],
@@ -351,7 +351,7 @@ impl Scene {
 
     /// Whether `auto`'s strategy for the frame on screen waits to be timed once the user is
     /// quiet (the window then asks for a pass after [`STILL_AFTER`]).
-    pub fn strategy_untimed(&self) -> bool {
+    pub(crate) fn strategy_untimed(&self) -> bool {
         !self.stats.strategy_settled && self.rendering().is_none()
     }
 
@@ -424,7 +424,7 @@ impl Scene {
     }
 
     /// Whether a frame for new inputs is in progress (not a refinement frame).
-    pub fn rendering_new_frame(&self) -> bool {
+    pub(crate) fn rendering_new_frame(&self) -> bool {
         self.busy
             .frame
             .is_some_and(|f| matches!(f.kind, JobKind::Plain { .. }))
@@ -443,28 +443,28 @@ impl Scene {
 
     /// Draws the last image with its top-left corner at `origin` (a preview stretched over the
     /// view it stands for).
-    pub fn paint(&self, ui: &egui::Ui, origin: egui::Pos2) {
+    pub(crate) fn paint(&self, ui: &egui::Ui, origin: egui::Pos2) {
         self.shown.paint(ui, origin);
     }
 
     /// The preview's scale (per axis) when the frame on screen is a reduced preview.
-    pub fn preview_scale(&self) -> Option<f64> {
+    pub(crate) fn preview_scale(&self) -> Option<f64> {
         self.shown.preview_scale()
     }
 
     /// Volume frames rendered so far.
-    pub fn frames_rendered(&self) -> u64 {
+    pub(crate) fn frames_rendered(&self) -> u64 {
         self.stats.frames_rendered
     }
 
     /// Counts a pass; returns the passes since the last rendered frame.
-    pub fn note_pass(&mut self) -> u32 {
+    pub(crate) fn note_pass(&mut self) -> u32 {
         self.quiet_passes = self.quiet_passes.saturating_add(1);
         self.quiet_passes
     }
 
     /// The inputs of the frame on screen.
-    pub fn last_inputs(&self) -> Option<&FrameInputs> {
+    pub(crate) fn last_inputs(&self) -> Option<&FrameInputs> {
         self.redraw.last()
     }
 
@@ -476,7 +476,7 @@ impl Scene {
     }
 
     /// Whether GPU timings, or a band, are still on their way.
-    pub fn results_pending(&self) -> bool {
+    pub(crate) fn results_pending(&self) -> bool {
         self.busy.in_flight || self.busy.frame.is_some()
     }
 }

@@ -11,7 +11,7 @@ use crate::ui::view::overlay::Readout;
 impl Scene {
     /// Whether the GPU timings can be shown: the adapter has timestamp queries, and it is not a
     /// CPU driver that has run a refinement (lavapipe, Mesa 22.3, reports ~0.1 ms for every frame
-    /// from the first accumulation on; the H100 reports the same times with and without).
+    /// from the first accumulation on; a data-centre GPU reports the same times with and without).
     fn timestamps_reliable(&self) -> bool {
         self.has_timestamps && !(self.cpu_adapter && self.busy.accumulated)
     }
@@ -56,7 +56,7 @@ impl Scene {
     }
 
     /// When the frame rate shown changes by itself (down to idle), if it will.
-    pub fn fps_next_change(&self, now: Instant) -> Option<Duration> {
+    pub(crate) fn fps_next_change(&self, now: Instant) -> Option<Duration> {
         self.stats.fps_next_change(now)
     }
 

@@ -5,7 +5,7 @@
 
 /// The codestream of each of `frames` frames, from the pixel data's `fragments` and its Basic
 /// Offset Table `offsets` (empty where the file gives none).
-pub fn frame_streams(
+pub(crate) fn frame_streams(
     fragments: &[Vec<u8>],
     offsets: &[u32],
     frames: u32,

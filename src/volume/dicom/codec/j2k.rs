@@ -82,7 +82,7 @@ pub fn read_siz(stream: &[u8]) -> Result<Siz, String> {
 /// Decodes one JPEG 2000 codestream of the frame `spec` describes into little-endian
 /// containers (interleaved for colour; a multiple-component transform, YBR_RCT or YBR_ICT, is
 /// undone by the decoder, so colour comes out as RGB).
-pub fn decode_frame(stream: &[u8], spec: &FrameSpec) -> Result<Frame, String> {
+pub(crate) fn decode_frame(stream: &[u8], spec: &FrameSpec) -> Result<Frame, String> {
     let siz = read_siz(stream)?;
     let mut note = check_shape("JPEG 2000", &siz.shape, spec)?;
     if siz.components.iter().any(|c| c.2 != 1 || c.3 != 1) {

@@ -63,7 +63,7 @@ impl Drop for Decompressor {
 
 /// Decodes one JPEG codestream of the frame `spec` describes into little-endian containers
 /// (interleaved RGB for colour).
-pub fn decode_frame(stream: &[u8], spec: &FrameSpec) -> Result<Frame, String> {
+pub(crate) fn decode_frame(stream: &[u8], spec: &FrameSpec) -> Result<Frame, String> {
     let header = markers::read_header(stream)?;
     if header.sof == 0xF7 {
         return Err("the stream is JPEG-LS, not the JPEG its transfer syntax names".into());

@@ -8,7 +8,7 @@ use super::{Frame, FrameSpec, check_shape, markers, put_sample};
 
 /// Decodes one JPEG-LS codestream of the frame `spec` describes into little-endian containers
 /// (interleaved RGB for colour).
-pub fn decode_frame(stream: &[u8], spec: &FrameSpec) -> Result<Frame, String> {
+pub(crate) fn decode_frame(stream: &[u8], spec: &FrameSpec) -> Result<Frame, String> {
     let header = markers::read_header(stream)?;
     if header.sof != 0xF7 {
         return Err("the stream is JPEG, not the JPEG-LS its transfer syntax names".into());

@@ -38,12 +38,12 @@ impl FrameSpec {
     }
 
     /// Bytes of one sample's container.
-    pub fn bytes_per_sample(&self) -> usize {
+    pub(crate) fn bytes_per_sample(&self) -> usize {
         usize::from(self.bits_allocated / 8).max(1)
     }
 
     /// Bytes of one decoded frame: every pixel's samples, interleaved.
-    pub fn frame_bytes(&self) -> usize {
+    pub(crate) fn frame_bytes(&self) -> usize {
         self.pixels() * usize::from(self.samples_per_pixel) * self.bytes_per_sample()
     }
 }
@@ -126,7 +126,7 @@ pub struct StreamShape {
 
 /// Refuses a stream whose size, components or depth the header's frame cannot hold; for a depth
 /// that differs from `BitsStored` but fits, the note to give.
-pub fn check_shape(
+pub(crate) fn check_shape(
     codec: &str,
     shape: &StreamShape,
     spec: &FrameSpec,
@@ -161,7 +161,7 @@ pub fn check_shape(
 }
 
 /// Writes `value`'s low `bits_allocated` bits into `out` as a little-endian container.
-pub fn put_sample(out: &mut [u8], value: i64) {
+pub(crate) fn put_sample(out: &mut [u8], value: i64) {
     let bytes = value.to_le_bytes();
     out.copy_from_slice(&bytes[..out.len()]);
 }

@@ -9,7 +9,7 @@ use super::FrameSpec;
 pub const RLE_LOSSLESS: &str = "1.2.840.10008.1.2.5";
 
 /// Decodes one frame `spec` describes into little-endian containers, samples interleaved.
-pub fn decode_frame(fragment: &[u8], spec: &FrameSpec) -> Result<Vec<u8>, String> {
+pub(crate) fn decode_frame(fragment: &[u8], spec: &FrameSpec) -> Result<Vec<u8>, String> {
     decode(
         fragment,
         spec.pixels(),
