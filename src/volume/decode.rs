@@ -374,6 +374,11 @@ pub(crate) fn skip_bytes(
 mod tests {
     use super::*;
 
+    /// The samples of `layout` read from raw bytes, without progress.
+    fn raw(reader: &mut impl Read, layout: SampleLayout) -> Result<Samples, VolumeError> {
+        read_samples_with(reader, layout, Encoding::Raw, None)
+    }
+
     fn layout(n: u32, scalar_type: ScalarType, big_endian: bool) -> SampleLayout {
         SampleLayout {
             dims: [n, 1, 1],
@@ -436,49 +441,24 @@ mod tests {
     #[test]
     fn both_byte_orders_decode() {
         let le = [1u8, 2, 3, 4];
-        let s = read_samples_with(
-            &mut &le[..],
-            layout(2, ScalarType::U16, false),
-            Encoding::Raw,
-            None,
-        );
+        let s = raw(&mut &le[..], layout(2, ScalarType::U16, false));
         assert_eq!(s.ok(), Some(Samples::U16(vec![0x0201, 0x0403])));
-        let s = read_samples_with(
-            &mut &le[..],
-            layout(2, ScalarType::I16, true),
-            Encoding::Raw,
-            None,
-        );
+        let s = raw(&mut &le[..], layout(2, ScalarType::I16, true));
         assert_eq!(s.ok(), Some(Samples::I16(vec![0x0102, 0x0304])));
         let be = (-1.5f64).to_be_bytes();
-        let s = read_samples_with(
-            &mut &be[..],
-            layout(1, ScalarType::F64, true),
-            Encoding::Raw,
-            None,
-        );
+        let s = raw(&mut &be[..], layout(1, ScalarType::F64, true));
         assert_eq!(s.ok(), Some(Samples::F64(vec![-1.5])));
     }
 
     #[test]
     fn short_and_long_data_are_reported() {
         let bytes = [0u8; 7];
-        let r = read_samples_with(
-            &mut &bytes[..],
-            layout(4, ScalarType::U16, false),
-            Encoding::Raw,
-            None,
-        );
+        let r = raw(&mut &bytes[..], layout(4, ScalarType::U16, false));
         assert!(
             matches!(r, Err(VolumeError::DataTooShort { found_bytes: 7, .. })),
             "{r:?}"
         );
-        let r = read_samples_with(
-            &mut &bytes[..],
-            layout(3, ScalarType::U16, false),
-            Encoding::Raw,
-            None,
-        );
+        let r = raw(&mut &bytes[..], layout(3, ScalarType::U16, false));
         assert!(
             matches!(r, Err(VolumeError::DataTooLong { exact: false, .. })),
             "{r:?}"
@@ -489,12 +469,7 @@ mod tests {
     fn at_most_one_byte_past_the_data_is_read() {
         // An endless reader: the read must stop right after the declared bytes plus one.
         let mut endless = std::io::repeat(7).take(u64::MAX);
-        let r = read_samples_with(
-            &mut endless,
-            layout(5, ScalarType::U8, false),
-            Encoding::Raw,
-            None,
-        );
+        let r = raw(&mut endless, layout(5, ScalarType::U8, false));
         assert!(matches!(r, Err(VolumeError::DataTooLong { .. })), "{r:?}");
         assert_eq!(endless.limit(), u64::MAX - 6);
     }

@@ -106,22 +106,20 @@ fn a_banded_frame_starts_and_joins_the_refinement_mean() {
             stats: false,
         }
     }
-    settings.sample_offset = leapview::render::raycast::refine::offset(0);
-    let (mean, _) = banded(
-        &mut r,
-        &request(&camera, size, &settings),
-        10,
-        Some(Accumulate::Restart),
-    );
-    assert_eq!(mean, Some(1), "the last band restarts the mean");
-    settings.sample_offset = leapview::render::raycast::refine::offset(1);
-    let (mean, _) = banded(
-        &mut r,
-        &request(&camera, size, &settings),
-        10,
-        Some(Accumulate::Add),
-    );
-    assert_eq!(mean, Some(2), "and adds to it");
+    // The last band of the first frame restarts the mean, that of the second adds to it.
+    for (k, accumulate) in [Accumulate::Restart, Accumulate::Add]
+        .into_iter()
+        .enumerate()
+    {
+        settings.sample_offset = leapview::render::raycast::refine::offset(k as u32);
+        let (mean, _) = banded(
+            &mut r,
+            &request(&camera, size, &settings),
+            10,
+            Some(accumulate),
+        );
+        assert_eq!(mean, Some(k as u32 + 1), "{accumulate:?}");
+    }
     assert_eq!(r.read_refined().expect("mean"), whole);
 }
 
