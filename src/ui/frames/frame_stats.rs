@@ -9,6 +9,15 @@ use crate::render::probe::FrameResults;
 use crate::settings::{ConcretePath, Strategy};
 use crate::ui::view::overlay::FpsCounter;
 
+/// What a statistics frame counted, and over how many pixels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CountedFrame {
+    /// The frame's sample counters.
+    pub counters: FrameCounters,
+    /// Its pixels (for samples per pixel).
+    pub pixels: u64,
+}
+
 /// The GPU time of a frame's bands as their timings arrive.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct GpuSum {
@@ -25,8 +34,8 @@ pub struct FrameStats {
     pub fps: FpsCounter,
     /// GPU time of the last complete plain frame, once all its bands are timed.
     pub gpu_ms: Option<f64>,
-    /// Sample counters of the last statistics frame, with its pixel count.
-    pub counters: Option<(FrameCounters, u64)>,
+    /// What the last statistics frame counted.
+    pub counters: Option<CountedFrame>,
     /// GPU time of the last rebuild of the leaping structures.
     pub rebuild_ms: Option<f64>,
     /// The path the last frame used.
@@ -95,7 +104,10 @@ impl FrameStats {
             && self.plain_bands.last() == Some(&result.frame)
         {
             // The counters add up over a frame's bands: the last band's are the frame's.
-            self.counters = Some((c, self.last_pixels));
+            self.counters = Some(CountedFrame {
+                counters: c,
+                pixels: self.last_pixels,
+            });
         }
         if result.rebuild_ms.is_some() {
             self.rebuild_ms = result.rebuild_ms;

@@ -9,8 +9,8 @@ use std::time::{Duration, Instant};
 
 use egui::{Align2, Color32, Frame, Rect, RichText, UiBuilder};
 
-use crate::counters::FrameCounters;
 use crate::settings::ConcretePath;
+use crate::ui::frames::frame_stats::CountedFrame;
 
 use crate::ui::VolumeSummary;
 use crate::ui::loading::LoadStatus;
@@ -83,8 +83,8 @@ pub struct Readout<'a> {
     pub strategy: &'a str,
     /// The volume on screen.
     pub volume: Option<&'a VolumeSummary>,
-    /// Sample counters of the last statistics frame and its pixel count.
-    pub counters: Option<(FrameCounters, u64)>,
+    /// What the last statistics frame counted.
+    pub counters: Option<CountedFrame>,
     /// GPU time of the last rebuild of the leaping structures, ms.
     pub rebuild_ms: Option<f64>,
     /// Wall time from the last transfer-function change to its frame's completion, ms.
@@ -182,7 +182,11 @@ impl Readout<'_> {
                 format!("refined: mean of {n} frames (shifted sample grids)")
             });
         }
-        if let Some((c, pixels)) = self.counters {
+        if let Some(CountedFrame {
+            counters: c,
+            pixels,
+        }) = self.counters
+        {
             lines.push(format!(
                 "{} samples ({:.1}/px) · {} visible · ×{:.2} oracle",
                 compact(c.samples),
@@ -338,7 +342,7 @@ mod tests {
 
     #[test]
     fn readout_shows_counts_against_the_oracle() {
-        let counters = FrameCounters {
+        let counters = crate::counters::FrameCounters {
             samples: 2_000_000,
             visible_samples: 500_000,
             rays: 1000,
@@ -358,7 +362,10 @@ mod tests {
             path: Some(ConcretePath::Compute),
             strategy: "RC-s",
             volume: None,
-            counters: Some((counters, 1_000_000)),
+            counters: Some(CountedFrame {
+                counters,
+                pixels: 1_000_000,
+            }),
             rebuild_ms: Some(0.25),
             tf_latency_ms: Some(3.5),
             preview_scale: None,
