@@ -226,6 +226,56 @@ fn side_panel(
     )
 }
 
+/// A 2D image alone in its plane has no 3D view: the panel leaves out the renderer's quality,
+/// cropping, the camera's views, background and projection, and Advanced, and keeps the
+/// transfer function (it colours the slice), the slices' section and the orientation.
+#[test]
+fn a_2d_image_gets_no_3d_controls() {
+    let panel = SidePanel {
+        state: ViewerState {
+            layout: Layout::Image(leapview::mpr::PlaneKind::Axial),
+            ..ViewerState::default()
+        },
+        volume: phantom(),
+        actions: Vec::new(),
+    };
+    let mut h = side_panel(harness([400.0, 800.0]).with_fit_contents(), panel);
+    h.run();
+    for gone in [
+        "Quality",
+        "Cropping",
+        "Advanced",
+        "Projection",
+        "Reset view (R)",
+    ] {
+        assert!(
+            h.query_by_label(gone).is_none(),
+            "{gone} shown for a 2D image"
+        );
+    }
+    for kept in ["Transfer function", "View", "Volume"] {
+        assert!(
+            h.query_by_label(kept).is_some(),
+            "{kept} missing for a 2D image"
+        );
+    }
+    // The same panel for a volume has them.
+    h.state_mut().state.layout = Layout::OnePlusThree;
+    h.run();
+    for shown in [
+        "Quality",
+        "Cropping",
+        "Advanced",
+        "Projection",
+        "Reset view (R)",
+    ] {
+        assert!(
+            h.query_by_label(shown).is_some(),
+            "{shown} missing for a volume"
+        );
+    }
+}
+
 #[test]
 fn side_panel_edits_the_viewer_state() {
     let panel = SidePanel {

@@ -453,8 +453,11 @@ impl eframe::App for LeapViewApp {
                     let middle = |ui: &mut egui::Ui, state: &mut ViewerState| {
                         let range = volume.and_then(|v| v.range);
                         let histogram = volume.map_or(&[][..], |v| v.histogram.as_slice());
-                        effects_ui(ui, state, range, histogram);
-                        ui.separator();
+                        // A 2D image shows no 3D view: no mode, lighting or ray casting.
+                        if state.layout.has_3d() {
+                            effects_ui(ui, state, range, histogram);
+                            ui.separator();
+                        }
                         tf_editor_ui(
                             ui,
                             &mut state.editor,

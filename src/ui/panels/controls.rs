@@ -66,31 +66,41 @@ pub fn controls_ui(
         .spacing([8.0, 6.0])
         .show(ui, |ui| {
             preset_row(ui, state);
-            quality_rows(ui, state);
+            // Quality, refinement, cropping and the renderer's knobs are the 3D view's: a 2D
+            // image alone in its plane has none.
+            if state.layout.has_3d() {
+                quality_rows(ui, state);
+            }
         });
     ui.separator();
     middle(ui, state);
-    if let Some(volume) = info.volume {
+    let three_d = state.layout.has_3d();
+    if let Some(volume) = info.volume.filter(|_| three_d) {
         ui.heading("Cropping");
         let crop = &mut state.render.crop;
         crate::ui::view::crop::crop_ui(ui, crop, &mut state.show_crop_box, volume.dims);
         ui.separator();
     }
     ui.heading("View");
-    if let Some(a) = view_section(ui, info.volume) {
+    if let Some(a) = view_section(ui, info.volume, three_d) {
         action = Some(a);
     }
-    egui::Grid::new("look controls")
-        .num_columns(2)
-        .spacing([8.0, 6.0])
-        .show(ui, |ui| {
-            if let Some(a) = look_rows(ui, state) {
-                action = Some(a);
-            }
-        });
+    if three_d {
+        egui::Grid::new("look controls")
+            .num_columns(2)
+            .spacing([8.0, 6.0])
+            .show(ui, |ui| {
+                if let Some(a) = look_rows(ui, state) {
+                    action = Some(a);
+                }
+            });
+    }
     ui.separator();
     ui.heading("Volume");
     volume_section(ui, info.volume);
+    if !three_d {
+        return action;
+    }
     ui.separator();
     egui::CollapsingHeader::new("Advanced")
         .id_salt("advanced")
@@ -410,8 +420,27 @@ fn look_rows(ui: &mut egui::Ui, state: &mut ViewerState) -> Option<Action> {
     action
 }
 
-/// The anatomical and axis views, the file's orientation, and Reset.
-fn view_section(ui: &mut egui::Ui, volume: Option<&VolumeSummary>) -> Option<Action> {
+/// The anatomical and axis views and Reset (where a 3D view is shown: `three_d`), and the file's
+/// orientation.
+fn view_section(
+    ui: &mut egui::Ui,
+    volume: Option<&VolumeSummary>,
+    three_d: bool,
+) -> Option<Action> {
+    let mut action = None;
+    if three_d {
+        action = camera_buttons(ui);
+    }
+    if let Some(v) = volume
+        && let Some(a) = crate::ui::panels::orientation_controls::orientation_ui(ui, v)
+    {
+        action = Some(a);
+    }
+    action
+}
+
+/// The 3D view's camera: the anatomical and axis views, Reset and Roll.
+fn camera_buttons(ui: &mut egui::Ui) -> Option<Action> {
     let mut action = None;
     ui.horizontal(|ui| {
         for side in crate::volume::Direction::VIEWS {
@@ -451,11 +480,6 @@ fn view_section(ui: &mut egui::Ui, volume: Option<&VolumeSummary>) -> Option<Act
             action = Some(Action::Roll(90.0));
         }
     });
-    if let Some(v) = volume
-        && let Some(a) = crate::ui::panels::orientation_controls::orientation_ui(ui, v)
-    {
-        action = Some(a);
-    }
     action
 }
 
