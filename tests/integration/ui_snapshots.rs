@@ -226,6 +226,15 @@ fn side_panel(
     )
 }
 
+/// Side-panel labels of the 3D view's controls.
+const THREE_D_ONLY: [&str; 5] = [
+    "Quality",
+    "Cropping",
+    "Advanced",
+    "Projection",
+    "Reset view (R)",
+];
+
 /// A 2D image alone in its plane has no 3D view: the panel leaves out the renderer's quality,
 /// cropping, the camera's views, background and projection, and Advanced, and keeps the
 /// transfer function (it colours the slice), the slices' section and the orientation.
@@ -241,13 +250,7 @@ fn a_2d_image_gets_no_3d_controls() {
     };
     let mut h = side_panel(harness([400.0, 800.0]).with_fit_contents(), panel);
     h.run();
-    for gone in [
-        "Quality",
-        "Cropping",
-        "Advanced",
-        "Projection",
-        "Reset view (R)",
-    ] {
+    for gone in THREE_D_ONLY {
         assert!(
             h.query_by_label(gone).is_none(),
             "{gone} shown for a 2D image"
@@ -262,13 +265,7 @@ fn a_2d_image_gets_no_3d_controls() {
     // The same panel for a volume has them.
     h.state_mut().state.layout = Layout::OnePlusThree;
     h.run();
-    for shown in [
-        "Quality",
-        "Cropping",
-        "Advanced",
-        "Projection",
-        "Reset view (R)",
-    ] {
+    for shown in THREE_D_ONLY {
         assert!(
             h.query_by_label(shown).is_some(),
             "{shown} missing for a volume"

@@ -270,7 +270,9 @@ impl Scene {
         let inputs = FrameInputs {
             camera,
             size_px,
-            settings: state.render,
+            // Jittered whenever refinement is on, previews too: one set of settings for every
+            // frame of a view, so `auto` times one choice.
+            settings: refinable(state.render, state.refine_frames > 1),
             transfer_generation: shared.renderer.transfer_generation(),
             volume_generation: self.framing.generation(),
             stats: state.statistics,
@@ -302,9 +304,7 @@ impl Scene {
             if shared.job.is_some() {
                 log::debug!("frame in progress dropped for new inputs");
             }
-            // Jittered whenever refinement is on, previews too: one set of settings for every
-            // frame of a view, so `auto` times one choice.
-            let settings = refinable(inputs.settings, state.refine_frames > 1);
+            let settings = inputs.settings;
             shared.job = Some(FrameJob::new(
                 inputs,
                 settings,
@@ -317,7 +317,7 @@ impl Scene {
             let index = self.shown.refinement.done;
             let settings = crate::settings::RenderSettings {
                 sample_offset: crate::render::raycast::refine::offset(index),
-                ..refinable(inputs.settings, true)
+                ..inputs.settings
             };
             shared.job = Some(FrameJob::new(inputs, settings, JobKind::Refinement, None));
             true
@@ -483,7 +483,8 @@ impl Scene {
 
 /// The settings the window renders with while refinement is on: ray starts jittered per pixel,
 /// so that the first frame shows fine noise rather than wood-grain rings, while the mean's
-/// offsets rotate each pixel's jitter and converge as without it (docs/benchmarks/window-jitter/README.md).
+/// offsets rotate each pixel's jitter and converge as without it
+/// (docs/benchmarks/window-jitter/README.md).
 fn refinable(
     settings: crate::settings::RenderSettings,
     refine: bool,
