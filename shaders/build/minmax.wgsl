@@ -5,11 +5,14 @@
 #include "leap/pyramid.wgsl"
 #include "generated/constants.wgsl"
 #include "build/params.wgsl"
+#include "shared/volume.wgsl"
 
 @group(0) @binding(0) var<uniform> params: BuildParams;
 @group(0) @binding(1) var<storage, read> levels: array<LevelInfo>;
 @group(0) @binding(2) var<storage, read_write> minmax: array<vec2<f32>>;
 @group(0) @binding(3) var volume_tex: texture_3d<f32>;
+@group(0) @binding(4) var volume_pages: texture_3d<u32>;
+@group(0) @binding(5) var<uniform> volume_geometry: VolumeGeometry;
 
 // Texels of non-finite voxels decode below MISSING_BELOW (generated/constants.wgsl), as in
 // shared/classify.wgsl.
@@ -21,7 +24,7 @@ fn build_base(@builtin(global_invocation_id) id: vec3<u32>) {
     if any(id >= level.nodes) {
         return;
     }
-    let dims = vec3<i32>(textureDimensions(volume_tex));
+    let dims = volume_dims();
     let b = i32(level.brick_vox);
     let lo = max(vec3<i32>(id) * b - 1, vec3<i32>(0));
     let hi = min((vec3<i32>(id) + 1) * b, dims - 1);
@@ -29,7 +32,7 @@ fn build_base(@builtin(global_invocation_id) id: vec3<u32>) {
     for (var z = lo.z; z <= hi.z; z++) {
         for (var y = lo.y; y <= hi.y; y++) {
             for (var x = lo.x; x <= hi.x; x++) {
-                let s = textureLoad(volume_tex, vec3<i32>(x, y, z), 0).r * params.texel_scale + params.texel_bias;
+                let s = volume_load(vec3<i32>(x, y, z)).r * params.texel_scale + params.texel_bias;
                 if s >= MISSING_BELOW {
                     m = vec2<f32>(min(m.x, s), max(m.y, s));
                 }

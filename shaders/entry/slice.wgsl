@@ -1,4 +1,4 @@
-// A slice view: each pixel's value sampled from the volume texture at the voxel coordinates of
+// A slice view: each pixel's value sampled from the volume (shared/volume.wgsl) at the voxel coordinates of
 // its centre, clamp-to-edge inside the volume's box, and shown as grey through the window.
 // Two variants:
 // - exact (default): trilinear from eight texel loads with exact f32 weights, or the nearest
@@ -15,6 +15,7 @@
 // src/mpr/view.rs (`VoxelGrid`).
 
 #include "generated/constants.wgsl"
+#include "shared/volume.wgsl"
 
 // `SliceParams` in src/render/gpu_data.rs.
 struct SliceParams {
@@ -63,7 +64,9 @@ struct SliceParams {
 }
 
 
-@group(0) @binding(0) var volume: texture_3d<f32>;
+@group(0) @binding(0) var volume_tex: texture_3d<f32>;
+@group(0) @binding(6) var volume_pages: texture_3d<u32>;
+@group(0) @binding(7) var<uniform> volume_geometry: VolumeGeometry;
 @group(0) @binding(1) var<uniform> params: SliceParams;
 #ifdef DISPLAY
 @group(0) @binding(2) var linear: sampler;
@@ -84,7 +87,7 @@ const BRICK: f32 = f32(SLAB_BRICK);
 // Texel `i` as u (see `texel_max`): exact integers for unorm textures; a float texture's
 // MISSING marker stays far below MISSING_BELOW.
 fn texel(i: vec3<i32>) -> f32 {
-    let t = textureLoad(volume, i, 0).r;
+    let t = volume_load(i).r;
     if params.texel_max > 0.0 {
         return round(t * params.texel_max);
     }
@@ -106,7 +109,7 @@ fn nan() -> f32 {
 // takes no finite neighbour with it), and u is missing where they weigh less than half: the ray
 // caster's `sample_finite` and src/reference/trilinear.rs.
 fn trilinear_units(v: vec3<f32>) -> f32 {
-    let dims = vec3<i32>(textureDimensions(volume));
+    let dims = volume_dims();
     let top = vec3<f32>(dims - vec3<i32>(1));
     let x = clamp(v, vec3<f32>(0.0), top);
     let base = floor(x);
@@ -140,7 +143,7 @@ fn trilinear_units(v: vec3<f32>) -> f32 {
 // u at voxel coordinates `v` (inside the box), trilinear or nearest; missing where missing
 // texels outweigh the others (`trilinear_units`).
 fn sample_units(v: vec3<f32>) -> f32 {
-    let dims = vec3<i32>(textureDimensions(volume));
+    let dims = volume_dims();
     if params.nearest == 1u {
         let i = clamp(vec3<i32>(floor(v + vec3<f32>(0.5))), vec3<i32>(0), dims - vec3<i32>(1));
         return texel(i);
@@ -149,7 +152,7 @@ fn sample_units(v: vec3<f32>) -> f32 {
     // Clamp-to-edge at texture coordinate (v + ½) / dims is the exact path's clamp of v into
     // [0, dims − 1]; a missing texel's marker drags the blend far below MISSING_BELOW, and then
     // the exact path decides.
-    let t = textureSampleLevel(volume, linear, (v + vec3<f32>(0.5)) / vec3<f32>(dims), 0.0).r;
+    let t = volume_filtered(linear, (v + vec3<f32>(0.5)) / vec3<f32>(dims)).r;
     let u = select(t, t * params.texel_max, params.texel_max > 0.0);
     if missing(u) {
         return trilinear_units(v);
@@ -176,7 +179,7 @@ fn grey(value: f32) -> f32 {
 // The value (data units) at voxel coordinates `v`; NaN outside the box or where a missing
 // sample takes part.
 fn value_at(v: vec3<f32>) -> f32 {
-    let dims = vec3<f32>(textureDimensions(volume));
+    let dims = vec3<f32>(volume_dims());
     let inside = all(v >= vec3<f32>(-0.5)) && all(v <= dims - vec3<f32>(0.5));
     if inside {
         let u = sample_units(v);
@@ -197,7 +200,7 @@ fn slab_point(v: vec3<f32>, s: u32, middle: f32) -> vec3<f32> {
 // none can.
 fn slab_span(v: vec3<f32>, middle: f32) -> vec2<u32> {
     let d = params.slab_step.xyz;
-    let dims = vec3<f32>(textureDimensions(volume));
+    let dims = vec3<f32>(volume_dims());
     var lo = 0.0;
     var hi = f32(params.slab_count - 1u);
     for (var a = 0; a < 3; a = a + 1) {
@@ -228,7 +231,7 @@ struct Run {
 }
 
 fn brick_run(p: vec3<f32>, left: u32) -> Run {
-    let dims = vec3<i32>(textureDimensions(volume));
+    let dims = volume_dims();
     let nodes = (dims + vec3<i32>(i32(SLAB_BRICK) - 1)) / i32(SLAB_BRICK);
     let b = clamp(vec3<i32>(floor((p + vec3<f32>(0.5)) / BRICK)), vec3<i32>(0), nodes - vec3<i32>(1));
     let d = params.slab_step.xyz;
@@ -255,7 +258,7 @@ fn brick_range(index: u32) -> vec2<f32> {
 
 // Whether every sample of a run of `n` from `p` lies inside the box (the box is convex).
 fn run_inside(p: vec3<f32>, n: u32) -> bool {
-    let dims = vec3<f32>(textureDimensions(volume));
+    let dims = vec3<f32>(volume_dims());
     let q = p + f32(n - 1u) * params.slab_step.xyz;
     return all(min(p, q) >= vec3<f32>(-0.5)) && all(max(p, q) <= dims - vec3<f32>(0.5));
 }
@@ -336,12 +339,12 @@ fn shade(id: vec2<u32>) {
     if params.volume_colour == 1u && params.slab_count <= 1u && value == value {
         // A colour volume's own colour (its texels: luminance, red, green, blue), sampled as
         // the value is.
-        let dims = vec3<i32>(textureDimensions(volume));
+        let dims = volume_dims();
         if params.nearest == 1u {
             let i = clamp(vec3<i32>(floor(v + vec3<f32>(0.5))), vec3<i32>(0), dims - vec3<i32>(1));
-            rgb = textureLoad(volume, i, 0).gba;
+            rgb = volume_load(i).gba;
         } else {
-            rgb = textureSampleLevel(volume, linear, (v + vec3<f32>(0.5)) / vec3<f32>(dims), 0.0).gba;
+            rgb = volume_filtered(linear, (v + vec3<f32>(0.5)) / vec3<f32>(dims)).gba;
         }
     } else if params.colour == 1u && value == value {
         let n = f32(textureDimensions(colours).x);

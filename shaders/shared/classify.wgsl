@@ -2,15 +2,15 @@
 
 #include "shared/common.wgsl"
 
-// Non-finite voxels are stored far below 0 (see src/render/volume_texture.rs): the texture
+// Non-finite voxels are stored far below 0 (see src/render/volume_texture/encoding.rs): the texture
 // unit's blend of any that take part falls below MISSING_BELOW (generated/constants.wgsl).
 // Normalised values below MISSING_BELOW are missing samples: transparent.
 
 // The normalised value (0 = volume minimum, 1 = maximum) at box position p, trilinearly
-// interpolated by the texture unit; in volumes with non-finite voxels (MISSING_VOXELS), where
+// interpolated by the texture unit (shared/volume.wgsl); in volumes with non-finite voxels (MISSING_VOXELS), where
 // one takes part, from the finite ones alone (sample_finite).
 fn sample_value(p: vec3<f32>) -> f32 {
-    let s = textureSampleLevel(volume_tex, linear_clamp, p, 0.0).r * frame.texel_scale + frame.texel_bias;
+    let s = volume_filtered(linear_clamp, p).r * frame.texel_scale + frame.texel_bias;
 #ifdef MISSING_VOXELS
     if s < MISSING_BELOW {
         return sample_finite(p);
@@ -24,7 +24,7 @@ fn sample_value(p: vec3<f32>) -> f32 {
 // they weigh less than half (p lies nearer non-finite voxels). src/reference/trilinear.rs twins it.
 #ifdef MISSING_VOXELS
 fn sample_finite(p: vec3<f32>) -> f32 {
-    let dims = vec3<i32>(textureDimensions(volume_tex));
+    let dims = volume_dims();
     let v = clamp(p * vec3<f32>(dims) - vec3<f32>(0.5), vec3<f32>(0.0), vec3<f32>(dims - vec3<i32>(1)));
     let base = floor(v);
     let f = v - base;
@@ -45,7 +45,7 @@ fn sample_finite(p: vec3<f32>) -> f32 {
 
 // A corner's weighted value and weight, (0, 0) where its voxel is not finite.
 fn corner(i: vec3<i32>, w: f32) -> vec2<f32> {
-    let s = textureLoad(volume_tex, i, 0).r * frame.texel_scale + frame.texel_bias;
+    let s = volume_load(i).r * frame.texel_scale + frame.texel_bias;
     return select(vec2<f32>(0.0), vec2<f32>(w * s, w), w > 0.0 && s >= MISSING_BELOW);
 }
 #endif
@@ -53,7 +53,7 @@ fn corner(i: vec3<i32>, w: f32) -> vec2<f32> {
 // A colour volume's own colour at p (its texels hold luminance, red, green, blue: the texture
 // unit blends the colour as it blends the value).
 fn sample_colour(p: vec3<f32>) -> vec3<f32> {
-    return textureSampleLevel(volume_tex, linear_clamp, p, 0.0).gba;
+    return volume_filtered(linear_clamp, p).gba;
 }
 
 // Colour and the optical depth of one step (src/transfer/lut.rs) for a normalised value.

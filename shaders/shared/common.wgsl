@@ -7,6 +7,7 @@
 // `extent_mm`); voxel coordinates are box coordinates × `volume_dims` (voxel-centre + ½).
 
 #include "generated/constants.wgsl"
+#include "shared/volume.wgsl"
 
 struct Frame {
     // Box coordinates -> clip space, and back (for rays of the near-plane cap).
@@ -112,6 +113,9 @@ const SAMPLE_CONTRIBUTED: u32 = 2u;
 @group(0) @binding(1) var volume_tex: texture_3d<f32>;
 @group(0) @binding(2) var linear_clamp: sampler;
 @group(0) @binding(3) var lut_tex: texture_2d<f32>;
+// The page table and geometry of shared/volume.wgsl (binding 4 is the pre-integration table).
+@group(0) @binding(5) var volume_pages: texture_3d<u32>;
+@group(0) @binding(6) var<uniform> volume_geometry: VolumeGeometry;
 
 // The jittered first-sample offset of a pixel in [0, 1): the same hash as `pixel_jitter` in
 // src/sampling.rs, bit for bit (u32 arithmetic wraps in both).

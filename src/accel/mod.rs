@@ -3,6 +3,7 @@
 //! builds the same structures with compute shaders (`src/render/raycast/leap.rs`); these are their
 //! references.
 
+pub mod bricks;
 pub mod distance;
 pub mod emptiness;
 pub mod pyramid;

@@ -327,6 +327,16 @@ pub struct RenderArgs {
         hide_short_help = true
     )]
     pub precision: leapview::settings::TexturePrecision,
+    /// The volume on the GPU as one 3D texture or as bricks in an atlas (auto: bricks only past
+    /// the GPU's 3D texture limit).
+    #[arg(
+        long,
+        value_enum,
+        default_value = "auto",
+        help_heading = "Quality",
+        hide_short_help = true
+    )]
+    pub bricks: leapview::settings::Bricking,
     /// Edge of the leaping blocks (RC-s, RC-s-df) in voxels: 4, 8, 16, 32, 64 or 128.
     ///
     /// Default: the edge measured fastest for the mode and strategy: 16 for the octree (RC-s) in

@@ -150,7 +150,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     let adapter = ctx.adapter_summary();
     let mut renderer = VolumeRenderer::new(ctx).map_err(render_failure)?;
     renderer
-        .set_volume_with(&volume, args.precision)
+        .set_volume_with(&volume, args.precision, args.bricks)
         .map_err(render_failure)?;
     renderer.set_transfer_function(&tf);
     auto_path::choose(&mut renderer, settings.path).map_err(render_failure)?;

@@ -162,9 +162,9 @@ pub fn write_slice(
     let (plane, window) = (view.plane, look.window);
     let at = plane.point;
     let texture = VolumeTexture::upload(ctx, volume).map_err(|e| match e {
-        VolumeTextureError::TooLarge { .. } | VolumeTextureError::OutOfMemory { .. } => {
-            Failure::BadInput(e.into())
-        }
+        VolumeTextureError::TooLarge { .. }
+        | VolumeTextureError::Bricks { .. }
+        | VolumeTextureError::OutOfMemory { .. } => Failure::BadInput(e.into()),
         other => Failure::Other(other.into()),
     })?;
     let renderer = SliceRenderer::new(&ctx.device).failed()?;

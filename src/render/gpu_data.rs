@@ -202,6 +202,9 @@ pub fn layouts() -> Vec<StructLayout> {
             iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight, row_offset,
             row_end, all_finite, colour_volume,
         }),
+        layout!(VolumeGeometry = "VolumeGeometry" in "shared/volume_geometry.wgsl" {
+            dims, brick_vox, texel_size, slot_vox,
+        }),
         layout!(LevelInfo = "LevelInfo" in "leap/pyramid.wgsl" {
             nodes, offset, brick_vox, _pad0, _pad1, _pad2,
         }),
@@ -321,6 +324,21 @@ pub struct FrameUniforms {
     pub all_finite: u32,
     /// 1 for a colour volume: DVR and isosurfaces take each sample's own colour.
     pub colour_volume: u32,
+}
+
+/// Where the shaders find a voxel of the volume (`VolumeGeometry`, shaders/shared/volume.wgsl):
+/// in one texture of the volume's size, or in bricks of an atlas (`accel::bricks`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct VolumeGeometry {
+    /// Volume voxels per axis.
+    pub dims: [u32; 3],
+    /// Brick edge in voxels (0: one texture).
+    pub brick_vox: u32,
+    /// 1 / the texture's texels per axis (the volume's, or the atlas's).
+    pub texel_size: [f32; 3],
+    /// Edge of an atlas slot: the brick and its apron (0: one texture).
+    pub slot_vox: u32,
 }
 
 /// One pyramid level as the shaders read it (`LevelInfo`).

@@ -21,6 +21,8 @@ const MODULES: &[(&str, &str)] = modules![
     "entry/pack_rgba8.wgsl",
     "entry/slice.wgsl",
     "shared/common.wgsl",
+    "shared/volume.wgsl",
+    "shared/volume_geometry.wgsl",
     "shared/proxy.wgsl",
     "shared/classify.wgsl",
     "shared/stats.wgsl",

@@ -2,6 +2,7 @@
 //! by the GPU renderer, the CPU reference, the benchmarks, the command line and the window; no
 //! GPU code (the renderer turns them into pipelines and uniforms).
 
+pub mod bricking;
 pub mod crop;
 pub mod effects;
 pub mod precision;
@@ -9,6 +10,7 @@ pub mod quality;
 
 use serde::{Deserialize, Serialize};
 
+pub use bricking::Bricking;
 pub use crop::{CropBox, CropError};
 pub use effects::{
     GradientScheme, IsoSettings, Light, MAX_ISO_REFINEMENT, MipColor, Phong, Shading,

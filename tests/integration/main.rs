@@ -12,6 +12,7 @@ mod common;
 mod accuracy;
 mod bands;
 mod bench;
+mod bricks;
 mod cli;
 mod cropping;
 mod golden;

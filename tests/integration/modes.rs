@@ -24,7 +24,7 @@ fn render(
         .unwrap_or_else(|e| panic!("{settings:?}: {e}"))
 }
 
-fn cases() -> Vec<(&'static str, RenderSettings)> {
+pub(crate) fn cases() -> Vec<(&'static str, RenderSettings)> {
     let base = RenderSettings {
         step_vox: 0.5,
         ..RenderSettings::default()

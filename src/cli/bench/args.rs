@@ -39,6 +39,10 @@ pub struct BenchArgs {
     /// (absent there: each mode's default).
     #[arg(long)]
     pub block: Option<u32>,
+    /// The volumes on the GPU as one 3D texture or as bricks in an atlas (auto: bricks only
+    /// past the GPU's 3D texture limit): run twice to compare the two.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub bricks: leapview::settings::Bricking,
     /// Lighting in DVR and isosurfaces, in place of the configuration's phong.
     #[arg(long, value_enum)]
     pub shading: Option<Shading>,

@@ -6,10 +6,12 @@
 use wgpu::ShaderStages as S;
 
 use crate::render::texture::OUTPUT_FORMAT;
+use crate::render::volume_texture::VolumeView;
 
 /// The bind group layouts shared by all ray-casting pipelines.
 pub struct Layouts {
-    /// Group 0: frame uniforms, volume, sampler, transfer-function table, pre-integration table.
+    /// Group 0: frame uniforms, volume, sampler, transfer-function table, pre-integration table,
+    /// the volume's page table and geometry.
     pub frame: wgpu::BindGroupLayout,
     /// Group 1 of the fragment path: the exit-point texture.
     pub fragment_io: wgpu::BindGroupLayout,
@@ -26,8 +28,8 @@ pub struct Layouts {
 pub struct FrameResources<'a> {
     /// The frame uniforms.
     pub uniforms: &'a wgpu::Buffer,
-    /// The volume's 3D texture.
-    pub volume: &'a wgpu::TextureView,
+    /// The volume (its texels, page table and geometry).
+    pub volume: &'a VolumeView,
     /// The linear clamp-to-edge sampler.
     pub sampler: &'a wgpu::Sampler,
     /// The transfer function's lookup table.
@@ -141,6 +143,26 @@ impl Layouts {
                 },
                 texture_entry(3, D2, true, RAY_LOOP),
                 texture_entry(4, D2, false, RAY_LOOP),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 5,
+                    visibility: RAY_LOOP,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Uint,
+                        view_dimension: D3,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 6,
+                    visibility: RAY_LOOP,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
             ],
         );
         let fragment_io = layout(
@@ -190,10 +212,12 @@ impl Layouts {
             &self.frame,
             &[
                 r.uniforms.as_entire_binding(),
-                TextureView(r.volume),
+                TextureView(&r.volume.texels),
                 Sampler(r.sampler),
                 TextureView(r.lut),
                 TextureView(r.integrals),
+                TextureView(&r.volume.pages),
+                r.volume.geometry.as_entire_binding(),
             ],
         )
     }

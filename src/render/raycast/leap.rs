@@ -14,6 +14,7 @@ use crate::render::gpu_data::{
 use crate::render::probe::{ProbePool, ProbeSlot};
 use crate::render::shader::{ShaderError, compose, compute_pipeline, shader_module};
 use crate::render::table_texture::TableTexture;
+use crate::render::volume_texture::{PerLayout, VolumeView};
 use crate::settings::{Mode, RenderSettings, Strategy};
 
 use super::layouts::LeapResources;
@@ -21,7 +22,7 @@ use super::uniforms::LeapLevels;
 
 /// The builder pipelines, created once per renderer.
 pub struct LeapPipelines {
-    base: wgpu::ComputePipeline,
+    base: PerLayout<wgpu::ComputePipeline>,
     parent: wgpu::ComputePipeline,
     scan: wgpu::ComputePipeline,
     table: wgpu::ComputePipeline,
@@ -37,10 +38,18 @@ impl LeapPipelines {
             Ok(shader_module(device, name, compose(name, &[])?))
         };
         let minmax = module("build/minmax.wgsl")?;
+        let base = PerLayout::new(|defines| -> Result<_, ShaderError> {
+            let module = shader_module(
+                device,
+                "build/minmax.wgsl",
+                compose("build/minmax.wgsl", defines)?,
+            );
+            Ok(compute_pipeline(device, &module, "build_base"))
+        })?;
         let emptiness = module("build/emptiness.wgsl")?;
         let distance = module("build/distance.wgsl")?;
         Ok(Self {
-            base: compute_pipeline(device, &minmax, "build_base"),
+            base,
             parent: compute_pipeline(device, &minmax, "build_parent"),
             scan: compute_pipeline(device, &emptiness, "scan_lut"),
             table: compute_pipeline(device, &emptiness, "build_table"),
@@ -239,7 +248,7 @@ impl LeapStructures {
         &mut self,
         ctx: &GpuContext,
         pipelines: &LeapPipelines,
-        volume_view: &wgpu::TextureView,
+        volume: &VolumeView,
         encoder: &mut wgpu::CommandEncoder,
     ) -> bool {
         if self.minmax_ready {
@@ -252,7 +261,7 @@ impl LeapStructures {
         });
         for (l, level) in self.pyramid.levels.iter().enumerate() {
             let pipeline = if l == 0 {
-                &pipelines.base
+                pipelines.base.pick(volume)
             } else {
                 &pipelines.parent
             };
@@ -263,7 +272,7 @@ impl LeapStructures {
                 entry(2, self.minmax.as_entire_binding()),
             ];
             if l == 0 {
-                entries.push(entry(3, wgpu::BindingResource::TextureView(volume_view)));
+                entries.extend(volume.entries([3, 4, 5]));
             }
             let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("min/max build"),
@@ -446,8 +455,8 @@ pub struct LeapRequest<'a> {
     pub window_lo: f32,
     /// The iso value, normalised (isosurfaces with the distance field leap by it).
     pub iso_threshold: f32,
-    /// The volume's texture (the pyramid is built from it).
-    pub volume: &'a wgpu::TextureView,
+    /// The volume (the pyramid is built from it).
+    pub volume: &'a VolumeView,
 }
 
 /// Which structures one [`LeapStructures::prepare`] recorded a build of.

@@ -9,7 +9,7 @@ use crate::render::context::GpuContext;
 use crate::render::pack::Rgba8Reader;
 use crate::render::probe::{FrameResults, ProbePool};
 use crate::render::volume_texture::VolumeTexture;
-use crate::settings::{ConcretePath, Mode, RenderPath, RenderSettings, TexturePrecision};
+use crate::settings::{Bricking, ConcretePath, Mode, RenderPath, RenderSettings, TexturePrecision};
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
@@ -99,14 +99,16 @@ impl VolumeRenderer {
 
     /// Uploads `volume`, replacing the current one. On error the current volume stays.
     pub fn set_volume(&mut self, volume: &Volume) -> Result<(), RenderError> {
-        self.set_volume_with(volume, TexturePrecision::Auto)
+        self.set_volume_with(volume, TexturePrecision::Auto, Bricking::Auto)
     }
 
-    /// [`Self::set_volume`] with the texel precision forced (the accuracy benchmark's knob).
+    /// [`Self::set_volume`] with the texel precision (the accuracy benchmark's knob) and the
+    /// layout (one texture or bricks: the benchmark's) forced.
     pub fn set_volume_with(
         &mut self,
         volume: &Volume,
         precision: TexturePrecision,
+        bricking: Bricking,
     ) -> Result<(), RenderError> {
         let shared = FrameShared {
             uniforms: &self.uniforms,
@@ -118,7 +120,7 @@ impl VolumeRenderer {
             &self.pipelines.layouts,
             &shared,
             volume,
-            precision,
+            (precision, bricking),
         )?;
         self.volume = Some(uploaded);
         self.transfer.invalidate();
@@ -191,6 +193,11 @@ impl VolumeRenderer {
         self.volume.as_ref().is_some_and(|v| !v.all_finite)
     }
 
+    /// Whether the volume shown is bricked (its variants read through the page table).
+    fn is_bricked(&self) -> bool {
+        self.volume.as_ref().is_some_and(|v| v.texture.view.bricked)
+    }
+
     /// Bakes what the frame's settings need of the transfer function's tables.
     fn refresh_tables(&mut self, settings: &RenderSettings) {
         let Some(volume) = &self.volume else { return };
@@ -258,7 +265,7 @@ impl VolumeRenderer {
             request.stats,
             request.size,
         )
-        .for_volume(self.has_missing_voxels());
+        .for_volume(self.has_missing_voxels(), self.is_bricked());
         self.ensure_targets(request.size)?;
         let (first, last) = (rows[0] == 0, rows[1] >= request.size[1]);
         self.refresh_tables(settings);
@@ -385,7 +392,7 @@ impl VolumeRenderer {
         self.resolve_path(settings.path).is_ok_and(|path| {
             self.pipelines.has(
                 &PipelineKey::new(settings, path, stats, size)
-                    .for_volume(self.has_missing_voxels()),
+                    .for_volume(self.has_missing_voxels(), self.is_bricked()),
             )
         })
     }
@@ -401,7 +408,7 @@ impl VolumeRenderer {
     ) -> Result<(), RenderError> {
         let settings = &self.concrete_settings(settings, size);
         let key = PipelineKey::new(settings, self.resolve_path(settings.path)?, stats, size)
-            .for_volume(self.has_missing_voxels());
+            .for_volume(self.has_missing_voxels(), self.is_bricked());
         self.pipelines.for_frame(&self.ctx.device, key)?;
         Ok(())
     }

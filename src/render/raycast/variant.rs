@@ -36,6 +36,9 @@ pub struct PipelineKey {
     /// in the loop, never taken, cost lavapipe's fragment path accuracy on rays of tens of
     /// thousands of samples).
     pub missing: bool,
+    /// Whether the volume is bricked (`BRICKED`): every sample finds its brick through the page
+    /// table (shaders/shared/volume.wgsl). Set by the renderer from its volume.
+    pub bricked: bool,
 }
 
 /// The ray loops, one file each in `shaders/march/`, picked by [`PipelineKey::ray_loop`] as the
@@ -135,12 +138,18 @@ impl PipelineKey {
                 && !(settings.mode == Mode::Dvr && (settings.preintegrated || lit_by_weight))
                 && u64::from(size[0]) * u64::from(size[1]) <= SPLIT_MAX_PIXELS,
             missing: false,
+            bricked: false,
         }
     }
 
-    /// The same variant for a volume that has non-finite voxels (`missing`) or not.
-    pub(crate) fn for_volume(self, missing: bool) -> Self {
-        Self { missing, ..self }
+    /// The same variant for a volume that has non-finite voxels (`missing`) or not, bricked or
+    /// not.
+    pub(crate) fn for_volume(self, missing: bool, bricked: bool) -> Self {
+        Self {
+            missing,
+            bricked,
+            ..self
+        }
     }
 
     /// Every distinct variant, for validation tests.
@@ -171,14 +180,16 @@ impl PipelineKey {
                                     }
                                     for size in [[512, 512], [1920, 1080]] {
                                         let key = Self::new(&settings, path, stats, size);
-                                        // Volumes with missing voxels: every mode, strategy,
-                                        // path and lighting (the fallback touches only the
-                                        // sampling all of them share).
-                                        let with_missing = (!stats
+                                        // Volumes with missing voxels, bricked volumes and
+                                        // both: every mode, strategy, path and lighting (they
+                                        // touch only the sampling all of them share).
+                                        let sampled = !stats
                                             && gradient == GradientScheme::Central
-                                            && mip_color == MipColor::Window)
-                                            .then_some(key.for_volume(true));
-                                        for key in std::iter::once(key).chain(with_missing) {
+                                            && mip_color == MipColor::Window;
+                                        let others = [(true, false), (false, true), (true, true)]
+                                            .map(|(m, b)| key.for_volume(m, b));
+                                        let others = others.iter().filter(|_| sampled).copied();
+                                        for key in std::iter::once(key).chain(others) {
                                             if !keys.contains(&key) {
                                                 keys.push(key);
                                             }
@@ -235,6 +246,9 @@ impl PipelineKey {
         }
         if self.missing {
             defines.push("MISSING_VOXELS");
+        }
+        if self.bricked {
+            defines.push("BRICKED");
         }
         defines
     }

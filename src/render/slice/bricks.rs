@@ -7,6 +7,7 @@
 use crate::render::gpu_data::{BUILD_WORKGROUP, BuildParams, LevelInfo, SLAB_BRICK};
 
 use super::SliceRenderer;
+use crate::render::volume_texture::VolumeView;
 
 /// The slab's bricks of one volume texture (`vec2<f32>` per brick, x fastest).
 pub struct SliceBricks {
@@ -22,7 +23,7 @@ impl SliceRenderer {
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        volume: &wgpu::TextureView,
+        volume: &VolumeView,
         dims: [u32; 3],
         texel_max: f64,
     ) -> Option<SliceBricks> {
@@ -71,27 +72,26 @@ impl SliceRenderer {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
+        let pipeline = self.bricks_pipeline.pick(volume);
+        let mut entries = volume.entries([3, 4, 5]);
+        entries.extend([
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: levels.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: buffer.as_entire_binding(),
+            },
+        ]);
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("slab bricks"),
-            layout: &self.bricks_pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: levels.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(volume),
-                },
-            ],
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &entries,
         });
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("slab bricks"),
@@ -101,7 +101,7 @@ impl SliceRenderer {
                 label: Some("slab bricks"),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(&self.bricks_pipeline);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &group, &[]);
             let [x, y, z] = nodes.map(|n| n.div_ceil(BUILD_WORKGROUP));
             pass.dispatch_workgroups(x, y, z);

@@ -23,7 +23,7 @@ use super::context::GpuContext;
 use super::gpu_data::{SLAB_MEAN, SLAB_MINIP, SLAB_MIP, SliceParams, WORKGROUP};
 use super::shader::{ShaderError, compose, compute_pipeline, shader_module};
 use super::table_texture::TableTexture;
-use super::volume_texture::{VolumeTexture, texel_units};
+use super::volume_texture::{PerLayout, VolumeTexture, VolumeView, texel_units};
 
 /// How a view is sampled and shown.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -128,8 +128,8 @@ pub(crate) fn dispatch(params: &SliceParams) -> [u32; 2] {
 /// What a pass samples: the volume texture and, for a leaping slab, its bricks.
 #[derive(Clone, Copy)]
 pub struct SliceSource<'a> {
-    /// The volume texture (filterable, as the ray caster's).
-    pub texture: &'a wgpu::TextureView,
+    /// The volume (the ray caster's: one filterable texture or bricks).
+    pub texture: &'a VolumeView,
     /// The volume's bricks; without them a slab takes every sample.
     pub bricks: Option<&'a SliceBricks>,
     /// The transfer function's colours over the volume's value range
@@ -157,9 +157,9 @@ impl Output<'_> {
 
 /// The sampling pass's two variants and the bricks' builder, compiled once per device.
 pub struct SliceRenderer {
-    exact: wgpu::ComputePipeline,
-    display: wgpu::ComputePipeline,
-    bricks_pipeline: wgpu::ComputePipeline,
+    exact: PerLayout<wgpu::ComputePipeline>,
+    display: PerLayout<wgpu::ComputePipeline>,
+    bricks_pipeline: PerLayout<wgpu::ComputePipeline>,
     /// The display variant's trilinear sampler (clamp to edge).
     linear: wgpu::Sampler,
     /// Bound in place of bricks where there are none (the pass then takes every sample).
@@ -185,17 +185,18 @@ pub enum SliceError {
 impl SliceRenderer {
     /// Compiles the pass's variants and the bricks' builder.
     pub fn new(device: &wgpu::Device) -> Result<Self, SliceError> {
-        let exact = shader_module(device, "slice", compose("entry/slice.wgsl", &[])?);
-        let display = shader_module(
-            device,
-            "slice display",
-            compose("entry/slice.wgsl", &["DISPLAY"])?,
-        );
-        let minmax = shader_module(device, "slab bricks", compose("build/minmax.wgsl", &[])?);
+        // One pipeline per layout of the volume, from `file` with `defines` and the layout's.
+        let variant = |label: &str, file: &str, defines: &[&str], entry: &str| {
+            PerLayout::new(|layout| -> Result<_, ShaderError> {
+                let all: Vec<&str> = defines.iter().chain(layout).copied().collect();
+                let module = shader_module(device, label, compose(file, &all)?);
+                Ok(compute_pipeline(device, &module, entry))
+            })
+        };
         Ok(Self {
-            exact: compute_pipeline(device, &exact, "slice"),
-            display: compute_pipeline(device, &display, "slice"),
-            bricks_pipeline: compute_pipeline(device, &minmax, "build_base"),
+            exact: variant("slice", "entry/slice.wgsl", &[], "slice")?,
+            display: variant("slice display", "entry/slice.wgsl", &["DISPLAY"], "slice")?,
+            bricks_pipeline: variant("slab bricks", "build/minmax.wgsl", &[], "build_base")?,
             linear: device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("slice trilinear"),
                 mag_filter: wgpu::FilterMode::Linear,
@@ -244,15 +245,12 @@ impl SliceRenderer {
         }
         queue.write_buffer(output.params(), 0, bytemuck::bytes_of(&params));
         let pipeline = match output {
-            Output::Exact(_) => &self.exact,
-            Output::Display(_) => &self.display,
+            Output::Exact(_) => self.exact.pick(source.texture),
+            Output::Display(_) => self.display.pick(source.texture),
         };
         let bricks = source.bricks.map_or(&self.no_bricks, |b| &b.buffer);
-        let mut entries = vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(source.texture),
-            },
+        let mut entries = source.texture.entries([0, 6, 7]);
+        entries.extend([
             wgpu::BindGroupEntry {
                 binding: 1,
                 resource: output.params().as_entire_binding(),
@@ -261,7 +259,7 @@ impl SliceRenderer {
                 binding: 4,
                 resource: bricks.as_entire_binding(),
             },
-        ];
+        ]);
         match output {
             Output::Exact(t) => {
                 entries.push(wgpu::BindGroupEntry {

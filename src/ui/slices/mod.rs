@@ -17,7 +17,7 @@ use glam::DVec3;
 use crate::mpr::{PatientFrame, Plane, PlaneKind, Slab};
 use crate::render::slice::{SliceBricks, SliceRenderer};
 use crate::render::table_texture::TableTexture;
-use crate::render::volume_texture::texel_units;
+use crate::render::volume_texture::{VolumeView, texel_units};
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
@@ -37,7 +37,7 @@ struct SliceGpu {
 struct Source {
     volume: Arc<Volume>,
     frame: PatientFrame,
-    texture: wgpu::TextureView,
+    texture: VolumeView,
     format: wgpu::TextureFormat,
     /// Counts volumes shown: a new one redraws every pane.
     generation: u64,
@@ -165,7 +165,7 @@ impl SliceViews {
     pub fn set_volume(
         &mut self,
         volume: Arc<Volume>,
-        texture: wgpu::TextureView,
+        texture: VolumeView,
         format: wgpu::TextureFormat,
         window: [f64; 2],
     ) {

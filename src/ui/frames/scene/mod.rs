@@ -121,7 +121,12 @@ impl Scene {
     }
 
     /// The volume's texture on the GPU and its format (the slice views sample it too).
-    pub fn volume_texture(&self) -> Option<(wgpu::TextureView, wgpu::TextureFormat)> {
+    pub fn volume_texture(
+        &self,
+    ) -> Option<(
+        crate::render::volume_texture::VolumeView,
+        wgpu::TextureFormat,
+    )> {
         let handle = self.pump.handle();
         let shared = lock(&handle);
         shared

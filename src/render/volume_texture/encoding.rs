@@ -1,5 +1,4 @@
-//! The volume as a 3D texture: which format holds it, how stored values become texels, and the
-//! upload in slabs.
+//! Which texture format holds a volume and how its stored values become texels.
 //!
 //! The shader works on normalised values `s` in `[0, 1]` over the volume's normalisation range
 //! (data units). Integer volumes keep their exact stored values in unorm texels (`s` is then an
@@ -11,8 +10,6 @@
 use crate::settings::TexturePrecision;
 use crate::volume::{Samples, ScalarType, Volume};
 
-use super::context::GpuContext;
-
 /// Texel value of a NaN or infinite sample (the most negative finite f16).
 pub const MISSING: f32 = -65504.0;
 
@@ -21,9 +18,6 @@ pub const MISSING: f32 = -65504.0;
 /// non-zero hardware filter weight on `MISSING` (at least 1/256) gives at most −65504/256 + 1,
 /// far below it; finite values are at least 0.
 pub const MISSING_BELOW: f32 = -0.5;
-
-/// Largest slab uploaded in one `write_texture` call, in bytes.
-const SLAB_BYTES: usize = 64 << 20;
 
 /// How a volume is laid out in its texture.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,7 +43,10 @@ pub(crate) fn forced_format(precision: TexturePrecision) -> Option<wgpu::Texture
 }
 
 /// Formats to try for a scalar type, best first.
-fn candidates(scalar: ScalarType, has_non_finite: bool) -> &'static [wgpu::TextureFormat] {
+pub(super) fn candidates(
+    scalar: ScalarType,
+    has_non_finite: bool,
+) -> &'static [wgpu::TextureFormat] {
     use wgpu::TextureFormat::{R8Unorm, R16Float, R16Unorm, R32Float};
     match scalar {
         ScalarType::U8 | ScalarType::I8 => &[R8Unorm],
@@ -62,7 +59,7 @@ fn candidates(scalar: ScalarType, has_non_finite: bool) -> &'static [wgpu::Textu
 }
 
 /// Picks the format and encoding for `volume` given which formats the adapter can filter.
-fn choose_encoding(
+pub(super) fn choose_encoding(
     volume: &Volume,
     filterable: impl Fn(wgpu::TextureFormat) -> bool,
 ) -> TexelEncoding {
@@ -83,7 +80,7 @@ fn choose_encoding(
 
 /// The encoding of `volume` in `format`: exact integers where the format is the scalar type's
 /// natural unorm, else the normalised value (quantised in a unorm format).
-fn encoding_for(volume: &Volume, format: wgpu::TextureFormat) -> TexelEncoding {
+pub(super) fn encoding_for(volume: &Volume, format: wgpu::TextureFormat) -> TexelEncoding {
     let scalar = volume.scalar_type();
     let range = volume.normalization_range();
     let mapping = volume.mapping();
@@ -185,7 +182,7 @@ pub(crate) fn bytes_per_texel(format: wgpu::TextureFormat) -> usize {
 }
 
 /// Appends the texels of samples `range` of `volume` in `encoding` to `out` (little-endian).
-fn encode_texels(
+pub(super) fn encode_texels(
     volume: &Volume,
     encoding: &TexelEncoding,
     range: std::ops::Range<usize>,
@@ -240,273 +237,6 @@ fn encode_texels(
         (_, samples, _) => {
             range.for_each(|i| out.extend_from_slice(&normalized(samples.get_f64(i)).to_le_bytes()))
         }
-    }
-}
-
-/// Why a volume cannot go to the GPU.
-#[derive(Debug, thiserror::Error)]
-pub enum VolumeTextureError {
-    /// A dimension is larger than the adapter's 3D texture limit.
-    #[error(
-        "the volume is {dims:?} voxels but this GPU ({adapter}) takes at most {max} per axis in a \
-         3D texture; crop or downsample it: {name}"
-    )]
-    TooLarge {
-        /// The volume's path (else its name).
-        name: String,
-        /// Volume dimensions.
-        dims: [u32; 3],
-        /// The adapter's `max_texture_dimension_3d`.
-        max: u32,
-        /// Adapter name.
-        adapter: String,
-    },
-    /// The GPU ran out of memory creating the texture.
-    #[error(
-        "the GPU ({adapter}) has not enough memory for a {megabytes:.0} MB volume texture: {name}"
-    )]
-    OutOfMemory {
-        /// The volume's path (else its name).
-        name: String,
-        /// Texture size.
-        megabytes: f64,
-        /// Adapter name.
-        adapter: String,
-    },
-    /// Any other error creating or filling the texture.
-    #[error("the GPU refused the volume texture: {0}")]
-    Gpu(String),
-    /// The precision asked for cannot hold this volume on this adapter.
-    #[error("{precision} texels are not possible here: {why}")]
-    Precision {
-        /// The precision's label.
-        precision: &'static str,
-        /// Why not.
-        why: String,
-    },
-}
-
-/// The check a load makes of the volume's shape before reading its samples
-/// ([`crate::volume::LoadProgress::with_admission`]): each axis within this GPU's 3D texture
-/// limit, and a texture of the volume's size and format allocated (and let go) without running
-/// out of memory. What the texture upload would refuse after minutes of reading is refused
-/// first.
-pub fn admission(ctx: &GpuContext) -> Box<crate::volume::progress::Admission> {
-    let ctx = ctx.clone();
-    Box::new(move |shape: &crate::volume::progress::Shape| {
-        let max = ctx.limits.max_texture_dimension_3d;
-        if shape.dims.iter().any(|&d| d > max) {
-            return Err(format!(
-                "the volume is {} x {} x {} voxels but this GPU ({}) takes at most {max} per \
-                 axis in a 3D texture; crop or downsample it",
-                shape.dims[0], shape.dims[1], shape.dims[2], ctx.adapter_info.name
-            ));
-        }
-        // Integer formats as `choose_encoding` picks them; floats may hold NaN, which only
-        // float formats keep, and are sized as the widest.
-        let format = if shape.colour {
-            wgpu::TextureFormat::Rgba8Unorm
-        } else {
-            candidates(shape.scalar_type, false)
-                .iter()
-                .copied()
-                .find(|&f| ctx.is_filterable(f))
-                .unwrap_or(wgpu::TextureFormat::R16Float)
-        };
-        let megabytes = shape.dims.iter().map(|&d| d as f64).product::<f64>()
-            * bytes_per_texel(format) as f64
-            / 1e6;
-        let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let validation = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("volume admission"),
-            size: wgpu::Extent3d {
-                width: shape.dims[0],
-                height: shape.dims[1],
-                depth_or_array_layers: shape.dims[2],
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        let refused = pollster::block_on(validation.pop());
-        let out_of_memory = pollster::block_on(oom.pop());
-        texture.destroy();
-        if out_of_memory.is_some() {
-            return Err(format!(
-                "the GPU ({}) has not enough memory for a {megabytes:.0} MB volume texture",
-                ctx.adapter_info.name
-            ));
-        }
-        match refused {
-            Some(e) => Err(format!(
-                "the GPU ({}) refused a volume texture of {megabytes:.0} MB: {}",
-                ctx.adapter_info.name,
-                e.to_string().lines().next().unwrap_or_default()
-            )),
-            None => Ok(()),
-        }
-    })
-}
-
-/// The volume on the GPU.
-pub struct VolumeTexture {
-    /// The 3D texture.
-    pub texture: wgpu::Texture,
-    /// A view of all of it.
-    pub view: wgpu::TextureView,
-    /// How texels map to normalised values.
-    pub encoding: TexelEncoding,
-}
-
-impl VolumeTexture {
-    /// Checks the size against the adapter, creates the texture in the best format the adapter
-    /// filters and uploads the samples in slabs.
-    pub fn upload(ctx: &GpuContext, volume: &Volume) -> Result<Self, VolumeTextureError> {
-        Self::upload_with(ctx, volume, TexturePrecision::Auto)
-    }
-
-    /// [`Self::upload`] with the texel precision forced (`Auto`: as `upload`).
-    pub(crate) fn upload_with(
-        ctx: &GpuContext,
-        volume: &Volume,
-        precision: TexturePrecision,
-    ) -> Result<Self, VolumeTextureError> {
-        let dims = volume.dims();
-        let max = ctx.limits.max_texture_dimension_3d;
-        if dims.iter().any(|&d| d > max) {
-            return Err(VolumeTextureError::TooLarge {
-                name: volume.label(),
-                dims,
-                max,
-                adapter: ctx.adapter_info.name.clone(),
-            });
-        }
-        let encoding = match forced_format(precision) {
-            None => choose_encoding(volume, |f| ctx.is_filterable(f)),
-            Some(_) if volume.colour().is_some() => {
-                return Err(VolumeTextureError::Precision {
-                    precision: precision.label(),
-                    why: "a colour volume is stored as 8-bit luminance and colour".into(),
-                });
-            }
-            Some(format) => {
-                let refuse = |why: String| VolumeTextureError::Precision {
-                    precision: precision.label(),
-                    why,
-                };
-                if !ctx.is_filterable(format) {
-                    return Err(refuse(format!(
-                        "{} cannot filter {format:?} textures",
-                        ctx.adapter_info.name
-                    )));
-                }
-                if format != wgpu::TextureFormat::R32Float && volume.non_finite_count() > 0 {
-                    return Err(refuse(format!(
-                        "{} NaN or infinite samples need a float format",
-                        volume.non_finite_count()
-                    )));
-                }
-                encoding_for(volume, format)
-            }
-        };
-        if let Some(w) = encoding.warning {
-            log::warn!("{w} ({})", volume.name());
-        }
-        let bpt = bytes_per_texel(encoding.format);
-        let size = wgpu::Extent3d {
-            width: dims[0],
-            height: dims[1],
-            depth_or_array_layers: dims[2],
-        };
-        let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let validation = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("volume"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format: encoding.format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        // Refused at once, before any sample is encoded and sent.
-        let refused = pollster::block_on(validation.pop());
-        if pollster::block_on(oom.pop()).is_some() {
-            return Err(VolumeTextureError::OutOfMemory {
-                name: volume.label(),
-                megabytes: volume.sample_count() as f64 * bpt as f64 / 1e6,
-                adapter: ctx.adapter_info.name.clone(),
-            });
-        }
-        if let Some(e) = refused {
-            return Err(VolumeTextureError::Gpu(e.to_string()));
-        }
-        let uploaded = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        upload_slabs(ctx, &texture, volume, &encoding);
-        if let Some(e) = pollster::block_on(uploaded.pop()) {
-            return Err(VolumeTextureError::Gpu(e.to_string()));
-        }
-        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        Ok(Self {
-            texture,
-            view,
-            encoding,
-        })
-    }
-}
-
-/// Encodes `volume`'s samples in `encoding` and writes them into `texture`, a slab of slices at a
-/// time (at most [`SLAB_BYTES`] in memory at once).
-fn upload_slabs(
-    ctx: &GpuContext,
-    texture: &wgpu::Texture,
-    volume: &Volume,
-    encoding: &TexelEncoding,
-) {
-    let dims = volume.dims();
-    let bpt = bytes_per_texel(encoding.format);
-    let slice_texels = dims[0] as usize * dims[1] as usize;
-    let slices_per_slab = (SLAB_BYTES / (slice_texels * bpt)).max(1);
-    let mut bytes = Vec::new();
-    let mut z = 0usize;
-    while z < dims[2] as usize {
-        let z_end = (z + slices_per_slab).min(dims[2] as usize);
-        bytes.clear();
-        encode_texels(
-            volume,
-            encoding,
-            z * slice_texels..z_end * slice_texels,
-            &mut bytes,
-        );
-        ctx.queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d {
-                    x: 0,
-                    y: 0,
-                    z: z as u32,
-                },
-                aspect: wgpu::TextureAspect::All,
-            },
-            &bytes,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(dims[0] * bpt as u32),
-                rows_per_image: Some(dims[1]),
-            },
-            wgpu::Extent3d {
-                width: dims[0],
-                height: dims[1],
-                depth_or_array_layers: (z_end - z) as u32,
-            },
-        );
-        z = z_end;
     }
 }
 

@@ -1,0 +1,76 @@
+//! The admission check a load makes before reading samples.
+
+use crate::render::context::GpuContext;
+
+use super::encoding::{bytes_per_texel, candidates};
+use super::plan::plan;
+use crate::settings::Bricking;
+
+/// The check a load makes of the volume's shape before reading its samples
+/// ([`crate::volume::LoadProgress::with_admission`]): a layout on this GPU (one texture, or
+/// bricks where an axis is past its 3D texture limit), and a texture of that size and format allocated (and let go) without running
+/// out of memory. What the texture upload would refuse after minutes of reading is refused
+/// first.
+pub fn admission(ctx: &GpuContext) -> Box<crate::volume::progress::Admission> {
+    let ctx = ctx.clone();
+    Box::new(move |shape: &crate::volume::progress::Shape| {
+        let max = ctx.limits.max_texture_dimension_3d;
+        // The default layout: one texture where the volume fits it, else bricks.
+        let extent = match plan(shape.dims, Bricking::Auto, max) {
+            Ok(plan) => plan.extent(),
+            Err(e) => {
+                return Err(format!(
+                    "the volume is {} x {} x {} voxels and has no layout on this GPU ({}): {e}",
+                    shape.dims[0], shape.dims[1], shape.dims[2], ctx.adapter_info.name
+                ));
+            }
+        };
+        // Integer formats as `choose_encoding` picks them; floats may hold NaN, which only
+        // float formats keep, and are sized as the widest.
+        let format = if shape.colour {
+            wgpu::TextureFormat::Rgba8Unorm
+        } else {
+            candidates(shape.scalar_type, false)
+                .iter()
+                .copied()
+                .find(|&f| ctx.is_filterable(f))
+                .unwrap_or(wgpu::TextureFormat::R16Float)
+        };
+        let megabytes = extent.iter().map(|&d| d as f64).product::<f64>()
+            * bytes_per_texel(format) as f64
+            / 1e6;
+        let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("volume admission"),
+            size: wgpu::Extent3d {
+                width: extent[0],
+                height: extent[1],
+                depth_or_array_layers: extent[2],
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let refused = pollster::block_on(validation.pop());
+        let out_of_memory = pollster::block_on(oom.pop());
+        texture.destroy();
+        if out_of_memory.is_some() {
+            return Err(format!(
+                "the GPU ({}) has not enough memory for a {megabytes:.0} MB volume texture",
+                ctx.adapter_info.name
+            ));
+        }
+        match refused {
+            Some(e) => Err(format!(
+                "the GPU ({}) refused a volume texture of {megabytes:.0} MB: {}",
+                ctx.adapter_info.name,
+                e.to_string().lines().next().unwrap_or_default()
+            )),
+            None => Ok(()),
+        }
+    })
+}

@@ -1,0 +1,356 @@
+//! The volume on the GPU: one 3D texture, or bricks in an atlas found through a page table
+//! (`accel::bricks`; [`Bricking`] says which), uploaded in slabs or brick by brick. Every shader
+//! reads it through `shaders/shared/volume.wgsl`, which hides which.
+
+mod admission;
+mod atlas;
+mod encoding;
+mod plan;
+
+pub use admission::admission;
+pub use encoding::{MISSING, MISSING_BELOW, TexelEncoding, texel_units};
+pub(crate) use encoding::{bytes_per_texel, forced_format};
+
+use crate::settings::{Bricking, TexturePrecision};
+use crate::volume::Volume;
+
+use wgpu::util::DeviceExt;
+
+use super::context::GpuContext;
+use super::gpu_data::VolumeGeometry;
+use crate::accel::bricks::{BrickError, BrickLayout};
+use encoding::{choose_encoding, encode_texels, encoding_for};
+use plan::{Plan, PlanError, plan};
+
+/// Largest slab uploaded in one `write_texture` call, in bytes.
+const SLAB_BYTES: usize = 64 << 20;
+
+/// Why a volume cannot go to the GPU.
+#[derive(Debug, thiserror::Error)]
+pub enum VolumeTextureError {
+    /// A dimension is larger than the adapter's 3D texture limit.
+    #[error(
+        "the volume is {dims:?} voxels but this GPU ({adapter}) takes at most {max} per axis in one \
+         3D texture; leave it to be bricked (--bricks auto), or crop or downsample it: {name}"
+    )]
+    TooLarge {
+        /// The volume's path (else its name).
+        name: String,
+        /// Volume dimensions.
+        dims: [u32; 3],
+        /// The adapter's `max_texture_dimension_3d`.
+        max: u32,
+        /// Adapter name.
+        adapter: String,
+    },
+    /// The GPU ran out of memory creating the texture.
+    #[error(
+        "the GPU ({adapter}) has not enough memory for a {megabytes:.0} MB volume texture: {name}"
+    )]
+    OutOfMemory {
+        /// The volume's path (else its name).
+        name: String,
+        /// Texture size.
+        megabytes: f64,
+        /// Adapter name.
+        adapter: String,
+    },
+    /// The volume's bricks do not fit an atlas within the adapter's limits.
+    #[error("the volume cannot be bricked on this GPU: {why}: {name}")]
+    Bricks {
+        /// The volume's path (else its name).
+        name: String,
+        /// Why not.
+        why: BrickError,
+    },
+    /// Any other error creating or filling the texture.
+    #[error("the GPU refused the volume texture: {0}")]
+    Gpu(String),
+    /// The precision asked for cannot hold this volume on this adapter.
+    #[error("{precision} texels are not possible here: {why}")]
+    Precision {
+        /// The precision's label.
+        precision: &'static str,
+        /// Why not.
+        why: String,
+    },
+}
+
+/// What a shader binds to read the volume (`shaders/shared/volume.wgsl`): its texels, the page
+/// table and the geometry that find a voxel among them. Cheap to clone.
+#[derive(Clone, Debug)]
+pub struct VolumeView {
+    /// The whole volume, or the atlas of its bricks.
+    pub texels: wgpu::TextureView,
+    /// The page table (one texel, unread, for a volume in one texture).
+    pub pages: wgpu::TextureView,
+    /// The `VolumeGeometry` uniform.
+    pub geometry: wgpu::Buffer,
+    /// Whether the volume is bricked (the shaders' `BRICKED` variants read it).
+    pub bricked: bool,
+}
+
+impl VolumeView {
+    /// The bind group entries of the texels, the page table and the geometry at `bindings`, as
+    /// a pipeline compiled for this layout with an automatic layout uses them: the page table
+    /// only where the volume is bricked.
+    pub fn entries(&self, bindings: [u32; 3]) -> Vec<wgpu::BindGroupEntry<'_>> {
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: bindings[0],
+                resource: wgpu::BindingResource::TextureView(&self.texels),
+            },
+            wgpu::BindGroupEntry {
+                binding: bindings[2],
+                resource: self.geometry.as_entire_binding(),
+            },
+        ];
+        if self.bricked {
+            entries.push(wgpu::BindGroupEntry {
+                binding: bindings[1],
+                resource: wgpu::BindingResource::TextureView(&self.pages),
+            });
+        }
+        entries
+    }
+}
+
+/// One of a shader's pipelines (or anything else) for each layout of the volume: compiled
+/// without and with `BRICKED`.
+pub(crate) struct PerLayout<T> {
+    single: T,
+    bricked: T,
+}
+
+impl<T> PerLayout<T> {
+    /// Makes both, `make` taking the preprocessor symbols that select the layout.
+    pub(crate) fn new<E>(make: impl Fn(&[&str]) -> Result<T, E>) -> Result<Self, E> {
+        Ok(Self {
+            single: make(&[])?,
+            bricked: make(&["BRICKED"])?,
+        })
+    }
+
+    /// The one for the layout of `view`.
+    pub(crate) fn pick(&self, view: &VolumeView) -> &T {
+        if view.bricked {
+            &self.bricked
+        } else {
+            &self.single
+        }
+    }
+}
+
+/// The volume on the GPU.
+pub struct VolumeTexture {
+    /// The 3D texture: the whole volume, or the atlas of its bricks.
+    pub texture: wgpu::Texture,
+    /// What shaders bind to read it.
+    pub view: VolumeView,
+    /// How texels map to normalised values.
+    pub encoding: TexelEncoding,
+    /// The bricks, where the volume is bricked.
+    pub bricks: Option<BrickLayout>,
+}
+
+impl VolumeTexture {
+    /// Checks the size against the adapter, creates the texture in the best format the adapter
+    /// filters (one texture where the volume fits, else bricks) and uploads the samples.
+    pub fn upload(ctx: &GpuContext, volume: &Volume) -> Result<Self, VolumeTextureError> {
+        Self::upload_with(ctx, volume, TexturePrecision::Auto, Bricking::Auto)
+    }
+
+    /// [`Self::upload`] with the texel precision and the layout forced (`Auto`: as `upload`).
+    pub fn upload_with(
+        ctx: &GpuContext,
+        volume: &Volume,
+        precision: TexturePrecision,
+        bricking: Bricking,
+    ) -> Result<Self, VolumeTextureError> {
+        let dims = volume.dims();
+        let max = ctx.limits.max_texture_dimension_3d;
+        let plan = plan(dims, bricking, max).map_err(|e| match e {
+            PlanError::TooLarge { max } => VolumeTextureError::TooLarge {
+                name: volume.label(),
+                dims,
+                max,
+                adapter: ctx.adapter_info.name.clone(),
+            },
+            PlanError::Bricks(e) => VolumeTextureError::Bricks {
+                name: volume.label(),
+                why: e,
+            },
+        })?;
+        let encoding = Self::encoding(ctx, volume, precision)?;
+        if let Some(w) = encoding.warning {
+            log::warn!("{w} ({})", volume.name());
+        }
+        let bpt = bytes_per_texel(encoding.format);
+        let [width, height, depth] = plan.extent();
+        let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("volume"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: depth,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: encoding.format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        // Refused at once, before any sample is encoded and sent.
+        let refused = pollster::block_on(validation.pop());
+        if pollster::block_on(oom.pop()).is_some() {
+            return Err(VolumeTextureError::OutOfMemory {
+                name: volume.label(),
+                megabytes: [width, height, depth]
+                    .map(f64::from)
+                    .iter()
+                    .product::<f64>()
+                    * bpt as f64
+                    / 1e6,
+                adapter: ctx.adapter_info.name.clone(),
+            });
+        }
+        if let Some(e) = refused {
+            return Err(VolumeTextureError::Gpu(e.to_string()));
+        }
+        let uploaded = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let (pages, bricks) = match plan {
+            Plan::Single(_) => {
+                upload_slabs(ctx, &texture, volume, &encoding);
+                (atlas::no_page_table(ctx), None)
+            }
+            Plan::Bricked(layout) => {
+                atlas::upload_bricks(ctx, &texture, volume, &encoding, &layout);
+                (atlas::page_table(ctx, &layout), Some(layout))
+            }
+        };
+        if let Some(e) = pollster::block_on(uploaded.pop()) {
+            return Err(VolumeTextureError::Gpu(e.to_string()));
+        }
+        let geometry = geometry(dims, plan);
+        let view = VolumeView {
+            texels: texture.create_view(&wgpu::TextureViewDescriptor::default()),
+            pages: pages.create_view(&wgpu::TextureViewDescriptor::default()),
+            geometry: ctx
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("volume geometry"),
+                    contents: bytemuck::bytes_of(&geometry),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                }),
+            bricked: bricks.is_some(),
+        };
+        Ok(Self {
+            texture,
+            view,
+            encoding,
+            bricks,
+        })
+    }
+
+    /// The encoding `precision` asks for, where this adapter and `volume` allow it.
+    fn encoding(
+        ctx: &GpuContext,
+        volume: &Volume,
+        precision: TexturePrecision,
+    ) -> Result<TexelEncoding, VolumeTextureError> {
+        match forced_format(precision) {
+            None => Ok(choose_encoding(volume, |f| ctx.is_filterable(f))),
+            Some(_) if volume.colour().is_some() => Err(VolumeTextureError::Precision {
+                precision: precision.label(),
+                why: "a colour volume is stored as 8-bit luminance and colour".into(),
+            }),
+            Some(format) => {
+                let refuse = |why: String| VolumeTextureError::Precision {
+                    precision: precision.label(),
+                    why,
+                };
+                if !ctx.is_filterable(format) {
+                    return Err(refuse(format!(
+                        "{} cannot filter {format:?} textures",
+                        ctx.adapter_info.name
+                    )));
+                }
+                if format != wgpu::TextureFormat::R32Float && volume.non_finite_count() > 0 {
+                    return Err(refuse(format!(
+                        "{} NaN or infinite samples need a float format",
+                        volume.non_finite_count()
+                    )));
+                }
+                Ok(encoding_for(volume, format))
+            }
+        }
+    }
+}
+
+/// The `VolumeGeometry` uniform of a volume of `dims` laid out by `plan`.
+fn geometry(dims: [u32; 3], plan: Plan) -> VolumeGeometry {
+    let extent = plan.extent();
+    let (brick_vox, slot_vox) = match plan {
+        Plan::Single(_) => (0, 0),
+        Plan::Bricked(layout) => (layout.brick_vox, layout.slot_vox()),
+    };
+    VolumeGeometry {
+        dims,
+        brick_vox,
+        texel_size: extent.map(|e| 1.0 / e as f32),
+        slot_vox,
+    }
+}
+
+/// Encodes `volume`'s samples in `encoding` and writes them into `texture`, a slab of slices at a
+/// time (at most [`SLAB_BYTES`] in memory at once).
+fn upload_slabs(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    volume: &Volume,
+    encoding: &TexelEncoding,
+) {
+    let dims = volume.dims();
+    let bpt = bytes_per_texel(encoding.format);
+    let slice_texels = dims[0] as usize * dims[1] as usize;
+    let slices_per_slab = (SLAB_BYTES / (slice_texels * bpt)).max(1);
+    let mut bytes = Vec::new();
+    let mut z = 0usize;
+    while z < dims[2] as usize {
+        let z_end = (z + slices_per_slab).min(dims[2] as usize);
+        bytes.clear();
+        encode_texels(
+            volume,
+            encoding,
+            z * slice_texels..z_end * slice_texels,
+            &mut bytes,
+        );
+        ctx.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d {
+                    x: 0,
+                    y: 0,
+                    z: z as u32,
+                },
+                aspect: wgpu::TextureAspect::All,
+            },
+            &bytes,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(dims[0] * bpt as u32),
+                rows_per_image: Some(dims[1]),
+            },
+            wgpu::Extent3d {
+                width: dims[0],
+                height: dims[1],
+                depth_or_array_layers: (z_end - z) as u32,
+            },
+        );
+        z = z_end;
+    }
+}
