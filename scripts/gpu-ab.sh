@@ -13,6 +13,8 @@
 # (and `--unlit`) goes to /tmp/r/shaders-NAME.md, where the driver reports statistics; the SM
 # clock is logged every 500 ms to /tmp/r/clock.log. After every run /tmp/r is packed into
 # OUT/r.tgz (the device tool brings back 8 files a call; a call cut short keeps what it ran).
+# A member NAME.flags is not a build: its one line of flags is added to build NAME's runs (the
+# same build twice under two names, e.g. `--bricks off` against `--bricks on`).
 # Bench flags go to every run; give `--config` (a configuration in bench/: its transfer-function
 # paths are relative to it) and `--data-dir .bench-data`. Carry [".gl", ".bench-data"].
 set -euo pipefail
@@ -35,7 +37,9 @@ source scripts/gpu-env.sh || exit 1
 bins=$(mktemp -d)
 mkdir -p /tmp/r "$out"
 tar xJf "$archive" -C "$bins"
-mapfile -t names < <(tar tJf "$archive")
+mapfile -t names < <(tar tJf "$archive" | grep -v '\.flags$')
+# Flags of build $1 from its NAME.flags member, if any.
+flags_of() { [[ -f "$bins/$1.flags" ]] && cat "$bins/$1.flags" || true; }
 pack() { tar czf "$out/r.tgz" -C /tmp r; }
 
 if command -v nvidia-smi >/dev/null; then
@@ -54,7 +58,8 @@ status=0
 for round in $(seq 1 "$rounds"); do
     for name in "${names[@]}"; do
         run="$name-$round"
-        if "$bins/$name" bench "$@" --out "/tmp/r/$run" >"/tmp/r/$run.log" 2>&1; then
+        # shellcheck disable=SC2046 # the flags are words
+        if "$bins/$name" bench "$@" $(flags_of "$name") --out "/tmp/r/$run" >"/tmp/r/$run.log" 2>&1; then
             echo "$run: $(tail -n 1 "/tmp/r/$run.log")"
         else
             status=$?

@@ -8,6 +8,12 @@
 //! `floor(c / brick_vox)`; trilinear there reads voxels `floor(c − ½)` and `floor(c − ½) + 1`,
 //! all within the brick extended by one voxel: the apron. Voxels outside the volume repeat the
 //! nearest edge voxel (clamp to edge, as the sampler does).
+//!
+//! The atlas holds the bricks of one level of the volume (`volume::downsample`: level `k` halves
+//! every axis `k` times), the finest whose bricks fit the GPU memory budget. The page table has
+//! one entry per brick of level 0; each names the slot and level of the brick that holds its
+//! voxels (at level `k`, its ancestor: brick `b >> k`), so the shaders sample any level through
+//! the same lookup, at continuous coordinate `c / 2^k`.
 
 /// Voxels of apron on every side of a brick in its slot.
 pub const APRON: u32 = 1;
@@ -16,8 +22,11 @@ pub const APRON: u32 = 1;
 /// Octree's 32³; with the apron a slot is 34³, 1.2× the payload).
 pub const DEFAULT_BRICK_VOX: u32 = 32;
 
-/// Bits of one slot coordinate in a page-table entry.
-const SLOT_BITS: u32 = 10;
+/// Bits of one slot coordinate in a page-table entry (three of them, then four of the level).
+const SLOT_BITS: u32 = 9;
+
+/// Levels a page-table entry can name.
+pub const MAX_LEVELS: u32 = 16;
 
 /// Why a volume cannot be bricked within the adapter's limits.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -39,16 +48,41 @@ pub enum BrickError {
     /// pyramid's nodes).
     #[error("a brick edge of {0} voxels is not a power of two from 4 to 256")]
     Edge(u32),
+    /// Not even the coarsest level fits the GPU memory budget.
+    #[error(
+        "a GPU memory budget of {} is smaller than the volume's coarsest level ({})",
+        crate::text::bytes(*budget_bytes),
+        crate::text::bytes(*coarsest_bytes)
+    )]
+    Budget {
+        /// The budget.
+        budget_bytes: u64,
+        /// What the coarsest level's bricks take.
+        coarsest_bytes: u64,
+    },
 }
 
-/// How a volume is cut into bricks and where each brick lives in the atlas.
+pub use crate::volume::downsample::level_dims;
+
+/// Levels of a volume of `dims` in bricks of `brick_vox`: halving until one brick holds a level.
+pub fn level_count(dims: [u32; 3], brick_vox: u32) -> u32 {
+    let mut level = 0;
+    while level_dims(dims, level).iter().any(|&d| d > brick_vox) {
+        level += 1;
+    }
+    level + 1
+}
+
+/// How a volume is cut into bricks and where each brick of the level held lives in the atlas.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BrickLayout {
-    /// Volume voxels per axis.
+    /// Volume voxels per axis (level 0).
     pub dims: [u32; 3],
     /// Brick edge in voxels (without the apron).
     pub brick_vox: u32,
-    /// Bricks per axis (`ceil(dims / brick_vox)`).
+    /// The level the atlas holds (0: full resolution).
+    pub level: u32,
+    /// Bricks of that level per axis.
     pub bricks: [u32; 3],
     /// Atlas slots per axis.
     pub slots: [u32; 3],
@@ -58,10 +92,49 @@ impl BrickLayout {
     /// The layout of a volume of `dims` in bricks of `brick_vox`, in an atlas of at most
     /// `max_texels` per axis, its slots about as many along each axis.
     pub fn new(dims: [u32; 3], brick_vox: u32, max_texels: u32) -> Result<Self, BrickError> {
+        Self::at_level(dims, brick_vox, 0, max_texels)
+    }
+
+    /// The finest level of a volume of `dims` whose bricks fit `budget_bytes` (each slot
+    /// `slot_vox³ × bytes_per_texel`) and an atlas of at most `max_texels` per axis.
+    pub fn finest_within(
+        dims: [u32; 3],
+        brick_vox: u32,
+        max_texels: u32,
+        (budget_bytes, bytes_per_texel): (u64, u64),
+    ) -> Result<Self, BrickError> {
+        let levels = level_count(dims, brick_vox).min(MAX_LEVELS);
+        let slot_bytes = u64::from(brick_vox + 2 * APRON).pow(3) * bytes_per_texel;
+        let mut last = Err(BrickError::Edge(brick_vox));
+        for level in 0..levels {
+            let layout = Self::at_level(dims, brick_vox, level, max_texels);
+            if let Ok(l) = layout
+                && u64::from(l.count()) * slot_bytes <= budget_bytes
+            {
+                return Ok(l);
+            }
+            last = layout;
+        }
+        match last {
+            Ok(coarsest) => Err(BrickError::Budget {
+                budget_bytes,
+                coarsest_bytes: u64::from(coarsest.count()) * slot_bytes,
+            }),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// The layout of level `level` of a volume of `dims`.
+    pub fn at_level(
+        dims: [u32; 3],
+        brick_vox: u32,
+        level: u32,
+        max_texels: u32,
+    ) -> Result<Self, BrickError> {
         if !brick_vox.is_power_of_two() || !(4..=256).contains(&brick_vox) {
             return Err(BrickError::Edge(brick_vox));
         }
-        let bricks = dims.map(|d| d.max(1).div_ceil(brick_vox));
+        let bricks = level_dims(dims, level).map(|d| d.div_ceil(brick_vox));
         let count: u64 = bricks.iter().map(|&b| u64::from(b)).product();
         let per_axis = u64::from((max_texels / (brick_vox + 2 * APRON)).min((1 << SLOT_BITS) - 1));
         let full = || BrickError::AtlasFull {
@@ -82,9 +155,25 @@ impl BrickLayout {
         Ok(Self {
             dims,
             brick_vox,
+            level: level.min(MAX_LEVELS - 1),
             bricks,
             slots: [sx as u32, sy as u32, sz as u32],
         })
+    }
+
+    /// Voxels per axis of the level held.
+    pub fn level_dims(&self) -> [u32; 3] {
+        level_dims(self.dims, self.level)
+    }
+
+    /// Entries of the page table per axis: the bricks of level 0.
+    pub fn pages(&self) -> [u32; 3] {
+        self.dims.map(|d| d.max(1).div_ceil(self.brick_vox))
+    }
+
+    /// Bytes of the atlas's slots that hold bricks, at `bytes_per_texel`.
+    pub fn brick_bytes(&self, bytes_per_texel: u64) -> u64 {
+        u64::from(self.count()) * u64::from(self.slot_vox()).pow(3) * bytes_per_texel
     }
 
     /// Edge of a slot: the brick and its apron.
@@ -114,24 +203,50 @@ impl BrickLayout {
         [index % sx, (index / sx) % sy, index / (sx * sy)]
     }
 
-    /// The page-table entry that sends a brick to `slot`: its coordinates, ten bits each.
-    pub fn page_entry(slot: [u32; 3]) -> u32 {
-        slot[0] | (slot[1] << SLOT_BITS) | (slot[2] << (2 * SLOT_BITS))
+    /// The page-table entry that sends a brick to `slot` of a brick of `level`: its
+    /// coordinates nine bits each, then the level in four.
+    pub fn page_entry(slot: [u32; 3], level: u32) -> u32 {
+        slot[0] | (slot[1] << SLOT_BITS) | (slot[2] << (2 * SLOT_BITS)) | (level << (3 * SLOT_BITS))
     }
 
-    /// The page table while every brick is resident, x fastest.
+    /// The slot and level a page-table entry names.
+    pub fn decode_entry(entry: u32) -> ([u32; 3], u32) {
+        let mask = (1 << SLOT_BITS) - 1;
+        (
+            [
+                entry & mask,
+                (entry >> SLOT_BITS) & mask,
+                (entry >> (2 * SLOT_BITS)) & mask,
+            ],
+            entry >> (3 * SLOT_BITS),
+        )
+    }
+
+    /// The page table while every brick of the level held is resident, x fastest: each brick of
+    /// level 0 sent to its ancestor's slot.
     pub fn resident_pages(&self) -> Vec<u32> {
-        (0..self.count())
-            .map(|i| Self::page_entry(self.slot_of(i)))
-            .collect()
+        let [px, py, pz] = self.pages();
+        let [bx, by, _] = self.bricks;
+        let mut pages = Vec::with_capacity((px * py * pz) as usize);
+        for z in 0..pz {
+            for y in 0..py {
+                for x in 0..px {
+                    let a = [x, y, z].map(|b| b >> self.level);
+                    let slot = self.slot_of(a[0] + bx * (a[1] + by * a[2]));
+                    pages.push(Self::page_entry(slot, self.level));
+                }
+            }
+        }
+        pages
     }
 
-    /// The volume voxel held at texel `t` of brick `brick`'s slot (t in `0..slot_vox` per axis;
-    /// the apron's and the overhang's texels repeat the nearest voxel inside the volume).
+    /// The voxel of the level held at texel `t` of brick `brick`'s slot (t in `0..slot_vox` per
+    /// axis; the apron's and the overhang's texels repeat the nearest voxel inside the level).
     pub fn voxel_of(&self, brick: [u32; 3], t: [u32; 3]) -> [u32; 3] {
+        let dims = self.level_dims();
         std::array::from_fn(|a| {
             let v = i64::from(brick[a] * self.brick_vox) + i64::from(t[a]) - i64::from(APRON);
-            v.clamp(0, i64::from(self.dims[a].max(1) - 1)) as u32
+            v.clamp(0, i64::from(dims[a] - 1)) as u32
         })
     }
 }
@@ -199,7 +314,8 @@ mod tests {
             let b: [u32; 3] = std::array::from_fn(|a| (c[a] / 8.0).floor() as u32);
             let entry =
                 pages[(b[0] + layout.bricks[0] * (b[1] + layout.bricks[1] * b[2])) as usize];
-            let slot = [entry & 1023, (entry >> 10) & 1023, entry >> 20];
+            let (slot, level) = BrickLayout::decode_entry(entry);
+            assert_eq!(level, 0);
             let at: [f64; 3] = std::array::from_fn(|a| {
                 f64::from(slot[a] * s + APRON) + c[a] - f64::from(b[a] * 8)
             });
@@ -236,7 +352,50 @@ mod tests {
             matches!(err, BrickError::AtlasFull { bricks: 576, .. }),
             "{err}"
         );
+        // The budget: a volume whose coarsest level is one brick needs one slot.
+        let slot = 34u64.pow(3);
+        let err = BrickLayout::finest_within([300, 200, 100], 32, 4096, (slot - 1, 1))
+            .expect_err("budget");
+        assert_eq!(
+            err,
+            BrickError::Budget {
+                budget_bytes: slot - 1,
+                coarsest_bytes: slot
+            }
+        );
         assert!(BrickLayout::new([32 * 8; 3], 32, 8 * 34).is_ok());
+    }
+
+    #[test]
+    fn a_budget_picks_the_finest_level_whose_bricks_fit() {
+        // 300 × 200 × 100 in 32³: 10 × 7 × 4 = 280 bricks at level 0, 5 × 4 × 2 = 40 at 1,
+        // 3 × 2 × 1 = 6 at 2, 2 × 1 × 1 at 3, 1 at 4.
+        assert_eq!(level_count([300, 200, 100], 32), 5);
+        let slot = 34u64.pow(3);
+        for (slots, level) in [(280, 0), (279, 1), (40, 1), (39, 2), (6, 2), (2, 3), (1, 4)] {
+            let layout = BrickLayout::finest_within([300, 200, 100], 32, 4096, (slots * slot, 1))
+                .expect("fits");
+            assert_eq!(layout.level, level, "{slots} slots");
+            assert!(u64::from(layout.count()) <= slots);
+        }
+    }
+
+    #[test]
+    fn a_coarser_levels_pages_send_each_brick_to_its_ancestor() {
+        let layout = BrickLayout::at_level([300, 200, 100], 32, 2, 4096).expect("fits");
+        assert_eq!(layout.level_dims(), [75, 50, 25]);
+        assert_eq!(layout.bricks, [3, 2, 1]);
+        let pages = layout.resident_pages();
+        let [px, py, _] = layout.pages();
+        assert_eq!(layout.pages(), [10, 7, 4]);
+        for (i, &e) in pages.iter().enumerate() {
+            let i = i as u32;
+            let b = [i % px, (i / px) % py, i / (px * py)];
+            let a = b.map(|v| v >> 2);
+            let (slot, level) = BrickLayout::decode_entry(e);
+            assert_eq!(level, 2);
+            assert_eq!(slot, layout.slot_of(a[0] + 3 * (a[1] + 2 * a[2])), "{b:?}");
+        }
     }
 
     #[test]
@@ -244,8 +403,7 @@ mod tests {
         let layout = BrickLayout::new([300, 200, 100], 16, 2048).expect("fits");
         let pages = layout.resident_pages();
         for (i, &e) in pages.iter().enumerate() {
-            let slot = [e & 1023, (e >> 10) & 1023, e >> 20];
-            assert_eq!(slot, layout.slot_of(i as u32));
+            assert_eq!(BrickLayout::decode_entry(e), (layout.slot_of(i as u32), 0));
         }
     }
 }

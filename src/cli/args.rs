@@ -28,6 +28,24 @@ pub struct Cli {
     /// Layout of a raw file.
     #[command(flatten)]
     pub raw: RawArgs,
+    /// GPU memory.
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+/// The GPU memory a volume may take.
+#[derive(Args, Debug, Clone, Copy, Default)]
+pub struct GpuArgs {
+    /// GPU memory the volume may take: 2GB, 512MiB, 800M… Past it, or past the GPU's 3D texture
+    /// limit, the volume is shown from bricks of a coarser level (one line says which).
+    ///
+    /// Without it, only the GPU's limits bound it.
+    #[arg(long, value_parser = parse_gpu_budget, help_heading = "GPU", hide_short_help = true)]
+    pub gpu_budget: Option<u64>,
+}
+
+fn parse_gpu_budget(text: &str) -> Result<u64, String> {
+    leapview::settings::upload::parse_size(text)
 }
 
 /// Subcommands.
@@ -173,6 +191,9 @@ pub struct SliceArgs {
     /// fixed cost). Needs an adapter with timestamp queries.
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=1024), hide_short_help = true)]
     pub repeat: u32,
+    /// GPU memory.
+    #[command(flatten)]
+    pub gpu: GpuArgs,
 }
 
 /// A yes or a no.
@@ -337,6 +358,9 @@ pub struct RenderArgs {
         hide_short_help = true
     )]
     pub bricks: leapview::settings::Bricking,
+    /// GPU memory.
+    #[command(flatten)]
+    pub gpu: GpuArgs,
     /// Edge of the leaping blocks (RC-s, RC-s-df) in voxels: 4, 8, 16, 32, 64 or 128.
     ///
     /// Default: the edge measured fastest for the mode and strategy: 16 for the octree (RC-s) in

@@ -124,17 +124,18 @@ pub fn load(path: &Path, raw: &args::RawArgs) -> Result<Volume, Failure> {
     load_volume(path, &options).bad_input()
 }
 
-/// [`load`] for the GPU of `ctx`: the volume's shape is checked against it (its 3D texture
-/// limit, a texture of its size) before its samples are read.
+/// [`load`] for the GPU of `ctx` within `gpu_budget`: the volume's shape is checked against it
+/// (a layout within its limits and the budget, a texture of that size) before its samples are
+/// read.
 pub fn load_for_gpu(
     path: &Path,
     raw: &args::RawArgs,
-    ctx: &leapview::render::GpuContext,
+    (ctx, gpu_budget): (&leapview::render::GpuContext, Option<u64>),
 ) -> Result<Volume, Failure> {
     let mut options = load_options(raw)?;
     options.progress = Some(std::sync::Arc::new(
         leapview::volume::LoadProgress::with_admission(
-            leapview::render::volume_texture::admission(ctx),
+            leapview::render::volume_texture::admission(ctx, gpu_budget),
         ),
     ));
     load_volume(path, &options).bad_input()

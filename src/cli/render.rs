@@ -5,7 +5,7 @@ use leapview::camera::Aabb;
 use leapview::render::RenderError;
 use leapview::render::raycast::{auto_path, auto_strategy};
 use leapview::render::{FrameRequest, GpuContext, RefineRun, VolumeRenderer};
-use leapview::settings::{RenderSettings, Strategy};
+use leapview::settings::{RenderSettings, Strategy, Upload};
 use leapview::transfer::blank::why_blank;
 use leapview::transfer::fit::{self, DataKind};
 
@@ -85,6 +85,7 @@ fn render_image(
         slab: None,
         mode: leapview::mpr::SlabMode::Mip,
         repeat: 0,
+        gpu: args.gpu,
     };
     super::slice::write_slice(volume, &slice, &ctx)
 }
@@ -127,7 +128,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     // Refused before anything is loaded or rendered.
     leapview::imaging::check_output_path(&args.out).bad_input()?;
     let ctx = GpuContext::headless().failed()?;
-    let volume = super::load_for_gpu(&args.file, raw, &ctx)?;
+    let volume = super::load_for_gpu(&args.file, raw, (&ctx, args.gpu.gpu_budget))?;
     if let Some(plane) = leapview::mpr::frame::image_plane(&volume) {
         return render_image(&volume, plane, &args, ctx);
     }
@@ -150,8 +151,18 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     let adapter = ctx.adapter_summary();
     let mut renderer = VolumeRenderer::new(ctx).map_err(render_failure)?;
     renderer
-        .set_volume_with(&volume, args.precision, args.bricks)
+        .set_volume_with(
+            &volume,
+            &Upload {
+                precision: args.precision,
+                bricking: args.bricks,
+                gpu_budget: args.gpu.gpu_budget,
+            },
+        )
         .map_err(render_failure)?;
+    if let Some(note) = renderer.volume_texture().and_then(|t| t.coarser.as_ref()) {
+        eprintln!("leapview: note: {note}");
+    }
     renderer.set_transfer_function(&tf);
     auto_path::choose(&mut renderer, settings.path).map_err(render_failure)?;
     auto_strategy::choose(&mut renderer, &settings, args.size, &camera, true)

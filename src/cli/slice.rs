@@ -38,7 +38,7 @@ fn parse_plane(name: &str, at: DVec3) -> Result<Plane, String> {
 pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
     check_args(args)?;
     let ctx = GpuContext::headless().failed()?;
-    let volume = super::load_for_gpu(&args.file, raw, &ctx)?;
+    let volume = super::load_for_gpu(&args.file, raw, (&ctx, args.gpu.gpu_budget))?;
     write_slice(&volume, args, &ctx)
 }
 
@@ -161,12 +161,19 @@ pub fn write_slice(
     let frame = PatientFrame::of(volume);
     let (plane, window) = (view.plane, look.window);
     let at = plane.point;
-    let texture = VolumeTexture::upload(ctx, volume).map_err(|e| match e {
+    let upload = leapview::settings::Upload {
+        gpu_budget: args.gpu.gpu_budget,
+        ..Default::default()
+    };
+    let texture = VolumeTexture::upload_with(ctx, volume, &upload).map_err(|e| match e {
         VolumeTextureError::TooLarge { .. }
-        | VolumeTextureError::Bricks { .. }
+        | VolumeTextureError::Layout { .. }
         | VolumeTextureError::OutOfMemory { .. } => Failure::BadInput(e.into()),
         other => Failure::Other(other.into()),
     })?;
+    if let Some(note) = &texture.coarser {
+        eprintln!("leapview: note: {note}");
+    }
     let renderer = SliceRenderer::new(&ctx.device).failed()?;
     let colours = tf
         .as_ref()

@@ -2,21 +2,21 @@
 //! by the GPU renderer, the CPU reference, the benchmarks, the command line and the window; no
 //! GPU code (the renderer turns them into pipelines and uniforms).
 
-pub mod bricking;
 pub mod crop;
 pub mod effects;
 pub mod precision;
 pub mod quality;
+pub mod upload;
 
 use serde::{Deserialize, Serialize};
 
-pub use bricking::Bricking;
 pub use crop::{CropBox, CropError};
 pub use effects::{
     GradientScheme, IsoSettings, Light, MAX_ISO_REFINEMENT, MipColor, Phong, Shading,
 };
 pub use precision::TexturePrecision;
 pub use quality::QualityPreset;
+pub use upload::{Bricking, Upload};
 
 /// The visual effect computed along each ray.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum)]

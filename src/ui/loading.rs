@@ -144,7 +144,7 @@ impl Loader {
         let waker = RepaintOnDrop(ctx.clone());
         let progress = Arc::new(match &self.gpu {
             Some(gpu) => {
-                LoadProgress::with_admission(crate::render::volume_texture::admission(gpu))
+                LoadProgress::with_admission(crate::render::volume_texture::admission(gpu, None))
             }
             None => LoadProgress::default(),
         });

@@ -18,6 +18,7 @@
 pub mod colour;
 pub mod decode;
 pub mod dicom;
+pub mod downsample;
 pub mod error;
 pub mod limits;
 pub mod load;

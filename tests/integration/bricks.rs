@@ -1,7 +1,8 @@
 //! Volumes as bricks in an atlas (`accel::bricks`): images equal to one texture's in every
 //! mode, strategy and path (leaping stays exact: its pyramid is built through the same bricks);
 //! volumes with an axis past the adapter's 3D texture limit open and match the f64 reference;
-//! slices of a bricked volume equal those of one texture.
+//! slices of a bricked volume equal those of one texture; under a GPU memory budget, the finest
+//! level that fits is shown, as one texture of that level would show it.
 
 use crate::common;
 use crate::modes::cases;
@@ -14,8 +15,10 @@ use leapview::reference;
 use leapview::render::VolumeRenderer;
 use leapview::render::slice::{SliceLook, SliceRenderer};
 use leapview::render::volume_texture::VolumeTexture;
-use leapview::settings::{Bricking, RenderPath, RenderSettings, Strategy, TexturePrecision};
+use leapview::settings::effects::Shading;
+use leapview::settings::{Bricking, Mode, RenderPath, RenderSettings, Strategy, Upload};
 use leapview::transfer::TransferFunction;
+use leapview::volume::downsample::Level;
 use leapview::volume::{Samples, ValueMapping, Volume};
 
 use common::scene::tf;
@@ -60,8 +63,14 @@ fn structured(dims: [u32; 3], nan_at: Option<[u32; 3]>) -> Volume {
 
 fn renderer(volume: &Volume, tf: &TransferFunction, bricking: Bricking) -> VolumeRenderer {
     let mut r = common::renderer();
-    r.set_volume_with(volume, TexturePrecision::Auto, bricking)
-        .expect("upload");
+    r.set_volume_with(
+        volume,
+        &Upload {
+            bricking,
+            ..Upload::default()
+        },
+    )
+    .expect("upload");
     assert_eq!(
         r.volume_texture().is_some_and(|t| t.bricks.is_some()),
         bricking == Bricking::On
@@ -189,10 +198,14 @@ fn slices_of_a_bricked_volume_equal_one_textures() {
     let ctx = common::gpu();
     let volume = structured([70, 45, 38], None);
     let frame = PatientFrame::of(&volume);
-    let single = VolumeTexture::upload_with(&ctx, &volume, TexturePrecision::Auto, Bricking::Off)
-        .expect("upload");
-    let bricked = VolumeTexture::upload_with(&ctx, &volume, TexturePrecision::Auto, Bricking::On)
-        .expect("upload");
+    let upload = |bricking| {
+        let upload = Upload {
+            bricking,
+            ..Upload::default()
+        };
+        VolumeTexture::upload_with(&ctx, &volume, &upload).expect("upload")
+    };
+    let (single, bricked) = (upload(Bricking::Off), upload(Bricking::On));
     assert!(bricked.bricks.is_some() && single.bricks.is_none());
     let renderer = SliceRenderer::new(&ctx.device).expect("pipelines");
     let at = frame.centre() + DVec3::new(0.3, -0.6, 1.1);
@@ -246,6 +259,84 @@ fn slices_of_a_bricked_volume_equal_one_textures() {
                 .max()
                 .unwrap_or(0);
             assert!(worst <= 1, "display: {worst} levels apart");
+        }
+    }
+}
+
+/// Under a budget that holds only half resolution, the volume is shown from level 1: images
+/// equal (to the 8-bit step) one texture of the volume halved by `Level::half_of` (a mean of
+/// each 2 × 2 × 2) with twice the spacing, in every unlit mode, with RC-t and leaping, on both
+/// paths; and the note the window and the CLI show says so. The samples lie at the same
+/// millimetres, each with the opacity the table gives it (no opacity correction: it would scale
+/// optical depth by the voxel size, and the coarse level keeps the volume's); lit modes are left
+/// out, their gradients stepping by a voxel of each.
+#[test]
+fn under_a_budget_the_finest_level_that_fits_is_shown_exactly_as_that_level() {
+    // Even dimensions: the halved volume's box is the volume's.
+    let volume = structured([64, 48, 40], None);
+    let half = Level::half_of(volume.samples(), None, volume.dims());
+    let spacing = volume.spacing_mm().map(|s| 2.0 * s);
+    let halved = Volume::new(
+        "halved",
+        half.dims,
+        spacing,
+        half.samples,
+        ValueMapping::IDENTITY,
+    )
+    .expect("valid");
+    let tf = tf();
+    let mut coarse = common::renderer();
+    // Full resolution is 2 × 2 × 2 bricks of 34³ × 4 bytes (1.26 MB); half is one (157 kB).
+    let budget = Upload {
+        gpu_budget: Some(400_000),
+        ..Upload::default()
+    };
+    coarse.set_volume_with(&volume, &budget).expect("upload");
+    let texture = coarse.volume_texture().expect("volume");
+    assert_eq!(texture.bricks.map(|b| b.level), Some(1));
+    let note = texture.coarser.clone().expect("a note");
+    assert!(
+        note.contains("1/2 resolution (32 x 24 x 20 voxels, level 1)"),
+        "{note}"
+    );
+    coarse.set_transfer_function(&tf);
+    let mut single = renderer(&halved, &tf, Bricking::Off);
+    // Each framed by its own box: the halved volume's voxel 0 (the mean of the volume's voxels
+    // 0 and 1) lies half a voxel of the volume from the volume's voxel 0, where the renderer
+    // puts a volume's first voxel, so its box is the volume's moved by that much.
+    let (dir, up) = ViewPreset::Oblique.direction_and_up();
+    let frame = |v: &Volume| {
+        let bounds = Aabb::of_volume(v.dims(), v.spacing_mm());
+        Camera::framing(&bounds, dir, up, ProjectionKind::Perspective)
+    };
+    let (camera, halved_camera) = (frame(&volume), frame(&halved));
+    let unlit = cases()
+        .into_iter()
+        .filter(|(_, s)| s.shading == Shading::Off || !matches!(s.mode, Mode::Dvr | Mode::Iso));
+    for (name, base) in unlit {
+        for strategy in [Strategy::RcT, Strategy::RcS] {
+            for path in [RenderPath::Fragment, RenderPath::Compute] {
+                // The same step in millimetres: the halved volume's voxels are twice as large.
+                let settings = RenderSettings {
+                    strategy,
+                    path,
+                    opacity_correction: false,
+                    ..base
+                };
+                let halved_settings = RenderSettings {
+                    step_vox: settings.step_vox / 2.0,
+                    ..settings
+                };
+                let want = render(&mut single, &halved_camera, &halved_settings);
+                let got = render(&mut coarse, &camera, &settings);
+                common::assert_close(
+                    &format!("level1-{name}-{strategy:?}-{path:?}"),
+                    &got,
+                    &want,
+                    1.0 / 255.0 + 1e-6,
+                    0.0,
+                );
+            }
         }
     }
 }

@@ -7,7 +7,7 @@ use leapview::imaging::ImageF32;
 use leapview::reference as cpu;
 use leapview::render::raycast::auto_path;
 use leapview::render::{FrameRequest, RenderError, VolumeRenderer};
-use leapview::settings::{Bricking, Mode, RenderSettings, TexturePrecision};
+use leapview::settings::{Mode, RenderSettings, TexturePrecision, Upload};
 use leapview::transfer::TransferFunction;
 use leapview::volume::Volume;
 
@@ -80,7 +80,13 @@ pub fn measure(
                 .map(|c| cpu::render(data.volume, data.tf, c, method.size, &settings).image)
                 .collect()
         } else {
-            if let Err(e) = renderer.set_volume_with(data.volume, precision, Bricking::Auto) {
+            if let Err(e) = renderer.set_volume_with(
+                data.volume,
+                &Upload {
+                    precision,
+                    ..Upload::default()
+                },
+            ) {
                 // Without f32 texels the reference keeps the default precision.
                 skipped.push(NotMeasured {
                     what: format!("{} reference in f32 texels", mode.label()),
@@ -113,8 +119,13 @@ pub fn measure(
             variant.value
         ));
         if uploaded != Some(variant.precision) {
-            if let Err(e) = renderer.set_volume_with(data.volume, variant.precision, Bricking::Auto)
-            {
+            if let Err(e) = renderer.set_volume_with(
+                data.volume,
+                &Upload {
+                    precision: variant.precision,
+                    ..Upload::default()
+                },
+            ) {
                 let what = format!("{} {}", variant.knob.label(), variant.value);
                 if !skipped.iter().any(|n| n.what == what) {
                     skipped.push(NotMeasured {

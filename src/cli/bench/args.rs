@@ -43,6 +43,9 @@ pub struct BenchArgs {
     /// past the GPU's 3D texture limit): run twice to compare the two.
     #[arg(long, value_enum, default_value = "auto")]
     pub bricks: leapview::settings::Bricking,
+    /// GPU memory.
+    #[command(flatten)]
+    pub gpu: crate::cli::args::GpuArgs,
     /// Lighting in DVR and isosurfaces, in place of the configuration's phong.
     #[arg(long, value_enum)]
     pub shading: Option<Shading>,

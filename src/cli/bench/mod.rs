@@ -16,7 +16,7 @@ use leapview::bench::{BenchConfig, BenchResults, Filters};
 use leapview::camera::Aabb;
 use leapview::render::raycast::auto_path;
 use leapview::render::{GpuContext, VolumeRenderer};
-use leapview::settings::{RenderPath, TexturePrecision};
+use leapview::settings::{RenderPath, Upload};
 
 pub use args::BenchArgs;
 
@@ -94,9 +94,14 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
                 continue;
             }
         };
-        if let Err(e) =
-            renderer.set_volume_with(&loaded.volume, TexturePrecision::Auto, args.bricks)
-        {
+        if let Err(e) = renderer.set_volume_with(
+            &loaded.volume,
+            &Upload {
+                bricking: args.bricks,
+                gpu_budget: args.gpu.gpu_budget,
+                ..Upload::default()
+            },
+        ) {
             progress.note(&format!("skipping {}: {e}", spec.name));
             results.skipped.push(skip(e.to_string(), e.is_bad_input()));
             progress.advance(runs.len() as u64 + 1);

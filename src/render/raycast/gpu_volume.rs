@@ -4,7 +4,7 @@
 
 use crate::render::context::GpuContext;
 use crate::render::volume_texture::{VolumeTexture, VolumeTextureError};
-use crate::settings::{Bricking, RenderSettings, TexturePrecision};
+use crate::settings::{RenderSettings, Upload};
 use crate::volume::{ValueRange, Volume};
 
 use crate::render::gpu_data::FrameUniforms;
@@ -47,16 +47,15 @@ pub struct GpuVolume {
 }
 
 impl GpuVolume {
-    /// Uploads `volume` with texels of `precision` in the layout `bricking` asks for and builds
-    /// its groups.
+    /// Uploads `volume` as `upload` asks (precision, layout, budget) and builds its groups.
     pub fn new(
         ctx: &GpuContext,
         layouts: &Layouts,
         shared: &FrameShared<'_>,
         volume: &Volume,
-        (precision, bricking): (TexturePrecision, Bricking),
+        upload: &Upload,
     ) -> Result<Self, VolumeTextureError> {
-        let texture = VolumeTexture::upload_with(ctx, volume, precision, bricking)?;
+        let texture = VolumeTexture::upload_with(ctx, volume, upload)?;
         let frame_group = layouts.frame_group(
             &ctx.device,
             &FrameResources {

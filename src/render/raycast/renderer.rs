@@ -9,7 +9,7 @@ use crate::render::context::GpuContext;
 use crate::render::pack::Rgba8Reader;
 use crate::render::probe::{FrameResults, ProbePool};
 use crate::render::volume_texture::VolumeTexture;
-use crate::settings::{Bricking, ConcretePath, Mode, RenderPath, RenderSettings, TexturePrecision};
+use crate::settings::{ConcretePath, Mode, RenderPath, RenderSettings, Upload};
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
@@ -99,29 +99,18 @@ impl VolumeRenderer {
 
     /// Uploads `volume`, replacing the current one. On error the current volume stays.
     pub fn set_volume(&mut self, volume: &Volume) -> Result<(), RenderError> {
-        self.set_volume_with(volume, TexturePrecision::Auto, Bricking::Auto)
+        self.set_volume_with(volume, &Upload::default())
     }
 
-    /// [`Self::set_volume`] with the texel precision (the accuracy benchmark's knob) and the
-    /// layout (one texture or bricks: the benchmark's) forced.
-    pub fn set_volume_with(
-        &mut self,
-        volume: &Volume,
-        precision: TexturePrecision,
-        bricking: Bricking,
-    ) -> Result<(), RenderError> {
+    /// [`Self::set_volume`] with the texel precision (the accuracy benchmark's knob), the layout
+    /// (one texture or bricks: the benchmark's) and the GPU memory budget `upload` asks for.
+    pub fn set_volume_with(&mut self, volume: &Volume, upload: &Upload) -> Result<(), RenderError> {
         let shared = FrameShared {
             uniforms: &self.uniforms,
             sampler: &self.sampler,
             tables: &self.transfer,
         };
-        let uploaded = GpuVolume::new(
-            &self.ctx,
-            &self.pipelines.layouts,
-            &shared,
-            volume,
-            (precision, bricking),
-        )?;
+        let uploaded = GpuVolume::new(&self.ctx, &self.pipelines.layouts, &shared, volume, upload)?;
         self.volume = Some(uploaded);
         self.transfer.invalidate();
         self.strategy_choice = None;

@@ -11,20 +11,13 @@ use crate::settings::Bricking;
 /// bricks where an axis is past its 3D texture limit), and a texture of that size and format allocated (and let go) without running
 /// out of memory. What the texture upload would refuse after minutes of reading is refused
 /// first.
-pub fn admission(ctx: &GpuContext) -> Box<crate::volume::progress::Admission> {
+pub fn admission(
+    ctx: &GpuContext,
+    gpu_budget: Option<u64>,
+) -> Box<crate::volume::progress::Admission> {
     let ctx = ctx.clone();
     Box::new(move |shape: &crate::volume::progress::Shape| {
         let max = ctx.limits.max_texture_dimension_3d;
-        // The default layout: one texture where the volume fits it, else bricks.
-        let extent = match plan(shape.dims, Bricking::Auto, max) {
-            Ok(plan) => plan.extent(),
-            Err(e) => {
-                return Err(format!(
-                    "the volume is {} x {} x {} voxels and has no layout on this GPU ({}): {e}",
-                    shape.dims[0], shape.dims[1], shape.dims[2], ctx.adapter_info.name
-                ));
-            }
-        };
         // Integer formats as `choose_encoding` picks them; floats may hold NaN, which only
         // float formats keep, and are sized as the widest.
         let format = if shape.colour {
@@ -35,6 +28,18 @@ pub fn admission(ctx: &GpuContext) -> Box<crate::volume::progress::Admission> {
                 .copied()
                 .find(|&f| ctx.is_filterable(f))
                 .unwrap_or(wgpu::TextureFormat::R16Float)
+        };
+        let bpt = bytes_per_texel(format) as u64;
+        // The default layout: one texture where the volume fits it, else bricks of the finest
+        // level that fits.
+        let extent = match plan(shape.dims, Bricking::Auto, (max, gpu_budget), bpt) {
+            Ok(plan) => plan.extent(),
+            Err(e) => {
+                return Err(format!(
+                    "the volume is {} x {} x {} voxels and does not fit this GPU ({}): {e}",
+                    shape.dims[0], shape.dims[1], shape.dims[2], ctx.adapter_info.name
+                ));
+            }
         };
         let megabytes = extent.iter().map(|&d| d as f64).product::<f64>()
             * bytes_per_texel(format) as f64

@@ -1,16 +1,15 @@
 //! The bricked upload: every brick with its apron encoded on all cores and written into its slot
 //! of the atlas, a batch of bricks at a time, and the page table that finds them.
 
+use super::SLAB_BYTES;
+use super::encoding::{TexelEncoding, TexelSource, bytes_per_texel, encode_texels};
 use crate::accel::bricks::BrickLayout;
 use crate::render::context::GpuContext;
-use crate::volume::Volume;
 
-use super::SLAB_BYTES;
-use super::encoding::{TexelEncoding, bytes_per_texel, encode_texels};
-
-/// Appends the texels of `brick`'s slot (apron included, x fastest) to `out`.
+/// Appends the texels of `brick`'s slot (apron included, x fastest) to `out`, from `source`
+/// (the samples of the level `layout` holds).
 fn encode_brick(
-    volume: &Volume,
+    source: &TexelSource<'_>,
     encoding: &TexelEncoding,
     layout: &BrickLayout,
     brick: [u32; 3],
@@ -18,7 +17,7 @@ fn encode_brick(
 ) {
     let s = layout.slot_vox();
     let bpt = bytes_per_texel(encoding.format);
-    let dims = volume.dims();
+    let dims = layout.level_dims();
     let row = dims[0] as usize;
     let plane = row * dims[1] as usize;
     // The slot's row in x: voxels x0..=x1 of the volume, then the edge voxels repeated.
@@ -32,7 +31,7 @@ fn encode_brick(
             let v = layout.voxel_of(brick, [0, y, z]);
             let base = v[2] as usize * plane + v[1] as usize * row;
             let at = out.len();
-            encode_texels(volume, encoding, base + first..base + last + 1, out);
+            encode_texels(source, encoding, base + first..base + last + 1, out);
             let edge_lo = out[at..at + bpt].to_vec();
             let edge_hi = out[out.len() - bpt..].to_vec();
             for _ in 0..after {
@@ -47,7 +46,7 @@ fn encode_brick(
 
 /// Encodes bricks `bricks` (indices) into one buffer each, on all cores.
 fn encode_bricks(
-    volume: &Volume,
+    source: &TexelSource<'_>,
     encoding: &TexelEncoding,
     layout: &BrickLayout,
     bricks: std::ops::Range<u32>,
@@ -64,7 +63,7 @@ fn encode_bricks(
                         .iter()
                         .map(|&i| {
                             let mut out = Vec::new();
-                            encode_brick(volume, encoding, layout, layout.brick_at(i), &mut out);
+                            encode_brick(source, encoding, layout, layout.brick_at(i), &mut out);
                             out
                         })
                         .collect::<Vec<_>>()
@@ -78,12 +77,12 @@ fn encode_bricks(
     })
 }
 
-/// Writes every brick of `volume` into its slot of `atlas` (at most [`SLAB_BYTES`] of encoded
-/// bricks in memory at once).
+/// Writes every brick of the level `layout` holds (`source`) into its slot of `atlas` (at most
+/// [`SLAB_BYTES`] of encoded bricks in memory at once).
 pub(super) fn upload_bricks(
     ctx: &GpuContext,
     atlas: &wgpu::Texture,
-    volume: &Volume,
+    source: &TexelSource<'_>,
     encoding: &TexelEncoding,
     layout: &BrickLayout,
 ) {
@@ -93,7 +92,7 @@ pub(super) fn upload_bricks(
     let mut next = 0;
     while next < layout.count() {
         let end = (next + per_batch).min(layout.count());
-        for (i, bytes) in (next..end).zip(encode_bricks(volume, encoding, layout, next..end)) {
+        for (i, bytes) in (next..end).zip(encode_bricks(source, encoding, layout, next..end)) {
             let slot = layout.slot_of(i);
             ctx.queue.write_texture(
                 wgpu::TexelCopyTextureInfo {
@@ -141,9 +140,10 @@ pub(super) fn no_page_table(ctx: &GpuContext) -> wgpu::Texture {
     })
 }
 
-/// The page table of `layout` with every brick resident: a `u32` 3D texture, one texel a brick.
+/// The page table of `layout` with every brick of its level resident: a `u32` 3D texture, one
+/// texel a brick of level 0.
 pub(super) fn page_table(ctx: &GpuContext, layout: &BrickLayout) -> wgpu::Texture {
-    let [bx, by, bz] = layout.bricks;
+    let [bx, by, bz] = layout.pages();
     let size = wgpu::Extent3d {
         width: bx,
         height: by,
@@ -181,7 +181,7 @@ pub(super) fn page_table(ctx: &GpuContext, layout: &BrickLayout) -> wgpu::Textur
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::volume::{Samples, ValueMapping};
+    use crate::volume::{Samples, ValueMapping, Volume};
 
     #[test]
     fn a_brick_slot_holds_its_voxels_and_repeats_the_edges() {
@@ -206,7 +206,13 @@ mod tests {
         for index in 0..layout.count() {
             let brick = layout.brick_at(index);
             let mut out = Vec::new();
-            encode_brick(&volume, &encoding, &layout, brick, &mut out);
+            encode_brick(
+                &TexelSource::of(&volume),
+                &encoding,
+                &layout,
+                brick,
+                &mut out,
+            );
             let s = layout.slot_vox();
             assert_eq!(out.len(), (s * s * s) as usize);
             for (t, &byte) in out.iter().enumerate() {

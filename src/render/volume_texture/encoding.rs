@@ -8,7 +8,9 @@
 //! of 1/256, so a non-zero weight on `MISSING` gives at most −65504/256 + 1 < 0).
 
 use crate::settings::TexturePrecision;
-use crate::volume::{Samples, ScalarType, Volume};
+use crate::volume::colour::Colour;
+use crate::volume::downsample::Level;
+use crate::volume::{Samples, ScalarType, ValueMapping, ValueRange, Volume};
 
 /// Texel value of a NaN or infinite sample (the most negative finite f16).
 pub const MISSING: f32 = -65504.0;
@@ -181,16 +183,47 @@ pub(crate) fn bytes_per_texel(format: wgpu::TextureFormat) -> usize {
     }
 }
 
-/// Appends the texels of samples `range` of `volume` in `encoding` to `out` (little-endian).
+/// Samples to encode as texels: a volume's own, or a coarser level of it, decoded with the
+/// volume's mapping and normalisation range (every level shares its encoding).
+#[derive(Clone, Copy)]
+pub(super) struct TexelSource<'a> {
+    samples: &'a Samples,
+    colour: Option<&'a Colour>,
+    mapping: ValueMapping,
+    norm: ValueRange,
+}
+
+impl<'a> TexelSource<'a> {
+    /// `volume`'s samples.
+    pub(super) fn of(volume: &'a Volume) -> Self {
+        Self {
+            samples: volume.samples(),
+            colour: volume.colour(),
+            mapping: volume.mapping(),
+            norm: volume.normalization_range(),
+        }
+    }
+
+    /// `level`'s samples, encoded as `volume`'s are.
+    pub(super) fn level(volume: &'a Volume, level: &'a Level) -> Self {
+        Self {
+            samples: &level.samples,
+            colour: level.colour.as_ref(),
+            ..Self::of(volume)
+        }
+    }
+}
+
+/// Appends the texels of samples `range` of `source` in `encoding` to `out` (little-endian).
 pub(super) fn encode_texels(
-    volume: &Volume,
+    source: &TexelSource<'_>,
     encoding: &TexelEncoding,
     range: std::ops::Range<usize>,
     out: &mut Vec<u8>,
 ) {
     use wgpu::TextureFormat as F;
-    let norm = volume.normalization_range();
-    let mapping = volume.mapping();
+    let norm = source.norm;
+    let mapping = source.mapping;
     let normalized = |stored: f64| -> f32 {
         let v = mapping.apply(stored);
         if v.is_finite() {
@@ -201,8 +234,8 @@ pub(super) fn encode_texels(
     };
     let exact = encoding.scale != 1.0
         || encoding.bias != 0.0
-        || matches!(volume.scalar_type(), ScalarType::U8);
-    match (encoding.format, volume.samples(), volume.colour()) {
+        || matches!(source.samples.scalar_type(), ScalarType::U8);
+    match (encoding.format, source.samples, source.colour) {
         (F::Rgba8Unorm, Samples::U8(v), Some(colour)) => range.for_each(|i| {
             let [r, g, b] = colour.rgb8(i);
             out.extend_from_slice(&[v[i], r, g, b]);
@@ -253,7 +286,7 @@ mod tests {
     /// Decodes texel `i` as the GPU would (unorm: integer / max) and applies the encoding.
     fn decoded(v: &Volume, e: &TexelEncoding, i: usize) -> f64 {
         let mut bytes = Vec::new();
-        encode_texels(v, e, i..i + 1, &mut bytes);
+        encode_texels(&TexelSource::of(v), e, i..i + 1, &mut bytes);
         let texel = match e.format {
             wgpu::TextureFormat::R8Unorm => bytes[0] as f64 / 255.0,
             wgpu::TextureFormat::R16Unorm => {

@@ -11,16 +11,17 @@ pub use admission::admission;
 pub use encoding::{MISSING, MISSING_BELOW, TexelEncoding, texel_units};
 pub(crate) use encoding::{bytes_per_texel, forced_format};
 
-use crate::settings::{Bricking, TexturePrecision};
+use crate::settings::{TexturePrecision, Upload};
 use crate::volume::Volume;
+use crate::volume::downsample::Level;
 
 use wgpu::util::DeviceExt;
 
 use super::context::GpuContext;
 use super::gpu_data::VolumeGeometry;
-use crate::accel::bricks::{BrickError, BrickLayout};
-use encoding::{choose_encoding, encode_texels, encoding_for};
-use plan::{Plan, PlanError, plan};
+use crate::accel::bricks::BrickLayout;
+use encoding::{TexelSource, choose_encoding, encode_texels, encoding_for};
+use plan::{Plan, PlanError, coarser_note, plan};
 
 /// Largest slab uploaded in one `write_texture` call, in bytes.
 const SLAB_BYTES: usize = 64 << 20;
@@ -55,13 +56,13 @@ pub enum VolumeTextureError {
         /// Adapter name.
         adapter: String,
     },
-    /// The volume's bricks do not fit an atlas within the adapter's limits.
-    #[error("the volume cannot be bricked on this GPU: {why}: {name}")]
-    Bricks {
+    /// No layout fits the adapter's limits and the GPU memory budget.
+    #[error("the volume does not fit this GPU: {why}: {name}")]
+    Layout {
         /// The volume's path (else its name).
         name: String,
         /// Why not.
-        why: BrickError,
+        why: String,
     },
     /// Any other error creating or filling the texture.
     #[error("the GPU refused the volume texture: {0}")]
@@ -151,41 +152,44 @@ pub struct VolumeTexture {
     pub encoding: TexelEncoding,
     /// The bricks, where the volume is bricked.
     pub bricks: Option<BrickLayout>,
+    /// Where the GPU holds a coarser level than the volume's own: which, and why (one line).
+    pub coarser: Option<String>,
 }
 
 impl VolumeTexture {
     /// Checks the size against the adapter, creates the texture in the best format the adapter
     /// filters (one texture where the volume fits, else bricks) and uploads the samples.
     pub fn upload(ctx: &GpuContext, volume: &Volume) -> Result<Self, VolumeTextureError> {
-        Self::upload_with(ctx, volume, TexturePrecision::Auto, Bricking::Auto)
+        Self::upload_with(ctx, volume, &Upload::default())
     }
 
-    /// [`Self::upload`] with the texel precision and the layout forced (`Auto`: as `upload`).
+    /// [`Self::upload`] with the texel precision, the layout and the GPU memory budget `upload`
+    /// asks for.
     pub fn upload_with(
         ctx: &GpuContext,
         volume: &Volume,
-        precision: TexturePrecision,
-        bricking: Bricking,
+        upload: &Upload,
     ) -> Result<Self, VolumeTextureError> {
         let dims = volume.dims();
         let max = ctx.limits.max_texture_dimension_3d;
-        let plan = plan(dims, bricking, max).map_err(|e| match e {
+        let encoding = Self::encoding(ctx, volume, upload.precision)?;
+        if let Some(w) = encoding.warning {
+            log::warn!("{w} ({})", volume.name());
+        }
+        let bpt = bytes_per_texel(encoding.format);
+        let limits = (max, upload.gpu_budget);
+        let plan = plan(dims, upload.bricking, limits, bpt as u64).map_err(|e| match e {
             PlanError::TooLarge { max } => VolumeTextureError::TooLarge {
                 name: volume.label(),
                 dims,
                 max,
                 adapter: ctx.adapter_info.name.clone(),
             },
-            PlanError::Bricks(e) => VolumeTextureError::Bricks {
+            other => VolumeTextureError::Layout {
                 name: volume.label(),
-                why: e,
+                why: other.to_string(),
             },
         })?;
-        let encoding = Self::encoding(ctx, volume, precision)?;
-        if let Some(w) = encoding.warning {
-            log::warn!("{w} ({})", volume.name());
-        }
-        let bpt = bytes_per_texel(encoding.format);
         let [width, height, depth] = plan.extent();
         let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -227,12 +231,21 @@ impl VolumeTexture {
                 (atlas::no_page_table(ctx), None)
             }
             Plan::Bricked(layout) => {
-                atlas::upload_bricks(ctx, &texture, volume, &encoding, &layout);
+                let level = coarser_level(volume, layout.level);
+                let source = match &level {
+                    Some(level) => TexelSource::level(volume, level),
+                    None => TexelSource::of(volume),
+                };
+                atlas::upload_bricks(ctx, &texture, &source, &encoding, &layout);
                 (atlas::page_table(ctx, &layout), Some(layout))
             }
         };
         if let Some(e) = pollster::block_on(uploaded.pop()) {
             return Err(VolumeTextureError::Gpu(e.to_string()));
+        }
+        let coarser = coarser_note(&plan, limits, bpt as u64);
+        if let Some(note) = &coarser {
+            log::info!("{note} ({})", volume.name());
         }
         let geometry = geometry(dims, plan);
         let view = VolumeView {
@@ -252,6 +265,7 @@ impl VolumeTexture {
             view,
             encoding,
             bricks,
+            coarser,
         })
     }
 
@@ -290,6 +304,19 @@ impl VolumeTexture {
     }
 }
 
+/// Level `level` of `volume`'s samples, halved from the volume's own on all cores (`None` for
+/// level 0, the volume itself).
+fn coarser_level(volume: &Volume, level: u32) -> Option<Level> {
+    if level == 0 {
+        return None;
+    }
+    let mut out = Level::half_of(volume.samples(), volume.colour(), volume.dims());
+    for _ in 1..level {
+        out = out.halved();
+    }
+    Some(out)
+}
+
 /// The `VolumeGeometry` uniform of a volume of `dims` laid out by `plan`.
 fn geometry(dims: [u32; 3], plan: Plan) -> VolumeGeometry {
     let extent = plan.extent();
@@ -323,7 +350,7 @@ fn upload_slabs(
         let z_end = (z + slices_per_slab).min(dims[2] as usize);
         bytes.clear();
         encode_texels(
-            volume,
+            &TexelSource::of(volume),
             encoding,
             z * slice_texels..z_end * slice_texels,
             &mut bytes,

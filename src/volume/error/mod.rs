@@ -317,20 +317,7 @@ fn fmt_dims_u64(dims: &[u64; 3]) -> String {
     format!("{}×{}×{}", dims[0], dims[1], dims[2])
 }
 
-/// A byte count in decimal units a person reads at a glance: `512 bytes`, `1.2 kB`, `14.8 MB`.
-pub(crate) fn fmt_bytes(bytes: u64) -> String {
-    const UNITS: [&str; 5] = ["kB", "MB", "GB", "TB", "PB"];
-    if bytes < 1000 {
-        return format!("{bytes} bytes");
-    }
-    let mut value = bytes as f64 / 1000.0;
-    let mut unit = 0;
-    while value >= 999.95 && unit + 1 < UNITS.len() {
-        value /= 1000.0;
-        unit += 1;
-    }
-    format!("{value:.1} {}", UNITS[unit])
-}
+pub(crate) use crate::text::bytes as fmt_bytes;
 
 /// Two byte counts that are compared in one message: rounded when the rounding tells them apart,
 /// exact otherwise (so "14.8 MB but only 14.8 MB" never appears).

@@ -1,0 +1,202 @@
+//! Coarser levels of a volume's samples for the GPU's multi-resolution bricks: each level halves
+//! every axis (`ceil(n / 2)` voxels), a voxel the mean of the 2 × 2 × 2 it covers, the last
+//! voxel of an odd axis repeated (as mip-maps are built). Means are taken in stored units (the
+//! value mapping is affine, so this is the mean of the values too), rounded to the nearest
+//! integer for integer types; non-finite samples are left out, and a voxel none of whose eight
+//! is finite stays NaN. Built on all cores.
+
+use super::colour::Colour;
+use super::samples::Samples;
+
+/// Voxels per axis of level `level` of a volume of `dims`.
+pub fn level_dims(dims: [u32; 3], level: u32) -> [u32; 3] {
+    dims.map(|d| d.max(1).div_ceil(1 << level))
+}
+
+/// The samples (and colour channels) of one level of a volume.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Level {
+    /// Voxels per axis.
+    pub dims: [u32; 3],
+    /// Samples, x fastest, in the volume's stored type.
+    pub samples: Samples,
+    /// Colour channels, for a colour volume.
+    pub colour: Option<Colour>,
+}
+
+impl Level {
+    /// Level 1 of samples (and colour channels) of a volume of `dims`: every axis halved.
+    pub fn half_of(samples: &Samples, colour: Option<&Colour>, dims: [u32; 3]) -> Self {
+        let colour = colour.and_then(|c| {
+            let channels = std::array::from_fn(|i| halve(&c.channels()[i], dims));
+            Colour::new(channels, c.bits())
+        });
+        Self {
+            dims: level_dims(dims, 1),
+            samples: halve(samples, dims),
+            colour,
+        }
+    }
+
+    /// The level below this one: every axis halved.
+    pub fn halved(&self) -> Self {
+        Self::half_of(&self.samples, self.colour.as_ref(), self.dims)
+    }
+}
+
+/// One stored type's samples halved along every axis.
+trait Halve: Copy + Send + Sync {
+    fn to_f64(self) -> f64;
+    fn from_mean(mean: f64) -> Self;
+}
+
+macro_rules! halve_int {
+    ($($t:ty),*) => {$(
+        impl Halve for $t {
+            fn to_f64(self) -> f64 {
+                f64::from(self)
+            }
+            fn from_mean(mean: f64) -> Self {
+                // Means of stored values stay within the type's range.
+                mean.round() as $t
+            }
+        }
+    )*};
+}
+halve_int!(u8, i8, u16, i16, u32, i32);
+
+impl Halve for f32 {
+    fn to_f64(self) -> f64 {
+        f64::from(self)
+    }
+    fn from_mean(mean: f64) -> Self {
+        mean as f32
+    }
+}
+
+impl Halve for f64 {
+    fn to_f64(self) -> f64 {
+        self
+    }
+    fn from_mean(mean: f64) -> Self {
+        mean
+    }
+}
+
+fn halve_typed<T: Halve>(v: &[T], dims: [u32; 3]) -> Vec<T> {
+    let out_dims = level_dims(dims, 1);
+    let [nx, ny, nz] = dims.map(|d| d.max(1) as usize);
+    let [ox, oy, _] = out_dims.map(|d| d as usize);
+    let plane = ox * oy;
+    let mut out = vec![T::from_mean(0.0); out_dims.iter().map(|&d| d as usize).product()];
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let planes_per_thread = (out_dims[2] as usize).div_ceil(threads).max(1);
+    std::thread::scope(|scope| {
+        for (chunk_index, chunk) in out.chunks_mut(plane * planes_per_thread).enumerate() {
+            scope.spawn(move || {
+                for (k, value) in chunk.iter_mut().enumerate() {
+                    let z = chunk_index * planes_per_thread + k / plane;
+                    let (y, x) = ((k % plane) / ox, k % ox);
+                    let mut sum = 0.0;
+                    let mut count = 0u32;
+                    for dz in 0..2 {
+                        let sz = (2 * z + dz).min(nz - 1);
+                        for dy in 0..2 {
+                            let sy = (2 * y + dy).min(ny - 1);
+                            for dx in 0..2 {
+                                let sx = (2 * x + dx).min(nx - 1);
+                                let s = v[sx + nx * (sy + ny * sz)].to_f64();
+                                if s.is_finite() {
+                                    sum += s;
+                                    count += 1;
+                                }
+                            }
+                        }
+                    }
+                    *value = T::from_mean(if count > 0 {
+                        sum / f64::from(count)
+                    } else {
+                        f64::NAN
+                    });
+                }
+            });
+        }
+    });
+    out
+}
+
+/// `samples` of a volume of `dims` halved along every axis.
+pub fn halve(samples: &Samples, dims: [u32; 3]) -> Samples {
+    match samples {
+        Samples::U8(v) => Samples::U8(halve_typed(v, dims)),
+        Samples::I8(v) => Samples::I8(halve_typed(v, dims)),
+        Samples::U16(v) => Samples::U16(halve_typed(v, dims)),
+        Samples::I16(v) => Samples::I16(halve_typed(v, dims)),
+        Samples::U32(v) => Samples::U32(halve_typed(v, dims)),
+        Samples::I32(v) => Samples::I32(halve_typed(v, dims)),
+        Samples::F32(v) => Samples::F32(halve_typed(v, dims)),
+        Samples::F64(v) => Samples::F64(halve_typed(v, dims)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The mean of the finite voxels among the eight that voxel `o` of the halved grid covers,
+    /// brute force.
+    fn brute(values: &[f64], dims: [u32; 3], o: [u32; 3]) -> f64 {
+        let mut picked = Vec::new();
+        for d in 0..8u32 {
+            let s: [u32; 3] = std::array::from_fn(|a| (2 * o[a] + ((d >> a) & 1)).min(dims[a] - 1));
+            picked.push(values[(s[0] + dims[0] * (s[1] + dims[1] * s[2])) as usize]);
+        }
+        let finite: Vec<f64> = picked.into_iter().filter(|v| v.is_finite()).collect();
+        if finite.is_empty() {
+            f64::NAN
+        } else {
+            finite.iter().sum::<f64>() / finite.len() as f64
+        }
+    }
+
+    #[test]
+    fn each_voxel_is_the_mean_of_the_eight_it_covers() {
+        for dims in [[7u32, 4, 5], [1, 1, 1], [2, 9, 1], [16, 16, 16]] {
+            let n = dims.iter().product::<u32>() as usize;
+            let values: Vec<f64> = (0..n).map(|i| ((i * 37) % 101) as f64 - 20.0).collect();
+            let mut with_nan: Vec<f32> = values.iter().map(|&v| v as f32).collect();
+            with_nan[0] = f32::NAN;
+            let cases = [
+                Samples::I16(values.iter().map(|&v| v as i16).collect()),
+                Samples::F32(with_nan),
+            ];
+            for samples in cases {
+                let all: Vec<f64> = (0..n).map(|i| samples.get_f64(i)).collect();
+                let out = halve(&samples, dims);
+                let od = level_dims(dims, 1);
+                assert_eq!(out.len(), od.iter().product::<u32>() as usize);
+                for z in 0..od[2] {
+                    for y in 0..od[1] {
+                        for x in 0..od[0] {
+                            let want = brute(&all, dims, [x, y, z]);
+                            let got = out.get_f64((x + od[0] * (y + od[1] * z)) as usize);
+                            let want = match samples {
+                                Samples::I16(_) => want.round(),
+                                _ => want,
+                            };
+                            let same = (got - want).abs() < 1e-4 || (got.is_nan() && want.is_nan());
+                            assert!(same, "{dims:?} [{x},{y},{z}]: {got} {want}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn levels_halve_down_to_one_voxel() {
+        assert_eq!(level_dims([513, 256, 3], 1), [257, 128, 2]);
+        assert_eq!(level_dims([513, 256, 3], 9), [2, 1, 1]);
+        assert_eq!(level_dims([513, 256, 3], 10), [1, 1, 1]);
+    }
+}
