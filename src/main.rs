@@ -23,6 +23,7 @@ fn main() -> ExitCode {
             let options = AppOptions {
                 file: cli.file,
                 load_options,
+                gpu_budget: cli.gpu.gpu_budget,
             };
             leapview::ui::app::run(options).map_err(|e| match e {
                 AppError::Automation(_) => Failure::BadInput(e.into()),

@@ -136,16 +136,22 @@ impl Loader {
         self.gpu = Some(gpu);
     }
 
-    /// Starts loading `source`, abandoning any load in progress. `ctx` is woken when it is done.
-    pub fn start(&mut self, source: VolumeSource, ctx: &egui::Context) -> Result<(), LoadFailure> {
+    /// Starts loading `source`, abandoning any load in progress, checked against the GPU within
+    /// `gpu_budget`. `ctx` is woken when it is done.
+    pub fn start(
+        &mut self,
+        source: VolumeSource,
+        ctx: &egui::Context,
+        gpu_budget: Option<u64>,
+    ) -> Result<(), LoadFailure> {
         let label = source.label();
         let pending_source = source.clone();
         let (tx, rx) = mpsc::channel();
         let waker = RepaintOnDrop(ctx.clone());
         let progress = Arc::new(match &self.gpu {
-            Some(gpu) => {
-                LoadProgress::with_admission(crate::render::volume_texture::admission(gpu, None))
-            }
+            Some(gpu) => LoadProgress::with_admission(crate::render::volume_texture::admission(
+                gpu, gpu_budget,
+            )),
             None => LoadProgress::default(),
         });
         let thread_progress = Arc::clone(&progress);
@@ -240,6 +246,7 @@ mod tests {
                     options: LoadOptions::default(),
                 },
                 &ctx,
+                None,
             )
             .expect("thread starts");
         assert_eq!(
@@ -257,7 +264,7 @@ mod tests {
         let ctx = egui::Context::default();
         let mut loader = Loader::default();
         loader
-            .start(VolumeSource::SheppLogan, &ctx)
+            .start(VolumeSource::SheppLogan, &ctx, None)
             .expect("thread starts");
         assert!(loader.busy().is_some());
         loader.cancel();
@@ -275,9 +282,9 @@ mod tests {
             path: PathBuf::from("/nonexistent/a.nrrd"),
             options: LoadOptions::default(),
         };
-        loader.start(missing, &ctx).expect("thread starts");
+        loader.start(missing, &ctx, None).expect("thread starts");
         loader
-            .start(VolumeSource::SheppLogan, &ctx)
+            .start(VolumeSource::SheppLogan, &ctx, None)
             .expect("thread starts");
         let volume = wait(&mut loader).expect("the phantom generates");
         assert_eq!(volume.dims(), [GENERATED_SIZE; 3]);

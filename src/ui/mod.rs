@@ -59,6 +59,11 @@ pub struct VolumeSummary {
     /// What the file said beyond the samples: notes from loading, the header's window, the
     /// DICOM series and the others beside it.
     pub provenance: crate::volume::Provenance,
+    /// Where the GPU holds a coarser level than the volume's own: which, and why.
+    pub coarser: Option<String>,
+    /// How the GPU holds the volume (one texture, or bricks: how many, which level, how much
+    /// memory), for the developer readout.
+    pub gpu_layout: Option<String>,
 }
 
 impl VolumeSummary {
@@ -79,6 +84,8 @@ impl VolumeSummary {
             kind_text: kind.describe(volume.modality()),
             kind,
             provenance: volume.provenance().clone(),
+            coarser: None,
+            gpu_layout: None,
         }
     }
 

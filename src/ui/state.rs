@@ -71,6 +71,10 @@ pub struct ViewerState {
     /// Whether the readout adds the engineering lines (frame rate, GPU time, strategy, path,
     /// adapter, latencies); "count samples" adds them too.
     pub developer_readout: bool,
+    /// The most GPU memory a volume may take, in bytes (`None`: only the GPU's limits bound it);
+    /// past it the volume is shown from bricks of a coarser level. `--gpu-budget` sets it for a
+    /// run.
+    pub gpu_budget: Option<u64>,
     /// Frames averaged, at shifted sample grids, once the view is still (1: no refinement).
     pub refine_frames: u32,
     /// Whether the orientation marker (R/A/S axes) is drawn in the view's corner.
@@ -108,6 +112,7 @@ impl Default for ViewerState {
             show_controls: true,
             show_readout: true,
             developer_readout: false,
+            gpu_budget: None,
             show_orientation_marker: true,
             refine_frames: DEFAULT_REFINE_FRAMES,
             recent: Vec::new(),

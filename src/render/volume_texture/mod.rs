@@ -269,6 +269,28 @@ impl VolumeTexture {
         })
     }
 
+    /// How the GPU holds the volume, for the developer readout: one texture, or how many bricks
+    /// of which level, and the memory they take.
+    pub fn describe(&self) -> String {
+        let bpt = bytes_per_texel(self.encoding.format) as u64;
+        match &self.bricks {
+            None => {
+                let size = self.texture.size();
+                let texels = u64::from(size.width)
+                    * u64::from(size.height)
+                    * u64::from(size.depth_or_array_layers);
+                format!("one 3D texture, {}", crate::text::bytes(texels * bpt))
+            }
+            Some(b) => format!(
+                "{} bricks of {}³ at level {} in an atlas, {}",
+                b.count(),
+                b.brick_vox,
+                b.level,
+                crate::text::bytes(b.brick_bytes(bpt))
+            ),
+        }
+    }
+
     /// The encoding `precision` asks for, where this adapter and `volume` allow it.
     fn encoding(
         ctx: &GpuContext,

@@ -41,6 +41,8 @@ pub struct AppOptions {
     pub file: Option<PathBuf>,
     /// Raw-file layout from the command line.
     pub load_options: LoadOptions,
+    /// `--gpu-budget`, over the one the window kept.
+    pub gpu_budget: Option<u64>,
 }
 
 /// Why the window could not run.
@@ -78,7 +80,13 @@ pub fn run(options: AppOptions) -> Result<(), AppError> {
         "leapview",
         native_options(&title),
         Box::new(move |cc| {
-            let app = LeapViewApp::new(cc, options.load_options, first, automation)?;
+            let app = LeapViewApp::new(
+                cc,
+                options.load_options,
+                first,
+                automation,
+                options.gpu_budget,
+            )?;
             Ok(Box::new(app))
         }),
     )
@@ -128,6 +136,7 @@ impl LeapViewApp {
         load_options: LoadOptions,
         first: VolumeSource,
         automation: Automation,
+        gpu_budget: Option<u64>,
     ) -> Result<Self, AppError> {
         let rs = cc
             .wgpu_render_state
@@ -135,10 +144,13 @@ impl LeapViewApp {
             .ok_or_else(|| AppError::Renderer("eframe did not start its wgpu renderer".into()))?;
         let scene = Scene::new(rs, &cc.egui_ctx).map_err(|e| AppError::Renderer(e.to_string()))?;
         let slices = crate::ui::slices::SliceViews::new(rs);
-        let state = match cc.storage {
+        let mut state = match cc.storage {
             Some(storage) if !automation.is_active() => restored_state(storage),
             _ => ViewerState::default(),
         };
+        if gpu_budget.is_some() {
+            state.gpu_budget = gpu_budget;
+        }
         let mut loader = Loader::default();
         loader.check_against(crate::render::GpuContext::new(
             &rs.adapter,
@@ -180,7 +192,7 @@ impl LeapViewApp {
     }
 
     fn start_loading(&mut self, source: VolumeSource, ctx: &egui::Context) {
-        if let Err(e) = self.loader.start(source, ctx) {
+        if let Err(e) = self.loader.start(source, ctx, self.state.gpu_budget) {
             self.dialogs.show_error(e.to_string());
         }
     }
@@ -207,10 +219,11 @@ impl LeapViewApp {
 
     fn show_volume(&mut self, volume: Volume, source: &VolumeSource, ctx: &egui::Context) {
         let from_file = matches!(source, VolumeSource::File { .. });
-        match self
-            .scene
-            .show_volume(&volume, self.state.projection, from_file)
-        {
+        match self.scene.show_volume(
+            &volume,
+            (self.state.projection, self.state.gpu_budget),
+            from_file,
+        ) {
             Ok(summary) => {
                 self.shown_source = Some(source.clone());
                 self.state.forget_volume_values();

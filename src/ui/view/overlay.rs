@@ -124,6 +124,9 @@ impl Readout<'_> {
         if let Some(note) = self.orientation_note {
             lines.push(note.to_string());
         }
+        if let Some(note) = self.volume.and_then(|v| v.coarser.as_ref()) {
+            lines.push(note.clone());
+        }
         if !self.developer
             && let Some(ms) = self.frame_ms.filter(|ms| *ms > SLOW_FRAME_MS)
         {
@@ -210,6 +213,9 @@ impl Readout<'_> {
         }
         if let Some(ms) = self.tf_latency_ms {
             lines.push(format!("TF edit to frame done: {ms:.1} ms"));
+        }
+        if let Some(layout) = self.volume.and_then(|v| v.gpu_layout.as_ref()) {
+            lines.push(layout.clone());
         }
         if let Some(v) = self.volume {
             lines.push(v.line());

@@ -94,17 +94,26 @@ impl Scene {
     pub(crate) fn show_volume(
         &mut self,
         volume: &Volume,
-        projection: ProjectionKind,
+        (projection, gpu_budget): (ProjectionKind, Option<u64>),
         from_file: bool,
     ) -> Result<&VolumeSummary, RenderError> {
         let started = std::time::Instant::now();
-        {
+        let (coarser, gpu_layout) = {
             let handle = self.pump.handle();
             let mut shared = lock(&handle);
             shared.job = None;
-            shared.renderer.set_volume(volume)?;
+            let upload = crate::settings::Upload {
+                gpu_budget,
+                ..Default::default()
+            };
+            shared.renderer.set_volume_with(volume, &upload)?;
             shared.lod.forget();
-        }
+            let texture = shared.renderer.volume_texture();
+            (
+                texture.and_then(|t| t.coarser.clone()),
+                texture.map(|t| t.describe()),
+            )
+        };
         log::info!(
             "uploaded {} in {:.0} ms",
             volume.name(),
@@ -112,6 +121,8 @@ impl Scene {
         );
         let summary = VolumeSummary {
             from_file,
+            coarser,
+            gpu_layout,
             ..VolumeSummary::of(volume)
         };
         self.framing.show(summary, projection);
