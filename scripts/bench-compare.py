@@ -19,7 +19,9 @@ def load(run):
         for r in csv.DictReader(f):
             if r["sweep"] == "true":
                 continue
-            key = (r["dataset"], r["mode"], f"{r['width']}x{r['height']}", r["strategy"])
+            # The path beside the size: runs of both paths are compared path by path.
+            size = f"{r['width']}x{r['height']}" + (f" {r['path']}" if r.get("path") else "")
+            key = (r["dataset"], r["mode"], size, r["strategy"])
             ms[key].append(float(r["ms"]))
             samples[key].append(int(r["samples"]))
     return {k: (statistics.median(v), statistics.median(samples[k])) for k, v in ms.items()}

@@ -69,6 +69,8 @@ pub struct GpuContext {
     pub limits: wgpu::Limits,
     /// Format capabilities of the adapter, asked once per format the renderer may use.
     format_features: Arc<Vec<(wgpu::TextureFormat, wgpu::TextureFormatFeatures)>>,
+    /// The adapter's device-local memory, where its Vulkan driver says.
+    pub memory: Option<super::memory::DeviceMemory>,
 }
 
 /// Formats whose adapter-specific capabilities the renderer checks.
@@ -188,14 +190,24 @@ impl GpuContext {
             .iter()
             .map(|&f| (f, adapter.get_texture_format_features(f)))
             .collect();
+        let adapter_info = adapter.get_info();
+        let memory = super::memory::device_memory(&adapter_info);
+        log::info!("{}: device-local memory {memory:?}", adapter_info.name);
         Self {
             features: device.features(),
             limits: device.limits(),
-            adapter_info: adapter.get_info(),
+            memory,
+            adapter_info,
             device,
             queue,
             format_features: Arc::new(format_features),
         }
+    }
+
+    /// The GPU memory a volume may take when no budget is given: a share of what the driver
+    /// says is available ([`super::memory::DEFAULT_SHARE`]); `None` where it does not say.
+    pub fn default_gpu_budget(&self) -> Option<u64> {
+        self.memory.map(|m| m.default_budget())
     }
 
     /// Whether `format` can be sampled with linear filtering on this adapter.

@@ -32,7 +32,8 @@ pub fn admission(
         let bpt = bytes_per_texel(format) as u64;
         // The default layout: one texture where the volume fits it, else bricks of the finest
         // level that fits.
-        let extent = match plan(shape.dims, Bricking::Auto, (max, gpu_budget), bpt) {
+        let budget = gpu_budget.or_else(|| ctx.default_gpu_budget());
+        let extent = match plan(shape.dims, Bricking::Auto, (max, budget), bpt) {
             Ok(plan) => plan.extent(),
             Err(e) => {
                 return Err(format!(

@@ -11,7 +11,7 @@ pub use admission::admission;
 pub use encoding::{MISSING, MISSING_BELOW, TexelEncoding, texel_units};
 pub(crate) use encoding::{bytes_per_texel, forced_format};
 
-use crate::settings::{TexturePrecision, Upload};
+use crate::settings::{Bricking, TexturePrecision, Upload};
 use crate::volume::Volume;
 use crate::volume::downsample::Level;
 
@@ -154,6 +154,8 @@ pub struct VolumeTexture {
     pub bricks: Option<BrickLayout>,
     /// Where the GPU holds a coarser level than the volume's own: which, and why (one line).
     pub coarser: Option<String>,
+    /// The GPU memory budget it was laid out within (given, or the adapter's default).
+    pub budget: Option<u64>,
 }
 
 impl VolumeTexture {
@@ -177,8 +179,8 @@ impl VolumeTexture {
             log::warn!("{w} ({})", volume.name());
         }
         let bpt = bytes_per_texel(encoding.format);
-        let limits = (max, upload.gpu_budget);
-        let plan = plan(dims, upload.bricking, limits, bpt as u64).map_err(|e| match e {
+        let mut budget = upload.gpu_budget.or_else(|| ctx.default_gpu_budget());
+        let layout_error = |e: PlanError| match e {
             PlanError::TooLarge { max } => VolumeTextureError::TooLarge {
                 name: volume.label(),
                 dims,
@@ -189,41 +191,36 @@ impl VolumeTexture {
                 name: volume.label(),
                 why: other.to_string(),
             },
-        })?;
-        let [width, height, depth] = plan.extent();
-        let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let validation = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("volume"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: depth,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format: encoding.format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        // Refused at once, before any sample is encoded and sent.
-        let refused = pollster::block_on(validation.pop());
-        if pollster::block_on(oom.pop()).is_some() {
-            return Err(VolumeTextureError::OutOfMemory {
-                name: volume.label(),
-                megabytes: [width, height, depth]
-                    .map(f64::from)
-                    .iter()
-                    .product::<f64>()
-                    * bpt as f64
-                    / 1e6,
-                adapter: ctx.adapter_info.name.clone(),
-            });
-        }
-        if let Some(e) = refused {
-            return Err(VolumeTextureError::Gpu(e.to_string()));
-        }
+        };
+        // Where the GPU runs out of memory for the texture, the budget is halved below it and
+        // the layout chosen again (a coarser level), until one fits or none is left.
+        let mut lowered = None;
+        let (plan, texture) = loop {
+            let plan =
+                plan(dims, upload.bricking, (max, budget), bpt as u64).map_err(layout_error)?;
+            let extent = plan.extent();
+            let bytes = extent.iter().map(|&e| u64::from(e)).product::<u64>() * bpt as u64;
+            match allocate(ctx, extent, encoding.format) {
+                Ok(texture) => break (plan, texture),
+                Err(Allocation::OutOfMemory) if upload.bricking != Bricking::Off && bytes > 1 => {
+                    log::warn!(
+                        "the GPU ran out of memory for a {} volume texture",
+                        crate::text::bytes(bytes)
+                    );
+                    budget = Some(bytes / 2);
+                    lowered = Some(bytes);
+                }
+                Err(Allocation::OutOfMemory) => {
+                    return Err(VolumeTextureError::OutOfMemory {
+                        name: volume.label(),
+                        megabytes: bytes as f64 / 1e6,
+                        adapter: ctx.adapter_info.name.clone(),
+                    });
+                }
+                Err(Allocation::Refused(e)) => return Err(VolumeTextureError::Gpu(e)),
+            }
+        };
+        let limits = (max, budget);
         let uploaded = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let (pages, bricks) = match plan {
             Plan::Single(_) => {
@@ -243,7 +240,25 @@ impl VolumeTexture {
         if let Some(e) = pollster::block_on(uploaded.pop()) {
             return Err(VolumeTextureError::Gpu(e.to_string()));
         }
-        let coarser = coarser_note(&plan, limits, bpt as u64);
+        let mut coarser = coarser_note(&plan, limits, bpt as u64);
+        if let (Some(note), None, Some(memory)) = (&mut coarser, upload.gpu_budget, ctx.memory) {
+            note.push_str(&format!(
+                " (by default {:.0} % of the {} the GPU's driver reports; --gpu-budget sets it)",
+                crate::render::memory::DEFAULT_SHARE * 100.0,
+                crate::text::bytes(memory.available_bytes.unwrap_or(memory.heap_bytes))
+            ));
+        }
+        if let Some(failed) = lowered {
+            let said = format!(
+                "the GPU ran out of memory for {}: the budget was lowered to {}",
+                crate::text::bytes(failed),
+                crate::text::bytes(budget.unwrap_or(0))
+            );
+            coarser = Some(match coarser {
+                Some(note) => format!("{note}; {said}"),
+                None => said,
+            });
+        }
         if let Some(note) = &coarser {
             log::info!("{note} ({})", volume.name());
         }
@@ -266,6 +281,7 @@ impl VolumeTexture {
             encoding,
             bricks,
             coarser,
+            budget,
         })
     }
 
@@ -273,7 +289,7 @@ impl VolumeTexture {
     /// of which level, and the memory they take.
     pub fn describe(&self) -> String {
         let bpt = bytes_per_texel(self.encoding.format) as u64;
-        match &self.bricks {
+        let held = match &self.bricks {
             None => {
                 let size = self.texture.size();
                 let texels = u64::from(size.width)
@@ -288,6 +304,10 @@ impl VolumeTexture {
                 b.level,
                 crate::text::bytes(b.brick_bytes(bpt))
             ),
+        };
+        match self.budget {
+            Some(budget) => format!("{held} (budget {})", crate::text::bytes(budget)),
+            None => held,
         }
     }
 
@@ -323,6 +343,49 @@ impl VolumeTexture {
                 Ok(encoding_for(volume, format))
             }
         }
+    }
+}
+
+/// Why a texture could not be allocated.
+enum Allocation {
+    /// The GPU ran out of memory.
+    OutOfMemory,
+    /// The device refused it (the message).
+    Refused(String),
+}
+
+/// A 3D texture of `extent` texels in `format` for the volume, refused at once where the device
+/// cannot make it (before any sample is encoded and sent).
+fn allocate(
+    ctx: &GpuContext,
+    extent: [u32; 3],
+    format: wgpu::TextureFormat,
+) -> Result<wgpu::Texture, Allocation> {
+    let [width, height, depth] = extent;
+    let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let validation = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("volume"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: depth,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D3,
+        format,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    let refused = pollster::block_on(validation.pop());
+    if pollster::block_on(oom.pop()).is_some() {
+        texture.destroy();
+        return Err(Allocation::OutOfMemory);
+    }
+    match refused {
+        Some(e) => Err(Allocation::Refused(e.to_string())),
+        None => Ok(texture),
     }
 }
 
