@@ -3,14 +3,25 @@
 //! forever.
 //!
 //! The rule: never allocate more than the file can hold (uncompressed data: the bytes present;
-//! gzip: [`MAX_DEFLATE_RATIO`] times the compressed bytes) and never more than
-//! [`MAX_VOLUME_BYTES`].
+//! gzip: [`MAX_DEFLATE_RATIO`] times the compressed bytes) and never more than the machine's
+//! memory holds ([`max_volume_bytes`]).
 
 use super::error::VolumeError;
 use super::samples::ScalarType;
 
-/// Hard cap on the decoded sample bytes of one volume: 8 GiB.
+/// Cap on the decoded sample bytes of one volume where the machine does not say how much memory
+/// it has: 8 GiB.
 pub const MAX_VOLUME_BYTES: u64 = 8 << 30;
+
+/// The most decoded sample bytes one volume may take: what this machine's memory holds
+/// (`MemTotal`; the GPU takes any size, in bricks of a coarser level where it must), else
+/// [`MAX_VOLUME_BYTES`]. Whether the memory is free when the samples are read is asked then.
+pub fn max_volume_bytes() -> u64 {
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|text| meminfo_bytes(&text, "MemTotal:"))
+        .unwrap_or(MAX_VOLUME_BYTES)
+}
 
 /// Hard cap on the number of samples along one axis (GPU 3D textures are far smaller anyway).
 pub const MAX_DIMENSION: u32 = 65536;
@@ -43,12 +54,12 @@ pub(crate) fn admit(
 /// does not say. A loader refuses samples larger than this before reading any.
 pub(crate) fn available_memory_bytes() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    mem_available(&text)
+    meminfo_bytes(&text, "MemAvailable:")
 }
 
-/// `MemAvailable` of a `/proc/meminfo` text, in bytes.
-fn mem_available(meminfo: &str) -> Option<u64> {
-    let line = meminfo.lines().find(|l| l.starts_with("MemAvailable:"))?;
+/// The value of `field` (`MemAvailable:`, `MemTotal:`) of a `/proc/meminfo` text, in bytes.
+fn meminfo_bytes(meminfo: &str, field: &str) -> Option<u64> {
+    let line = meminfo.lines().find(|l| l.starts_with(field))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     kib.checked_mul(1024)
 }
@@ -71,11 +82,20 @@ pub enum DataSource {
     },
 }
 
-/// Checks declared dimensions against the per-axis cap and the size cap; returns the dimensions
-/// as `u32` and the number of sample bytes they call for.
+/// Checks declared dimensions against the per-axis cap and the size cap (the machine's memory);
+/// returns the dimensions as `u32` and the number of sample bytes they call for.
 pub(crate) fn check_dims(
     dims: [u64; 3],
     scalar_type: ScalarType,
+) -> Result<([u32; 3], u64), VolumeError> {
+    check_dims_within(dims, scalar_type, max_volume_bytes())
+}
+
+/// [`check_dims`] with a size cap of `limit_bytes`.
+fn check_dims_within(
+    dims: [u64; 3],
+    scalar_type: ScalarType,
+    limit_bytes: u64,
 ) -> Result<([u32; 3], u64), VolumeError> {
     if dims.iter().any(|&d| d > u64::from(MAX_DIMENSION)) {
         return Err(VolumeError::DimensionTooLarge {
@@ -90,12 +110,12 @@ pub(crate) fn check_dims(
     }
     // At most 65536³ · 8 = 2^51: no overflow.
     let declared_bytes = dims.iter().product::<u64>() * scalar_type.size_bytes() as u64;
-    if declared_bytes > MAX_VOLUME_BYTES {
+    if declared_bytes > limit_bytes {
         return Err(VolumeError::TooLarge {
             dims: dims32,
             scalar_type,
             declared_bytes,
-            limit_bytes: MAX_VOLUME_BYTES,
+            limit_bytes,
         });
     }
     Ok((dims32, declared_bytes))
@@ -167,8 +187,11 @@ mod tests {
     #[test]
     fn available_memory_is_read_from_meminfo() {
         let text = "MemTotal:       24000000 kB\nMemFree:  1000 kB\nMemAvailable:   22000000 kB\n";
-        assert_eq!(mem_available(text), Some(22_000_000 * 1024));
-        assert_eq!(mem_available("MemTotal: 5 kB\n"), None);
+        assert_eq!(
+            meminfo_bytes(text, "MemAvailable:"),
+            Some(22_000_000 * 1024)
+        );
+        assert_eq!(meminfo_bytes("MemTotal: 5 kB\n", "MemAvailable:"), None);
     }
 
     const PLENTY: DataSource = DataSource::Uncompressed {
@@ -182,8 +205,9 @@ mod tests {
             matches!(r, Err(VolumeError::DimensionTooLarge { .. })),
             "{r:?}"
         );
-        // 4096³ bytes = 64 GiB > 8 GiB, although every axis is allowed.
-        let r = check_declared_size([4096; 3], ScalarType::U8, PLENTY);
+        // 16384² × 4096 bytes = 1 TiB, more than this machine holds, although every axis is
+        // allowed.
+        let r = check_declared_size([16384, 16384, 4096], ScalarType::U8, PLENTY);
         assert!(matches!(r, Err(VolumeError::TooLarge { .. })), "{r:?}");
         let r = check_declared_size([4, 0, 4], ScalarType::U8, PLENTY);
         assert!(matches!(r, Err(VolumeError::ZeroDimension { .. })), "{r:?}");
@@ -192,10 +216,29 @@ mod tests {
     #[test]
     fn the_limit_itself_is_allowed() {
         // 2048 × 2048 × 1024 × 2 bytes = exactly 8 GiB.
-        let r = check_dims([2048, 2048, 1024], ScalarType::U16);
+        let r = check_dims_within([2048, 2048, 1024], ScalarType::U16, MAX_VOLUME_BYTES);
         assert_eq!(r.ok(), Some(([2048, 2048, 1024], MAX_VOLUME_BYTES)));
-        let r = check_dims([2048, 2048, 1025], ScalarType::U16);
+        let r = check_dims_within([2048, 2048, 1025], ScalarType::U16, MAX_VOLUME_BYTES);
         assert!(matches!(r, Err(VolumeError::TooLarge { .. })), "{r:?}");
+    }
+
+    #[test]
+    fn the_cap_is_the_machines_memory() {
+        let meminfo = "MemTotal:       24580084 kB\nMemAvailable:   20000000 kB\n";
+        assert_eq!(meminfo_bytes(meminfo, "MemTotal:"), Some(24580084 * 1024));
+        assert_eq!(
+            meminfo_bytes(meminfo, "MemAvailable:"),
+            Some(20000000 * 1024)
+        );
+        assert_eq!(meminfo_bytes("", "MemTotal:"), None);
+        // Where /proc/meminfo says (Linux), a volume past 8 GiB passes the header check on a
+        // machine with more memory.
+        if let Some(total) = meminfo_bytes(
+            &std::fs::read_to_string("/proc/meminfo").unwrap_or_default(),
+            "MemTotal:",
+        ) {
+            assert_eq!(max_volume_bytes(), total);
+        }
     }
 
     #[test]

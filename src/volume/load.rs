@@ -43,7 +43,7 @@ enum Format {
 /// image.
 ///
 /// Errors name the file last; no header, however corrupt, makes this allocate more than the file
-/// can hold or than [`super::limits::MAX_VOLUME_BYTES`].
+/// can hold or than the machine's memory ([`super::limits::max_volume_bytes`]).
 pub fn load_volume(path: &Path, options: &LoadOptions) -> Result<Volume, LoadError> {
     load(path, options)
         .map(|v| match options.orientation {

@@ -178,9 +178,9 @@ pub enum VolumeError {
         /// The per-axis limit.
         max: u32,
     },
-    /// The volume would need more memory than LeapView allows.
+    /// The volume would need more memory than the machine has.
     #[error(
-        "the header declares {} {scalar_type} samples ({}), more than the {} a volume may take",
+        "the header declares {} {scalar_type} samples ({}), more than this machine's {} of memory",
         fmt_dims(.dims), fmt_bytes(*.declared_bytes), fmt_bytes(*.limit_bytes)
     )]
     TooLarge {

@@ -157,11 +157,12 @@ fn absurd_sizes_are_refused_before_allocating() {
         fails(&path),
         VolumeError::DimensionTooLarge { .. }
     ));
-    // 4096³ bytes = 64 GiB: every axis is allowed, the total is not.
-    let path = nrrd("64gib.nrrd", "4096 4096 4096", "raw", &[0; 64]);
+    // 16384² × 4096 bytes = 1 TiB: every axis is allowed, the total is more than this machine
+    // holds.
+    let path = nrrd("1tib.nrrd", "16384 16384 4096", "raw", &[0; 64]);
     let e = fails(&path);
     assert!(matches!(e, VolumeError::TooLarge { .. }), "{e}");
-    assert!(e.to_string().contains("68.7 GB"), "{e}");
+    assert!(e.to_string().contains("1.1 TB"), "{e}");
     // 2000³ bytes = 8 GB is under the cap, but 64 raw bytes cannot hold it…
     let path = nrrd("8gb.nrrd", "2000 2000 2000", "raw", &[0; 64]);
     assert!(matches!(
