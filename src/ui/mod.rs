@@ -156,4 +156,6 @@ pub enum Action {
     OpenRecent(std::path::PathBuf),
     /// Divide the central area this way (3D only, 2 × 2, 1 + 3).
     SetLayout(layout::Layout),
+    /// Keep the volume within this much GPU memory (`None`: the default) and load it again.
+    SetGpuBudget(Option<u64>),
 }

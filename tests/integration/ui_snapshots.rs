@@ -314,6 +314,17 @@ fn side_panel_edits_the_viewer_state() {
     assert_eq!(h.state().state.render.strategy, Strategy::RcT);
     assert!(h.state().state.statistics);
 
+    // The GPU memory budget: a list under Advanced; the app loads the volume again within it.
+    h.get_by_label("GPU memory").click();
+    h.run();
+    h.get_by_label("1.1 GB").click();
+    h.run();
+    assert_eq!(
+        h.state().actions.last(),
+        Some(&Action::SetGpuBudget(Some(1 << 30)))
+    );
+    h.state_mut().actions.clear();
+
     // Projection and views need the camera: the panel hands them to the app.
     h.get_by_label("Orthographic").click();
     h.get_by_label("+x").click();

@@ -318,6 +318,12 @@ impl LeapViewApp {
                 }
             }
             Action::Reorient(orientation) => self.reorient(orientation, ctx),
+            Action::SetGpuBudget(budget) => {
+                self.state.gpu_budget = budget;
+                if let Some(source) = self.shown_source.clone() {
+                    self.start_loading(source, ctx);
+                }
+            }
             Action::SetProjection(kind) => {
                 self.state.projection = kind;
                 self.scene.framing_mut().set_projection(kind);

@@ -120,9 +120,52 @@ pub fn controls_ui(
                     path_row(ui, state, info.path_used);
                     sampling_rows(ui, state);
                     readout_rows(ui, state);
+                    if let Some(budget) = gpu_budget_row(ui, state.gpu_budget) {
+                        action = Some(Action::SetGpuBudget(budget));
+                    }
                 });
         });
     action
+}
+
+/// Budgets the GPU-memory list offers, in bytes.
+const GPU_BUDGETS: [u64; 8] = [
+    256 << 20,
+    512 << 20,
+    1 << 30,
+    2 << 30,
+    4 << 30,
+    8 << 30,
+    16 << 30,
+    32 << 30,
+];
+
+/// The GPU memory a volume may take (the default: a share of what the driver reports free);
+/// a new choice, where one was made.
+fn gpu_budget_row(ui: &mut egui::Ui, budget: Option<u64>) -> Option<Option<u64>> {
+    let name = |b: Option<u64>| b.map_or_else(|| "default".to_string(), crate::text::bytes);
+    let label = ui.label("GPU memory").on_hover_text(
+        "The most GPU memory the volume may take; past it the volume is shown from bricks of a \
+         coarser level (the overlay says so). Changing it loads the volume again.",
+    );
+    let mut chosen = None;
+    ComboBox::from_id_salt("gpu budget")
+        .selected_text(name(budget))
+        .show_ui(ui, |ui| {
+            for option in std::iter::once(None).chain(GPU_BUDGETS.map(Some)) {
+                if ui
+                    .selectable_label(budget == option, name(option))
+                    .clicked()
+                    && budget != option
+                {
+                    chosen = Some(option);
+                }
+            }
+        })
+        .response
+        .labelled_by(label.id);
+    ui.end_row();
+    chosen
 }
 
 /// The transfer-function preset.
