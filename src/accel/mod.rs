@@ -1,7 +1,8 @@
 //! Acceleration structures for empty-space leaping (RC-s), as pure CPU code: the min/max
 //! pyramid, the transfer function's emptiness table and the distance field over blocks. The GPU
 //! builds the same structures with compute shaders (`src/render/raycast/leap.rs`); these are their
-//! references.
+//! references. And how a volume is cut into bricks for the GPU's atlas and page table
+//! (`bricks`), which the leaping structures will decide residency for.
 
 pub mod bricks;
 pub mod distance;

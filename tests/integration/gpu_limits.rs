@@ -149,14 +149,17 @@ fn a_volume_past_the_gpus_limits_is_refused_before_its_samples_are_read() {
     let e = leapview::volume::load_volume(&path, &Default::default()).expect_err("cut short");
     assert!(!e.to_string().contains("budget"), "{e}");
     // The command line checks first too.
-    let out = common::leapview(&[
-        "render",
-        path.to_str().expect("utf-8"),
-        "--out",
-        dir.path().join("x.png").to_str().expect("utf-8"),
-        "--gpu-budget",
-        "10kB",
-    ]);
+    let render = |budget: &str| {
+        common::leapview(&[
+            "render",
+            path.to_str().expect("utf-8"),
+            "--out",
+            dir.path().join("x.png").to_str().expect("utf-8"),
+            "--gpu-budget",
+            budget,
+        ])
+    };
+    let out = render("10kB");
     assert_eq!(out.status.code(), Some(2));
     let stderr = common::stderr(&out);
     assert!(
@@ -164,14 +167,7 @@ fn a_volume_past_the_gpus_limits_is_refused_before_its_samples_are_read() {
         "{stderr}"
     );
     // A budget in a unit it does not know: exit 2 with the forms it takes.
-    let out = common::leapview(&[
-        "render",
-        path.to_str().expect("utf-8"),
-        "--out",
-        dir.path().join("x.png").to_str().expect("utf-8"),
-        "--gpu-budget",
-        "2 parsecs",
-    ]);
+    let out = render("2 parsecs");
     assert_eq!(out.status.code(), Some(2));
     let stderr = common::stderr(&out);
     assert!(

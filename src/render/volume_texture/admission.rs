@@ -4,6 +4,7 @@ use crate::render::context::GpuContext;
 
 use super::encoding::{bytes_per_texel, candidates};
 use super::plan::plan;
+use super::{Allocation, allocate};
 use crate::settings::Bricking;
 
 /// The check a load makes of the volume's shape before reading its samples
@@ -45,38 +46,20 @@ pub fn admission(
         let megabytes = extent.iter().map(|&d| d as f64).product::<f64>()
             * bytes_per_texel(format) as f64
             / 1e6;
-        let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let validation = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("volume admission"),
-            size: wgpu::Extent3d {
-                width: extent[0],
-                height: extent[1],
-                depth_or_array_layers: extent[2],
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        let refused = pollster::block_on(validation.pop());
-        let out_of_memory = pollster::block_on(oom.pop());
-        texture.destroy();
-        if out_of_memory.is_some() {
-            return Err(format!(
+        match allocate(&ctx, extent, format) {
+            Ok(texture) => {
+                texture.destroy();
+                Ok(())
+            }
+            Err(Allocation::OutOfMemory) => Err(format!(
                 "the GPU ({}) has not enough memory for a {megabytes:.0} MB volume texture",
                 ctx.adapter_info.name
-            ));
-        }
-        match refused {
-            Some(e) => Err(format!(
+            )),
+            Err(Allocation::Refused(e)) => Err(format!(
                 "the GPU ({}) refused a volume texture of {megabytes:.0} MB: {}",
                 ctx.adapter_info.name,
-                e.to_string().lines().next().unwrap_or_default()
+                e.lines().next().unwrap_or_default()
             )),
-            None => Ok(()),
         }
     })
 }

@@ -347,7 +347,7 @@ impl VolumeTexture {
 }
 
 /// Why a texture could not be allocated.
-enum Allocation {
+pub(super) enum Allocation {
     /// The GPU ran out of memory.
     OutOfMemory,
     /// The device refused it (the message).
@@ -356,7 +356,7 @@ enum Allocation {
 
 /// A 3D texture of `extent` texels in `format` for the volume, refused at once where the device
 /// cannot make it (before any sample is encoded and sent).
-fn allocate(
+pub(super) fn allocate(
     ctx: &GpuContext,
     extent: [u32; 3],
     format: wgpu::TextureFormat,
