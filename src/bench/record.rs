@@ -48,6 +48,10 @@ pub struct DatasetInfo {
     pub tf: String,
     /// Why that transfer function.
     pub why: String,
+    /// How the GPU held it (one texture, or bricks: count, level, memory, budget); absent in
+    /// results written before it was recorded.
+    #[serde(default)]
+    pub gpu_layout: Option<String>,
 }
 
 /// What identifies a run: the dataset and every setting that was varied.

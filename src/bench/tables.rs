@@ -276,13 +276,13 @@ fn write_environment(md: &mut String, summary: &Summary) {
     };
     let _ = writeln!(
         md,
-        "\n## Environment\n\n- adapter: {} ({}, {})\n- driver: {} {}\n- timing: {timer}\n- leapview {}\n- command: `{}`\n\n| dataset | source | dims | spacing mm | type | TF | why |\n|---|---|---|---|---|---|---|",
+        "\n## Environment\n\n- adapter: {} ({}, {})\n- driver: {} {}\n- timing: {timer}\n- leapview {}\n- command: `{}`\n\n| dataset | source | dims | spacing mm | type | on the GPU | TF | why |\n|---|---|---|---|---|---|---|---|",
         e.adapter, e.device_type, e.backend, e.driver, e.driver_info, e.version, e.command_line
     );
     for d in &summary.datasets {
         let _ = writeln!(
             md,
-            "| {} | {} | {}×{}×{} | {:.3}, {:.3}, {:.3} | {} | {} | {} |",
+            "| {} | {} | {}×{}×{} | {:.3}, {:.3}, {:.3} | {} | {} | {} | {} |",
             d.name,
             d.source,
             d.dims[0],
@@ -292,6 +292,7 @@ fn write_environment(md: &mut String, summary: &Summary) {
             d.spacing_mm[1],
             d.spacing_mm[2],
             d.scalar_type,
+            d.gpu_layout.as_deref().unwrap_or("not recorded"),
             d.tf,
             d.why
         );

@@ -87,6 +87,7 @@ pub fn load(
         value_range: [range.min, range.max],
         tf: spec.tf.clone(),
         why: spec.why.clone(),
+        gpu_layout: None,
     };
     Ok(Loaded { volume, tf, info })
 }

@@ -118,7 +118,9 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
         }
         let bounds = Aabb::of_volume(loaded.volume.dims(), loaded.volume.spacing_mm());
         let cameras = super::measuring::orbit(&bounds, config.views, config.elevation_deg);
-        results.datasets.push(loaded.info);
+        let mut info = loaded.info;
+        info.gpu_layout = renderer.volume_texture().map(|t| t.describe());
+        results.datasets.push(info);
         for (index, planned) in runs.iter().enumerate() {
             let s = &planned.settings;
             progress.show(&format!(
