@@ -119,6 +119,10 @@ pub(super) fn upload_bricks(
             );
         }
         next = end;
+        // Submit what was written and wait for it, so that wgpu lets go of the batch's staging
+        // copy before the next is encoded: memory holds one batch, not the whole atlas.
+        ctx.queue.submit([]);
+        let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
     }
 }
 

@@ -464,5 +464,8 @@ fn upload_slabs(
             },
         );
         z = z_end;
+        // As the bricked upload: one slab's staging copy in memory at a time.
+        ctx.queue.submit([]);
+        let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
     }
 }
