@@ -17,6 +17,7 @@ pub mod camera;
 pub mod counters;
 pub mod imaging;
 pub mod mpr;
+pub mod parallel;
 pub mod reference;
 pub mod render;
 pub mod sampling;

@@ -7,6 +7,7 @@
 
 use super::colour::Colour;
 use super::samples::Samples;
+use crate::parallel::fill_slabs;
 
 /// Voxels per axis of level `level` of a volume of `dims`.
 pub fn level_dims(dims: [u32; 3], level: u32) -> [u32; 3] {
@@ -84,41 +85,33 @@ impl Halve for f64 {
 }
 
 fn halve_typed<T: Halve>(v: &[T], dims: [u32; 3]) -> Vec<T> {
-    let out_dims = level_dims(dims, 1);
+    let [ox, oy, oz] = level_dims(dims, 1).map(|d| d as usize);
     let [nx, ny, nz] = dims.map(|d| d.max(1) as usize);
-    let [ox, oy, _] = out_dims.map(|d| d as usize);
     let plane = ox * oy;
-    let mut out = vec![T::from_mean(0.0); out_dims.iter().map(|&d| d as usize).product()];
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let planes_per_thread = (out_dims[2] as usize).div_ceil(threads).max(1);
-    std::thread::scope(|scope| {
-        for (chunk_index, chunk) in out.chunks_mut(plane * planes_per_thread).enumerate() {
-            scope.spawn(move || {
-                for (k, value) in chunk.iter_mut().enumerate() {
-                    let z = chunk_index * planes_per_thread + k / plane;
-                    let (y, x) = ((k % plane) / ox, k % ox);
-                    let mut sum = 0.0;
-                    let mut count = 0u32;
-                    for dz in 0..2 {
-                        let sz = (2 * z + dz).min(nz - 1);
-                        for dy in 0..2 {
-                            let sy = (2 * y + dy).min(ny - 1);
-                            for dx in 0..2 {
-                                let sx = (2 * x + dx).min(nx - 1);
-                                let s = v[sx + nx * (sy + ny * sz)].to_f64();
-                                if s.is_finite() {
-                                    sum += s;
-                                    count += 1;
-                                }
-                            }
+    let mut out = vec![T::from_mean(0.0); plane * oz];
+    fill_slabs(&mut out, plane, |z_first, slab| {
+        for (k, value) in slab.iter_mut().enumerate() {
+            let (z, y, x) = (z_first + k / plane, (k % plane) / ox, k % ox);
+            let mut sum = 0.0;
+            let mut count = 0u32;
+            for dz in 0..2 {
+                let sz = (2 * z + dz).min(nz - 1);
+                for dy in 0..2 {
+                    let sy = (2 * y + dy).min(ny - 1);
+                    for dx in 0..2 {
+                        let sx = (2 * x + dx).min(nx - 1);
+                        let s = v[sx + nx * (sy + ny * sz)].to_f64();
+                        if s.is_finite() {
+                            sum += s;
+                            count += 1;
                         }
                     }
-                    *value = T::from_mean(if count > 0 {
-                        sum / f64::from(count)
-                    } else {
-                        f64::NAN
-                    });
                 }
+            }
+            *value = T::from_mean(if count > 0 {
+                sum / f64::from(count)
+            } else {
+                f64::NAN
             });
         }
     });

@@ -1,9 +1,10 @@
-//! The bricked upload: every brick with its apron encoded on all cores and written into its slot
+//! The bricked upload: every brick with its apron encoded on all cores (`crate::parallel`) and written into its slot
 //! of the atlas, a batch of bricks at a time, and the page table that finds them.
 
 use super::SLAB_BYTES;
 use super::encoding::{TexelEncoding, TexelSource, bytes_per_texel, encode_texels};
 use crate::accel::bricks::BrickLayout;
+use crate::parallel::parallel;
 use crate::render::context::GpuContext;
 
 /// Appends the texels of `brick`'s slot (apron included, x fastest) to `out`, from `source`
@@ -44,39 +45,6 @@ fn encode_brick(
     }
 }
 
-/// Encodes bricks `bricks` (indices) into one buffer each, on all cores.
-fn encode_bricks(
-    source: &TexelSource<'_>,
-    encoding: &TexelEncoding,
-    layout: &BrickLayout,
-    bricks: std::ops::Range<u32>,
-) -> Vec<Vec<u8>> {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let indices: Vec<u32> = bricks.collect();
-    let per_thread = indices.len().div_ceil(threads).max(1);
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = indices
-            .chunks(per_thread)
-            .map(|chunk| {
-                scope.spawn(move || {
-                    chunk
-                        .iter()
-                        .map(|&i| {
-                            let mut out = Vec::new();
-                            encode_brick(source, encoding, layout, layout.brick_at(i), &mut out);
-                            out
-                        })
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap_or_default())
-            .collect()
-    })
-}
-
 /// Writes every brick of the level `layout` holds (`source`) into its slot of `atlas` (at most
 /// [`SLAB_BYTES`] of encoded bricks in memory at once).
 pub(super) fn upload_bricks(
@@ -92,7 +60,15 @@ pub(super) fn upload_bricks(
     let mut next = 0;
     while next < layout.count() {
         let end = (next + per_batch).min(layout.count());
-        for (i, bytes) in (next..end).zip(encode_bricks(source, encoding, layout, next..end)) {
+        let encoded = parallel((end - next) as usize, &|| false, &|k| {
+            let mut out = Vec::new();
+            let brick = layout.brick_at(next + k as u32);
+            encode_brick(source, encoding, layout, brick, &mut out);
+            out
+        });
+        // Each brick's buffer beside its own index: nothing stops the work, so none is missing.
+        for (i, bytes) in (next..end).zip(encoded) {
+            let Some(bytes) = bytes else { continue };
             let slot = layout.slot_of(i);
             ctx.queue.write_texture(
                 wgpu::TexelCopyTextureInfo {

@@ -12,8 +12,8 @@ use super::geometry::{AxesFrom, Geometry, SlicePlan, assemble};
 use super::header::{FrameHeader, Photometric, Rescale};
 use super::pixels::{Decoded, Stored, convert_frame, decode_file, scalar_type};
 use super::resample::resample_slice;
-use super::scan::parallel;
 use super::series::{Alternatives, Series};
+use crate::parallel::parallel;
 use crate::volume::error::VolumeError;
 use crate::volume::error::dicom::DicomError;
 use crate::volume::{

@@ -4,8 +4,6 @@
 //! counted, not an error.
 
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use dicom_dictionary_std::tags;
 use dicom_object::OpenFileOptions;
@@ -13,6 +11,7 @@ use dicom_object::OpenFileOptions;
 use super::guard::{Encoding, ImplicitForExplicit};
 use super::header::FrameHeader;
 use super::tags::{Contents, contents};
+use crate::parallel::parallel;
 use crate::volume::error::dicom::DicomError;
 
 /// Deepest folder nesting searched (PACS exports nest patient, study, series and more; a deeper
@@ -229,37 +228,6 @@ fn read_header(path: &Path, file: usize, name: &str) -> Result<Found, DicomError
         Contents::Image(frames) => Found::Frames(frames),
         Contents::NotImage(what) => Found::NotImage(what),
     })
-}
-
-/// Runs `work(i)` for `i` in `0..count` on every core; results in order. Stops early (remaining
-/// items `None`) once `stop` says so.
-pub fn parallel<R: Send>(
-    count: usize,
-    stop: &(dyn Fn() -> bool + Sync),
-    work: &(dyn Fn(usize) -> R + Sync),
-) -> Vec<Option<R>> {
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(count.max(1));
-    let next = AtomicUsize::new(0);
-    let results: Mutex<Vec<Option<R>>> = Mutex::new((0..count).map(|_| None).collect());
-    std::thread::scope(|scope| {
-        for _ in 0..threads {
-            scope.spawn(|| {
-                loop {
-                    let i = next.fetch_add(1, Ordering::Relaxed);
-                    if i >= count || stop() {
-                        break;
-                    }
-                    let r = work(i);
-                    if let Ok(mut all) = results.lock() {
-                        all[i] = Some(r);
-                    }
-                }
-            });
-        }
-    });
-    results.into_inner().unwrap_or_default()
 }
 
 /// Scans `path` (a folder, a DICOM file, a DICOMDIR) for image frames.

@@ -9,7 +9,7 @@ use dicom_core::{DataElement, PrimitiveValue, VR};
 use dicom_dictionary_std::{tags, uids};
 use dicom_object::{FileMetaTableBuilder, InMemDicomObject};
 
-use super::scan::parallel;
+use crate::parallel::parallel;
 use crate::volume::{model::Volume, samples::Samples};
 
 /// A failure to write the series.

@@ -1,7 +1,8 @@
 //! Tiny analytic volumes for the renderer's tests: every voxel is known in closed form, so a
 //! test can predict what a ray must see (a constant, a slab, a sphere, a ramp, a checkerboard).
 
-use super::{coverage, fill_slabs};
+use super::coverage;
+use crate::parallel::fill_slabs;
 use crate::volume::{
     error::VolumeError, model::Volume, samples::Samples, samples::ScalarType, samples::ValueMapping,
 };

@@ -16,7 +16,8 @@
 use glam::{DMat3, DVec3};
 
 use super::rng::{SplitMix64, unit_noise};
-use super::{coverage, cube_len, fill_slabs};
+use super::{coverage, cube_len};
+use crate::parallel::fill_slabs;
 use crate::volume::{error::VolumeError, model::Volume, samples::Samples, samples::ValueMapping};
 
 /// Edge of the cubic field of view, millimetres (0.78 mm voxels at `n = 256`).

@@ -43,47 +43,9 @@ pub(crate) fn cube_len(
     Ok(dims.iter().map(|&d| d as usize).product())
 }
 
-/// Fills `buf` (`slice_len` samples per z slice) in parallel, one contiguous slab of z slices
-/// per thread: `fill(z_first, slab)` receives the index of the slab's first slice and its
-/// samples. The result does not depend on the number of threads as long as `fill` writes every
-/// voxel from its coordinates alone.
-pub(crate) fn fill_slabs<T: Send>(
-    buf: &mut [T],
-    slice_len: usize,
-    fill: impl Fn(usize, &mut [T]) + Sync,
-) {
-    if slice_len == 0 || buf.is_empty() {
-        return;
-    }
-    let slices = buf.len().div_ceil(slice_len);
-    let threads = std::thread::available_parallelism()
-        .map(|t| t.get())
-        .unwrap_or(1)
-        .clamp(1, slices);
-    let slices_per_slab = slices.div_ceil(threads);
-    std::thread::scope(|scope| {
-        for (i, slab) in buf.chunks_mut(slices_per_slab * slice_len).enumerate() {
-            let fill = &fill;
-            scope.spawn(move || fill(i * slices_per_slab, slab));
-        }
-    });
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn slabs_cover_every_slice_once() {
-        let mut buf = vec![0u32; 7 * 5];
-        fill_slabs(&mut buf, 5, |z0, slab| {
-            for (i, v) in slab.iter_mut().enumerate() {
-                *v += (z0 * 5 + i) as u32;
-            }
-        });
-        let expected: Vec<u32> = (0..35).collect();
-        assert_eq!(buf, expected);
-    }
 
     #[test]
     fn coverage_is_a_clamped_ramp() {

@@ -3,7 +3,8 @@
 //! shell and a thin rod — smooth fog, a hard thin surface and a sub-block feature, the three things
 //! a ray caster meets in practice.
 
-use super::{coverage, cube_len, fill_slabs};
+use super::{coverage, cube_len};
+use crate::parallel::fill_slabs;
 use crate::volume::{error::VolumeError, model::Volume, samples::Samples, samples::ValueMapping};
 
 /// Blobs: centre (fractions of the edge), standard deviation (fraction of the edge), peak value.

@@ -40,7 +40,8 @@
 use glam::DVec3;
 
 use super::rng::{UNIT_NOISE_BOUND, unit_noise};
-use super::{coverage, cube_len, fill_slabs};
+use super::{coverage, cube_len};
+use crate::parallel::fill_slabs;
 use crate::volume::{error::VolumeError, model::Volume, samples::Samples, samples::ValueMapping};
 
 /// Width of the field of view along every axis, millimetres (256 voxels: 0.898 mm each).

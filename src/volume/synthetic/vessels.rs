@@ -17,7 +17,8 @@
 use glam::{DQuat, DVec3};
 
 use super::rng::{SplitMix64, unit_noise};
-use super::{coverage, cube_len, fill_slabs};
+use super::{coverage, cube_len};
+use crate::parallel::fill_slabs;
 use crate::volume::{error::VolumeError, model::Volume, samples::Samples, samples::ValueMapping};
 
 /// Edge of the cubic field of view, millimetres (a head CTA's; 0.70 mm voxels at `n = 256`).
