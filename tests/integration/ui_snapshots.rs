@@ -317,11 +317,11 @@ fn side_panel_edits_the_viewer_state() {
     // The GPU memory budget: a list under Advanced; the app loads the volume again within it.
     h.get_by_label("GPU memory").click();
     h.run();
-    h.get_by_label("1.1 GB").click();
+    h.get_by_label("1.0 GB").click();
     h.run();
     assert_eq!(
         h.state().actions.last(),
-        Some(&Action::SetGpuBudget(Some(1 << 30)))
+        Some(&Action::SetGpuBudget(Some(1_000_000_000)))
     );
     h.state_mut().actions.clear();
 

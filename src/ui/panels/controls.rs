@@ -128,16 +128,16 @@ pub fn controls_ui(
     action
 }
 
-/// Budgets the GPU-memory list offers, in bytes.
+/// Budgets the GPU-memory list offers, in bytes: round decimal sizes, as the list names them.
 const GPU_BUDGETS: [u64; 8] = [
-    256 << 20,
-    512 << 20,
-    1 << 30,
-    2 << 30,
-    4 << 30,
-    8 << 30,
-    16 << 30,
-    32 << 30,
+    250_000_000,
+    500_000_000,
+    1_000_000_000,
+    2_000_000_000,
+    4_000_000_000,
+    8_000_000_000,
+    16_000_000_000,
+    32_000_000_000,
 ];
 
 /// The GPU memory a volume may take (the default: a share of what the driver reports free);
