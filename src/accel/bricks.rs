@@ -25,6 +25,9 @@ pub const DEFAULT_BRICK_VOX: u32 = 32;
 /// Bits of one slot coordinate in a page-table entry (three of them, then four of the level).
 const SLOT_BITS: u32 = 9;
 
+/// Slots an atlas may have along one axis (what nine bits of an entry can name).
+pub const MAX_SLOTS_PER_AXIS: u32 = (1 << SLOT_BITS) - 1;
+
 /// Levels a page-table entry can name.
 pub const MAX_LEVELS: u32 = 16;
 
@@ -95,32 +98,15 @@ impl BrickLayout {
         Self::at_level(dims, brick_vox, 0, max_texels)
     }
 
-    /// The finest level of a volume of `dims` whose bricks fit `budget_bytes` (each slot
-    /// `slot_vox³ × bytes_per_texel`) and an atlas of at most `max_texels` per axis.
-    pub fn finest_within(
-        dims: [u32; 3],
-        brick_vox: u32,
-        max_texels: u32,
-        (budget_bytes, bytes_per_texel): (u64, u64),
-    ) -> Result<Self, BrickError> {
-        let levels = level_count(dims, brick_vox).min(MAX_LEVELS);
-        let slot_bytes = u64::from(brick_vox + 2 * APRON).pow(3) * bytes_per_texel;
-        let mut last = Err(BrickError::Edge(brick_vox));
-        for level in 0..levels {
-            let layout = Self::at_level(dims, brick_vox, level, max_texels);
-            if let Ok(l) = layout
-                && u64::from(l.count()) * slot_bytes <= budget_bytes
-            {
-                return Ok(l);
-            }
-            last = layout;
-        }
-        match last {
-            Ok(coarsest) => Err(BrickError::Budget {
-                budget_bytes,
-                coarsest_bytes: u64::from(coarsest.count()) * slot_bytes,
-            }),
-            Err(e) => Err(e),
+    /// The bricks of level `level` of a volume of `dims`, without an atlas (one slot): where
+    /// each brick's voxels are.
+    pub fn geometry(dims: [u32; 3], brick_vox: u32, level: u32) -> Self {
+        Self {
+            dims,
+            brick_vox,
+            level,
+            bricks: level_dims(dims, level).map(|d| d.div_ceil(brick_vox)),
+            slots: [1; 3],
         }
     }
 
@@ -136,7 +122,7 @@ impl BrickLayout {
         }
         let bricks = level_dims(dims, level).map(|d| d.div_ceil(brick_vox));
         let count: u64 = bricks.iter().map(|&b| u64::from(b)).product();
-        let per_axis = u64::from((max_texels / (brick_vox + 2 * APRON)).min((1 << SLOT_BITS) - 1));
+        let per_axis = u64::from((max_texels / (brick_vox + 2 * APRON)).min(MAX_SLOTS_PER_AXIS));
         let full = || BrickError::AtlasFull {
             bricks: count,
             brick_vox,
@@ -187,6 +173,7 @@ impl BrickLayout {
     }
 
     /// Texels of the atlas per axis.
+    #[cfg(test)] // The atlas the tests build by hand.
     pub fn atlas_texels(&self) -> [u32; 3] {
         self.slots.map(|s| s * self.slot_vox())
     }
@@ -198,6 +185,7 @@ impl BrickLayout {
     }
 
     /// The slot of brick `index` while every brick is resident: slots in brick order, x fastest.
+    #[cfg(test)] // The atlas the tests build by hand.
     pub fn slot_of(&self, index: u32) -> [u32; 3] {
         let [sx, sy, _] = self.slots;
         [index % sx, (index / sx) % sy, index / (sx * sy)]
@@ -220,24 +208,6 @@ impl BrickLayout {
             ],
             entry >> (3 * SLOT_BITS),
         )
-    }
-
-    /// The page table while every brick of the level held is resident, x fastest: each brick of
-    /// level 0 sent to its ancestor's slot.
-    pub fn resident_pages(&self) -> Vec<u32> {
-        let [px, py, pz] = self.pages();
-        let [bx, by, _] = self.bricks;
-        let mut pages = Vec::with_capacity((px * py * pz) as usize);
-        for z in 0..pz {
-            for y in 0..py {
-                for x in 0..px {
-                    let a = [x, y, z].map(|b| b >> self.level);
-                    let slot = self.slot_of(a[0] + bx * (a[1] + by * a[2]));
-                    pages.push(Self::page_entry(slot, self.level));
-                }
-            }
-        }
-        pages
     }
 
     /// The voxel of the level held at texel `t` of brick `brick`'s slot (t in `0..slot_vox` per
@@ -298,7 +268,9 @@ mod tests {
                 }
             }
         }
-        let pages = layout.resident_pages();
+        let pages: Vec<u32> = (0..layout.count())
+            .map(|i| BrickLayout::page_entry(layout.slot_of(i), 0))
+            .collect();
         // Points all over the volume and past its faces (clamped as the renderer clamps).
         let mut state = 12345u64;
         for _ in 0..5000 {
@@ -352,58 +324,17 @@ mod tests {
             matches!(err, BrickError::AtlasFull { bricks: 576, .. }),
             "{err}"
         );
-        // The budget: a volume whose coarsest level is one brick needs one slot.
-        let slot = 34u64.pow(3);
-        let err = BrickLayout::finest_within([300, 200, 100], 32, 4096, (slot - 1, 1))
-            .expect_err("budget");
-        assert_eq!(
-            err,
-            BrickError::Budget {
-                budget_bytes: slot - 1,
-                coarsest_bytes: slot
-            }
-        );
         assert!(BrickLayout::new([32 * 8; 3], 32, 8 * 34).is_ok());
     }
 
     #[test]
-    fn a_budget_picks_the_finest_level_whose_bricks_fit() {
-        // 300 × 200 × 100 in 32³: 10 × 7 × 4 = 280 bricks at level 0, 5 × 4 × 2 = 40 at 1,
-        // 3 × 2 × 1 = 6 at 2, 2 × 1 × 1 at 3, 1 at 4.
-        assert_eq!(level_count([300, 200, 100], 32), 5);
-        let slot = 34u64.pow(3);
-        for (slots, level) in [(280, 0), (279, 1), (40, 1), (39, 2), (6, 2), (2, 3), (1, 4)] {
-            let layout = BrickLayout::finest_within([300, 200, 100], 32, 4096, (slots * slot, 1))
-                .expect("fits");
-            assert_eq!(layout.level, level, "{slots} slots");
-            assert!(u64::from(layout.count()) <= slots);
-        }
-    }
-
-    #[test]
-    fn a_coarser_levels_pages_send_each_brick_to_its_ancestor() {
-        let layout = BrickLayout::at_level([300, 200, 100], 32, 2, 4096).expect("fits");
-        assert_eq!(layout.level_dims(), [75, 50, 25]);
-        assert_eq!(layout.bricks, [3, 2, 1]);
-        let pages = layout.resident_pages();
-        let [px, py, _] = layout.pages();
-        assert_eq!(layout.pages(), [10, 7, 4]);
-        for (i, &e) in pages.iter().enumerate() {
-            let i = i as u32;
-            let b = [i % px, (i / px) % py, i / (px * py)];
-            let a = b.map(|v| v >> 2);
-            let (slot, level) = BrickLayout::decode_entry(e);
-            assert_eq!(level, 2);
-            assert_eq!(slot, layout.slot_of(a[0] + 3 * (a[1] + 2 * a[2])), "{b:?}");
-        }
-    }
-
-    #[test]
-    fn page_entries_round_trip_their_slots() {
-        let layout = BrickLayout::new([300, 200, 100], 16, 2048).expect("fits");
-        let pages = layout.resident_pages();
-        for (i, &e) in pages.iter().enumerate() {
-            assert_eq!(BrickLayout::decode_entry(e), (layout.slot_of(i as u32), 0));
+    fn page_entries_round_trip_their_slots_and_levels() {
+        for slot in [[0, 0, 0], [510, 3, 77], [511, 511, 511]] {
+            for level in [0, 1, 7, 15] {
+                let e = BrickLayout::page_entry(slot, level);
+                assert_eq!(BrickLayout::decode_entry(e), (slot, level));
+                assert_eq!(e & (1 << 31), 0, "bit 31 marks constants");
+            }
         }
     }
 }

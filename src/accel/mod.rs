@@ -2,9 +2,11 @@
 //! pyramid, the transfer function's emptiness table and the distance field over blocks. The GPU
 //! builds the same structures with compute shaders (`src/render/raycast/leap.rs`); these are their
 //! references. And how a volume is cut into bricks for the GPU's atlas and page table
-//! (`bricks`), which the leaping structures will decide residency for.
+//! (`bricks`), and which bricks the atlas holds (`residency`), decided from the leaping structures'
+//! emptiness.
 
 pub mod bricks;
 pub mod distance;
 pub mod emptiness;
 pub mod pyramid;
+pub mod residency;

@@ -14,7 +14,7 @@ use leapview::volume::{Volume, load_volume};
 /// A dataset ready to be measured.
 pub struct Loaded {
     /// The voxels.
-    pub volume: Volume,
+    pub volume: std::sync::Arc<Volume>,
     /// Its transfer function.
     pub tf: TransferFunction,
     /// What the report says about it.
@@ -89,5 +89,9 @@ pub fn load(
         why: spec.why.clone(),
         gpu_layout: None,
     };
-    Ok(Loaded { volume, tf, info })
+    Ok(Loaded {
+        volume: std::sync::Arc::new(volume),
+        tf,
+        info,
+    })
 }

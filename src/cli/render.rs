@@ -47,7 +47,7 @@ fn refine_progress() -> impl FnMut(u32, u32) {
 /// the image itself, facing the viewer, as `leapview slice` draws it (in its own colours, or grey
 /// through the window), and a note says so.
 fn render_image(
-    volume: &leapview::volume::Volume,
+    volume: &std::sync::Arc<leapview::volume::Volume>,
     plane: leapview::mpr::PlaneKind,
     args: &RenderArgs,
     ctx: GpuContext,
@@ -128,7 +128,11 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     // Refused before anything is loaded or rendered.
     leapview::imaging::check_output_path(&args.out).bad_input()?;
     let ctx = GpuContext::headless().failed()?;
-    let volume = super::load_for_gpu(&args.file, raw, (&ctx, args.gpu.gpu_budget))?;
+    let volume = std::sync::Arc::new(super::load_for_gpu(
+        &args.file,
+        raw,
+        (&ctx, args.gpu.gpu_budget),
+    )?);
     if let Some(plane) = leapview::mpr::frame::image_plane(&volume) {
         return render_image(&volume, plane, &args, ctx);
     }
@@ -160,9 +164,6 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
             },
         )
         .map_err(render_failure)?;
-    if let Some(note) = renderer.volume_texture().and_then(|t| t.coarser.as_ref()) {
-        eprintln!("leapview: note: {note}");
-    }
     renderer.set_transfer_function(&tf);
     auto_path::choose(&mut renderer, settings.path).map_err(render_failure)?;
     auto_strategy::choose(&mut renderer, &settings, args.size, &camera, true)
@@ -174,6 +175,13 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         stats: false,
     };
     let (submitted, first) = renderer.render_and_wait(&request).map_err(render_failure)?;
+    // After the frame: the bricks it held follow its mode and transfer function.
+    if let Some(texture) = renderer.volume_texture() {
+        if let Some(note) = &texture.coarser {
+            eprintln!("leapview: note: {note}");
+        }
+        log::info!("on the GPU: {}", texture.describe());
+    }
     let image = if args.refine > 1 {
         renderer
             .render_refined(

@@ -38,7 +38,11 @@ fn parse_plane(name: &str, at: DVec3) -> Result<Plane, String> {
 pub fn run(args: &SliceArgs, raw: &RawArgs) -> Result<(), Failure> {
     check_args(args)?;
     let ctx = GpuContext::headless().failed()?;
-    let volume = super::load_for_gpu(&args.file, raw, (&ctx, args.gpu.gpu_budget))?;
+    let volume = std::sync::Arc::new(super::load_for_gpu(
+        &args.file,
+        raw,
+        (&ctx, args.gpu.gpu_budget),
+    )?);
     write_slice(&volume, args, &ctx)
 }
 
@@ -152,7 +156,7 @@ fn settings_of(
 
 /// Writes the slice `args` describe of `volume` (loaded from `args.file`) on the GPU of `ctx`.
 pub fn write_slice(
-    volume: &leapview::volume::Volume,
+    volume: &std::sync::Arc<leapview::volume::Volume>,
     args: &SliceArgs,
     ctx: &GpuContext,
 ) -> Result<(), Failure> {

@@ -64,6 +64,9 @@ pub struct VolumeSummary {
     /// How the GPU holds the volume (one texture, or bricks: how many, which level, how much
     /// memory), for the developer readout.
     pub gpu_layout: Option<String>,
+    /// How far the bricks of a bricked volume are: levels read, resident of wanted, memory
+    /// of the budget (one line, kept current frame by frame).
+    pub residency: Option<String>,
 }
 
 impl VolumeSummary {
@@ -86,6 +89,7 @@ impl VolumeSummary {
             provenance: volume.provenance().clone(),
             coarser: None,
             gpu_layout: None,
+            residency: None,
         }
     }
 

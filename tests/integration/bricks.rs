@@ -7,6 +7,8 @@
 use crate::common;
 use crate::modes::cases;
 
+use std::sync::Arc;
+
 use glam::DVec3;
 use leapview::camera::{Aabb, Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
@@ -64,7 +66,7 @@ fn structured(dims: [u32; 3], nan_at: Option<[u32; 3]>) -> Volume {
 fn renderer(volume: &Volume, tf: &TransferFunction, bricking: Bricking) -> VolumeRenderer {
     let mut r = common::renderer();
     r.set_volume_with(
-        volume,
+        &Arc::new(volume.clone()),
         &Upload {
             bricking,
             ..Upload::default()
@@ -72,7 +74,7 @@ fn renderer(volume: &Volume, tf: &TransferFunction, bricking: Bricking) -> Volum
     )
     .expect("upload");
     assert_eq!(
-        r.volume_texture().is_some_and(|t| t.bricks.is_some()),
+        r.volume_texture().is_some_and(|t| t.view.bricked),
         bricking == Bricking::On
     );
     r.set_transfer_function(tf);
@@ -142,7 +144,7 @@ fn volumes_past_the_3d_texture_limit_open_bricked_and_match_the_reference() {
         let tf = tf();
         let mut r = common::renderer();
         r.set_volume(&volume).expect("opens");
-        let bricked = r.volume_texture().is_some_and(|t| t.bricks.is_some());
+        let bricked = r.volume_texture().is_some_and(|t| t.view.bricked);
         assert_eq!(bricked, dims.iter().any(|&d| d > max), "{dims:?}");
         r.set_transfer_function(&tf);
         let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
@@ -203,10 +205,10 @@ fn slices_of_a_bricked_volume_equal_one_textures() {
             bricking,
             ..Upload::default()
         };
-        VolumeTexture::upload_with(&ctx, &volume, &upload).expect("upload")
+        VolumeTexture::upload_with(&ctx, &Arc::new(volume.clone()), &upload).expect("upload")
     };
     let (single, bricked) = (upload(Bricking::Off), upload(Bricking::On));
-    assert!(bricked.bricks.is_some() && single.bricks.is_none());
+    assert!(bricked.view.bricked && !single.view.bricked);
     let renderer = SliceRenderer::new(&ctx.device).expect("pipelines");
     let at = frame.centre() + DVec3::new(0.3, -0.6, 1.1);
     let mut views: Vec<SliceView> = PlaneKind::STANDARD
@@ -291,9 +293,11 @@ fn under_a_budget_the_finest_level_that_fits_is_shown_exactly_as_that_level() {
         gpu_budget: Some(400_000),
         ..Upload::default()
     };
-    coarse.set_volume_with(&volume, &budget).expect("upload");
+    coarse
+        .set_volume_with(&Arc::new(volume.clone()), &budget)
+        .expect("upload");
     let texture = coarse.volume_texture().expect("volume");
-    assert_eq!(texture.bricks.map(|b| b.level), Some(1));
+    assert_eq!(texture.residency().map(|s| s.level), Some(1));
     let note = texture.coarser.clone().expect("a note");
     assert!(
         note.contains("1/2 resolution (32 x 24 x 20 voxels, level 1)"),
@@ -339,4 +343,138 @@ fn under_a_budget_the_finest_level_that_fits_is_shown_exactly_as_that_level() {
             }
         }
     }
+}
+
+/// A volume of 256 × 96 × 64 whose values stay below the transfer function's first opacity
+/// (300) except in a ball with a sharp edge that ends two voxels before a brick border: a lit
+/// sample there reads the next brick, which holds only noise.
+fn ball_in_noise() -> Volume {
+    let dims = [256u32, 96, 64];
+    let mut v = Vec::with_capacity(dims.iter().map(|&d| d as usize).product());
+    // Voxel 62 inside, 63 outside: a sample beside brick 2 (from x = 64) reads into it.
+    let c = DVec3::new(52.5, 44.0, 30.0);
+    for z in 0..dims[2] {
+        for y in 0..dims[1] {
+            for x in 0..dims[0] {
+                let p = DVec3::new(f64::from(x), f64::from(y), f64::from(z));
+                let noise =
+                    120.0 + 100.0 * (p.x * 0.3).sin() * (p.y * 0.23).cos() * (p.z * 0.4).sin();
+                let ball = if (p - c).length() < 10.0 { 800.0 } else { 0.0 };
+                v.push(((noise + ball).clamp(0.0, 1000.0)) as u16);
+            }
+        }
+    }
+    Volume::new(
+        "ball in noise",
+        dims,
+        [1.0, 1.1, 0.9],
+        Samples::U16(v),
+        ValueMapping::IDENTITY,
+    )
+    .expect("valid")
+}
+
+/// Under a budget of 30 bricks, fewer than the volume's 48 and the coarsest, DVR and
+/// isosurfaces hold only the bricks their rays can see (those the ball reaches) at full
+/// resolution, every other brick a constant: images equal one texture's, lit and unlit, RC-t and
+/// leaping, both paths, seen obliquely and facing the edge beside the next brick. MIP, which
+/// sees every brick, falls back to a coarser level, and the
+/// residency follows the mode back and forth.
+#[test]
+fn over_budget_the_bricks_the_transfer_function_hides_are_constants_and_images_stay_exact() {
+    let volume = ball_in_noise();
+    let tf = tf();
+    let mut single = renderer(&volume, &tf, Bricking::Off);
+    let mut culled = common::renderer();
+    let slot_bytes = 34u64.pow(3) * 2;
+    culled
+        .set_volume_with(
+            &Arc::new(volume.clone()),
+            &Upload {
+                gpu_budget: Some(30 * slot_bytes),
+                ..Upload::default()
+            },
+        )
+        .expect("upload");
+    culled.set_transfer_function(&tf);
+    let status = |r: &VolumeRenderer| r.volume_texture().and_then(|t| t.residency().cloned());
+    // Loaded with every brick needing data: 48 + 1 do not fit 30, level 1 (8 + 1) does.
+    assert_eq!(status(&culled).map(|s| s.level), Some(1));
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let cameras = [ViewPreset::Oblique, ViewPreset::MinusX].map(|view| {
+        let (dir, up) = view.direction_and_up();
+        Camera::framing(&bounds, dir, up, ProjectionKind::Perspective)
+    });
+    let camera = &cameras[0];
+    let mut shown: Vec<_> = cases()
+        .into_iter()
+        .filter(|(_, s)| matches!(s.mode, Mode::Dvr | Mode::Iso))
+        .collect();
+    // Crossing past voxel 63's centre: the gradient at the hit reads brick 2.
+    let (_, iso) = shown[shown.len() - 2];
+    shown.push((
+        "iso-phong-low",
+        RenderSettings {
+            iso: leapview::settings::IsoSettings {
+                value: Some(350.0),
+                ..iso.iso
+            },
+            ..iso
+        },
+    ));
+    for ((name, base), camera) in shown
+        .into_iter()
+        .flat_map(|c| cameras.iter().map(move |k| (c, k)))
+    {
+        for strategy in [Strategy::RcT, Strategy::RcS, Strategy::RcSDistance] {
+            if strategy.for_mode(base.mode) != strategy {
+                continue;
+            }
+            for path in [RenderPath::Fragment, RenderPath::Compute] {
+                let settings = RenderSettings {
+                    strategy,
+                    path,
+                    ..base
+                };
+                let size = [64, 64];
+                let want = single.render_image(camera, size, &settings).expect("frame");
+                let got = culled.render_image(camera, size, &settings).expect("frame");
+                let s = status(&culled).expect("bricked");
+                // Every brick of level 0 is data or a constant; the rays read level 0 only;
+                // level 1's bricks stay resident in the slots left (nothing needs them).
+                assert_eq!((s.level, s.levels, s.missing), (0, 1, 0), "{name}: {s:?}");
+                assert_eq!(s.wanted - 1 + s.constant, 48, "{name}: {s:?}");
+                assert!(s.constant >= 40 && s.resident >= s.wanted, "{name}: {s:?}");
+                common::assert_close(
+                    &format!("culled-{name}-{strategy:?}-{path:?}"),
+                    &got,
+                    &want,
+                    1.0 / 255.0 + 1e-6,
+                    0.0,
+                );
+            }
+        }
+    }
+    let mip = RenderSettings {
+        mode: Mode::Mip,
+        path: RenderPath::Compute,
+        ..RenderSettings::default()
+    };
+    render(&mut culled, camera, &mip);
+    let s = status(&culled).expect("bricked");
+    assert_eq!((s.level, s.constant), (1, 0), "{s:?}");
+    let note = culled
+        .volume_texture()
+        .and_then(|t| t.coarser.clone())
+        .expect("a note");
+    assert!(note.contains("level 1"), "{note}");
+    let dvr = RenderSettings {
+        path: RenderPath::Compute,
+        ..cases()[1].1
+    };
+    render(&mut culled, camera, &dvr);
+    let s = status(&culled).expect("bricked");
+    assert_eq!((s.level, s.levels), (0, 1), "{s:?}");
+    assert!(s.constant >= 40, "{s:?}");
+    assert!(culled.residency_complete());
 }

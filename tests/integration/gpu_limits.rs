@@ -30,7 +30,7 @@ fn volume_past_the_3d_texture_limit_is_bricked_and_refused_only_in_one_texture()
     // Asked for one texture, it is refused and the previous volume kept.
     let err = r
         .set_volume_with(
-            &line(max + 1),
+            &std::sync::Arc::new(line(max + 1)),
             &Upload {
                 bricking: Bricking::Off,
                 ..Upload::default()
@@ -62,7 +62,7 @@ fn volume_past_the_3d_texture_limit_is_bricked_and_refused_only_in_one_texture()
     frame(&mut r, &camera).expect("renders");
     // By default it is bricked, and renders.
     r.set_volume(&line(max + 1)).expect("bricked");
-    assert!(r.volume_texture().is_some_and(|t| t.bricks.is_some()));
+    assert!(r.volume_texture().is_some_and(|t| t.view.bricked));
     let bounds = Aabb::of_volume([max + 1, 1, 1], [1.0; 3]);
     let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
     frame(&mut r, &camera).expect("renders");

@@ -81,7 +81,7 @@ pub fn measure(
                 .collect()
         } else {
             if let Err(e) = renderer.set_volume_with(
-                data.volume,
+                &std::sync::Arc::new(data.volume.clone()),
                 &Upload {
                     precision,
                     ..Upload::default()
@@ -120,7 +120,7 @@ pub fn measure(
         ));
         if uploaded != Some(variant.precision) {
             if let Err(e) = renderer.set_volume_with(
-                data.volume,
+                &std::sync::Arc::new(data.volume.clone()),
                 &Upload {
                     precision: variant.precision,
                     ..Upload::default()

@@ -156,7 +156,21 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
                     run::WARMUP_TIME
                 },
             ) {
-                Ok(record) => results.runs.push(record),
+                Ok(record) => {
+                    // Which bricks a mode held differs by mode: said once per mode.
+                    let first_of_mode = index == 0 || runs[index - 1].settings.mode != s.mode;
+                    if let Some(t) = renderer.volume_texture().filter(|t| t.view.bricked)
+                        && first_of_mode
+                    {
+                        progress.note(&format!(
+                            "{} {}: on the GPU: {}",
+                            spec.name,
+                            s.mode.label(),
+                            t.describe()
+                        ));
+                    }
+                    results.runs.push(record);
+                }
                 Err(e) => {
                     let what = format!(
                         "{} {} {:?} {}×{}: {e}",

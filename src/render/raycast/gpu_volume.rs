@@ -52,7 +52,7 @@ impl GpuVolume {
         ctx: &GpuContext,
         layouts: &Layouts,
         shared: &FrameShared<'_>,
-        volume: &Volume,
+        volume: &std::sync::Arc<Volume>,
         upload: &Upload,
     ) -> Result<Self, VolumeTextureError> {
         let texture = VolumeTexture::upload_with(ctx, volume, upload)?;

@@ -243,6 +243,14 @@ impl LeapStructures {
         }
     }
 
+    /// Forgets the pyramid and what was built from it: the volume's pages changed, and the
+    /// pyramid is built through them.
+    pub(crate) fn invalidate(&mut self) {
+        self.minmax_ready = false;
+        self.flags_for = None;
+        self.distance_for = None;
+    }
+
     /// Records the pyramid build (once per volume); returns whether it recorded one.
     fn build_minmax(
         &mut self,

@@ -5,10 +5,13 @@
 //! [`super::request`], its errors in [`super::error`], refined images in [`super::refined`], and
 //! the frames a caller waits for, with their pixels, in `waited.rs`.
 
+use std::sync::Arc;
+
 use crate::render::context::GpuContext;
 use crate::render::pack::Rgba8Reader;
 use crate::render::probe::{FrameResults, ProbePool};
 use crate::render::volume_texture::VolumeTexture;
+use crate::render::volume_texture::{Cull, REACH_STEP_VOX, Unseen};
 use crate::settings::{ConcretePath, Mode, RenderPath, RenderSettings, Upload};
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
@@ -47,6 +50,12 @@ pub struct VolumeRenderer {
     /// What the `auto` strategy stands for on the inputs last chosen for
     /// ([`super::auto_strategy::choose`]); forgotten with the volume.
     strategy_choice: Option<StrategyChoice>,
+    /// How long one frame may upload bricks (`None`: until the frame is complete).
+    residency_time: Option<std::time::Duration>,
+    /// Whether the last frame had every brick it wanted.
+    residency_complete: bool,
+    /// Frames that some wanted brick was missing from.
+    bricks_generation: u64,
 }
 
 impl VolumeRenderer {
@@ -89,6 +98,9 @@ impl VolumeRenderer {
             rgba8: None,
             auto_path: None,
             strategy_choice: None,
+            residency_time: None,
+            residency_complete: true,
+            bricks_generation: 0,
         })
     }
 
@@ -97,14 +109,19 @@ impl VolumeRenderer {
         &self.ctx
     }
 
-    /// Uploads `volume`, replacing the current one. On error the current volume stays.
+    /// Uploads a copy of `volume` (kept where it is bricked, to upload bricks from), replacing
+    /// the current one. On error the current volume stays.
     pub fn set_volume(&mut self, volume: &Volume) -> Result<(), RenderError> {
-        self.set_volume_with(volume, &Upload::default())
+        self.set_volume_with(&std::sync::Arc::new(volume.clone()), &Upload::default())
     }
 
     /// [`Self::set_volume`] with the texel precision (the accuracy benchmark's knob), the layout
     /// (one texture or bricks: the benchmark's) and the GPU memory budget `upload` asks for.
-    pub fn set_volume_with(&mut self, volume: &Volume, upload: &Upload) -> Result<(), RenderError> {
+    pub fn set_volume_with(
+        &mut self,
+        volume: &std::sync::Arc<Volume>,
+        upload: &Upload,
+    ) -> Result<(), RenderError> {
         let shared = FrameShared {
             uniforms: &self.uniforms,
             sampler: &self.sampler,
@@ -115,6 +132,24 @@ impl VolumeRenderer {
         self.transfer.invalidate();
         self.strategy_choice = None;
         Ok(())
+    }
+
+    /// How long each frame may spend uploading bricks of a bricked volume before it renders
+    /// with what is resident (`None`, the default: every frame is complete, as the CLI needs).
+    pub fn set_residency_time(&mut self, time: Option<std::time::Duration>) {
+        self.residency_time = time;
+    }
+
+    /// Whether the last frame found every brick it wanted resident (else a later frame refines
+    /// it).
+    pub fn residency_complete(&self) -> bool {
+        self.residency_complete
+    }
+
+    /// Bumped by every frame that some wanted brick was missing from: while it changes, the
+    /// view is worth rendering again.
+    pub fn bricks_generation(&self) -> u64 {
+        self.bricks_generation
     }
 
     /// Whether a volume is loaded.
@@ -264,6 +299,28 @@ impl VolumeRenderer {
         let frame = (request.size, settings);
         let lut = (self.transfer.lut().entries(), self.transfer.depth_unit());
         let mut uniforms = volume.uniforms(frame, &geometry, lut);
+        if first {
+            // Bricks the rays cannot see under this frame's mode and function need no data.
+            let cull = match (settings.mode, self.transfer.opacity()) {
+                (Mode::Dvr, Some((generation, index))) => {
+                    Cull::Transparent(Arc::clone(index), *generation)
+                }
+                (Mode::Iso, _) => Cull::OneSide(uniforms.iso_threshold),
+                _ => Cull::Nothing,
+            };
+            let unseen = Unseen {
+                cull,
+                long_steps: settings.step_vox > REACH_STEP_VOX,
+            };
+            let update = volume
+                .texture
+                .update_residency(&self.ctx, &unseen, self.residency_time);
+            if update.changed {
+                volume.leap.invalidate();
+            }
+            self.residency_complete = update.complete;
+            self.bricks_generation += u64::from(!update.complete);
+        }
         uniforms.row_offset = rows[0];
         uniforms.row_end = rows[1];
         let scope = self

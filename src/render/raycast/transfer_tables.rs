@@ -2,6 +2,9 @@
 //! change signal the window and the leaping structures follow), the baked lookup table and the
 //! pre-integration table, each rebuilt only when what it depends on changed.
 
+use std::sync::Arc;
+
+use crate::accel::emptiness::OpacityIndex;
 use crate::render::context::GpuContext;
 use crate::render::table_texture::TableTexture;
 use crate::transfer::{TransferFunction, lut, preintegration};
@@ -21,6 +24,9 @@ pub struct TransferTables {
     /// What the stored depths are multiplied by to give optical depths (the reciprocal of the
     /// table's [`lut::f16_depth_scale`]).
     depth_unit: f32,
+    /// Which entries of the baked table are not transparent, with the generation it was baked
+    /// for (the bricks' residency decides from it).
+    opacity: Option<(u64, Arc<OpacityIndex>)>,
 }
 
 impl TransferTables {
@@ -34,6 +40,7 @@ impl TransferTables {
             lut_baked_for: None,
             integrals_built_for: None,
             depth_unit: 1.0,
+            opacity: None,
         }
     }
 
@@ -57,8 +64,15 @@ impl TransferTables {
         self.generation
     }
 
+    /// Which entries of the baked lookup table are not transparent, and the generation it
+    /// was baked for (`None` before the first bake).
+    pub(crate) fn opacity(&self) -> Option<&(u64, Arc<OpacityIndex>)> {
+        self.opacity.as_ref()
+    }
+
     /// Marks both tables stale (a new volume brings a new value range).
     pub(crate) fn invalidate(&mut self) {
+        self.opacity = None;
         self.lut_baked_for = None;
         self.integrals_built_for = None;
     }
@@ -76,6 +90,15 @@ impl TransferTables {
             return false;
         }
         let mut table = lut::bake(&self.function, range, step_vox);
+        // The step changes opacities, never which are zero.
+        if self
+            .opacity
+            .as_ref()
+            .is_none_or(|(g, _)| *g != self.generation)
+        {
+            let index = OpacityIndex::from_lut(&table);
+            self.opacity = Some((self.generation, Arc::new(index)));
+        }
         let scale = lut::f16_depth_scale(&table);
         table.iter_mut().for_each(|e| e[3] *= scale);
         self.lut.write(&ctx.queue, &table);

@@ -1,15 +1,13 @@
-//! The bricked upload: every brick with its apron encoded on all cores (`crate::parallel`) and written into its slot
-//! of the atlas, a batch of bricks at a time, and the page table that finds them.
+//! A brick's slot as the atlas holds it (the brick and its apron, encoded), and the page table
+//! of a volume in one texture.
 
-use super::SLAB_BYTES;
 use super::encoding::{TexelEncoding, TexelSource, bytes_per_texel, encode_texels};
 use crate::accel::bricks::BrickLayout;
-use crate::parallel::parallel;
 use crate::render::context::GpuContext;
 
 /// Appends the texels of `brick`'s slot (apron included, x fastest) to `out`, from `source`
 /// (the samples of the level `layout` holds).
-fn encode_brick(
+pub(super) fn encode_brick(
     source: &TexelSource<'_>,
     encoding: &TexelEncoding,
     layout: &BrickLayout,
@@ -45,63 +43,6 @@ fn encode_brick(
     }
 }
 
-/// Writes every brick of the level `layout` holds (`source`) into its slot of `atlas` (at most
-/// [`SLAB_BYTES`] of encoded bricks in memory at once).
-pub(super) fn upload_bricks(
-    ctx: &GpuContext,
-    atlas: &wgpu::Texture,
-    source: &TexelSource<'_>,
-    encoding: &TexelEncoding,
-    layout: &BrickLayout,
-) {
-    let s = layout.slot_vox();
-    let bpt = bytes_per_texel(encoding.format);
-    let per_batch = (SLAB_BYTES / (s as usize).pow(3) / bpt).max(1) as u32;
-    let mut next = 0;
-    while next < layout.count() {
-        let end = (next + per_batch).min(layout.count());
-        let encoded = parallel((end - next) as usize, &|| false, &|k| {
-            let mut out = Vec::new();
-            let brick = layout.brick_at(next + k as u32);
-            encode_brick(source, encoding, layout, brick, &mut out);
-            out
-        });
-        // Each brick's buffer beside its own index: nothing stops the work, so none is missing.
-        for (i, bytes) in (next..end).zip(encoded) {
-            let Some(bytes) = bytes else { continue };
-            let slot = layout.slot_of(i);
-            ctx.queue.write_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: atlas,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d {
-                        x: slot[0] * s,
-                        y: slot[1] * s,
-                        z: slot[2] * s,
-                    },
-                    aspect: wgpu::TextureAspect::All,
-                },
-                &bytes,
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(s * bpt as u32),
-                    rows_per_image: Some(s),
-                },
-                wgpu::Extent3d {
-                    width: s,
-                    height: s,
-                    depth_or_array_layers: s,
-                },
-            );
-        }
-        next = end;
-        // Submit what was written and wait for it, so that wgpu lets go of the batch's staging
-        // copy before the next is encoded: memory holds one batch, not the whole atlas.
-        ctx.queue.submit([]);
-        let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
-    }
-}
-
 /// A page table of one texel for a volume in one texture: bound, never read.
 pub(super) fn no_page_table(ctx: &GpuContext) -> wgpu::Texture {
     ctx.device.create_texture(&wgpu::TextureDescriptor {
@@ -118,44 +59,6 @@ pub(super) fn no_page_table(ctx: &GpuContext) -> wgpu::Texture {
         usage: wgpu::TextureUsages::TEXTURE_BINDING,
         view_formats: &[],
     })
-}
-
-/// The page table of `layout` with every brick of its level resident: a `u32` 3D texture, one
-/// texel a brick of level 0.
-pub(super) fn page_table(ctx: &GpuContext, layout: &BrickLayout) -> wgpu::Texture {
-    let [bx, by, bz] = layout.pages();
-    let size = wgpu::Extent3d {
-        width: bx,
-        height: by,
-        depth_or_array_layers: bz,
-    };
-    let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("volume page table"),
-        size,
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D3,
-        format: wgpu::TextureFormat::R32Uint,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    let pages = layout.resident_pages();
-    ctx.queue.write_texture(
-        wgpu::TexelCopyTextureInfo {
-            texture: &texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        bytemuck::cast_slice(&pages),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(bx * 4),
-            rows_per_image: Some(by),
-        },
-        size,
-    );
-    texture
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ mod admission;
 mod atlas;
 mod encoding;
 mod plan;
+mod resident;
 
 pub use admission::admission;
 pub use encoding::{MISSING, MISSING_BELOW, TexelEncoding, texel_units};
@@ -13,15 +14,16 @@ pub(crate) use encoding::{bytes_per_texel, forced_format};
 
 use crate::settings::{Bricking, TexturePrecision, Upload};
 use crate::volume::Volume;
-use crate::volume::downsample::Level;
+use std::sync::Arc;
 
 use wgpu::util::DeviceExt;
 
 use super::context::GpuContext;
 use super::gpu_data::VolumeGeometry;
-use crate::accel::bricks::BrickLayout;
 use encoding::{TexelSource, choose_encoding, encode_texels, encoding_for};
 use plan::{Plan, PlanError, coarser_note, plan};
+use resident::Resident;
+pub use resident::{Cull, REACH_STEP_VOX, ResidencyStatus, Unseen, Update};
 
 /// Largest slab uploaded in one `write_texture` call, in bytes.
 const SLAB_BYTES: usize = 64 << 20;
@@ -146,30 +148,37 @@ impl<T> PerLayout<T> {
 pub struct VolumeTexture {
     /// The 3D texture: the whole volume, or the atlas of its bricks.
     pub texture: wgpu::Texture,
-    /// What shaders bind to read it.
+    /// What the rays bind to read it.
     pub view: VolumeView,
     /// How texels map to normalised values.
     pub encoding: TexelEncoding,
-    /// The bricks, where the volume is bricked.
-    pub bricks: Option<BrickLayout>,
     /// Where the GPU holds a coarser level than the volume's own: which, and why (one line).
     pub coarser: Option<String>,
     /// The GPU memory budget it was laid out within (given, or the adapter's default).
     pub budget: Option<u64>,
+    /// The bricks' residency, where the volume is bricked.
+    resident: Option<Resident>,
+    /// The slices' page table (data everywhere, never a constant), where bricked.
+    slice_pages: Option<wgpu::TextureView>,
+    /// The 3D texture limit and the budget the layout was made for, and whether the GPU ran
+    /// out of memory at a larger one (the note says so).
+    limits: (u32, Option<u64>, Option<u64>),
 }
 
 impl VolumeTexture {
     /// Checks the size against the adapter, creates the texture in the best format the adapter
-    /// filters (one texture where the volume fits, else bricks) and uploads the samples.
+    /// filters (one texture where the volume fits, else bricks) and uploads the samples (tests:
+    /// the volume is copied where it is bricked; the renderer shares its own).
     pub fn upload(ctx: &GpuContext, volume: &Volume) -> Result<Self, VolumeTextureError> {
-        Self::upload_with(ctx, volume, &Upload::default())
+        Self::upload_with(ctx, &Arc::new(volume.clone()), &Upload::default())
     }
 
     /// [`Self::upload`] with the texel precision, the layout and the GPU memory budget `upload`
-    /// asks for.
+    /// asks for. A bricked volume keeps `volume` to upload bricks from as the view asks for
+    /// them; its first residency is complete: every brick at the finest level that fits.
     pub fn upload_with(
         ctx: &GpuContext,
-        volume: &Volume,
+        volume: &Arc<Volume>,
         upload: &Upload,
     ) -> Result<Self, VolumeTextureError> {
         let dims = volume.dims();
@@ -193,7 +202,7 @@ impl VolumeTexture {
             },
         };
         // Where the GPU runs out of memory for the texture, the budget is halved below it and
-        // the layout chosen again (a coarser level), until one fits or none is left.
+        // the layout chosen again (fewer slots), until one fits or none is left.
         let mut lowered = None;
         let (plan, texture) = loop {
             let plan =
@@ -220,28 +229,113 @@ impl VolumeTexture {
                 Err(Allocation::Refused(e)) => return Err(VolumeTextureError::Gpu(e)),
             }
         };
-        let limits = (max, budget);
         let uploaded = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let (pages, bricks) = match plan {
+        let (pages, resident) = match plan {
             Plan::Single(_) => {
                 upload_slabs(ctx, &texture, volume, &encoding);
                 (atlas::no_page_table(ctx), None)
             }
-            Plan::Bricked(layout) => {
-                let level = coarser_level(volume, layout.level);
-                let source = match &level {
-                    Some(level) => TexelSource::level(volume, level),
-                    None => TexelSource::of(volume),
-                };
-                atlas::upload_bricks(ctx, &texture, &source, &encoding, &layout);
-                (atlas::page_table(ctx, &layout), Some(layout))
+            Plan::Bricked(atlas) => {
+                let mut resident = Resident::new(
+                    ctx,
+                    Arc::clone(volume),
+                    encoding,
+                    (atlas.brick_vox, atlas.slots, atlas.capacity),
+                );
+                resident.update(ctx, &texture, &Unseen::NOTHING, None);
+                (resident.rays_pages().clone(), Some(resident))
             }
         };
         if let Some(e) = pollster::block_on(uploaded.pop()) {
             return Err(VolumeTextureError::Gpu(e.to_string()));
         }
-        let mut coarser = coarser_note(&plan, limits, bpt as u64);
-        if let (Some(note), None, Some(memory)) = (&mut coarser, upload.gpu_budget, ctx.memory) {
+        let geometry = geometry(dims, plan);
+        let view = VolumeView {
+            texels: texture.create_view(&wgpu::TextureViewDescriptor::default()),
+            pages: pages.create_view(&wgpu::TextureViewDescriptor::default()),
+            geometry: ctx
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("volume geometry"),
+                    contents: bytemuck::bytes_of(&geometry),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                }),
+            bricked: resident.is_some(),
+        };
+        let slice_pages = resident.as_ref().map(|r| {
+            r.slice_pages()
+                .create_view(&wgpu::TextureViewDescriptor::default())
+        });
+        let mut texture = Self {
+            texture,
+            view,
+            encoding,
+            coarser: None,
+            budget,
+            resident,
+            slice_pages,
+            limits: (max, budget, lowered),
+        };
+        texture.note(ctx);
+        if let Some(note) = &texture.coarser {
+            log::info!("{note} ({})", volume.name());
+        }
+        Ok(texture)
+    }
+
+    /// What the slices bind: the rays' view with the slices' page table (data everywhere).
+    pub fn slice_view(&self) -> VolumeView {
+        let mut view = self.view.clone();
+        if let Some(pages) = &self.slice_pages {
+            view.pages = pages.clone();
+        }
+        view
+    }
+
+    /// Decides again which bricks the rays need, leaving out what `unseen` says they cannot
+    /// see, and uploads what is missing,
+    /// for at most `time` (all of it without): see [`Resident::update`]. Nothing to do for a
+    /// volume in one texture.
+    pub fn update_residency(
+        &mut self,
+        ctx: &GpuContext,
+        unseen: &Unseen,
+        time: Option<std::time::Duration>,
+    ) -> Update {
+        let Some(resident) = &mut self.resident else {
+            return Update {
+                changed: false,
+                complete: true,
+            };
+        };
+        let update = resident.update(ctx, &self.texture, unseen, time);
+        if update.changed {
+            self.note(ctx);
+        }
+        update
+    }
+
+    /// How far the bricks' residency is (`None` for one texture).
+    pub fn residency(&self) -> Option<&ResidencyStatus> {
+        self.resident.as_ref().map(Resident::status)
+    }
+
+    /// Sets [`Self::coarser`] from the level the bricks are held at.
+    fn note(&mut self, ctx: &GpuContext) {
+        let Some(resident) = &self.resident else {
+            return;
+        };
+        let (max, budget, lowered) = self.limits;
+        let bpt = bytes_per_texel(self.encoding.format) as u64;
+        let level = resident.status().level;
+        let mut coarser = coarser_note(
+            (self.view_dims(), resident.brick_vox(), level),
+            (max, budget),
+            bpt,
+        );
+        if let (Some(note), Some(memory)) = (&mut coarser, ctx.memory)
+            && self.limits.1 == ctx.default_gpu_budget()
+        {
             note.push_str(&format!(
                 " (by default {:.0} % of the {} the GPU's driver reports; --gpu-budget sets it)",
                 crate::render::memory::DEFAULT_SHARE * 100.0,
@@ -259,37 +353,39 @@ impl VolumeTexture {
                 None => said,
             });
         }
-        if let Some(note) = &coarser {
-            log::info!("{note} ({})", volume.name());
-        }
-        let geometry = geometry(dims, plan);
-        let view = VolumeView {
-            texels: texture.create_view(&wgpu::TextureViewDescriptor::default()),
-            pages: pages.create_view(&wgpu::TextureViewDescriptor::default()),
-            geometry: ctx
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("volume geometry"),
-                    contents: bytemuck::bytes_of(&geometry),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                }),
-            bricked: bricks.is_some(),
-        };
-        Ok(Self {
-            texture,
-            view,
-            encoding,
-            bricks,
-            coarser,
-            budget,
-        })
+        self.coarser = coarser;
+    }
+
+    /// The volume's voxels per axis.
+    fn view_dims(&self) -> [u32; 3] {
+        self.resident.as_ref().map_or([0; 3], Resident::dims)
+    }
+
+    /// How far a bricked volume's residency is, for the overlay (`None` for one texture):
+    /// the levels the rays read, bricks resident of those wanted, and memory of the budget.
+    pub fn residency_line(&self) -> Option<String> {
+        let s = self.residency()?;
+        let levels: Vec<String> = (0..16u32)
+            .filter(|l| s.levels & (1 << l) != 0)
+            .map(|l| l.to_string())
+            .collect();
+        let budget = self
+            .budget
+            .map_or(String::new(), |b| format!(" of {}", crate::text::bytes(b)));
+        Some(format!(
+            "bricks: level {} read, {} of {} wanted resident, {}{budget}",
+            levels.join(", "),
+            s.wanted - s.missing,
+            s.wanted,
+            crate::text::bytes(s.bytes)
+        ))
     }
 
     /// How the GPU holds the volume, for the developer readout: one texture, or how many bricks
-    /// of which level, and the memory they take.
+    /// of which levels, and the memory they take.
     pub fn describe(&self) -> String {
         let bpt = bytes_per_texel(self.encoding.format) as u64;
-        let held = match &self.bricks {
+        let held = match &self.resident {
             None => {
                 let size = self.texture.size();
                 let texels = u64::from(size.width)
@@ -297,13 +393,24 @@ impl VolumeTexture {
                     * u64::from(size.depth_or_array_layers);
                 format!("one 3D texture, {}", crate::text::bytes(texels * bpt))
             }
-            Some(b) => format!(
-                "{} bricks of {}³ at level {} in an atlas, {}",
-                b.count(),
-                b.brick_vox,
-                b.level,
-                crate::text::bytes(b.brick_bytes(bpt))
-            ),
+            Some(r) => {
+                let s = r.status();
+                let levels: Vec<String> = (0..16)
+                    .filter(|l| s.levels & (1 << l) != 0)
+                    .map(|l: u32| l.to_string())
+                    .collect();
+                format!(
+                    "bricks of {}³: {} resident of {} wanted (level {} wanted, levels {} read), \
+                     {} empty, {}",
+                    r.brick_vox(),
+                    s.resident,
+                    s.wanted,
+                    s.level,
+                    levels.join(","),
+                    s.constant,
+                    crate::text::bytes(s.bytes)
+                )
+            }
         };
         match self.budget {
             Some(budget) => format!("{held} (budget {})", crate::text::bytes(budget)),
@@ -389,25 +496,12 @@ pub(super) fn allocate(
     }
 }
 
-/// Level `level` of `volume`'s samples, halved from the volume's own on all cores (`None` for
-/// level 0, the volume itself).
-fn coarser_level(volume: &Volume, level: u32) -> Option<Level> {
-    if level == 0 {
-        return None;
-    }
-    let mut out = Level::half_of(volume.samples(), volume.colour(), volume.dims());
-    for _ in 1..level {
-        out = out.halved();
-    }
-    Some(out)
-}
-
 /// The `VolumeGeometry` uniform of a volume of `dims` laid out by `plan`.
 fn geometry(dims: [u32; 3], plan: Plan) -> VolumeGeometry {
     let extent = plan.extent();
     let (brick_vox, slot_vox) = match plan {
         Plan::Single(_) => (0, 0),
-        Plan::Bricked(layout) => (layout.brick_vox, layout.slot_vox()),
+        Plan::Bricked(atlas) => (atlas.brick_vox, atlas.slot_vox()),
     };
     VolumeGeometry {
         dims,

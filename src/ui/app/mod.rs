@@ -218,6 +218,8 @@ impl LeapViewApp {
     }
 
     fn show_volume(&mut self, volume: Volume, source: &VolumeSource, ctx: &egui::Context) {
+        // Shared by the renderer (its bricks come from it), the slices and the readouts.
+        let volume = std::sync::Arc::new(volume);
         let from_file = matches!(source, VolumeSource::File { .. });
         match self.scene.show_volume(
             &volume,
@@ -278,7 +280,7 @@ impl LeapViewApp {
                 let window = self.state.render.window.unwrap_or([0.0, 1.0]);
                 if let Some((texture, format)) = self.scene.volume_texture() {
                     self.slices
-                        .set_volume(std::sync::Arc::new(volume), texture, format, window);
+                        .set_volume(std::sync::Arc::clone(&volume), texture, format, window);
                 }
             }
             Err(e) => {

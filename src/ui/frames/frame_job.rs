@@ -157,6 +157,7 @@ mod tests {
             settings: RenderSettings::default(),
             transfer_generation: 0,
             volume_generation: 0,
+            bricks_generation: 0,
             stats: false,
         }
     }

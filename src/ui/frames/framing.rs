@@ -53,6 +53,11 @@ impl Framing {
         self.view_from(side, projection);
     }
 
+    /// The volume on screen, to keep its GPU lines current.
+    pub(crate) fn volume_mut(&mut self) -> Option<&mut VolumeSummary> {
+        self.volume.as_mut()
+    }
+
     /// The volume on screen.
     pub fn volume(&self) -> Option<&VolumeSummary> {
         self.volume.as_ref()

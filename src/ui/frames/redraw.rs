@@ -19,6 +19,8 @@ pub struct FrameInputs {
     pub transfer_generation: u64,
     /// Bumped whenever a new volume is uploaded.
     pub volume_generation: u64,
+    /// Bumped by every frame that some wanted brick was missing from: the next shows more.
+    pub bricks_generation: u64,
     /// Whether the frame counts samples (the statistics variant).
     pub stats: bool,
 }
@@ -68,6 +70,7 @@ mod tests {
             settings: RenderSettings::default(),
             transfer_generation: 1,
             volume_generation: 1,
+            bricks_generation: 0,
             stats: false,
         }
     }

@@ -127,6 +127,9 @@ impl Readout<'_> {
         if let Some(note) = self.volume.and_then(|v| v.coarser.as_ref()) {
             lines.push(note.clone());
         }
+        if let Some(line) = self.volume.and_then(|v| v.residency.as_ref()) {
+            lines.push(line.clone());
+        }
         if !self.developer
             && let Some(ms) = self.frame_ms.filter(|ms| *ms > SLOW_FRAME_MS)
         {

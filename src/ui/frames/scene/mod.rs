@@ -25,6 +25,11 @@ use crate::ui::frames::redraw::{FrameInputs, RedrawTracker};
 use crate::ui::frames::shown::ShownFrame;
 use crate::ui::{ViewerState, VolumeSummary};
 
+/// How long one frame may upload bricks of a volume larger than the GPU memory budget before it
+/// renders what is resident (a coarser level where a brick is still missing); the frames after
+/// it upload the rest. A choice: a 60 Hz frame's budget less the rendering's.
+const BRICK_UPLOAD_PER_FRAME: std::time::Duration = std::time::Duration::from_millis(8);
+
 /// The renderer and everything about the frame on screen.
 pub struct Scene {
     pump: BandPump,
@@ -66,7 +71,10 @@ impl Scene {
         let cpu_adapter = info.device_type == wgpu::DeviceType::Cpu;
         let has_timestamps = gpu.has_timestamps();
         log::info!("window GPU: {}", gpu.adapter_summary());
-        let pump = BandPump::start(VolumeRenderer::new(gpu)?, ctx.clone())
+        let mut renderer = VolumeRenderer::new(gpu)?;
+        // Bricks stream in: a frame uploads for at most this long, then shows what is there.
+        renderer.set_residency_time(Some(BRICK_UPLOAD_PER_FRAME));
+        let pump = BandPump::start(renderer, ctx.clone())
             .map_err(|e| RenderError::Gpu(format!("cannot start the render thread: {e}")))?;
         Ok(Self {
             pump,
@@ -93,12 +101,12 @@ impl Scene {
     /// frame.
     pub(crate) fn show_volume(
         &mut self,
-        volume: &Volume,
+        volume: &std::sync::Arc<Volume>,
         (projection, gpu_budget): (ProjectionKind, Option<u64>),
         from_file: bool,
     ) -> Result<&VolumeSummary, RenderError> {
         let started = std::time::Instant::now();
-        let (coarser, gpu_layout) = {
+        let (coarser, gpu_layout, residency) = {
             let handle = self.pump.handle();
             let mut shared = lock(&handle);
             shared.job = None;
@@ -112,6 +120,7 @@ impl Scene {
             (
                 texture.and_then(|t| t.coarser.clone()),
                 texture.map(|t| t.describe()),
+                texture.and_then(|t| t.residency_line()),
             )
         };
         log::info!(
@@ -123,6 +132,7 @@ impl Scene {
             from_file,
             coarser,
             gpu_layout,
+            residency,
             ..VolumeSummary::of(volume)
         };
         self.framing.show(summary, projection);
@@ -143,7 +153,7 @@ impl Scene {
         shared
             .renderer
             .volume_texture()
-            .map(|t| (t.view.clone(), t.encoding.format))
+            .map(|t| (t.slice_view(), t.encoding.format))
     }
 
     /// The volume on screen.
@@ -291,6 +301,7 @@ impl Scene {
             settings: refinable(state.render, state.refine_frames > 1),
             transfer_generation: shared.renderer.transfer_generation(),
             volume_generation: self.framing.generation(),
+            bricks_generation: shared.renderer.bricks_generation(),
             stats: state.statistics,
         };
         let preview_of = (size_px != view_px).then_some(view_px);
@@ -428,6 +439,15 @@ impl Scene {
         }
         self.shown
             .show(&self.egui_renderer, &self.device, &shared.renderer, size);
+        // The bricks resident may have changed with the frame: the lines that say so follow.
+        if let (Some(texture), Some(summary)) =
+            (shared.renderer.volume_texture(), self.framing.volume_mut())
+            && texture.view.bricked
+        {
+            summary.coarser.clone_from(&texture.coarser);
+            summary.gpu_layout = Some(texture.describe());
+            summary.residency = texture.residency_line();
+        }
     }
 
     /// Whether a frame is being rendered (bands still to come or on the GPU), and how far.

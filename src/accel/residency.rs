@@ -1,0 +1,525 @@
+//! Which bricks of which levels the atlas holds (the Residency Octree's idea on our page table):
+//! a fixed number of slots, the coarsest level (one brick) always resident, and for the rest the
+//! finest level whose wanted bricks fit. A brick of level 0 that the frame cannot see (empty
+//! under the transfer function, and not beside one that is not) is served by a constant instead
+//! of data, so it costs no slot, no upload and no sample; every other brick of level 0 reads the
+//! finest resident level among its ancestors, so a brick still on its way shows a coarser one,
+//! never a hole. Slots not wanted for the longest time are given first (least recently used).
+//!
+//! Pure bookkeeping: what to upload where, and the page tables that follow. The GPU side is
+//! `render::volume_texture`.
+
+use std::collections::HashMap;
+
+use super::bricks::{BrickLayout, level_count, level_dims};
+
+/// A brick of one level: its level and its coordinates in that level's brick grid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct BrickKey {
+    /// The level (0: full resolution).
+    pub level: u32,
+    /// Brick coordinates within the level.
+    pub brick: [u32; 3],
+}
+
+/// Page-table bit of an entry that holds a constant instead of a slot.
+pub const CONSTANT: u32 = 1 << 31;
+/// Page-table bit of a constant entry whose low 16 bits are an f16 (else a unorm16).
+pub const CONSTANT_F16: u32 = 1 << 30;
+
+/// The bricks a frame wants resident.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Wanted {
+    /// The level the data bricks are wanted at (0: full resolution).
+    pub level: u32,
+    /// The bricks, coarsest level first.
+    pub bricks: Vec<BrickKey>,
+    /// Per brick of level 0 (x fastest): whether the rays read its constant, not data.
+    pub constant: Vec<bool>,
+}
+
+/// The atlas's slots and what each holds.
+#[derive(Clone, Debug)]
+pub struct Residency {
+    dims: [u32; 3],
+    brick_vox: u32,
+    levels: u32,
+    slots: [u32; 3],
+    capacity: u32,
+    resident: HashMap<BrickKey, u32>,
+    held: Vec<Option<BrickKey>>,
+    last_wanted: Vec<u64>,
+    frame: u64,
+}
+
+impl Residency {
+    /// The slots of an atlas of `slots` per axis, `capacity` of them used, for a volume of
+    /// `dims` in bricks of `brick_vox`; nothing resident.
+    pub fn new(dims: [u32; 3], brick_vox: u32, slots: [u32; 3], capacity: u32) -> Self {
+        let capacity = capacity.clamp(1, slots.iter().product());
+        Self {
+            dims,
+            brick_vox,
+            levels: level_count(dims, brick_vox).min(super::bricks::MAX_LEVELS),
+            slots,
+            capacity,
+            resident: HashMap::new(),
+            held: vec![None; capacity as usize],
+            last_wanted: vec![0; capacity as usize],
+            frame: 0,
+        }
+    }
+
+    /// Bricks per axis of `level`.
+    pub fn grid(&self, level: u32) -> [u32; 3] {
+        level_dims(self.dims, level).map(|d| d.div_ceil(self.brick_vox))
+    }
+
+    /// Number of levels (the last is one brick).
+    pub fn levels(&self) -> u32 {
+        self.levels
+    }
+
+    /// Slots the atlas gives.
+    pub fn capacity(&self) -> u32 {
+        self.capacity
+    }
+
+    /// Bricks resident now.
+    pub fn resident_count(&self) -> usize {
+        self.resident.len()
+    }
+
+    /// Whether `key` is resident.
+    pub fn is_resident(&self, key: &BrickKey) -> bool {
+        self.resident.contains_key(key)
+    }
+
+    /// Bricks of level 0.
+    pub fn page_count(&self) -> usize {
+        self.grid(0).iter().map(|&b| b as usize).product()
+    }
+
+    fn coarsest(&self) -> BrickKey {
+        BrickKey {
+            level: self.levels - 1,
+            brick: [0; 3],
+        }
+    }
+
+    /// What to hold, given which bricks of level 0 need their data (`needs_data`, x fastest;
+    /// the others are served by a constant): every brick of level 0 where they all fit beside
+    /// the coarsest (no constants then: slices and any later transfer function find their data
+    /// there); else the coarsest and, at the finest level whose bricks fit, the ancestors of
+    /// the bricks that need data.
+    pub fn decide(&self, needs_data: &[bool]) -> Wanted {
+        let pages = self.grid(0);
+        let coarsest = self.coarsest();
+        let extra = u32::from(self.levels > 1);
+        let all = self.page_count() as u64;
+        if all + u64::from(extra) <= u64::from(self.capacity) {
+            let mut bricks = vec![coarsest];
+            if self.levels > 1 {
+                bricks.extend(grid_keys(pages, 0));
+            }
+            return Wanted {
+                level: 0,
+                bricks,
+                constant: vec![false; all as usize],
+            };
+        }
+        for level in 0..self.levels {
+            let grid = self.grid(level);
+            let mut wanted = vec![false; grid.iter().map(|&g| g as usize).product()];
+            for (i, _) in needs_data.iter().enumerate().filter(|(_, n)| **n) {
+                let b = index_to_brick(i as u32, pages).map(|c| c >> level);
+                wanted[(b[0] + grid[0] * (b[1] + grid[1] * b[2])) as usize] = true;
+            }
+            let count = wanted.iter().filter(|w| **w).count() as u64;
+            let with_coarsest = if level + 1 == self.levels {
+                1
+            } else {
+                count + 1
+            };
+            if with_coarsest <= u64::from(self.capacity) {
+                let mut bricks = vec![coarsest];
+                if level + 1 < self.levels {
+                    bricks.extend(
+                        wanted
+                            .iter()
+                            .enumerate()
+                            .filter(|(_, w)| **w)
+                            .map(|(i, _)| BrickKey {
+                                level,
+                                brick: index_to_brick(i as u32, grid),
+                            }),
+                    );
+                }
+                return Wanted {
+                    level,
+                    bricks,
+                    constant: needs_data.iter().map(|n| !n).collect(),
+                };
+            }
+        }
+        // The coarsest alone always fits one slot.
+        Wanted {
+            level: self.levels - 1,
+            bricks: vec![coarsest],
+            constant: needs_data.iter().map(|n| !n).collect(),
+        }
+    }
+
+    /// How many of `wanted` are not resident.
+    pub fn missing(&self, wanted: &Wanted) -> usize {
+        wanted
+            .bricks
+            .iter()
+            .filter(|k| !self.resident.contains_key(k))
+            .count()
+    }
+
+    /// Starts a frame wanting `wanted`: its resident bricks are marked used now, so no admission
+    /// of this frame gives their slots away.
+    pub fn want(&mut self, wanted: &Wanted) {
+        self.frame += 1;
+        for key in &wanted.bricks {
+            if let Some(&slot) = self.resident.get(key) {
+                self.last_wanted[slot as usize] = self.frame;
+            }
+        }
+    }
+
+    /// Gives slots to at most `limit` of the bricks of `wanted` that are not resident, in its
+    /// order, taking free slots first and then those wanted least recently (never one wanted by
+    /// this frame); returns each brick with its slot index, for the caller to upload.
+    pub fn admit(&mut self, wanted: &Wanted, limit: usize) -> Vec<(BrickKey, u32)> {
+        let missing: Vec<BrickKey> = wanted
+            .bricks
+            .iter()
+            .filter(|k| !self.resident.contains_key(k))
+            .take(limit)
+            .copied()
+            .collect();
+        if missing.is_empty() {
+            return Vec::new();
+        }
+        // Free slots first, then the least recently wanted; none this frame wants.
+        let mut candidates: Vec<u32> = (0..self.capacity)
+            .filter(|&s| {
+                self.last_wanted[s as usize] < self.frame || self.held[s as usize].is_none()
+            })
+            .collect();
+        candidates.sort_by_key(|&s| {
+            (
+                self.held[s as usize].is_some(),
+                self.last_wanted[s as usize],
+            )
+        });
+        let mut given = Vec::with_capacity(missing.len());
+        for (key, slot) in missing.into_iter().zip(candidates) {
+            if let Some(old) = self.held[slot as usize].take() {
+                self.resident.remove(&old);
+            }
+            self.held[slot as usize] = Some(key);
+            self.last_wanted[slot as usize] = self.frame;
+            self.resident.insert(key, slot);
+            given.push((key, slot));
+        }
+        given
+    }
+
+    /// Slot `index`'s coordinates in the atlas.
+    pub fn slot_coords(&self, index: u32) -> [u32; 3] {
+        let [sx, sy, _] = self.slots;
+        [index % sx, (index / sx) % sy, index / (sx * sy)]
+    }
+
+    /// The finest resident level holding brick `b` of level 0, with its slot.
+    fn finest_resident(&self, b: [u32; 3]) -> Option<(u32, u32)> {
+        (0..self.levels).find_map(|level| {
+            let key = BrickKey {
+                level,
+                brick: b.map(|c| c >> level),
+            };
+            self.resident.get(&key).map(|&slot| (level, slot))
+        })
+    }
+
+    /// The page tables (x fastest, one entry per brick of level 0): the rays' (a constant where
+    /// `wanted` says so and `constants` has one, else the finest resident ancestor) and the
+    /// slices' (always the finest resident ancestor: slices show data, never a constant), and
+    /// the levels the rays' entries read (bit `k` for level `k`).
+    pub fn page_tables(&self, wanted: &Wanted, constants: &[Option<u32>]) -> PageTables {
+        let pages = self.grid(0);
+        let n = self.page_count();
+        let mut rays = Vec::with_capacity(n);
+        let mut slices = Vec::with_capacity(n);
+        let mut levels = 0u32;
+        for i in 0..n {
+            let b = index_to_brick(i as u32, pages);
+            let data = self
+                .finest_resident(b)
+                .map(|(level, slot)| BrickLayout::page_entry(self.slot_coords(slot), level));
+            let entry = data.unwrap_or(0);
+            slices.push(entry);
+            let constant = wanted.constant.get(i).copied().unwrap_or(false);
+            match constants.get(i).copied().flatten().filter(|_| constant) {
+                Some(c) => rays.push(CONSTANT | c),
+                None => {
+                    levels |= 1 << BrickLayout::decode_entry(entry).1;
+                    rays.push(entry);
+                }
+            }
+        }
+        PageTables {
+            rays,
+            slices,
+            levels,
+        }
+    }
+}
+
+/// The page tables a frame binds.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PageTables {
+    /// The rays' table.
+    pub rays: Vec<u32>,
+    /// The slices' table.
+    pub slices: Vec<u32>,
+    /// Levels the rays read data from (bit `k` for level `k`).
+    pub levels: u32,
+}
+
+/// Brick `index` (x fastest) of a grid of `grid` bricks per axis.
+fn index_to_brick(index: u32, grid: [u32; 3]) -> [u32; 3] {
+    [
+        index % grid[0],
+        (index / grid[0]) % grid[1],
+        index / (grid[0] * grid[1]),
+    ]
+}
+
+/// Every brick of a `grid` at `level`, x fastest.
+fn grid_keys(grid: [u32; 3], level: u32) -> impl Iterator<Item = BrickKey> {
+    let n = grid.iter().product::<u32>();
+    (0..n).map(move |i| BrickKey {
+        level,
+        brick: index_to_brick(i, grid),
+    })
+}
+
+/// `marked` (x fastest over a grid of `grid`) grown by one brick in every direction, diagonals
+/// included: the bricks whose data a sample of a marked brick can reach (its trilinear apron,
+/// a gradient, a pre-integrated segment).
+pub fn dilate(marked: &[bool], grid: [u32; 3]) -> Vec<bool> {
+    let mut out = marked.to_vec();
+    let g = grid.map(i64::from);
+    for (i, _) in marked.iter().enumerate().filter(|(_, m)| **m) {
+        let b = index_to_brick(i as u32, grid).map(i64::from);
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let n = [b[0] + dx, b[1] + dy, b[2] + dz];
+                    if (0..3).all(|a| (0..g[a]).contains(&n[a])) {
+                        out[(n[0] + g[0] * (n[1] + g[1] * n[2])) as usize] = true;
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A volume of 4 × 2 × 1 bricks of 8³ (levels: 4×2×1, 2×1×1, 1×1×1).
+    fn residency(capacity: u32) -> Residency {
+        Residency::new([32, 16, 8], 8, [4, 4, 4], capacity)
+    }
+
+    #[test]
+    fn a_volume_that_fits_is_held_whole_without_constants() {
+        let r = residency(9);
+        let wanted = r.decide(&[false; 8]);
+        assert_eq!(wanted.level, 0);
+        assert_eq!(wanted.bricks.len(), 9);
+        assert!(wanted.constant.iter().all(|c| !c));
+        assert_eq!(wanted.bricks[0].level, 2);
+    }
+
+    #[test]
+    fn over_capacity_only_bricks_that_need_data_are_held_at_the_finest_level_that_fits() {
+        let mut needs = [false; 8];
+        needs[0] = true;
+        needs[5] = true;
+        // Capacity 3: the coarsest and both level-0 bricks.
+        let r = residency(3);
+        let wanted = r.decide(&needs);
+        assert_eq!(wanted.level, 0);
+        assert_eq!(
+            wanted.bricks,
+            vec![
+                BrickKey {
+                    level: 2,
+                    brick: [0; 3]
+                },
+                BrickKey {
+                    level: 0,
+                    brick: [0, 0, 0]
+                },
+                BrickKey {
+                    level: 0,
+                    brick: [1, 1, 0]
+                },
+            ]
+        );
+        assert_eq!(wanted.constant.iter().filter(|c| **c).count(), 6);
+        // Capacity 2: bricks 0 and 5 have one ancestor at level 1 ([0, 0, 0]).
+        let wanted = residency(2).decide(&needs);
+        assert_eq!(wanted.level, 1);
+        assert_eq!(wanted.bricks.len(), 2);
+        // Capacity 1: the coarsest alone.
+        let wanted = residency(1).decide(&needs);
+        assert_eq!(wanted.level, 2);
+        assert_eq!(wanted.bricks.len(), 1);
+    }
+
+    #[test]
+    fn a_missing_brick_reads_its_finest_resident_ancestor_and_the_least_recently_wanted_go_first() {
+        let mut r = residency(3);
+        // Nothing needs data: the coarsest alone.
+        let coarse = r.decide(&[false; 8]);
+        assert_eq!(
+            coarse.bricks,
+            vec![BrickKey {
+                level: 2,
+                brick: [0; 3]
+            }]
+        );
+        r.want(&coarse);
+        assert_eq!(r.admit(&coarse, usize::MAX).len(), 1);
+        // Brick 5 needs data: it is admitted one at a time; until then it reads level 2.
+        let mut needs = [false; 8];
+        needs[5] = true;
+        needs[6] = true;
+        let fine = r.decide(&needs);
+        assert_eq!(fine.level, 0);
+        r.want(&fine);
+        let constants: Vec<Option<u32>> = (0..8).map(Some).collect();
+        let before = r.page_tables(&fine, &constants);
+        assert_eq!(BrickLayout::decode_entry(before.rays[5]).1, 2);
+        assert_eq!(before.rays[0], CONSTANT);
+        assert_eq!(BrickLayout::decode_entry(before.slices[0]).1, 2);
+        assert_eq!(before.levels, 1 << 2);
+        let first = r.admit(&fine, 1);
+        assert_eq!(first.len(), 1);
+        let after = r.page_tables(&fine, &constants);
+        assert_eq!(BrickLayout::decode_entry(after.rays[5]).1, 0);
+        assert_eq!(r.missing(&fine), 1);
+        r.admit(&fine, usize::MAX);
+        assert_eq!(r.missing(&fine), 0);
+        // Another frame wants bricks 1 and 2: the slots of 5 and 6 (unwanted now) are reused,
+        // the coarsest (wanted by every frame) stays.
+        let mut needs = [false; 8];
+        needs[1] = true;
+        needs[2] = true;
+        let other = r.decide(&needs);
+        r.want(&other);
+        let given = r.admit(&other, usize::MAX);
+        assert_eq!(given.len(), 2);
+        assert!(r.is_resident(&BrickKey {
+            level: 2,
+            brick: [0; 3]
+        }));
+        assert!(!r.is_resident(&BrickKey {
+            level: 0,
+            brick: [1, 1, 0]
+        }));
+        assert_eq!(r.resident_count(), 3);
+    }
+
+    #[test]
+    fn least_recently_wanted_is_evicted_before_more_recent() {
+        // Capacity 4: the coarsest and three bricks; frames want {0,1,2}, then {3}, then {4}.
+        let mut r = residency(4);
+        let want = |r: &mut Residency, bricks: &[usize]| {
+            let mut needs = [false; 8];
+            bricks.iter().for_each(|&b| needs[b] = true);
+            let w = r.decide(&needs);
+            assert_eq!(w.level, 0);
+            r.want(&w);
+            r.admit(&w, usize::MAX);
+        };
+        want(&mut r, &[0, 1, 2]);
+        want(&mut r, &[1, 2]);
+        want(&mut r, &[3]);
+        // Brick 0 was wanted least recently: it went for brick 3.
+        let key = |b: [u32; 3]| BrickKey { level: 0, brick: b };
+        assert!(!r.is_resident(&key([0, 0, 0])));
+        assert!(r.is_resident(&key([1, 0, 0])) && r.is_resident(&key([2, 0, 0])));
+        assert!(r.is_resident(&key([3, 0, 0])));
+    }
+
+    #[test]
+    fn dilation_reaches_every_neighbour_and_stays_inside() {
+        let grid = [3, 3, 2];
+        let mut marked = vec![false; 18];
+        marked[0] = true;
+        let grown = dilate(&marked, grid);
+        let expect: Vec<usize> = vec![0, 1, 3, 4, 9, 10, 12, 13];
+        let got: Vec<usize> = (0..18).filter(|&i| grown[i]).collect();
+        assert_eq!(got, expect);
+    }
+
+    #[test]
+    fn the_finest_level_whose_bricks_and_the_coarsest_fit_is_chosen() {
+        // 300 × 200 × 100 in 32³: 10 × 7 × 4 = 280 bricks at level 0, 5 × 4 × 2 = 40 at 1,
+        // 3 × 2 × 1 = 6 at 2, 2 × 1 × 1 at 3, 1 at 4 (the coarsest).
+        let dims = [300, 200, 100];
+        assert_eq!(level_count(dims, 32), 5);
+        for (capacity, level) in [
+            (281, 0),
+            (280, 1),
+            (41, 1),
+            (40, 2),
+            (7, 2),
+            (6, 3),
+            (3, 3),
+            (2, 4),
+        ] {
+            let r = Residency::new(dims, 32, [20, 20, 20], capacity);
+            let wanted = r.decide(&[true; 280]);
+            assert_eq!(wanted.level, level, "{capacity} slots");
+            assert!(wanted.bricks.len() <= capacity as usize);
+        }
+    }
+
+    #[test]
+    fn a_coarser_levels_pages_send_each_brick_to_its_ancestors_slot() {
+        let dims = [300, 200, 100];
+        let mut r = Residency::new(dims, 32, [4, 4, 4], 7);
+        let wanted = r.decide(&[true; 280]);
+        assert_eq!(wanted.level, 2);
+        r.want(&wanted);
+        let given = r.admit(&wanted, usize::MAX);
+        assert_eq!(given.len(), 7);
+        let tables = r.page_tables(&wanted, &[]);
+        assert_eq!(tables.rays, tables.slices);
+        assert_eq!(tables.levels, 1 << 2);
+        let pages = r.grid(0);
+        for (i, &e) in tables.rays.iter().enumerate() {
+            let b = index_to_brick(i as u32, pages);
+            let key = BrickKey {
+                level: 2,
+                brick: b.map(|v| v >> 2),
+            };
+            let slot = given.iter().find(|(k, _)| *k == key).map(|(_, s)| *s);
+            let (at, level) = BrickLayout::decode_entry(e);
+            assert_eq!(level, 2);
+            assert_eq!(Some(at), slot.map(|s| r.slot_coords(s)), "{b:?}");
+        }
+    }
+}
