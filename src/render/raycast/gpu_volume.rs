@@ -47,15 +47,16 @@ pub struct GpuVolume {
 }
 
 impl GpuVolume {
-    /// Uploads `volume` as `upload` asks (precision, layout, budget) and builds its groups.
+    /// Uploads `volume` as `upload` asks (precision, layout, budget) and builds its groups; a
+    /// bricked volume's first bricks for at most `first_upload` (all without).
     pub fn new(
         ctx: &GpuContext,
         layouts: &Layouts,
         shared: &FrameShared<'_>,
         volume: &std::sync::Arc<Volume>,
-        upload: &Upload,
+        (upload, first_upload): (&Upload, Option<std::time::Duration>),
     ) -> Result<Self, VolumeTextureError> {
-        let texture = VolumeTexture::upload_with(ctx, volume, upload)?;
+        let texture = VolumeTexture::upload_streaming(ctx, volume, upload, first_upload)?;
         let frame_group = layouts.frame_group(
             &ctx.device,
             &FrameResources {

@@ -127,7 +127,13 @@ impl VolumeRenderer {
             sampler: &self.sampler,
             tables: &self.transfer,
         };
-        let uploaded = GpuVolume::new(&self.ctx, &self.pipelines.layouts, &shared, volume, upload)?;
+        let uploaded = GpuVolume::new(
+            &self.ctx,
+            &self.pipelines.layouts,
+            &shared,
+            volume,
+            (upload, self.residency_time),
+        )?;
         self.volume = Some(uploaded);
         self.transfer.invalidate();
         self.strategy_choice = None;
@@ -308,9 +314,12 @@ impl VolumeRenderer {
                 (Mode::Iso, _) => Cull::OneSide(uniforms.iso_threshold),
                 _ => Cull::Nothing,
             };
+            let eye = (request.camera.eye / glam::DVec3::from_array(volume.spacing_mm))
+                + glam::DVec3::splat(0.5);
             let unseen = Unseen {
                 cull,
                 long_steps: settings.step_vox > REACH_STEP_VOX,
+                eye: Some(eye.to_array()),
             };
             let update = volume
                 .texture

@@ -176,10 +176,23 @@ impl VolumeTexture {
     /// [`Self::upload`] with the texel precision, the layout and the GPU memory budget `upload`
     /// asks for. A bricked volume keeps `volume` to upload bricks from as the view asks for
     /// them; its first residency is complete: every brick at the finest level that fits.
+    /// Past the first upload, residency follows each frame (see [`Self::update_residency`]).
     pub fn upload_with(
         ctx: &GpuContext,
         volume: &Arc<Volume>,
         upload: &Upload,
+    ) -> Result<Self, VolumeTextureError> {
+        Self::upload_streaming(ctx, volume, upload, None)
+    }
+
+    /// [`Self::upload_with`], a bricked volume's first bricks uploaded for at most `time`
+    /// (the coarsest first, at least one batch), the rest left to later frames
+    /// ([`Self::update_residency`]).
+    pub fn upload_streaming(
+        ctx: &GpuContext,
+        volume: &Arc<Volume>,
+        upload: &Upload,
+        time: Option<std::time::Duration>,
     ) -> Result<Self, VolumeTextureError> {
         let dims = volume.dims();
         let max = ctx.limits.max_texture_dimension_3d;
@@ -242,7 +255,7 @@ impl VolumeTexture {
                     encoding,
                     (atlas.brick_vox, atlas.slots, atlas.capacity),
                 );
-                resident.update(ctx, &texture, &Unseen::NOTHING, None);
+                resident.update(ctx, &texture, &Unseen::NOTHING, time);
                 (resident.rays_pages().clone(), Some(resident))
             }
         };

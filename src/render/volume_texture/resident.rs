@@ -51,13 +51,17 @@ pub struct Unseen {
     pub cull: Cull,
     /// Whether the frame's step is longer than [`REACH`] covers.
     pub long_steps: bool,
+    /// The eye in continuous voxel coordinates (voxel `i`'s centre at `i + ½`): missing
+    /// bricks nearest it are uploaded first.
+    pub eye: Option<[f64; 3]>,
 }
 
 impl Unseen {
-    /// Nothing unseen: every brick's data.
+    /// Nothing unseen: every brick's data, in brick order.
     pub const NOTHING: Self = Self {
         cull: Cull::Nothing,
         long_steps: false,
+        eye: None,
     };
 }
 
@@ -239,9 +243,22 @@ impl Resident {
             }
             self.decided_for = Some(key);
         }
-        let Some(wanted) = self.wanted.take() else {
+        let Some(mut wanted) = self.wanted.take() else {
             return Update::default();
         };
+        if let Some(eye) = unseen.eye
+            && self.residency.missing(&wanted) > 0
+        {
+            // The coarsest stays first; the rest nearest the eye first.
+            let b = f64::from(self.brick_vox);
+            let distance = |k: &BrickKey| {
+                let size = b * f64::from(1u32 << k.level);
+                (0..3)
+                    .map(|a| ((f64::from(k.brick[a]) + 0.5) * size - eye[a]).powi(2))
+                    .sum::<f64>()
+            };
+            wanted.bricks[1..].sort_by(|p, q| distance(p).total_cmp(&distance(q)));
+        }
         loop {
             let given = self.residency.admit(&wanted, BATCH);
             if given.is_empty() {

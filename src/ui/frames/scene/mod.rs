@@ -314,6 +314,16 @@ impl Scene {
                     && !j.bands.is_empty()
                     && (j.preview_of.is_some() || preview_of.is_none())
             });
+        // Bricks that arrived while a frame was in progress show in the next one: the frame in
+        // progress finishes (dropping it would upload and restart for ever).
+        let bricks_only = shared.job.as_ref().is_some_and(|j| {
+            j.inputs.bricks_generation != inputs.bricks_generation
+                && FrameInputs {
+                    bricks_generation: inputs.bricks_generation,
+                    ..j.inputs.clone()
+                } == inputs
+        });
+        let finish_first = finish_first || bricks_only;
         // `auto` carried its last choice over for the frame on screen while the user was busy,
         // and no refinement frame will come to time it (refinement off, statistics on): the view
         // is rendered again now that they are quiet, timed first.
