@@ -478,3 +478,76 @@ fn over_budget_the_bricks_the_transfer_function_hides_are_constants_and_images_s
     assert!(s.constant >= 40, "{s:?}");
     assert!(culled.residency_complete());
 }
+
+/// Over the budget, the slices shown keep the bricks they cross: a sagittal slice through bricks
+/// the transfer function hides (noise only) reads level 0 there, bit for bit one texture's
+/// slice; without the plane given, the same slice reads a coarser level.
+#[test]
+fn over_budget_the_bricks_a_slice_crosses_stay_at_full_resolution() {
+    use leapview::render::volume_texture::SlicePlane;
+    let volume = ball_in_noise();
+    let frame = PatientFrame::of(&volume);
+    let tf = tf();
+    let at = frame.to_patient(DVec3::new(200.0, 48.0, 32.0));
+    let plane = Plane::standard(PlaneKind::Sagittal, at);
+    let view = SliceView::fit(plane, &frame, None);
+    let voxel = |p: DVec3| frame.to_voxel(p) + DVec3::splat(0.5);
+    let normal = (voxel(at + plane.right) - voxel(at))
+        .cross(voxel(at + plane.up) - voxel(at))
+        .normalize();
+    let planes = [SlicePlane {
+        point: voxel(at).to_array(),
+        normal: normal.to_array(),
+        half_thickness: 0.0,
+    }];
+    let look = SliceLook {
+        window: [0.0, 1000.0],
+        nearest: false,
+        slab: None,
+        leap: true,
+        colour: false,
+        invert: false,
+    };
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let (dir, up) = ViewPreset::Oblique.direction_and_up();
+    let camera = Camera::framing(&bounds, dir, up, ProjectionKind::Perspective);
+    let dvr = RenderSettings {
+        path: RenderPath::Compute,
+        ..cases()[1].1
+    };
+    for with_plane in [true, false] {
+        let mut r = common::renderer();
+        r.set_volume_with(
+            &Arc::new(volume.clone()),
+            &Upload {
+                gpu_budget: Some(30 * 34u64.pow(3) * 2),
+                ..Upload::default()
+            },
+        )
+        .expect("upload");
+        r.set_transfer_function(&tf);
+        if with_plane {
+            assert!(r.set_slice_planes(&planes));
+        }
+        render(&mut r, &camera, &dvr);
+        // One texture's slice on the renderer's own device.
+        let ctx = r.context();
+        let slices = SliceRenderer::new(&ctx.device).expect("pipelines");
+        let single = VolumeTexture::upload(ctx, &volume).expect("upload");
+        let want = slices
+            .render(ctx, &volume, &single, None, &view, look)
+            .expect("slice");
+        let texture = r.volume_texture().expect("volume");
+        let s = texture.residency().cloned().expect("bricked");
+        assert_eq!((s.level, s.missing), (0, 0), "{s:?}");
+        let got = slices
+            .render(ctx, &volume, texture, None, &view, look)
+            .expect("slice");
+        let same = want
+            .values
+            .iter()
+            .zip(&got.values)
+            .all(|(a, b)| a.to_bits() == b.to_bits());
+        assert_eq!(same, with_plane, "with the plane: {with_plane}; {s:?}");
+    }
+}

@@ -11,7 +11,7 @@ use crate::render::context::GpuContext;
 use crate::render::pack::Rgba8Reader;
 use crate::render::probe::{FrameResults, ProbePool};
 use crate::render::volume_texture::VolumeTexture;
-use crate::render::volume_texture::{Cull, REACH_STEP_VOX, Unseen};
+use crate::render::volume_texture::{Cull, REACH_STEP_VOX, SlicePlane, Unseen};
 use crate::settings::{ConcretePath, Mode, RenderPath, RenderSettings, Upload};
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
@@ -56,6 +56,10 @@ pub struct VolumeRenderer {
     residency_complete: bool,
     /// Frames that some wanted brick was missing from.
     bricks_generation: u64,
+    /// Residency updates that changed the page tables (the slices' pictures too).
+    pages_generation: u64,
+    /// The slice planes shown beside the rays (their bricks hold data).
+    slice_planes: Vec<SlicePlane>,
 }
 
 impl VolumeRenderer {
@@ -101,6 +105,8 @@ impl VolumeRenderer {
             residency_time: None,
             residency_complete: true,
             bricks_generation: 0,
+            pages_generation: 0,
+            slice_planes: Vec::new(),
         })
     }
 
@@ -156,6 +162,30 @@ impl VolumeRenderer {
     /// view is worth rendering again.
     pub fn bricks_generation(&self) -> u64 {
         self.bricks_generation
+    }
+
+    /// Bumped whenever residency changed the page tables: what the slices show may have changed.
+    pub fn pages_generation(&self) -> u64 {
+        self.pages_generation
+    }
+
+    /// Sets the slice planes shown beside the rays: a bricked volume over its budget keeps the
+    /// bricks they cross at the rays' level, whatever the rays leave unseen. Returns whether
+    /// they changed.
+    pub fn set_slice_planes(&mut self, planes: &[SlicePlane]) -> bool {
+        if self.slice_planes == planes {
+            return false;
+        }
+        self.slice_planes = planes.to_vec();
+        true
+    }
+
+    /// Whether the volume's bricks leave out some the rays do not see (slices then decide
+    /// residency too).
+    pub fn residency_culls(&self) -> bool {
+        self.volume_texture()
+            .and_then(|t| t.residency())
+            .is_some_and(|s| s.constant > 0)
     }
 
     /// Whether a volume is loaded.
@@ -320,12 +350,14 @@ impl VolumeRenderer {
                 cull,
                 long_steps: settings.step_vox > REACH_STEP_VOX,
                 eye: Some(eye.to_array()),
+                slices: self.slice_planes.clone(),
             };
             let update = volume
                 .texture
                 .update_residency(&self.ctx, &unseen, self.residency_time);
             if update.changed {
                 volume.leap.invalidate();
+                self.pages_generation += 1;
             }
             self.residency_complete = update.complete;
             self.bricks_generation += u64::from(!update.complete);

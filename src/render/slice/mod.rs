@@ -328,7 +328,7 @@ impl SliceRenderer {
         self.build_bricks(
             &ctx.device,
             &ctx.queue,
-            &texture.view,
+            &texture.slice_view(),
             volume.dims(),
             texel_max,
         )
@@ -354,8 +354,9 @@ impl SliceRenderer {
             look,
             target.pitch,
         );
+        let view_of = texture.slice_view();
         let source = SliceSource {
-            texture: &texture.view,
+            texture: &view_of,
             bricks,
             colours: None,
         };
@@ -391,8 +392,9 @@ impl SliceRenderer {
             look,
             view.size[0],
         );
+        let view_of = texture.slice_view();
         let source = SliceSource {
-            texture: &texture.view,
+            texture: &view_of,
             bricks,
             colours,
         };

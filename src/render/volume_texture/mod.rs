@@ -23,7 +23,7 @@ use super::gpu_data::VolumeGeometry;
 use encoding::{TexelSource, choose_encoding, encode_texels, encoding_for};
 use plan::{Plan, PlanError, coarser_note, plan};
 use resident::Resident;
-pub use resident::{Cull, REACH_STEP_VOX, ResidencyStatus, Unseen, Update};
+pub use resident::{Cull, REACH_STEP_VOX, ResidencyStatus, SlicePlane, Unseen, Update};
 
 /// Largest slab uploaded in one `write_texture` call, in bytes.
 const SLAB_BYTES: usize = 64 << 20;

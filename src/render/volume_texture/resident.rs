@@ -54,6 +54,34 @@ pub struct Unseen {
     /// The eye in continuous voxel coordinates (voxel `i`'s centre at `i + ½`): missing
     /// bricks nearest it are uploaded first.
     pub eye: Option<[f64; 3]>,
+    /// Slice planes shown beside the rays: the bricks they cross hold data, whatever the rays
+    /// leave unseen.
+    pub slices: Vec<SlicePlane>,
+}
+
+/// A slice (or slab) through the volume, in continuous voxel coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SlicePlane {
+    /// A point on the plane.
+    pub point: [f64; 3],
+    /// Its unit normal.
+    pub normal: [f64; 3],
+    /// How far the slab reaches either side of the plane (0 for a thin slice).
+    pub half_thickness: f64,
+}
+
+impl SlicePlane {
+    /// Whether the plane (its slab) comes within `margin` voxels of the box `[lo, hi]`.
+    fn meets(&self, lo: [f64; 3], hi: [f64; 3], margin: f64) -> bool {
+        let mut distance = 0.0;
+        let mut extent = 0.0;
+        for a in 0..3 {
+            let centre = 0.5 * (lo[a] + hi[a]);
+            distance += self.normal[a] * (centre - self.point[a]);
+            extent += self.normal[a].abs() * (0.5 * (hi[a] - lo[a]) + margin);
+        }
+        distance.abs() <= extent + self.half_thickness
+    }
 }
 
 impl Unseen {
@@ -62,6 +90,7 @@ impl Unseen {
         cull: Cull::Nothing,
         long_steps: false,
         eye: None,
+        slices: Vec::new(),
     };
 }
 
@@ -140,7 +169,7 @@ pub struct Resident {
     ranges: Option<Vec<BrickRange>>,
     rays: wgpu::Texture,
     slices: wgpu::Texture,
-    decided_for: Option<(u8, u64)>,
+    decided_for: Option<((u8, u64), Vec<SlicePlane>)>,
     wanted: Option<Wanted>,
     status: ResidencyStatus,
 }
@@ -234,7 +263,14 @@ impl Resident {
             _ => Cull::Nothing.key(),
         };
         let mut changed = false;
-        if self.decided_for != Some(key) {
+        // Slices matter only where the rays leave bricks out.
+        let slices = if key == Cull::Nothing.key() {
+            Vec::new()
+        } else {
+            unseen.slices.clone()
+        };
+        let key = (key, slices);
+        if self.decided_for.as_ref() != Some(&key) {
             let wanted = self.residency.decide(&self.needs_data(unseen));
             if self.wanted.as_ref() != Some(&wanted) {
                 self.residency.want(&wanted);
@@ -300,11 +336,26 @@ impl Resident {
             .iter()
             .map(|r| !unseen.cull.is_empty(r.lo, r.hi))
             .collect();
+        let grid = self.residency.grid(0);
         let mut needs = if unseen.long_steps {
-            dilate(&seen, self.residency.grid(0))
+            dilate(&seen, grid)
         } else {
             seen
         };
+        let b = f64::from(self.brick_vox);
+        for (i, need) in needs.iter_mut().enumerate() {
+            let at = [
+                i as u32 % grid[0],
+                (i as u32 / grid[0]) % grid[1],
+                i as u32 / (grid[0] * grid[1]),
+            ];
+            let lo = at.map(|v| f64::from(v) * b);
+            let hi = lo.map(|v| v + b);
+            *need |= unseen
+                .slices
+                .iter()
+                .any(|s| s.meets(lo, hi, f64::from(REACH)));
+        }
         for (need, range) in needs.iter_mut().zip(ranges) {
             *need |= range.constant.is_none();
         }
@@ -525,6 +576,36 @@ fn decode_texel(format: wgpu::TextureFormat, b: &[u8]) -> (f32, Option<u32>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_plane_meets_the_bricks_it_crosses_and_a_slab_those_it_reaches() {
+        let axial = SlicePlane {
+            point: [0.0, 0.0, 40.0],
+            normal: [0.0, 0.0, 1.0],
+            half_thickness: 0.0,
+        };
+        let brick = |z: f64| ([0.0, 0.0, z], [32.0, 32.0, z + 32.0]);
+        let (lo, hi) = brick(32.0);
+        assert!(axial.meets(lo, hi, 0.0));
+        let (lo, hi) = brick(64.0);
+        assert!(!axial.meets(lo, hi, 4.0));
+        let slab = SlicePlane {
+            half_thickness: 30.0,
+            ..axial
+        };
+        assert!(slab.meets(lo, hi, 0.0));
+        let (lo, hi) = brick(0.0);
+        assert!(!axial.meets(lo, hi, 4.0) && axial.meets(lo, hi, 8.0));
+        let oblique = SlicePlane {
+            point: [16.0, 16.0, 16.0],
+            normal: [0.0, 0.6, 0.8],
+            half_thickness: 0.0,
+        };
+        // The box (0, 0, 32)…(32, 32, 64): its nearest corner (0, 0, 32) is 3.2 voxels off
+        // the plane (0.6·(0 − 16) + 0.8·(32 − 16)).
+        let (lo, hi) = brick(32.0);
+        assert!(!oblique.meets(lo, hi, 0.0) && oblique.meets(lo, hi, 4.0));
+    }
 
     #[test]
     fn texels_decode_as_the_texture_unit_returns_them_and_constants_hold_them_exactly() {

@@ -25,7 +25,16 @@ impl LeapViewApp {
         self.slices.set_transfer_function(self.state.editor.tf());
         let area = ui.available_rect_before_wrap();
         let has_volume = self.scene.volume().is_some();
-        for (pane, rect) in panes(self.state.layout, area, 2.0) {
+        let layout = panes(self.state.layout, area, 2.0);
+        // The slices shown keep their bricks on the GPU, and draw again when bricks arrive.
+        let slices_shown = layout.iter().any(|(p, _)| matches!(p, Pane::Slice(_)));
+        self.scene.set_slice_planes(if slices_shown {
+            self.slices.planes_in_voxels()
+        } else {
+            Vec::new()
+        });
+        self.slices.set_contents(self.scene.pages_generation());
+        for (pane, rect) in layout {
             let mut child = ui.new_child(egui::UiBuilder::new().max_rect(rect));
             match pane {
                 Pane::ThreeD => self.view_3d(&mut child),

@@ -21,6 +21,9 @@ pub struct FrameInputs {
     pub volume_generation: u64,
     /// Bumped by every frame that some wanted brick was missing from: the next shows more.
     pub bricks_generation: u64,
+    /// Bumped when the slice planes moved while the rays leave bricks out (their bricks are
+    /// decided again in the next frame).
+    pub slices_generation: u64,
     /// Whether the frame counts samples (the statistics variant).
     pub stats: bool,
 }
@@ -71,6 +74,7 @@ mod tests {
             transfer_generation: 1,
             volume_generation: 1,
             bricks_generation: 0,
+            slices_generation: 0,
             stats: false,
         }
     }

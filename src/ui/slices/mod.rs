@@ -41,6 +41,8 @@ struct Source {
     format: wgpu::TextureFormat,
     /// Counts volumes shown: a new one redraws every pane.
     generation: u64,
+    /// The renderer's page-table generation last seen: new bricks redraw every pane.
+    contents: u64,
     /// The bricks a slab leaps over, built when a slab is first drawn (`None` inside: the
     /// device cannot hold them, and slabs take every sample).
     bricks: std::cell::OnceCell<Option<SliceBricks>>,
@@ -184,8 +186,47 @@ impl SliceViews {
             texture,
             format,
             generation: self.generation,
+            contents: 0,
             bricks: std::cell::OnceCell::new(),
         });
+    }
+
+    /// Notes that the volume's bricks changed on the GPU (`generation`: the renderer's
+    /// [`crate::render::VolumeRenderer::pages_generation`]): the panes draw again, and the bricks a
+    /// slab leaps over are built again from what is there now.
+    pub(crate) fn set_contents(&mut self, generation: u64) {
+        if let Some(source) = &mut self.source
+            && source.contents != generation
+        {
+            source.contents = generation;
+            source.bricks = std::cell::OnceCell::new();
+        }
+    }
+
+    /// The planes of the panes (a slab's thickness with them) in the volume's continuous voxel
+    /// coordinates, for the bricks' residency.
+    pub(crate) fn planes_in_voxels(&self) -> Vec<crate::render::volume_texture::SlicePlane> {
+        let Some(source) = &self.source else {
+            return Vec::new();
+        };
+        let half_mm = self.slab.map_or(0.0, |s| 0.5 * s.thickness_mm);
+        self.planes
+            .iter()
+            .map(|plane| {
+                let plane = plane.through(self.crosshair);
+                let at = |p: DVec3| source.frame.to_voxel(p) + DVec3::splat(0.5);
+                let origin = at(plane.point);
+                let right = at(plane.point + plane.right) - origin;
+                let up = at(plane.point + plane.up) - origin;
+                let normal = right.cross(up).normalize_or_zero();
+                let reach = (at(plane.point + plane.normal() * half_mm) - origin).dot(normal);
+                crate::render::volume_texture::SlicePlane {
+                    point: origin.to_array(),
+                    normal: normal.to_array(),
+                    half_thickness: reach.abs(),
+                }
+            })
+            .collect()
     }
 
     /// The crosshair point (mm, LPS).

@@ -87,9 +87,9 @@ pub struct SlicePane {
     kind: PlaneKind,
     view: Option<SliceView>,
     gpu: Option<PaneGpu>,
-    /// What the texture shows: the volume's generation, the colour table's and the pass's
+    /// What the texture shows: the volume's generation and its bricks', the colour table's and the pass's
     /// parameters.
-    drawn: Option<(u64, Option<u64>, SliceParams)>,
+    drawn: Option<((u64, u64), Option<u64>, SliceParams)>,
     /// A distance ruler's ends (patient mm), drawn while the plane passes through them.
     ruler: Option<(DVec3, DVec3)>,
     /// The cropping box's face being dragged.
@@ -319,7 +319,11 @@ impl SlicePane {
             slice_look,
             view.size[0],
         );
-        let drawn = Some((source.generation, look.colours.map(|(_, g)| g), params));
+        let drawn = Some((
+            (source.generation, source.contents),
+            look.colours.map(|(_, g)| g),
+            params,
+        ));
         if self.drawn == drawn {
             return;
         }

@@ -50,6 +50,12 @@ pub struct Scene {
     /// (once per inputs, so that a timing that fails is not retried on every pass).
     retimed_for: Option<FrameInputs>,
     quiet_passes: u32,
+    /// The slice planes shown, given to the renderer before each frame.
+    slice_planes: Vec<crate::render::volume_texture::SlicePlane>,
+    /// Bumped when the renderer took new slice planes.
+    slice_generation: u64,
+    /// The renderer's page-table generation when the last frame finished.
+    pages_generation: u64,
     /// What the view shows.
     shown: ShownFrame,
     /// When the user last did anything (pointer, keys, wheel): refinement waits for quiet.
@@ -89,6 +95,9 @@ impl Scene {
             stats: FrameStats::new(),
             retimed_for: None,
             quiet_passes: 0,
+            slice_planes: Vec::new(),
+            slice_generation: 0,
+            pages_generation: 0,
             shown: ShownFrame::default(),
             last_input: None,
             busy: Busy::default(),
@@ -154,6 +163,21 @@ impl Scene {
             .renderer
             .volume_texture()
             .map(|t| (t.slice_view(), t.encoding.format))
+    }
+
+    /// Sets the slice planes shown (continuous voxel coordinates; none when no slice is
+    /// shown): the next frame keeps their bricks resident.
+    pub(crate) fn set_slice_planes(
+        &mut self,
+        planes: Vec<crate::render::volume_texture::SlicePlane>,
+    ) {
+        self.slice_planes = planes;
+    }
+
+    /// The renderer's page-table generation when the last frame finished (the slices redraw
+    /// when it changes).
+    pub(crate) fn pages_generation(&self) -> u64 {
+        self.pages_generation
     }
 
     /// The volume on screen.
@@ -291,6 +315,9 @@ impl Scene {
         if !shared.renderer.has_volume() || size_px.contains(&0) {
             return Ok(false);
         }
+        if shared.renderer.set_slice_planes(&self.slice_planes) {
+            self.slice_generation += 1;
+        }
         let changed = shared.renderer.set_transfer_function(state.editor.tf());
         self.stats.transfer_given(changed);
         let inputs = FrameInputs {
@@ -302,6 +329,11 @@ impl Scene {
             transfer_generation: shared.renderer.transfer_generation(),
             volume_generation: self.framing.generation(),
             bricks_generation: shared.renderer.bricks_generation(),
+            slices_generation: if shared.renderer.residency_culls() {
+                self.slice_generation
+            } else {
+                0
+            },
             stats: state.statistics,
         };
         let preview_of = (size_px != view_px).then_some(view_px);
@@ -449,6 +481,7 @@ impl Scene {
         }
         self.shown
             .show(&self.egui_renderer, &self.device, &shared.renderer, size);
+        self.pages_generation = shared.renderer.pages_generation();
         // The bricks resident may have changed with the frame: the lines that say so follow.
         if let (Some(texture), Some(summary)) =
             (shared.renderer.volume_texture(), self.framing.volume_mut())
