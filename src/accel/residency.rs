@@ -107,12 +107,14 @@ impl Residency {
         }
     }
 
-    /// What to hold, given which bricks of level 0 need their data (`needs_data`, x fastest;
-    /// the others are served by a constant): every brick of level 0 where they all fit beside
-    /// the coarsest (no constants then: slices and any later transfer function find their data
-    /// there); else the coarsest and, at the finest level whose bricks fit, the ancestors of
-    /// the bricks that need data.
-    pub fn decide(&self, needs_data: &[bool]) -> Wanted {
+    /// What to hold, given which bricks of level 0 the rays need the data of (`needs_data`,
+    /// x fastest; the others are served by a constant) and which others the slices show
+    /// (`also`; empty for none): every brick of level 0 where they all fit beside the coarsest
+    /// (no constants then: the slices and any later transfer function find their data there);
+    /// else the coarsest and, at the finest level whose bricks fit, the ancestors of the bricks
+    /// the rays need; then the slices' bricks at that level, or the finest coarser one that
+    /// still fits beside them (the rays' level is never given up for the slices').
+    pub fn decide(&self, needs_data: &[bool], also: &[bool]) -> Wanted {
         let pages = self.grid(0);
         let coarsest = self.coarsest();
         let extra = u32::from(self.levels > 1);
@@ -128,46 +130,59 @@ impl Residency {
                 constant: vec![false; all as usize],
             };
         }
+        let constant: Vec<bool> = needs_data.iter().map(|n| !n).collect();
+        let capacity = self.capacity as usize;
         for level in 0..self.levels {
-            let grid = self.grid(level);
-            let mut wanted = vec![false; grid.iter().map(|&g| g as usize).product()];
-            for (i, _) in needs_data.iter().enumerate().filter(|(_, n)| **n) {
-                let b = index_to_brick(i as u32, pages).map(|c| c >> level);
-                wanted[(b[0] + grid[0] * (b[1] + grid[1] * b[2])) as usize] = true;
+            let mut bricks = vec![coarsest];
+            bricks.extend(self.ancestors(needs_data, level).filter(|k| *k != coarsest));
+            if bricks.len() > capacity {
+                continue;
             }
-            let count = wanted.iter().filter(|w| **w).count() as u64;
-            let with_coarsest = if level + 1 == self.levels {
-                1
-            } else {
-                count + 1
-            };
-            if with_coarsest <= u64::from(self.capacity) {
-                let mut bricks = vec![coarsest];
-                if level + 1 < self.levels {
-                    bricks.extend(
-                        wanted
-                            .iter()
-                            .enumerate()
-                            .filter(|(_, w)| **w)
-                            .map(|(i, _)| BrickKey {
-                                level,
-                                brick: index_to_brick(i as u32, grid),
-                            }),
-                    );
+            if also.iter().any(|a| *a) {
+                let held: std::collections::HashSet<BrickKey> = bricks.iter().copied().collect();
+                for coarser in level..self.levels {
+                    let more: Vec<BrickKey> = self
+                        .ancestors(also, coarser)
+                        .filter(|k| !held.contains(k))
+                        .collect();
+                    if bricks.len() + more.len() <= capacity {
+                        bricks.extend(more);
+                        break;
+                    }
                 }
-                return Wanted {
-                    level,
-                    bricks,
-                    constant: needs_data.iter().map(|n| !n).collect(),
-                };
             }
+            return Wanted {
+                level,
+                bricks,
+                constant,
+            };
         }
         // The coarsest alone always fits one slot.
         Wanted {
             level: self.levels - 1,
             bricks: vec![coarsest],
-            constant: needs_data.iter().map(|n| !n).collect(),
+            constant,
         }
+    }
+
+    /// The distinct ancestors at `level` of the bricks of level 0 `marked` marks, in brick
+    /// order.
+    fn ancestors(&self, marked: &[bool], level: u32) -> impl Iterator<Item = BrickKey> {
+        let pages = self.grid(0);
+        let grid = self.grid(level);
+        let mut wanted = vec![false; grid.iter().map(|&g| g as usize).product()];
+        for (i, _) in marked.iter().enumerate().filter(|(_, m)| **m) {
+            let b = index_to_brick(i as u32, pages).map(|c| c >> level);
+            wanted[(b[0] + grid[0] * (b[1] + grid[1] * b[2])) as usize] = true;
+        }
+        wanted
+            .into_iter()
+            .enumerate()
+            .filter(|(_, w)| *w)
+            .map(move |(i, _)| BrickKey {
+                level,
+                brick: index_to_brick(i as u32, grid),
+            })
     }
 
     /// How many of `wanted` are not resident.
@@ -343,7 +358,7 @@ mod tests {
     #[test]
     fn a_volume_that_fits_is_held_whole_without_constants() {
         let r = residency(9);
-        let wanted = r.decide(&[false; 8]);
+        let wanted = r.decide(&[false; 8], &[]);
         assert_eq!(wanted.level, 0);
         assert_eq!(wanted.bricks.len(), 9);
         assert!(wanted.constant.iter().all(|c| !c));
@@ -357,7 +372,7 @@ mod tests {
         needs[5] = true;
         // Capacity 3: the coarsest and both level-0 bricks.
         let r = residency(3);
-        let wanted = r.decide(&needs);
+        let wanted = r.decide(&needs, &[]);
         assert_eq!(wanted.level, 0);
         assert_eq!(
             wanted.bricks,
@@ -378,11 +393,11 @@ mod tests {
         );
         assert_eq!(wanted.constant.iter().filter(|c| **c).count(), 6);
         // Capacity 2: bricks 0 and 5 have one ancestor at level 1 ([0, 0, 0]).
-        let wanted = residency(2).decide(&needs);
+        let wanted = residency(2).decide(&needs, &[]);
         assert_eq!(wanted.level, 1);
         assert_eq!(wanted.bricks.len(), 2);
         // Capacity 1: the coarsest alone.
-        let wanted = residency(1).decide(&needs);
+        let wanted = residency(1).decide(&needs, &[]);
         assert_eq!(wanted.level, 2);
         assert_eq!(wanted.bricks.len(), 1);
     }
@@ -391,7 +406,7 @@ mod tests {
     fn a_missing_brick_reads_its_finest_resident_ancestor_and_the_least_recently_wanted_go_first() {
         let mut r = residency(3);
         // Nothing needs data: the coarsest alone.
-        let coarse = r.decide(&[false; 8]);
+        let coarse = r.decide(&[false; 8], &[]);
         assert_eq!(
             coarse.bricks,
             vec![BrickKey {
@@ -405,7 +420,7 @@ mod tests {
         let mut needs = [false; 8];
         needs[5] = true;
         needs[6] = true;
-        let fine = r.decide(&needs);
+        let fine = r.decide(&needs, &[]);
         assert_eq!(fine.level, 0);
         r.want(&fine);
         let constants: Vec<Option<u32>> = (0..8).map(Some).collect();
@@ -426,7 +441,7 @@ mod tests {
         let mut needs = [false; 8];
         needs[1] = true;
         needs[2] = true;
-        let other = r.decide(&needs);
+        let other = r.decide(&needs, &[]);
         r.want(&other);
         let given = r.admit(&other, usize::MAX);
         assert_eq!(given.len(), 2);
@@ -448,7 +463,7 @@ mod tests {
         let want = |r: &mut Residency, bricks: &[usize]| {
             let mut needs = [false; 8];
             bricks.iter().for_each(|&b| needs[b] = true);
-            let w = r.decide(&needs);
+            let w = r.decide(&needs, &[]);
             assert_eq!(w.level, 0);
             r.want(&w);
             r.admit(&w, usize::MAX);
@@ -491,7 +506,7 @@ mod tests {
             (2, 4),
         ] {
             let r = Residency::new(dims, 32, [20, 20, 20], capacity);
-            let wanted = r.decide(&[true; 280]);
+            let wanted = r.decide(&[true; 280], &[]);
             assert_eq!(wanted.level, level, "{capacity} slots");
             assert!(wanted.bricks.len() <= capacity as usize);
         }
@@ -501,7 +516,7 @@ mod tests {
     fn a_coarser_levels_pages_send_each_brick_to_its_ancestors_slot() {
         let dims = [300, 200, 100];
         let mut r = Residency::new(dims, 32, [4, 4, 4], 7);
-        let wanted = r.decide(&[true; 280]);
+        let wanted = r.decide(&[true; 280], &[]);
         assert_eq!(wanted.level, 2);
         r.want(&wanted);
         let given = r.admit(&wanted, usize::MAX);
@@ -521,5 +536,33 @@ mod tests {
             assert_eq!(level, 2);
             assert_eq!(Some(at), slot.map(|s| r.slot_coords(s)), "{b:?}");
         }
+    }
+
+    #[test]
+    fn the_slices_bricks_come_at_the_rays_level_where_they_fit_else_coarser() {
+        // 4 × 2 × 1 bricks: the rays need brick 0, the slices bricks 3 and 7.
+        let mut needs = [false; 8];
+        needs[0] = true;
+        let mut also = [false; 8];
+        also[3] = true;
+        also[7] = true;
+        let full = Residency::new([32, 16, 8], 8, [4, 4, 4], 4).decide(&needs, &also);
+        assert_eq!(full.level, 0);
+        assert_eq!(full.bricks.len(), 4);
+        assert!(
+            full.constant[3] && full.constant[7],
+            "the rays still read constants there"
+        );
+        // Capacity 3: the slices' two bricks do not fit beside the rays' at level 0; their
+        // ancestor at level 1 ([1, 0, 0]) does.
+        let tight = Residency::new([32, 16, 8], 8, [4, 4, 4], 3).decide(&needs, &also);
+        assert_eq!(tight.level, 0);
+        assert_eq!(
+            tight.bricks[2..],
+            [BrickKey {
+                level: 1,
+                brick: [1, 0, 0]
+            }]
+        );
     }
 }

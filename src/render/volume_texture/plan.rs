@@ -222,7 +222,7 @@ mod tests {
         };
         assert_eq!((atlas.slots, atlas.capacity), ([8, 8, 8], 512));
         let residency = Residency::new([320; 3], 32, atlas.slots, atlas.capacity);
-        let level = residency.decide(&[true; 1000]).level;
+        let level = residency.decide(&[true; 1000], &[]).level;
         assert_eq!(level, 1);
         let note = coarser_note(([320; 3], 32, level), limits, 1).expect("a note");
         assert!(

@@ -271,7 +271,8 @@ impl Resident {
         };
         let key = (key, slices);
         if self.decided_for.as_ref() != Some(&key) {
-            let wanted = self.residency.decide(&self.needs_data(unseen));
+            let (rays, slices) = self.needs_data(unseen);
+            let wanted = self.residency.decide(&rays, &slices);
             if self.wanted.as_ref() != Some(&wanted) {
                 self.residency.want(&wanted);
                 self.wanted = Some(wanted);
@@ -324,42 +325,45 @@ impl Resident {
         }
     }
 
-    /// Which bricks of level 0 need their data: those `unseen` does not empty (over the
-    /// brick and [`REACH`] around it), with their neighbours where steps are longer than that
-    /// covers, and any without a constant.
-    fn needs_data(&self, unseen: &Unseen) -> Vec<bool> {
+    /// Which bricks of level 0 the rays need the data of: those `unseen` does not empty (over
+    /// the brick and [`REACH`] around it), with their neighbours where steps are longer than
+    /// that covers, and any without a constant; and which the slices show (within [`REACH`] of
+    /// a plane or its slab).
+    fn needs_data(&self, unseen: &Unseen) -> (Vec<bool>, Vec<bool>) {
         let n = self.residency.page_count();
         let Some(ranges) = &self.ranges else {
-            return vec![true; n];
+            return (vec![true; n], Vec::new());
         };
         let seen: Vec<bool> = ranges
             .iter()
             .map(|r| !unseen.cull.is_empty(r.lo, r.hi))
             .collect();
         let grid = self.residency.grid(0);
-        let mut needs = if unseen.long_steps {
+        let mut rays = if unseen.long_steps {
             dilate(&seen, grid)
         } else {
             seen
         };
-        let b = f64::from(self.brick_vox);
-        for (i, need) in needs.iter_mut().enumerate() {
-            let at = [
-                i as u32 % grid[0],
-                (i as u32 / grid[0]) % grid[1],
-                i as u32 / (grid[0] * grid[1]),
-            ];
-            let lo = at.map(|v| f64::from(v) * b);
-            let hi = lo.map(|v| v + b);
-            *need |= unseen
-                .slices
-                .iter()
-                .any(|s| s.meets(lo, hi, f64::from(REACH)));
-        }
-        for (need, range) in needs.iter_mut().zip(ranges) {
+        for (need, range) in rays.iter_mut().zip(ranges) {
             *need |= range.constant.is_none();
         }
-        needs
+        let b = f64::from(self.brick_vox);
+        let slices = (0..n)
+            .map(|i| {
+                let at = [
+                    i as u32 % grid[0],
+                    (i as u32 / grid[0]) % grid[1],
+                    i as u32 / (grid[0] * grid[1]),
+                ];
+                let lo = at.map(|v| f64::from(v) * b);
+                let hi = lo.map(|v| v + b);
+                unseen
+                    .slices
+                    .iter()
+                    .any(|s| s.meets(lo, hi, f64::from(REACH)))
+            })
+            .collect();
+        (rays, slices)
     }
 
     /// Encodes `given` (on all cores) and writes each into its slot.
