@@ -95,6 +95,12 @@ impl Residency {
         self.resident.contains_key(key)
     }
 
+    /// Whether every brick of level 0 fits beside the coarsest (then all are held, whatever
+    /// the view).
+    pub fn holds_everything(&self) -> bool {
+        self.page_count() as u64 + u64::from(self.levels > 1) <= u64::from(self.capacity)
+    }
+
     /// Bricks of level 0.
     pub fn page_count(&self) -> usize {
         self.grid(0).iter().map(|&b| b as usize).product()
@@ -117,9 +123,8 @@ impl Residency {
     pub fn decide(&self, needs_data: &[bool], also: &[bool]) -> Wanted {
         let pages = self.grid(0);
         let coarsest = self.coarsest();
-        let extra = u32::from(self.levels > 1);
         let all = self.page_count() as u64;
-        if all + u64::from(extra) <= u64::from(self.capacity) {
+        if self.holds_everything() {
             let mut bricks = vec![coarsest];
             if self.levels > 1 {
                 bricks.extend(grid_keys(pages, 0));

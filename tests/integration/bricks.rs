@@ -551,3 +551,54 @@ fn over_budget_the_bricks_a_slice_crosses_stay_at_full_resolution() {
         assert_eq!(same, with_plane, "with the plane: {with_plane}; {s:?}");
     }
 }
+
+/// Over the budget, only the bricks in view are wanted: MIP (which sees every brick of the
+/// volume, 48 + 1 > 30 slots, level 1 when framed whole) zoomed in on the ball holds the bricks
+/// in the view frustum at full resolution, and equals one texture's image.
+#[test]
+fn over_budget_only_the_bricks_in_view_are_held() {
+    let volume = ball_in_noise();
+    let tf = tf();
+    let spacing = DVec3::from_array(volume.spacing_mm());
+    let zoomed = Aabb {
+        min: DVec3::new(36.0, 30.0, 18.0) * spacing,
+        max: DVec3::new(70.0, 58.0, 42.0) * spacing,
+    };
+    let (dir, up) = ViewPreset::PlusZ.direction_and_up();
+    let camera = Camera::framing(&zoomed, dir, up, ProjectionKind::Perspective);
+    let mut single = renderer(&volume, &tf, Bricking::Off);
+    let mut culled = common::renderer();
+    culled
+        .set_volume_with(
+            &Arc::new(volume.clone()),
+            &Upload {
+                gpu_budget: Some(30 * 34u64.pow(3) * 2),
+                ..Upload::default()
+            },
+        )
+        .expect("upload");
+    culled.set_transfer_function(&tf);
+    for path in [RenderPath::Compute, RenderPath::Fragment] {
+        let mip = RenderSettings {
+            mode: Mode::Mip,
+            strategy: Strategy::RcT,
+            path,
+            ..RenderSettings::default()
+        };
+        let want = render(&mut single, &camera, &mip);
+        let got = render(&mut culled, &camera, &mip);
+        let s = culled
+            .volume_texture()
+            .and_then(|t| t.residency().cloned())
+            .expect("bricked");
+        assert_eq!((s.level, s.levels, s.missing), (0, 1, 0), "{s:?}");
+        assert!(s.wanted <= 30, "{s:?}");
+        common::assert_close(
+            &format!("in-view-mip-{path:?}"),
+            &got,
+            &want,
+            1.0 / 255.0 + 1e-6,
+            0.0,
+        );
+    }
+}

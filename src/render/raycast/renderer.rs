@@ -62,6 +62,14 @@ pub struct VolumeRenderer {
     slice_planes: Vec<SlicePlane>,
 }
 
+/// Continuous voxel coordinates (voxel `i`'s centre at `i + ½`) → the frame's clip space.
+fn clip_from_voxel(request: &FrameRequest, dims: [u32; 3], spacing_mm: [f64; 3]) -> glam::DMat4 {
+    let bounds = crate::camera::Aabb::of_volume(dims, spacing_mm);
+    let world_from_voxel = glam::DMat4::from_scale(glam::DVec3::from_array(spacing_mm))
+        * glam::DMat4::from_translation(glam::DVec3::splat(-0.5));
+    request.camera.clip_from_world(request.size, &bounds) * world_from_voxel
+}
+
 impl VolumeRenderer {
     /// Creates the renderer's long-lived resources on `ctx`.
     pub fn new(ctx: GpuContext) -> Result<Self, RenderError> {
@@ -351,6 +359,7 @@ impl VolumeRenderer {
                 long_steps: settings.step_vox > REACH_STEP_VOX,
                 eye: Some(eye.to_array()),
                 slices: self.slice_planes.clone(),
+                frustum: Some(clip_from_voxel(request, volume.dims, volume.spacing_mm)),
             };
             let update = volume
                 .texture

@@ -57,6 +57,10 @@ pub struct Unseen {
     /// Slice planes shown beside the rays: the bricks they cross hold data, whatever the rays
     /// leave unseen.
     pub slices: Vec<SlicePlane>,
+    /// Continuous voxel coordinates → clip space of the frame (wgpu's: depth 0…1): bricks
+    /// outside the view frustum (by more than [`REACH`]) are seen by no ray. `None`: all are in
+    /// view.
+    pub frustum: Option<glam::DMat4>,
 }
 
 /// A slice (or slab) through the volume, in continuous voxel coordinates.
@@ -68,6 +72,23 @@ pub struct SlicePlane {
     pub normal: [f64; 3],
     /// How far the slab reaches either side of the plane (0 for a thin slice).
     pub half_thickness: f64,
+}
+
+/// Whether the box `[lo, hi]` (continuous voxel coordinates) may be in the view of `clip`: not
+/// all its corners outside one of the frustum's six planes (exact for a convex box, whatever
+/// the corners' w).
+fn in_frustum(clip: &glam::DMat4, lo: [f64; 3], hi: [f64; 3]) -> bool {
+    let corners: [glam::DVec4; 8] = std::array::from_fn(|i| {
+        let pick = |a: usize| if i >> a & 1 == 1 { hi[a] } else { lo[a] };
+        *clip * glam::DVec4::new(pick(0), pick(1), pick(2), 1.0)
+    });
+    let outside = |f: &dyn Fn(&glam::DVec4) -> f64| corners.iter().all(|c| f(c) < 0.0);
+    !(outside(&|c| c.x + c.w)
+        || outside(&|c| c.w - c.x)
+        || outside(&|c| c.y + c.w)
+        || outside(&|c| c.w - c.y)
+        || outside(&|c| c.z)
+        || outside(&|c| c.w - c.z))
 }
 
 impl SlicePlane {
@@ -91,6 +112,7 @@ impl Unseen {
         long_steps: false,
         eye: None,
         slices: Vec::new(),
+        frustum: None,
     };
 }
 
@@ -118,6 +140,9 @@ impl Cull {
         }
     }
 }
+
+/// What a decision was made for: the rule's key, the slice planes, the frustum.
+type Decided = ((u8, u64), Vec<SlicePlane>, Option<[f64; 16]>);
 
 /// A brick of level 0's texels and those within [`REACH`] of it, as the shaders decode them.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -169,7 +194,7 @@ pub struct Resident {
     ranges: Option<Vec<BrickRange>>,
     rays: wgpu::Texture,
     slices: wgpu::Texture,
-    decided_for: Option<((u8, u64), Vec<SlicePlane>)>,
+    decided_for: Option<Decided>,
     wanted: Option<Wanted>,
     status: ResidencyStatus,
 }
@@ -263,13 +288,18 @@ impl Resident {
             _ => Cull::Nothing.key(),
         };
         let mut changed = false;
+        // The view decides only where not every brick fits.
+        let frustum = unseen
+            .frustum
+            .filter(|_| !self.residency.holds_everything())
+            .map(|m| m.to_cols_array());
         // Slices matter only where the rays leave bricks out.
-        let slices = if key == Cull::Nothing.key() {
+        let slices = if key == Cull::Nothing.key() && frustum.is_none() {
             Vec::new()
         } else {
             unseen.slices.clone()
         };
-        let key = (key, slices);
+        let key = (key, slices, frustum);
         if self.decided_for.as_ref() != Some(&key) {
             let (rays, slices) = self.needs_data(unseen);
             let wanted = self.residency.decide(&rays, &slices);
@@ -331,23 +361,39 @@ impl Resident {
     /// a plane or its slab).
     fn needs_data(&self, unseen: &Unseen) -> (Vec<bool>, Vec<bool>) {
         let n = self.residency.page_count();
-        let Some(ranges) = &self.ranges else {
-            return (vec![true; n], Vec::new());
-        };
-        let seen: Vec<bool> = ranges
-            .iter()
-            .map(|r| !unseen.cull.is_empty(r.lo, r.hi))
-            .collect();
         let grid = self.residency.grid(0);
-        let mut rays = if unseen.long_steps {
-            dilate(&seen, grid)
-        } else {
-            seen
+        let mut rays = match &self.ranges {
+            Some(ranges) => {
+                let seen: Vec<bool> = ranges
+                    .iter()
+                    .map(|r| !unseen.cull.is_empty(r.lo, r.hi))
+                    .collect();
+                let mut rays = if unseen.long_steps {
+                    dilate(&seen, grid)
+                } else {
+                    seen
+                };
+                for (need, range) in rays.iter_mut().zip(ranges) {
+                    *need |= range.constant.is_none();
+                }
+                rays
+            }
+            None => vec![true; n],
         };
-        for (need, range) in rays.iter_mut().zip(ranges) {
-            *need |= range.constant.is_none();
-        }
         let b = f64::from(self.brick_vox);
+        if let Some(clip) = &unseen.frustum {
+            let reach = f64::from(REACH);
+            for (i, need) in rays.iter_mut().enumerate().filter(|(_, n)| **n) {
+                let at = [
+                    i as u32 % grid[0],
+                    (i as u32 / grid[0]) % grid[1],
+                    i as u32 / (grid[0] * grid[1]),
+                ];
+                let lo = at.map(|v| f64::from(v) * b - reach);
+                let hi = at.map(|v| f64::from(v + 1) * b + reach);
+                *need = in_frustum(clip, lo, hi);
+            }
+        }
         let slices = (0..n)
             .map(|i| {
                 let at = [
