@@ -6,7 +6,9 @@ mod admission;
 mod atlas;
 mod encoding;
 mod plan;
+mod ranges;
 mod resident;
+mod unseen;
 
 pub use admission::admission;
 pub use encoding::{MISSING, MISSING_BELOW, TexelEncoding, texel_units};
@@ -23,7 +25,8 @@ use super::gpu_data::VolumeGeometry;
 use encoding::{TexelSource, choose_encoding, encode_texels, encoding_for};
 use plan::{Plan, PlanError, coarser_note, plan};
 use resident::Resident;
-pub use resident::{Cull, REACH_STEP_VOX, ResidencyStatus, SlicePlane, Unseen, Update};
+pub use resident::{ResidencyStatus, Update};
+pub use unseen::{Cull, REACH_STEP_VOX, SlicePlane, Unseen};
 
 /// Largest slab uploaded in one `write_texture` call, in bytes.
 const SLAB_BYTES: usize = 64 << 20;
