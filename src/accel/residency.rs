@@ -22,6 +22,10 @@ pub struct BrickKey {
     pub brick: [u32; 3],
 }
 
+/// Levels coarser than the wanted one that a preview streams first (each brick of it stands for
+/// 64 of the wanted level's).
+const PREVIEW_LEVELS: u32 = 2;
+
 /// Page-table bit of an entry that holds a constant instead of a slot.
 pub const CONSTANT: u32 = 1 << 31;
 /// Page-table bit of a constant entry whose low 16 bits are an f16 (else a unorm16).
@@ -154,6 +158,15 @@ impl Residency {
                         bricks.extend(more);
                         break;
                     }
+                }
+            }
+            // A preview two levels coarser, where it fits, streams first: the coarsest alone
+            // (a mean over the whole volume's bricks) hides thin structures while the rest comes.
+            let preview_level = level + PREVIEW_LEVELS;
+            if preview_level + 1 < self.levels {
+                let preview: Vec<BrickKey> = self.ancestors(needs_data, preview_level).collect();
+                if bricks.len() + preview.len() <= capacity {
+                    bricks.splice(1..1, preview);
                 }
             }
             return Wanted {
@@ -569,5 +582,36 @@ mod tests {
                 brick: [1, 0, 0]
             }]
         );
+    }
+
+    #[test]
+    fn a_preview_two_levels_coarser_streams_first_where_it_fits() {
+        // 300 × 200 × 100 in 32³ (levels 0…4): the rays need one brick of level 0; its ancestor
+        // at level 2 comes right after the coarsest.
+        let mut needs = [false; 280];
+        needs[0] = true;
+        let r = Residency::new([300, 200, 100], 32, [4, 4, 4], 3);
+        let wanted = r.decide(&needs, &[]);
+        assert_eq!(
+            wanted.bricks,
+            vec![
+                BrickKey {
+                    level: 4,
+                    brick: [0; 3]
+                },
+                BrickKey {
+                    level: 2,
+                    brick: [0; 3]
+                },
+                BrickKey {
+                    level: 0,
+                    brick: [0; 3]
+                },
+            ]
+        );
+        // No room: no preview.
+        let wanted = Residency::new([300, 200, 100], 32, [4, 4, 4], 2).decide(&needs, &[]);
+        assert_eq!(wanted.bricks.len(), 2);
+        assert_eq!(wanted.level, 0);
     }
 }

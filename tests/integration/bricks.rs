@@ -443,7 +443,7 @@ fn over_budget_the_bricks_the_transfer_function_hides_are_constants_and_images_s
                 // Every brick of level 0 is data or a constant; the rays read level 0 only;
                 // level 1's bricks stay resident in the slots left (nothing needs them).
                 assert_eq!((s.level, s.levels, s.missing), (0, 1, 0), "{name}: {s:?}");
-                assert_eq!(s.wanted - 1 + s.constant, 48, "{name}: {s:?}");
+                assert_eq!(s.wanted_at_level + s.constant, 48, "{name}: {s:?}");
                 assert!(s.constant >= 40 && s.resident >= s.wanted, "{name}: {s:?}");
                 common::assert_close(
                     &format!("culled-{name}-{strategy:?}-{path:?}"),

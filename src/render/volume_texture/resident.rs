@@ -44,6 +44,8 @@ pub struct ResidencyStatus {
     pub resident: usize,
     /// Bricks wanted.
     pub wanted: usize,
+    /// Bricks wanted at the wanted level (the others: the coarsest and a preview).
+    pub wanted_at_level: usize,
     /// Bricks wanted and not yet resident.
     pub missing: usize,
     /// Bricks of level 0 served by a constant.
@@ -184,7 +186,8 @@ impl Resident {
         if let Some(eye) = unseen.eye
             && self.residency.missing(&wanted) > 0
         {
-            // The coarsest stays first; the rest nearest the eye first.
+            // The coarsest stays first; then coarser levels (the preview) before finer, each
+            // nearest the eye first.
             let b = f64::from(self.brick_vox);
             let distance = |k: &BrickKey| {
                 let size = b * f64::from(1u32 << k.level);
@@ -192,7 +195,11 @@ impl Resident {
                     .map(|a| ((f64::from(k.brick[a]) + 0.5) * size - eye[a]).powi(2))
                     .sum::<f64>()
             };
-            wanted.bricks[1..].sort_by(|p, q| distance(p).total_cmp(&distance(q)));
+            wanted.bricks[1..].sort_by(|p, q| {
+                q.level
+                    .cmp(&p.level)
+                    .then(distance(p).total_cmp(&distance(q)))
+            });
         }
         loop {
             let given = self.residency.admit(&wanted, BATCH);
@@ -211,6 +218,11 @@ impl Resident {
             self.write_pages(ctx, &wanted);
             self.status.resident = self.residency.resident_count();
             self.status.wanted = wanted.bricks.len();
+            self.status.wanted_at_level = wanted
+                .bricks
+                .iter()
+                .filter(|k| k.level == wanted.level)
+                .count();
             self.status.level = wanted.level;
             self.status.bytes = self.status.resident as u64
                 * u64::from(self.brick_vox + 2).pow(3)
