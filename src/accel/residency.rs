@@ -122,8 +122,9 @@ impl Residency {
     /// (`also`; empty for none): every brick of level 0 where they all fit beside the coarsest
     /// (no constants then: the slices and any later transfer function find their data there);
     /// else the coarsest and, at the finest level whose bricks fit, the ancestors of the bricks
-    /// the rays need; then the slices' bricks at that level, or the finest coarser one that
-    /// still fits beside them (the rays' level is never given up for the slices').
+    /// the rays need; then, where they fit, the same bricks' ancestors two levels coarser (a
+    /// preview that streams first); then the slices' bricks at that level, or the finest coarser
+    /// one that still fits beside them (the rays' level is never given up for the slices').
     pub fn decide(&self, needs_data: &[bool], also: &[bool]) -> Wanted {
         let pages = self.grid(0);
         let coarsest = self.coarsest();
@@ -147,6 +148,15 @@ impl Residency {
             if bricks.len() > capacity {
                 continue;
             }
+            // A preview two levels coarser, where it fits, streams first: the coarsest alone
+            // (a mean over the whole volume's bricks) hides thin structures while the rest comes.
+            let preview_level = level + PREVIEW_LEVELS;
+            if preview_level + 1 < self.levels {
+                let preview: Vec<BrickKey> = self.ancestors(needs_data, preview_level).collect();
+                if bricks.len() + preview.len() <= capacity {
+                    bricks.splice(1..1, preview);
+                }
+            }
             if also.iter().any(|a| *a) {
                 let held: std::collections::HashSet<BrickKey> = bricks.iter().copied().collect();
                 for coarser in level..self.levels {
@@ -158,15 +168,6 @@ impl Residency {
                         bricks.extend(more);
                         break;
                     }
-                }
-            }
-            // A preview two levels coarser, where it fits, streams first: the coarsest alone
-            // (a mean over the whole volume's bricks) hides thin structures while the rest comes.
-            let preview_level = level + PREVIEW_LEVELS;
-            if preview_level + 1 < self.levels {
-                let preview: Vec<BrickKey> = self.ancestors(needs_data, preview_level).collect();
-                if bricks.len() + preview.len() <= capacity {
-                    bricks.splice(1..1, preview);
                 }
             }
             return Wanted {
