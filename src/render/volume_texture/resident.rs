@@ -173,6 +173,12 @@ impl Resident {
         if self.decided_for.as_ref() != Some(&key) {
             let (rays, slices) = self.needs_data(unseen);
             let wanted = self.residency.decide(&rays, &slices);
+            log::debug!(
+                "residency decided in {:.2} ms: {} bricks wanted at level {}",
+                start.elapsed().as_secs_f64() * 1e3,
+                wanted.bricks.len(),
+                wanted.level
+            );
             if self.wanted.as_ref() != Some(&wanted) {
                 self.residency.want(&wanted);
                 self.wanted = Some(wanted);
