@@ -11,11 +11,11 @@ use crate::accel::emptiness::OpacityIndex;
 /// sample within `REACH - ½` voxels of the brick is unseen too, and no seen sample reads the
 /// brick: a gradient reads two voxels on (fourth order), a pre-integrated segment or an
 /// isosurface's refinement one step, and the gradient at an isosurface's hit two voxels past
-/// that step. Four voxels cover steps up to 1.5 voxels; a frame with longer steps keeps every
-/// brick beside a seen one too.
+/// that step. Four voxels cover steps up to 1.5 voxels ([`REACH_STEP_VOX`] takes 1); a frame
+/// with longer steps keeps every brick beside a seen one too.
 pub const REACH: u32 = 4;
 
-/// The longest step (voxels) [`REACH`] covers.
+/// The longest step (voxels) a frame may take for [`REACH`] to cover it (1.5 would do).
 pub const REACH_STEP_VOX: f64 = 1.0;
 
 /// Which bricks of level 0 a frame's rays cannot see, and so may read a constant.
@@ -30,8 +30,9 @@ pub enum Cull {
     OneSide(f32),
 }
 
-/// What a frame's rays leave unread: the rule, and whether its step is longer than
-/// [`REACH_STEP_VOX`] (every brick beside a seen one is then kept too).
+/// What a frame leaves unseen, and what it shows besides its rays: the rule, whether its step
+/// is longer than [`REACH_STEP_VOX`] (every brick beside a seen one is then kept too), the
+/// view frustum, the eye (to upload nearest first) and the slice planes.
 #[derive(Clone, Debug)]
 pub struct Unseen {
     /// Which bricks the rule empties.
