@@ -52,8 +52,6 @@ pub struct VolumeRenderer {
     strategy_choice: Option<StrategyChoice>,
     /// How long one frame may upload bricks (`None`: until the frame is complete).
     residency_time: Option<std::time::Duration>,
-    /// Whether the last frame had every brick it wanted.
-    residency_complete: bool,
     /// Frames that some wanted brick was missing from.
     bricks_generation: u64,
     /// Residency updates that changed the page tables (the slices' pictures too).
@@ -111,7 +109,6 @@ impl VolumeRenderer {
             auto_path: None,
             strategy_choice: None,
             residency_time: None,
-            residency_complete: true,
             bricks_generation: 0,
             pages_generation: 0,
             slice_planes: Vec::new(),
@@ -163,7 +160,9 @@ impl VolumeRenderer {
     /// Whether the last frame found every brick it wanted resident (else a later frame refines
     /// it).
     pub fn residency_complete(&self) -> bool {
-        self.residency_complete
+        self.volume_texture()
+            .and_then(|t| t.residency())
+            .is_none_or(|s| s.missing == 0)
     }
 
     /// Bumped by every frame that some wanted brick was missing from: while it changes, the
@@ -368,7 +367,6 @@ impl VolumeRenderer {
                 volume.leap.invalidate();
                 self.pages_generation += 1;
             }
-            self.residency_complete = update.complete;
             self.bricks_generation += u64::from(!update.complete);
         }
         uniforms.row_offset = rows[0];

@@ -163,9 +163,9 @@ pub struct VolumeTexture {
     resident: Option<Resident>,
     /// The slices' page table (data everywhere, never a constant), where bricked.
     slice_pages: Option<wgpu::TextureView>,
-    /// The 3D texture limit and the budget the layout was made for, and whether the GPU ran
-    /// out of memory at a larger one (the note says so).
-    limits: (u32, Option<u64>, Option<u64>),
+    /// The 3D texture limit the layout was made for, and the atlas size the GPU ran out of
+    /// memory at before the budget was lowered, if it did (the note says so).
+    limits: (u32, Option<u64>),
 }
 
 impl VolumeTexture {
@@ -290,7 +290,7 @@ impl VolumeTexture {
             budget,
             resident,
             slice_pages,
-            limits: (max, budget, lowered),
+            limits: (max, lowered),
         };
         texture.note(ctx);
         if let Some(note) = &texture.coarser {
@@ -341,16 +341,16 @@ impl VolumeTexture {
         let Some(resident) = &self.resident else {
             return;
         };
-        let (max, budget, lowered) = self.limits;
+        let ((max, lowered), budget) = (self.limits, self.budget);
         let bpt = bytes_per_texel(self.encoding.format) as u64;
         let level = resident.status().level;
         let mut coarser = coarser_note(
-            (self.view_dims(), resident.brick_vox(), level),
+            (resident.dims(), resident.brick_vox(), level),
             (max, budget),
             bpt,
         );
         if let (Some(note), Some(memory)) = (&mut coarser, ctx.memory)
-            && self.limits.1 == ctx.default_gpu_budget()
+            && budget == ctx.default_gpu_budget()
         {
             note.push_str(&format!(
                 " (by default {:.0} % of the {} the GPU's driver reports; --gpu-budget sets it)",
@@ -372,25 +372,16 @@ impl VolumeTexture {
         self.coarser = coarser;
     }
 
-    /// The volume's voxels per axis.
-    fn view_dims(&self) -> [u32; 3] {
-        self.resident.as_ref().map_or([0; 3], Resident::dims)
-    }
-
     /// How far a bricked volume's residency is, for the overlay (`None` for one texture):
     /// the levels the rays read, bricks resident of those wanted, and memory of the budget.
     pub fn residency_line(&self) -> Option<String> {
         let s = self.residency()?;
-        let levels: Vec<String> = (0..16u32)
-            .filter(|l| s.levels & (1 << l) != 0)
-            .map(|l| l.to_string())
-            .collect();
         let budget = self
             .budget
             .map_or(String::new(), |b| format!(" of {}", crate::text::bytes(b)));
         Some(format!(
             "bricks: level {} read, {} of {} wanted resident, {}{budget}",
-            levels.join(", "),
+            s.levels_read(),
             s.wanted - s.missing,
             s.wanted,
             crate::text::bytes(s.bytes)
@@ -411,10 +402,6 @@ impl VolumeTexture {
             }
             Some(r) => {
                 let s = r.status();
-                let levels: Vec<String> = (0..16)
-                    .filter(|l| s.levels & (1 << l) != 0)
-                    .map(|l: u32| l.to_string())
-                    .collect();
                 format!(
                     "bricks of {}³: {} resident of {} wanted (level {} wanted, levels {} read), \
                      {} empty, {}",
@@ -422,7 +409,7 @@ impl VolumeTexture {
                     s.resident,
                     s.wanted,
                     s.level,
-                    levels.join(","),
+                    s.levels_read(),
                     s.constant,
                     crate::text::bytes(s.bytes)
                 )

@@ -54,6 +54,17 @@ pub struct ResidencyStatus {
     pub bytes: u64,
 }
 
+impl ResidencyStatus {
+    /// The levels the rays read, as a list ("0, 2").
+    pub fn levels_read(&self) -> String {
+        let levels: Vec<String> = (0..u32::BITS)
+            .filter(|l| self.levels & (1 << l) != 0)
+            .map(|l| l.to_string())
+            .collect();
+        levels.join(", ")
+    }
+}
+
 /// A bricked volume's residency: what the atlas holds and how to fill it.
 pub struct Resident {
     volume: Arc<Volume>,
