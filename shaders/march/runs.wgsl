@@ -13,7 +13,7 @@ const NO_LANDING: u32 = 0xffffffffu;
 fn take_sample(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray, k: u32) -> bool {
     let t = sample_distance(ray, k);
     let p = ray.entry + ray.box_per_mm * t;
-    let r = acc_sample(acc, ray, k, t, p, sample_value(p));
+    let r = acc_sample(acc, ray, k, t, p, inner_value(p));
     tally_sample(tally, r);
     return (r & SAMPLE_STOP) != 0u;
 }

@@ -23,7 +23,7 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
             continue;
         }
 #endif
-        let result = acc_sample(acc, ray, k, t, p, sample_value(p));
+        let result = acc_sample(acc, ray, k, t, p, inner_value(p));
         tally_sample(tally, result);
         if (result & SAMPLE_STOP) != 0u {
             break;
@@ -35,7 +35,7 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
             let last = min(next, end) - 1u;
             if last > k {
                 let t_last = sample_distance(ray, last);
-                acc_resume(acc, t_last, sample_value(entry + ray.box_per_mm * t_last));
+                acc_resume(acc, t_last, inner_value(entry + ray.box_per_mm * t_last));
             }
             // Samples k + 1 .. next − 1 (sample k was taken; the resumed one is not counted
             // as a sample, as it is only read, not classified).

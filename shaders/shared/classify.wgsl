@@ -10,7 +10,29 @@
 // interpolated by the texture unit (shared/volume.wgsl); in volumes with non-finite voxels (MISSING_VOXELS), where
 // one takes part, from the finite ones alone (sample_finite).
 fn sample_value(p: vec3<f32>) -> f32 {
-    let s = volume_filtered(linear_clamp, p).r * frame.texel_scale + frame.texel_bias;
+    return value_of(volume_filtered(linear_clamp, p).r, p);
+}
+
+// sample_value at a position p inside the box (a ray's sample): bricks need no clamp there.
+fn inner_value(p: vec3<f32>) -> f32 {
+#ifdef BRICKED
+    return sample_value_in(map_of(brick_at(p)), p);
+#else
+    return sample_value(p);
+#endif
+}
+
+#ifdef BRICKED
+// sample_value at a box position p of the brick that `m` maps (shared/volume.wgsl): the same
+// value, without finding the brick.
+fn sample_value_in(m: BrickMap, p: vec3<f32>) -> f32 {
+    return value_of(volume_filtered_in(m, linear_clamp, p).r, p);
+}
+#endif
+
+// The normalised value of texel `texel` read at p.
+fn value_of(texel: f32, p: vec3<f32>) -> f32 {
+    let s = texel * frame.texel_scale + frame.texel_bias;
 #ifdef MISSING_VOXELS
     if s < MISSING_BELOW {
         return sample_finite(p);

@@ -39,12 +39,6 @@ fn page(b: vec3<i32>) -> Page {
     return Page(slot * i32(volume_geometry.slot_vox) + vec3<i32>(1) - held * brick, level, false, 0.0);
 }
 
-// Voxels per axis of level `level`.
-fn level_dims(level: u32) -> vec3<i32> {
-    let scale = (1u << level) - 1u;
-    return vec3<i32>((volume_geometry.dims + vec3<u32>(scale)) >> vec3<u32>(level));
-}
-
 // Voxel `i` (clamped into the volume), from the level its brick is held at.
 fn volume_load(i: vec3<i32>) -> vec4<f32> {
     let j = clamp(i, vec3<i32>(0), volume_dims() - vec3<i32>(1));
@@ -55,22 +49,62 @@ fn volume_load(i: vec3<i32>) -> vec4<f32> {
     return textureLoad(volume_tex, p.origin + (j >> vec3<u32>(p.level)), 0);
 }
 
-// The texture unit's trilinear sample at box position p (clamp to edge): the brick holding the
-// clamped point, then the same continuous coordinate inside its slot, at its level.
+// How the points of one level-0 brick find their values: the atlas coordinate of box position
+// p is p · scale + offset (scale: the held level's voxels per box unit in atlas units; offset:
+// where its slot puts voxel 0 of that level), or, for a brick no ray can see, a constant. The
+// apron and the overhang past the volume repeat the nearest voxel, so no clamp is needed for
+// points of the box: the filter blends equal texels there, as clamp to edge does.
+struct BrickMap {
+    scale: vec3<f32>,
+    offset: vec3<f32>,
+    constant: bool,
+    value: f32,
+}
+
+// The level-0 brick holding box position p (p in the box; points a rounding past a face count
+// to the brick inside).
+fn brick_at(p: vec3<f32>) -> vec3<i32> {
+    let b = vec3<u32>(max(p * volume_geometry.bricks_per_box, vec3<f32>(0.0)));
+    return vec3<i32>(min(b, volume_geometry.last_brick));
+}
+
+fn brick_map(b: vec3<i32>) -> BrickMap {
+    let p = page(b);
+    if p.constant {
+        return BrickMap(vec3<f32>(0.0), vec3<f32>(0.0), true, p.value);
+    }
+    let scale = volume_geometry.atlas_per_box * exp2(-f32(p.level));
+    return BrickMap(scale, vec3<f32>(p.origin) * volume_geometry.texel_size, false, 0.0);
+}
+
+// The last brick a read went through, and its map: consecutive reads mostly stay in one brick.
+// Which brick a point reads through depends on the point alone (brick_at), never on the reads
+// before it, so that a value does not depend on the path a ray took to it.
+var<private> held_brick: vec3<i32> = vec3<i32>(-1);
+var<private> held_map: BrickMap;
+
+// The map of brick `b`, from the page table where it is not the last one read.
+fn map_of(b: vec3<i32>) -> BrickMap {
+    if any(b != held_brick) {
+        held_brick = b;
+        held_map = brick_map(b);
+    }
+    return held_map;
+}
+
+// The texture unit's trilinear sample at box position p inside brick `m`'s brick.
+fn volume_filtered_in(m: BrickMap, linear: sampler, p: vec3<f32>) -> vec4<f32> {
+    if m.constant {
+        return vec4<f32>(m.value, 0.0, 0.0, 1.0);
+    }
+    return textureSampleLevel(volume_tex, linear, fma(p, m.scale, m.offset), 0.0);
+}
+
+// The texture unit's trilinear sample at box position p (clamp to edge): through the brick
+// holding it, at the level that brick is held at.
 fn volume_filtered(linear: sampler, p: vec3<f32>) -> vec4<f32> {
-    let dims = vec3<f32>(volume_geometry.dims);
-    let c = clamp(p * dims, vec3<f32>(0.5), dims - vec3<f32>(0.5));
-    let held = page(vec3<i32>(c / f32(volume_geometry.brick_vox)));
-    if held.constant {
-        return vec4<f32>(held.value, 0.0, 0.0, 1.0);
-    }
-    var a = c;
-    if held.level > 0u {
-        let top = vec3<f32>(level_dims(held.level)) - vec3<f32>(0.5);
-        a = clamp(c / f32(1u << held.level), vec3<f32>(0.5), top);
-    }
-    a += vec3<f32>(held.origin);
-    return textureSampleLevel(volume_tex, linear, a * volume_geometry.texel_size, 0.0);
+    let q = clamp(p, vec3<f32>(0.0), vec3<f32>(1.0));
+    return volume_filtered_in(map_of(brick_at(q)), linear, q);
 }
 #else
 // Voxel `i` (inside the volume).

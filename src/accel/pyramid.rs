@@ -56,8 +56,22 @@ pub struct Pyramid {
 impl Pyramid {
     /// The layout for a volume of `dims` voxels.
     pub fn new(dims: [u32; 3]) -> Self {
+        Self::with_finest(dims, FINEST_BRICK)
+    }
+
+    /// The layout with the finest blocks that keep the node min/max array (8 bytes a node, the
+    /// largest of the structures) within `max_bytes`, the most a shader can bind: 4³ blocks
+    /// where they fit (a 1024³ volume's pyramid of them is 153 MB, past lavapipe's 128 MiB).
+    pub fn within(dims: [u32; 3], max_bytes: u64) -> Self {
+        let fits = |b: &u32| u64::from(Self::with_finest(dims, *b).node_count()) * 8 <= max_bytes;
+        let finest = BLOCK_SIZES.iter().copied().find(|b| fits(b));
+        Self::with_finest(dims, finest.unwrap_or(BLOCK_SIZES[BLOCK_SIZES.len() - 1]))
+    }
+
+    /// The layout whose finest blocks are `finest` voxels (one of [`BLOCK_SIZES`]).
+    fn with_finest(dims: [u32; 3], finest: u32) -> Self {
         let mut levels = Vec::new();
-        let mut brick = FINEST_BRICK;
+        let mut brick = finest;
         let mut offset = 0u32;
         loop {
             let nodes = dims.map(|d| d.div_ceil(brick).max(1));
@@ -189,6 +203,25 @@ fn for_each_node(level: &Level, mut f: impl FnMut([u32; 3])) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn finest_blocks_grow_until_the_min_max_array_fits_the_binding_limit() {
+        let dims = [1024, 1024, 1024];
+        let fine = Pyramid::new(dims);
+        assert_eq!(fine.levels[0].brick_vox, FINEST_BRICK);
+        let bytes = u64::from(fine.node_count()) * 8;
+        assert!(bytes > 128 << 20, "{bytes}");
+        assert_eq!(Pyramid::within(dims, bytes), fine);
+        let coarser = Pyramid::within(dims, 128 << 20);
+        assert_eq!(coarser.levels[0].brick_vox, 8);
+        assert!(u64::from(coarser.node_count()) * 8 <= 128 << 20);
+        // Every level above the finest is the finer pyramid's level of the same block size.
+        for level in &coarser.levels {
+            let same = fine.levels[fine.level_of_block(level.brick_vox).unwrap()];
+            assert_eq!(level.nodes, same.nodes);
+        }
+        assert_eq!(Pyramid::within(dims, 8).levels[0].brick_vox, 128);
+    }
 
     #[test]
     fn levels_split_each_axis_until_covered() {

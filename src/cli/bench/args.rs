@@ -49,6 +49,22 @@ pub struct BenchArgs {
     /// Lighting in DVR and isosurfaces, in place of the configuration's phong.
     #[arg(long, value_enum)]
     pub shading: Option<Shading>,
+    /// Measure streaming instead: this volume file, orbited while its bricks stream as the
+    /// window streams them, then still until complete (stream.csv and stream.md in --out).
+    ///
+    /// Takes --gpu-budget, --bricks, the first of --modes and of --paths, and the --stream-*
+    /// options below.
+    #[arg(long, conflicts_with_all = ["quick", "datasets", "strategies", "block", "shading", "merge"])]
+    pub stream: Option<PathBuf>,
+    /// With --stream: frames of the orbit.
+    #[arg(long, default_value_t = 120, requires = "stream")]
+    pub stream_frames: u32,
+    /// With --stream: milliseconds each frame may spend uploading bricks (the window's 8).
+    #[arg(long, default_value_t = 8.0, requires = "stream")]
+    pub stream_ms: f64,
+    /// With --stream: the image size WxH.
+    #[arg(long, default_value = "1920x1080", value_parser = crate::cli::parse::parse_size, requires = "stream")]
+    pub stream_size: [u32; 2],
     /// Render nothing: merge the results of these earlier output folders.
     ///
     /// The frames.json of each folder (comma-separated) is merged, and the report written into

@@ -8,6 +8,7 @@ mod output;
 pub(crate) mod plots;
 mod progress;
 pub(crate) mod run;
+mod stream;
 
 use std::path::{Path, PathBuf};
 
@@ -38,6 +39,9 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
         let results = output::merge(dirs).map_err(Failure::BadInput)?;
         let summary = output::write_all(&out, &results, true)?;
         return finish(&out, &summary);
+    }
+    if let Some(file) = &args.stream {
+        return stream::run(&args, file);
     }
     let mut config = BenchConfig::load(&args.config).bad_input()?;
     if args.quick {

@@ -175,7 +175,19 @@ impl LeapStructures {
     pub fn new(ctx: &GpuContext, dims: [u32; 3], texel_scale: f32, texel_bias: f32) -> Self {
         use wgpu::BufferUsages as U;
         let device = &ctx.device;
-        let pyramid = Pyramid::new(dims);
+        let binding = ctx
+            .limits
+            .max_storage_buffer_binding_size
+            .min(ctx.limits.max_buffer_size);
+        let pyramid = Pyramid::within(dims, binding);
+        let finest = pyramid.levels[0].brick_vox;
+        if finest > crate::accel::pyramid::FINEST_BRICK {
+            log::info!(
+                "leaping blocks of at least {finest} voxels: finer ones' min/max would pass the \
+                 GPU's {} MB storage binding limit",
+                binding / 1_000_000
+            );
+        }
         let nodes = pyramid.node_count() as u64;
         let infos: Vec<LevelInfo> = pyramid
             .levels

@@ -506,11 +506,33 @@ fn geometry(dims: [u32; 3], plan: Plan) -> VolumeGeometry {
         Plan::Single(_) => (0, 0),
         Plan::Bricked(atlas) => (atlas.brick_vox, atlas.slot_vox()),
     };
+    let texel_size = extent.map(|e| 1.0 / e as f32);
+    let bricked = brick_vox != 0;
+    let last_brick = dims.map(|d| {
+        if bricked {
+            d.div_ceil(brick_vox) - 1
+        } else {
+            0
+        }
+    });
+    let bricks_per_box = dims.map(|d| {
+        if bricked {
+            d as f32 / brick_vox as f32
+        } else {
+            0.0
+        }
+    });
     VolumeGeometry {
         dims,
         brick_vox,
-        texel_size: extent.map(|e| 1.0 / e as f32),
+        texel_size,
         slot_vox,
+        bricks_per_box,
+        _pad0: 0,
+        last_brick,
+        _pad1: 0,
+        atlas_per_box: std::array::from_fn(|a| dims[a] as f32 * texel_size[a]),
+        _pad2: 0,
     }
 }
 

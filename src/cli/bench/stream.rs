@@ -1,0 +1,281 @@
+//! `leapview bench --stream FILE`: what the window does with a volume larger than its GPU
+//! budget, without a window. The volume is uploaded as the window uploads it (each frame spends
+//! at most `--stream-ms` uploading bricks, then renders with what is resident), an orbit is
+//! rendered while the bricks stream, then the view stays still until every brick it wants is
+//! resident. Written: `stream.csv` (one line a frame) and `stream.md` (the figures the issue
+//! asks for: the first picture, frame times while streaming, the time to complete, GPU memory
+//! against the budget).
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use leapview::camera::Aabb;
+use leapview::render::raycast::auto_path;
+use leapview::render::{FrameRequest, GpuContext, VolumeRenderer};
+use leapview::settings::{Mode, RenderPath, RenderSettings, Upload};
+use leapview::transfer::fit::{self, DataKind};
+
+use super::BenchArgs;
+use crate::cli::args::RawArgs;
+use crate::cli::measuring::orbit;
+use crate::cli::{Failure, OrFail, load_for_gpu};
+
+/// Frames of the still phase at most (each uploads for `--stream-ms`).
+const STILL_FRAMES: u32 = 100_000;
+
+/// One frame of the run.
+struct Row {
+    phase: &'static str,
+    frame: u32,
+    azimuth: f64,
+    /// Wall clock of the frame: uploads, encoding, the GPU's work and the wait for it.
+    wall_ms: f64,
+    /// The GPU's time for the frame's passes (timestamp queries), where the adapter has them.
+    gpu_ms: Option<f64>,
+    since_upload_ms: f64,
+    levels: String,
+    resident: usize,
+    wanted: usize,
+    missing: usize,
+    bytes: u64,
+}
+
+/// Runs the streaming measurement on `file`.
+pub fn run(args: &BenchArgs, file: &Path) -> Result<(), Failure> {
+    let out = args
+        .out
+        .clone()
+        .ok_or_else(|| Failure::BadInput(anyhow::anyhow!("--stream needs --out")))?;
+    let ctx = GpuContext::headless().failed()?;
+    let adapter = ctx.adapter_summary();
+    let load_start = Instant::now();
+    let volume = Arc::new(load_for_gpu(
+        file,
+        &RawArgs::default(),
+        (&ctx, args.gpu.gpu_budget),
+    )?);
+    let load_s = load_start.elapsed().as_secs_f64();
+    let mode = args
+        .modes
+        .as_ref()
+        .and_then(|m| m.first().copied())
+        .unwrap_or(Mode::Dvr);
+    let kind = DataKind::of(&volume);
+    let tf = fit::resolve(fit::AUTO, &kind).bad_input()?.tf;
+    let mut settings = RenderSettings {
+        mode,
+        path: args
+            .paths
+            .as_ref()
+            .and_then(|p| p.first().copied())
+            .unwrap_or(RenderPath::Compute),
+        ..RenderSettings::default()
+    };
+    settings.window = fit::default_window_of(&volume);
+    let mut renderer = VolumeRenderer::new(ctx).failed()?;
+    let budget = Duration::from_secs_f64(args.stream_ms / 1e3);
+    renderer.set_residency_time(Some(budget));
+    let upload_start = Instant::now();
+    renderer
+        .set_volume_with(
+            &volume,
+            &Upload {
+                precision: Default::default(),
+                bricking: args.bricks,
+                gpu_budget: args.gpu.gpu_budget,
+            },
+        )
+        .failed()?;
+    renderer.set_transfer_function(&tf);
+    auto_path::choose(&mut renderer, settings.path).failed()?;
+    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+    let cameras = orbit(&bounds, args.stream_frames, 20.0);
+    let size = args.stream_size;
+    let mut rows = Vec::new();
+    let mut frame = 0u32;
+    let mut render = |camera, azimuth, phase, renderer: &mut VolumeRenderer| {
+        let start = Instant::now();
+        let (_, results) = renderer
+            .render_and_wait(&FrameRequest {
+                camera,
+                size,
+                settings: &settings,
+                stats: false,
+            })
+            .failed()?;
+        let wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        let status = renderer.volume_texture().and_then(|t| t.residency());
+        rows.push(Row {
+            phase,
+            frame,
+            azimuth,
+            wall_ms,
+            gpu_ms: results.gpu_ms,
+            since_upload_ms: upload_start.elapsed().as_secs_f64() * 1e3,
+            levels: status.map(|s| s.levels_read()).unwrap_or_default(),
+            resident: status.map_or(0, |s| s.resident),
+            wanted: status.map_or(0, |s| s.wanted),
+            missing: status.map_or(0, |s| s.missing),
+            bytes: status.map_or(0, |s| s.bytes),
+        });
+        frame += 1;
+        Ok::<_, Failure>(renderer.residency_complete())
+    };
+    for (camera, azimuth) in &cameras {
+        render(camera, *azimuth, "orbit", &mut renderer)?;
+    }
+    let (last, azimuth) = cameras
+        .last()
+        .ok_or_else(|| Failure::BadInput(anyhow::anyhow!("--stream-frames must be at least 1")))?;
+    for _ in 0..STILL_FRAMES {
+        if render(last, *azimuth, "still", &mut renderer)? {
+            break;
+        }
+    }
+    let texture = renderer.volume_texture().map(|t| t.describe());
+    std::fs::create_dir_all(&out)
+        .map_err(|e| Failure::Other(anyhow::anyhow!("creating {}: {e}", out.display())))?;
+    write(&out.join("stream.csv"), &csv(&rows))?;
+    let summary = summary(&Summary {
+        adapter: &adapter,
+        file,
+        dims: volume.dims(),
+        mode,
+        size,
+        upload_ms: args.stream_ms,
+        budget: args.gpu.gpu_budget,
+        load_s,
+        texture: texture.as_deref().unwrap_or("no volume"),
+        rows: &rows,
+    });
+    write(&out.join("stream.md"), &summary)?;
+    print!("{summary}");
+    Ok(())
+}
+
+fn write(path: &Path, text: &str) -> Result<(), Failure> {
+    std::fs::write(path, text)
+        .map_err(|e| Failure::Other(anyhow::anyhow!("writing {}: {e}", path.display())))
+}
+
+fn csv(rows: &[Row]) -> String {
+    let mut s = String::from(
+        "phase,frame,azimuth_deg,wall_ms,gpu_ms,since_upload_ms,levels,resident,wanted,missing,bytes\n",
+    );
+    for r in rows {
+        let gpu = r.gpu_ms.map(|g| format!("{g:.3}")).unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "{},{},{:.1},{:.3},{gpu},{:.1},\"{}\",{},{},{},{}",
+            r.phase,
+            r.frame,
+            r.azimuth,
+            r.wall_ms,
+            r.since_upload_ms,
+            r.levels,
+            r.resident,
+            r.wanted,
+            r.missing,
+            r.bytes
+        );
+    }
+    s
+}
+
+struct Summary<'a> {
+    adapter: &'a str,
+    file: &'a Path,
+    dims: [u32; 3],
+    mode: Mode,
+    size: [u32; 2],
+    upload_ms: f64,
+    budget: Option<u64>,
+    load_s: f64,
+    texture: &'a str,
+    rows: &'a [Row],
+}
+
+/// The `q` quantile (0..=1) of `v` (sorted here).
+fn quantile(v: &mut [f64], q: f64) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(((v.len().max(1) - 1) as f64 * q).round() as usize)
+        .copied()
+        .unwrap_or(f64::NAN)
+}
+
+fn summary(s: &Summary) -> String {
+    let mut t = String::new();
+    let orbit: Vec<&Row> = s.rows.iter().filter(|r| r.phase == "orbit").collect();
+    let mut wall: Vec<f64> = orbit.iter().map(|r| r.wall_ms).collect();
+    let mut gpu: Vec<f64> = orbit.iter().filter_map(|r| r.gpu_ms).collect();
+    let streaming = orbit.iter().filter(|r| r.missing > 0).count();
+    let last = s.rows.last();
+    let complete = last.is_some_and(|r| r.missing == 0);
+    let most = s.rows.iter().map(|r| r.bytes).max().unwrap_or(0);
+    let _ = writeln!(t, "# Streaming: {}", s.file.display());
+    let _ = writeln!(t);
+    let _ = writeln!(t, "- adapter: {}", s.adapter);
+    let _ = writeln!(
+        t,
+        "- volume: {}×{}×{}, loaded in {:.2} s; {} mode, {}×{}, {} ms of uploads a frame",
+        s.dims[0],
+        s.dims[1],
+        s.dims[2],
+        s.load_s,
+        s.mode.label(),
+        s.size[0],
+        s.size[1],
+        s.upload_ms
+    );
+    let budget = s.budget.map_or("the default".to_string(), |b| {
+        format!("{:.1} MB", b as f64 / 1e6)
+    });
+    let _ = writeln!(t, "- GPU budget: {budget}; at the end: {}", s.texture);
+    if let Some(first) = s.rows.first() {
+        let _ = writeln!(
+            t,
+            "- first picture: {:.0} ms after the upload started (levels read: {}; {} bricks missing)",
+            first.since_upload_ms,
+            if first.levels.is_empty() {
+                "–"
+            } else {
+                &first.levels
+            },
+            first.missing
+        );
+    }
+    let _ = writeln!(
+        t,
+        "- orbit of {} frames, {} of them with bricks still missing: wall clock per frame median {:.2} ms, 95th percentile {:.2} ms, max {:.2} ms; GPU time median {:.2} ms, max {:.2} ms",
+        orbit.len(),
+        streaming,
+        quantile(&mut wall, 0.5),
+        quantile(&mut wall, 0.95),
+        quantile(&mut wall, 1.0),
+        quantile(&mut gpu, 0.5),
+        quantile(&mut gpu, 1.0),
+    );
+    if let Some(r) = last {
+        let _ = writeln!(
+            t,
+            "- {} at {:.0} ms after the upload started ({} frames), {} of {} wanted bricks resident",
+            if complete {
+                "complete"
+            } else {
+                "still incomplete"
+            },
+            r.since_upload_ms,
+            r.frame + 1,
+            r.resident,
+            r.wanted
+        );
+    }
+    let _ = writeln!(
+        t,
+        "- the most GPU memory its bricks took (the renderer's count): {:.1} MB",
+        most as f64 / 1e6
+    );
+    t
+}
