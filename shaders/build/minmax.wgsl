@@ -20,6 +20,16 @@ const NONE: vec2<f32> = vec2<f32>(3.0e38, -3.0e38);
 
 @compute @workgroup_size(BUILD_WORKGROUP, BUILD_WORKGROUP, BUILD_WORKGROUP)
 fn build_base(@builtin(global_invocation_id) id: vec3<u32>) {
+    base_node(id);
+}
+
+@compute @workgroup_size(BUILD_WORKGROUP, BUILD_WORKGROUP, BUILD_WORKGROUP)
+fn build_parent(@builtin(global_invocation_id) id: vec3<u32>) {
+    parent_node(id);
+}
+
+// Level 0's node `id` from the volume's voxels.
+fn base_node(id: vec3<u32>) {
     let level = levels[0];
     if any(id >= level.nodes) {
         return;
@@ -42,8 +52,8 @@ fn build_base(@builtin(global_invocation_id) id: vec3<u32>) {
     minmax[node_index(level, id)] = m;
 }
 
-@compute @workgroup_size(BUILD_WORKGROUP, BUILD_WORKGROUP, BUILD_WORKGROUP)
-fn build_parent(@builtin(global_invocation_id) id: vec3<u32>) {
+// Level params.level's node `id` from its children.
+fn parent_node(id: vec3<u32>) {
     let parent = levels[params.level];
     let child = levels[params.level - 1u];
     if any(id >= parent.nodes) {
@@ -58,4 +68,44 @@ fn build_parent(@builtin(global_invocation_id) id: vec3<u32>) {
         }
     }
     minmax[node_index(parent, id)] = m;
+}
+
+// Builds after bricks arrived: only the nodes that read a voxel of a listed brick. `changed`
+// holds their count (x of entry 0), then the bricks (level-0 bricks of params.data_brick
+// voxels). Node n of a level of B-voxel blocks reads voxels n·B − 1 ..= (n + 1)·B, so brick b
+// touches nodes ⌈b·D/B⌉ − 1 ..= ⌊(b + 1)·D/B⌋: params.box_edge of them per axis at most.
+@group(0) @binding(6) var<storage, read> changed: array<vec4<u32>>;
+
+// The node of invocation `i` (brick i / box_edge³, node i mod box_edge³ of its box); false past
+// the list or the level.
+fn listed_node(i: u32, level: LevelInfo) -> vec4<u32> {
+    let e = params.box_edge;
+    let per = e * e * e;
+    let n = i / per;
+    if n >= changed[0].x {
+        return vec4<u32>(0u);
+    }
+    let b = changed[n + 1u].xyz;
+    let d = params.data_brick;
+    let first = (b * d + level.brick_vox - 1u) / level.brick_vox;
+    let lo = max(first, vec3<u32>(1u)) - 1u;
+    let j = i % per;
+    let node = lo + vec3<u32>(j % e, (j / e) % e, j / (e * e));
+    return vec4<u32>(node, u32(all(node < level.nodes)));
+}
+
+@compute @workgroup_size(64)
+fn build_base_listed(@builtin(global_invocation_id) id: vec3<u32>) {
+    let n = listed_node(id.x, levels[0]);
+    if n.w != 0u {
+        base_node(n.xyz);
+    }
+}
+
+@compute @workgroup_size(64)
+fn build_parent_listed(@builtin(global_invocation_id) id: vec3<u32>) {
+    let n = listed_node(id.x, levels[params.level]);
+    if n.w != 0u {
+        parent_node(n.xyz);
+    }
 }

@@ -8,7 +8,13 @@ struct BuildParams {
     // Normalised value = texel * texel_scale + texel_bias.
     texel_scale: f32,
     texel_bias: f32,
+    // Partial builds (build/minmax.wgsl): nodes per axis of one listed brick's box at this level.
+    box_edge: u32,
+    // Edge of the listed (data) bricks in voxels.
+    data_brick: u32,
     _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // `EmptinessParams` in src/render/gpu_data.rs.

@@ -210,7 +210,7 @@ pub fn layouts() -> Vec<StructLayout> {
             nodes, offset, brick_vox, _pad0, _pad1, _pad2,
         }),
         layout!(BuildParams = "BuildParams" in "build/params.wgsl" {
-            level, texel_scale, texel_bias, _pad0,
+            level, texel_scale, texel_bias, box_edge, data_brick, _pad0, _pad1, _pad2,
         }),
         layout!(EmptinessParams = "EmptinessParams" in "build/params.wgsl" {
             lut_size, node_count, rule, threshold,
@@ -382,8 +382,16 @@ pub struct BuildParams {
     pub texel_scale: f32,
     /// See `texel_scale`.
     pub texel_bias: f32,
-    /// Padding to 16 bytes.
+    /// Partial builds: nodes per axis of one listed brick's box at this level.
+    pub box_edge: u32,
+    /// Edge of the listed (data) bricks in voxels.
+    pub data_brick: u32,
+    /// Padding to 32 bytes.
     pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+    /// Padding.
+    pub _pad2: u32,
 }
 
 /// What makes a node empty in the node-flag pass (`EmptinessParams.rule`).

@@ -602,3 +602,69 @@ fn over_budget_only_the_bricks_in_view_are_held() {
         );
     }
 }
+
+/// While bricks stream in (one batch a frame), the leaping pyramid is built again only where
+/// bricks arrived (the nodes that read a voxel of theirs): once complete it equals, bit for
+/// bit, the pyramid a renderer that held every brick from the start built whole, and leaping
+/// images equal RC-t's.
+#[test]
+fn streamed_bricks_rebuild_only_their_pyramid_nodes_and_the_pyramid_stays_exact() {
+    use leapview::render::readback::read_buffer;
+    let volume = Arc::new(structured([200, 160, 136], None));
+    let tf = tf();
+    let camera = Camera::framing(
+        &Aabb::of_volume(volume.dims(), volume.spacing_mm()),
+        DVec3::new(0.3, -1.0, 0.4).normalize(),
+        DVec3::Z,
+        ProjectionKind::Perspective,
+    );
+    let upload = Upload {
+        bricking: Bricking::On,
+        ..Upload::default()
+    };
+    let leaping = RenderSettings {
+        mode: Mode::Dvr,
+        strategy: Strategy::RcSDistance,
+        path: RenderPath::Compute,
+        ..RenderSettings::default()
+    };
+    let mut streamed = common::renderer();
+    streamed.set_residency_time(Some(std::time::Duration::ZERO));
+    streamed.set_volume_with(&volume, &upload).expect("upload");
+    streamed.set_transfer_function(&tf);
+    let mut frames = 0;
+    loop {
+        render(&mut streamed, &camera, &leaping);
+        frames += 1;
+        if streamed.residency_complete() {
+            break;
+        }
+        assert!(frames < 50, "still streaming after {frames} frames");
+    }
+    let counts = streamed.work_counts();
+    assert!(frames >= 2, "{frames} frame: the bricks came in one batch");
+    assert_eq!(counts.minmax_builds, 1, "{counts:?}");
+    assert!(counts.minmax_brick_builds >= 1, "{counts:?}");
+    let mut whole = common::renderer();
+    whole.set_volume_with(&volume, &upload).expect("upload");
+    whole.set_transfer_function(&tf);
+    let want = render(&mut whole, &camera, &leaping);
+    let got = render(&mut streamed, &camera, &leaping);
+    let minmax = |r: &VolumeRenderer| {
+        let leap = r.leap_structures().expect("leaping");
+        let n = leap.pyramid.node_count() as u64;
+        let bytes = read_buffer(r.context(), &leap.minmax, n * 8).expect("read");
+        bytemuck::cast_slice::<u8, [f32; 2]>(&bytes).to_vec()
+    };
+    let (a, b) = (minmax(&streamed), minmax(&whole));
+    let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    assert_eq!(differ, 0, "{differ} of {} nodes differ", a.len());
+    // Equal but for rounding: the two atlases put the bricks in different slots.
+    common::assert_close("streamed-leaping", &got, &want, 1e-6, 0.0);
+    let rc_t = RenderSettings {
+        strategy: Strategy::RcT,
+        ..leaping
+    };
+    let plain = render(&mut streamed, &camera, &rc_t);
+    common::assert_close("streamed-rc-t", &got, &plain, 1.0 / 255.0 + 1e-6, 0.0);
+}

@@ -72,6 +72,7 @@ impl GpuVolume {
             volume.dims(),
             texture.encoding.scale,
             texture.encoding.bias,
+            texture.view.brick_vox,
         );
         let leap_group = layouts.leap_group(&ctx.device, &leap.resources());
         Ok(Self {

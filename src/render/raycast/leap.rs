@@ -22,8 +22,10 @@ use super::uniforms::LeapLevels;
 
 /// The builder pipelines, created once per renderer.
 pub struct LeapPipelines {
-    base: PerLayout<wgpu::ComputePipeline>,
+    /// Level 0 of the pyramid: the whole level, and the nodes of listed bricks.
+    base: PerLayout<[wgpu::ComputePipeline; 2]>,
     parent: wgpu::ComputePipeline,
+    parent_listed: wgpu::ComputePipeline,
     scan: wgpu::ComputePipeline,
     table: wgpu::ComputePipeline,
     flags: wgpu::ComputePipeline,
@@ -44,13 +46,17 @@ impl LeapPipelines {
                 "build/minmax.wgsl",
                 compose("build/minmax.wgsl", defines)?,
             );
-            Ok(compute_pipeline(device, &module, "build_base"))
+            Ok([
+                compute_pipeline(device, &module, "build_base"),
+                compute_pipeline(device, &module, "build_base_listed"),
+            ])
         })?;
         let emptiness = module("build/emptiness.wgsl")?;
         let distance = module("build/distance.wgsl")?;
         Ok(Self {
             base,
             parent: compute_pipeline(device, &minmax, "build_parent"),
+            parent_listed: compute_pipeline(device, &minmax, "build_parent_listed"),
             scan: compute_pipeline(device, &emptiness, "scan_lut"),
             table: compute_pipeline(device, &emptiness, "build_table"),
             flags: compute_pipeline(device, &emptiness, "flag_nodes"),
@@ -76,12 +82,44 @@ fn buffer(
 
 /// A 16-byte uniform buffer, written with `queue.write_buffer` before each use.
 fn uniform(device: &wgpu::Device, label: &str) -> wgpu::Buffer {
+    uniform_of(device, label, 16)
+}
+
+/// A uniform buffer of `size` bytes.
+fn uniform_of(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     buffer(
         device,
         label,
-        16,
+        size,
         wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
     )
+}
+
+/// Nodes per axis of a pyramid level of `block`-voxel blocks that read a voxel of one
+/// `data_brick`-voxel brick: ⌈b·D/B⌉ − 1 ..= ⌊(b + 1)·D/B⌋, at most D/B + 2 (2 where B > D).
+fn box_edge(block: u32, data_brick: u32) -> u32 {
+    if block <= data_brick {
+        data_brick / block + 2
+    } else {
+        2
+    }
+}
+
+/// Bricks one partial build lists at most (past it the pyramid is built whole).
+const MAX_LISTED: usize = 4096;
+
+/// Invocations of a partial build's workgroup (`@workgroup_size` of build/minmax.wgsl's
+/// `*_listed` entry points).
+const LISTED_WORKGROUP: u32 = 64;
+
+/// How many bricks of `data_brick` voxels one partial build of `pyramid` may list: at most
+/// [`MAX_LISTED`], and no more than one dispatch's 65 535 workgroups hold at level 0.
+fn listed_limit(pyramid: &Pyramid, data_brick: u32) -> usize {
+    if data_brick == 0 {
+        return 0;
+    }
+    let per_brick = box_edge(pyramid.levels[0].brick_vox, data_brick).pow(3);
+    MAX_LISTED.min(65_535 * LISTED_WORKGROUP as usize / per_brick as usize)
 }
 
 fn entry(binding: u32, resource: wgpu::BindingResource<'_>) -> wgpu::BindGroupEntry<'_> {
@@ -163,6 +201,13 @@ pub struct LeapStructures {
     distance_params: [wgpu::Buffer; 3],
     /// Whether the pyramid has been built.
     minmax_ready: bool,
+    /// Level-0 bricks of a bricked volume whose pages changed since the pyramid was built:
+    /// only the nodes that read them are built again.
+    listed: Vec<[u32; 3]>,
+    /// The list as the partial build reads it (count, then the bricks), where bricked.
+    listed_buffer: Option<wgpu::Buffer>,
+    /// Bricks a partial build may list (the dispatch's limit), and their edge in voxels.
+    listed_limit: (usize, u32),
     /// What the node flags were built for, if anything.
     pub flags_for: Option<FlagRule>,
     /// The flags and leaf level the distance field was built for, if anything.
@@ -171,8 +216,14 @@ pub struct LeapStructures {
 
 impl LeapStructures {
     /// Allocates the structures for a volume of `dims` whose texels decode as
-    /// `s = texel * scale + bias`.
-    pub fn new(ctx: &GpuContext, dims: [u32; 3], texel_scale: f32, texel_bias: f32) -> Self {
+    /// `s = texel * scale + bias`, held in bricks of `data_brick` voxels (0: one texture).
+    pub fn new(
+        ctx: &GpuContext,
+        dims: [u32; 3],
+        texel_scale: f32,
+        texel_bias: f32,
+        data_brick: u32,
+    ) -> Self {
         use wgpu::BufferUsages as U;
         let device = &ctx.device;
         let binding = ctx
@@ -213,18 +264,23 @@ impl LeapStructures {
         let storage = U::STORAGE | U::COPY_SRC | U::COPY_DST;
         let level_params = (0..pyramid.levels.len() as u32)
             .map(|l| {
-                let b = uniform(device, "build params");
+                let b = uniform_of(device, "build params", 32);
                 let params = BuildParams {
                     level: l,
                     texel_scale,
                     texel_bias,
+                    box_edge: box_edge(pyramid.levels[l as usize].brick_vox, data_brick),
+                    data_brick,
                     _pad0: 0,
+                    _pad1: 0,
+                    _pad2: 0,
                 };
                 ctx.queue.write_buffer(&b, 0, bytemuck::bytes_of(&params));
                 b
             })
             .collect();
         let emptiness_params = uniform(device, "emptiness params");
+        let listed = listed_limit(&pyramid, data_brick);
         Self {
             minmax: buffer(device, "node min/max", nodes * 8, storage),
             node_empty: buffer(device, "node emptiness", nodes * 4, storage),
@@ -250,6 +306,16 @@ impl LeapStructures {
             pyramid,
             level_buffer,
             minmax_ready: false,
+            listed: Vec::new(),
+            listed_buffer: (data_brick > 0).then(|| {
+                buffer(
+                    device,
+                    "bricks to build again",
+                    (MAX_LISTED as u64 + 1) * 16,
+                    U::STORAGE | U::COPY_DST,
+                )
+            }),
+            listed_limit: (listed, data_brick),
             flags_for: None,
             distance_for: None,
         }
@@ -259,21 +325,42 @@ impl LeapStructures {
     /// pyramid is built through them.
     pub(crate) fn invalidate(&mut self) {
         self.minmax_ready = false;
+        self.listed.clear();
         self.flags_for = None;
         self.distance_for = None;
     }
 
-    /// Records the pyramid build (once per volume); returns whether it recorded one.
+    /// The pages of these level-0 bricks changed (`None`: of any): the pyramid's nodes that
+    /// read them are built again (all of them where the list is long), and what was built
+    /// from the pyramid.
+    pub(crate) fn bricks_changed(&mut self, bricks: Option<&[[u32; 3]]>) {
+        match bricks {
+            Some(b)
+                if self.minmax_ready
+                    && self.listed_buffer.is_some()
+                    && self.listed.len() + b.len() <= self.listed_limit.0 =>
+            {
+                self.listed.extend_from_slice(b);
+                self.flags_for = None;
+                self.distance_for = None;
+            }
+            _ => self.invalidate(),
+        }
+    }
+
+    /// Records the pyramid build (once per volume, then of the nodes that read bricks whose
+    /// pages changed); returns whether it recorded one of each.
     fn build_minmax(
         &mut self,
         ctx: &GpuContext,
         pipelines: &LeapPipelines,
         volume: &VolumeView,
         encoder: &mut wgpu::CommandEncoder,
-    ) -> bool {
+    ) -> (bool, bool) {
         if self.minmax_ready {
-            return false;
+            return (false, self.build_listed(ctx, pipelines, volume, encoder));
         }
+        self.listed.clear();
         let device = &ctx.device;
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("min/max pyramid"),
@@ -281,7 +368,7 @@ impl LeapStructures {
         });
         for (l, level) in self.pyramid.levels.iter().enumerate() {
             let pipeline = if l == 0 {
-                pipelines.base.pick(volume)
+                &pipelines.base.pick(volume)[0]
             } else {
                 &pipelines.parent
             };
@@ -305,6 +392,59 @@ impl LeapStructures {
         }
         drop(pass);
         self.minmax_ready = true;
+        (true, false)
+    }
+
+    /// Records the build of the nodes that read the listed bricks; returns whether it
+    /// recorded one.
+    fn build_listed(
+        &mut self,
+        ctx: &GpuContext,
+        pipelines: &LeapPipelines,
+        volume: &VolumeView,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> bool {
+        let Some(list) = &self.listed_buffer else {
+            return false;
+        };
+        if self.listed.is_empty() {
+            return false;
+        }
+        let mut words: Vec<[u32; 4]> = vec![[self.listed.len() as u32, 0, 0, 0]];
+        words.extend(self.listed.drain(..).map(|[x, y, z]| [x, y, z, 0]));
+        ctx.queue
+            .write_buffer(list, 0, bytemuck::cast_slice(&words));
+        let bricks = words.len() as u32 - 1;
+        let device = &ctx.device;
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("min/max pyramid (bricks that arrived)"),
+            timestamp_writes: None,
+        });
+        for (l, level) in self.pyramid.levels.iter().enumerate() {
+            let pipeline = if l == 0 {
+                &pipelines.base.pick(volume)[1]
+            } else {
+                &pipelines.parent_listed
+            };
+            let mut entries = vec![
+                entry(0, self.level_params[l].as_entire_binding()),
+                entry(1, self.level_buffer.as_entire_binding()),
+                entry(2, self.minmax.as_entire_binding()),
+                entry(6, list.as_entire_binding()),
+            ];
+            if l == 0 {
+                entries.extend(volume.entries([3, 4, 5]));
+            }
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("min/max build (listed)"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &entries,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            let edge = box_edge(level.brick_vox, self.listed_limit.1);
+            pass.dispatch_workgroups((bricks * edge.pow(3)).div_ceil(LISTED_WORKGROUP), 1, 1);
+        }
         true
     }
 
@@ -484,6 +624,8 @@ pub struct LeapRequest<'a> {
 pub struct Builds {
     /// The min/max pyramid (once per volume).
     pub minmax: bool,
+    /// The pyramid's nodes that read bricks whose pages changed.
+    pub minmax_bricks: bool,
     /// The emptiness table and node flags.
     pub flags: bool,
     /// The distance field.
@@ -511,8 +653,10 @@ impl LeapStructures {
             .pyramid
             .level_of_block(settings.leaf_block_vox())
             .unwrap_or(0) as u32;
+        let (minmax, minmax_bricks) = self.build_minmax(ctx, pipelines, request.volume, encoder);
         let mut builds = Builds {
-            minmax: self.build_minmax(ctx, pipelines, request.volume, encoder),
+            minmax,
+            minmax_bricks,
             ..Builds::default()
         };
         let levels = LeapLevels {

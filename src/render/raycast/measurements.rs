@@ -44,6 +44,7 @@ impl Measurements {
     /// Counts what the leaping structures' preparation built.
     pub(super) fn count_builds(&mut self, builds: Builds) {
         self.work.minmax_builds += u64::from(builds.minmax);
+        self.work.minmax_brick_builds += u64::from(builds.minmax_bricks);
         self.work.flag_builds += u64::from(builds.flags);
         self.work.distance_builds += u64::from(builds.distance);
     }

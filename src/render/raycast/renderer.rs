@@ -364,7 +364,7 @@ impl VolumeRenderer {
                 .texture
                 .update_residency(&self.ctx, &unseen, self.residency_time);
             if update.changed {
-                volume.leap.invalidate();
+                volume.leap.bricks_changed(update.bricks.as_deref());
                 self.pages_generation += 1;
             }
             self.bricks_generation += u64::from(!update.complete);

@@ -38,6 +38,8 @@ pub struct WorkCounts {
     pub lut_bakes: u64,
     /// Min/max pyramids built (once per volume, on the first leaping frame).
     pub minmax_builds: u64,
+    /// Partial pyramid builds: the nodes that read bricks whose pages changed.
+    pub minmax_brick_builds: u64,
     /// Emptiness tables and node flags built (transfer function, or the X-ray window for the
     /// distance field, changed).
     pub flag_builds: u64,

@@ -45,7 +45,11 @@ impl SliceRenderer {
                 1.0
             },
             texel_bias: 0.0,
+            box_edge: 0,
+            data_brick: 0,
             _pad0: 0,
+            _pad1: 0,
+            _pad2: 0,
         };
         let levels = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("slab brick level"),

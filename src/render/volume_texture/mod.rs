@@ -94,6 +94,8 @@ pub struct VolumeView {
     pub geometry: wgpu::Buffer,
     /// Whether the volume is bricked (the shaders' `BRICKED` variants read it).
     pub bricked: bool,
+    /// Edge of its level-0 bricks in voxels (0: one texture).
+    pub brick_vox: u32,
 }
 
 impl VolumeView {
@@ -277,6 +279,7 @@ impl VolumeTexture {
                     usage: wgpu::BufferUsages::UNIFORM,
                 }),
             bricked: resident.is_some(),
+            brick_vox: geometry.brick_vox,
         };
         let slice_pages = resident.as_ref().map(|r| {
             r.slice_pages()
@@ -321,6 +324,7 @@ impl VolumeTexture {
         let Some(resident) = &mut self.resident else {
             return Update {
                 changed: false,
+                bricks: None,
                 complete: true,
             };
         };

@@ -25,10 +25,13 @@ const BATCH: usize = 64;
 type Decided = ((u8, u64), Vec<SlicePlane>, Option<[f64; 16]>);
 
 /// What one [`Resident::update`] did.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Update {
     /// Whether the page tables changed (the leaping pyramid, built through them, is stale).
     pub changed: bool,
+    /// The level-0 bricks whose rays' page entry changed, where the page table was written
+    /// before (else every brick is new).
+    pub bricks: Option<Vec<[u32; 3]>>,
     /// Whether every wanted brick is resident.
     pub complete: bool,
 }
@@ -74,6 +77,8 @@ pub struct Resident {
     residency: Residency,
     ranges: Option<Vec<BrickRange>>,
     rays: wgpu::Texture,
+    /// What `rays` was last written with (empty before the first write).
+    rays_written: Vec<u32>,
     slices: wgpu::Texture,
     decided_for: Option<Decided>,
     wanted: Option<Wanted>,
@@ -108,6 +113,7 @@ impl Resident {
         Self {
             rays: page_texture(ctx, pages, "volume page table (rays)"),
             slices: page_texture(ctx, pages, "volume page table (slices)"),
+            rays_written: Vec::new(),
             volume,
             levels,
             encoding,
@@ -231,8 +237,9 @@ impl Resident {
         }
         let missing = self.residency.missing(&wanted);
         self.status.missing = missing;
+        let mut bricks = None;
         if changed {
-            self.write_pages(ctx, &wanted);
+            bricks = self.write_pages(ctx, &wanted);
             self.status.resident = self.residency.resident_count();
             self.status.wanted = wanted.bricks.len();
             self.status.wanted_at_level = wanted
@@ -248,6 +255,7 @@ impl Resident {
         self.wanted = Some(wanted);
         Update {
             changed,
+            bricks,
             complete: missing == 0,
         }
     }
@@ -345,7 +353,9 @@ impl Resident {
     }
 
     /// Writes both page tables for `wanted` as residency stands.
-    fn write_pages(&mut self, ctx: &GpuContext, wanted: &Wanted) {
+    /// Writes the page tables of `wanted`; returns the level-0 bricks whose rays' entry changed
+    /// (`None` the first time).
+    fn write_pages(&mut self, ctx: &GpuContext, wanted: &Wanted) -> Option<Vec<[u32; 3]>> {
         let constants: Vec<Option<u32>> = match &self.ranges {
             Some(r) => r.iter().map(|r| r.constant).collect(),
             None => Vec::new(),
@@ -360,6 +370,14 @@ impl Resident {
         let pages = self.residency.grid(0);
         write_page_texture(ctx, &self.rays, pages, &tables.rays);
         write_page_texture(ctx, &self.slices, pages, &tables.slices);
+        let before = std::mem::replace(&mut self.rays_written, tables.rays);
+        (before.len() == self.rays_written.len()).then(|| {
+            let [nx, ny, _] = pages.map(|p| p as usize);
+            (before.iter().zip(&self.rays_written).enumerate())
+                .filter(|(_, (a, b))| a != b)
+                .map(|(i, _)| [i % nx, i / nx % ny, i / (nx * ny)].map(|c| c as u32))
+                .collect()
+        })
     }
 }
 
