@@ -52,9 +52,9 @@ pub struct BenchArgs {
     /// Measure streaming instead: this volume file, orbited while its bricks stream as the
     /// window streams them, then still until complete (stream.csv and stream.md in --out).
     ///
-    /// Takes --gpu-budget, --bricks, the first of --modes and of --paths, and the --stream-*
-    /// options below.
-    #[arg(long, conflicts_with_all = ["quick", "datasets", "strategies", "block", "shading", "merge"])]
+    /// Takes --gpu-budget, --bricks, the first of --modes, --strategies (default rc-s-df) and
+    /// --paths, and the --stream-* options below.
+    #[arg(long, conflicts_with_all = ["quick", "datasets", "block", "shading", "merge"])]
     pub stream: Option<PathBuf>,
     /// With --stream: frames of the orbit.
     #[arg(long, default_value_t = 120, requires = "stream")]

@@ -1,5 +1,6 @@
 //! `leapview bench --stream FILE`: what the window does with a volume larger than its GPU
-//! budget, without a window. The volume is uploaded as the window uploads it (each frame spends
+//! budget, without a window (the first of `--modes`, `--strategies` and `--paths`; DVR, RC-s-df
+//! and the compute path by default). The volume is uploaded as the window uploads it (each frame spends
 //! at most `--stream-ms` uploading bricks, then renders with what is resident), an orbit is
 //! rendered while the bricks stream, then the view stays still until every brick it wants is
 //! resident. Written: `stream.csv` (one line a frame) and `stream.md` (the figures the issue
@@ -14,7 +15,7 @@ use std::time::{Duration, Instant};
 use leapview::camera::Aabb;
 use leapview::render::raycast::auto_path;
 use leapview::render::{FrameRequest, GpuContext, VolumeRenderer};
-use leapview::settings::{Mode, RenderPath, RenderSettings, Upload};
+use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy, Upload};
 use leapview::transfer::fit::{self, DataKind};
 
 use super::BenchArgs;
@@ -64,8 +65,17 @@ pub fn run(args: &BenchArgs, file: &Path) -> Result<(), Failure> {
         .unwrap_or(Mode::Dvr);
     let kind = DataKind::of(&volume);
     let tf = fit::resolve(fit::AUTO, &kind).bad_input()?.tf;
+    // A fixed strategy: timing RC-t against leaping would render frames of its own while the
+    // bricks stream.
+    let strategy = args
+        .strategies
+        .as_ref()
+        .and_then(|s| s.first().copied())
+        .unwrap_or(Strategy::RcSDistance)
+        .for_mode(mode);
     let mut settings = RenderSettings {
         mode,
+        strategy,
         path: args
             .paths
             .as_ref()
@@ -143,6 +153,7 @@ pub fn run(args: &BenchArgs, file: &Path) -> Result<(), Failure> {
         file,
         dims: volume.dims(),
         mode,
+        strategy,
         size,
         upload_ms: args.stream_ms,
         budget: args.gpu.gpu_budget,
@@ -189,6 +200,7 @@ struct Summary<'a> {
     file: &'a Path,
     dims: [u32; 3],
     mode: Mode,
+    strategy: Strategy,
     size: [u32; 2],
     upload_ms: f64,
     budget: Option<u64>,
@@ -219,12 +231,13 @@ fn summary(s: &Summary) -> String {
     let _ = writeln!(t, "- adapter: {}", s.adapter);
     let _ = writeln!(
         t,
-        "- volume: {}×{}×{}, loaded in {:.2} s; {} mode, {}×{}, {} ms of uploads a frame",
+        "- volume: {}×{}×{}, loaded in {:.2} s; {} mode, {}, {}×{}, {} ms of uploads a frame",
         s.dims[0],
         s.dims[1],
         s.dims[2],
         s.load_s,
         s.mode.label(),
+        s.strategy.label(),
         s.size[0],
         s.size[1],
         s.upload_ms
