@@ -13,40 +13,33 @@ fn volume_dims() -> vec3<i32> {
 }
 
 #ifdef BRICKED
-// Where a brick of level 0 finds its voxels: the atlas texel of voxel 0 of the brick that holds
-// them, as if that brick's slot were the whole level (a voxel `i` of the level, or of the
-// brick's apron, lies at texel origin + i), and the level (0: the brick itself; k: its ancestor
-// `b >> k`, whose voxels are 2^k of level 0's per axis).
+// Where a brick of level 0 finds its voxels (src/render/volume_texture/atlas.rs, gpu_page, four
+// f32 as u32 bits, so that a read decodes nothing): the atlas texel of voxel 0 of the level its
+// brick is held at, as if that brick's slot were the whole level (a voxel `i` of the level, or
+// of the brick's apron, lies at texel origin + i), and 2^-level (level 0: the brick itself;
+// k: its ancestor `b >> k`, whose voxels are 2^k of level 0's per axis).
 // A brick that no ray can see (empty under the transfer function, its neighbours too) holds no
-// slot: its entry is a constant (bit 31), one of its values, as unorm16 or (bit 30) f16 bits.
+// slot: its entry is a constant, (value, 0, 0, 0).
 struct Page {
-    origin: vec3<i32>,
-    level: u32,
-    constant: bool,
-    value: f32,
+    origin: vec3<f32>,
+    scale: f32,
 }
 
 fn page(b: vec3<i32>) -> Page {
-    let e = textureLoad(volume_pages, b, 0).r;
-    if (e & 0x80000000u) != 0u {
-        let value = select(unpack2x16unorm(e).x, unpack2x16float(e).x, (e & 0x40000000u) != 0u);
-        return Page(vec3<i32>(0), 0u, true, value);
-    }
-    let slot = vec3<i32>(vec3<u32>(e & 511u, (e >> 9u) & 511u, (e >> 18u) & 511u));
-    let level = e >> 27u;
-    let brick = i32(volume_geometry.brick_vox);
-    let held = b >> vec3<u32>(level);
-    return Page(slot * i32(volume_geometry.slot_vox) + vec3<i32>(1) - held * brick, level, false, 0.0);
+    let e = bitcast<vec4<f32>>(textureLoad(volume_pages, b, 0));
+    return Page(e.xyz, e.w);
 }
 
 // Voxel `i` (clamped into the volume), from the level its brick is held at.
 fn volume_load(i: vec3<i32>) -> vec4<f32> {
     let j = clamp(i, vec3<i32>(0), volume_dims() - vec3<i32>(1));
     let p = page(j / i32(volume_geometry.brick_vox));
-    if p.constant {
-        return vec4<f32>(p.value, 0.0, 0.0, 1.0);
+    if p.scale == 0.0 {
+        return vec4<f32>(p.origin.x, 0.0, 0.0, 1.0);
     }
-    return textureLoad(volume_tex, p.origin + (j >> vec3<u32>(p.level)), 0);
+    // j · 2^-level, floored: exact in f32 for any voxel index below 2^24.
+    let at_level = vec3<i32>(floor(vec3<f32>(j) * p.scale));
+    return textureLoad(volume_tex, vec3<i32>(p.origin) + at_level, 0);
 }
 
 // How the points of one level-0 brick find their values: the atlas coordinate of box position
@@ -70,11 +63,11 @@ fn brick_at(p: vec3<f32>) -> vec3<i32> {
 
 fn brick_map(b: vec3<i32>) -> BrickMap {
     let p = page(b);
-    if p.constant {
-        return BrickMap(vec3<f32>(0.0), vec3<f32>(0.0), true, p.value);
+    if p.scale == 0.0 {
+        return BrickMap(vec3<f32>(0.0), vec3<f32>(0.0), true, p.origin.x);
     }
-    let scale = volume_geometry.atlas_per_box * exp2(-f32(p.level));
-    return BrickMap(scale, vec3<f32>(p.origin) * volume_geometry.texel_size, false, 0.0);
+    let scale = volume_geometry.atlas_per_box * p.scale;
+    return BrickMap(scale, p.origin * volume_geometry.texel_size, false, 0.0);
 }
 
 // The last brick a read went through, and its map: consecutive reads mostly stay in one brick.

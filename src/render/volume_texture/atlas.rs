@@ -1,8 +1,9 @@
-//! A brick's slot as the atlas holds it (the brick and its apron, encoded), and the page table
-//! of a volume in one texture.
+//! A brick's slot as the atlas holds it (the brick and its apron, encoded), page-table entries
+//! as the shaders read them, and the page table of a volume in one texture.
 
 use super::encoding::{TexelEncoding, TexelSource, bytes_per_texel, encode_texels};
 use crate::accel::bricks::BrickLayout;
+use crate::accel::residency::{CONSTANT, CONSTANT_F16};
 use crate::render::context::GpuContext;
 
 /// Appends the texels of `brick`'s slot (apron included, x fastest) to `out`, from `source`
@@ -43,6 +44,34 @@ pub(super) fn encode_brick(
     }
 }
 
+/// The page tables' texel format: four u32 (see [`gpu_page`]).
+pub(super) const PAGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+
+/// A page-table entry as the shaders read it (`shaders/shared/volume.wgsl`: four f32, as u32
+/// bits, so that a sample needs no integer decoding): for brick `brick` (of `brick_vox`
+/// voxels, in slots of `slot_vox`) held in a slot, the atlas texel of its level's voxel 0
+/// (exact integers) and 2^-level; for a constant, (value, 0, 0, 0).
+pub(super) fn gpu_page(entry: u32, brick: [u32; 3], brick_vox: u32, slot_vox: u32) -> [u32; 4] {
+    if entry & CONSTANT != 0 {
+        let value = if entry & CONSTANT_F16 != 0 {
+            half::f16::from_bits(entry as u16).to_f32()
+        } else {
+            (entry & 0xffff) as f32 / 65535.0
+        };
+        return [value.to_bits(), 0, 0, 0];
+    }
+    let (slot, level) = BrickLayout::decode_entry(entry);
+    let origin = |a: usize| {
+        (i64::from(slot[a] * slot_vox) + 1 - i64::from((brick[a] >> level) * brick_vox)) as f32
+    };
+    [
+        origin(0).to_bits(),
+        origin(1).to_bits(),
+        origin(2).to_bits(),
+        0.5f32.powi(level as i32).to_bits(),
+    ]
+}
+
 /// A page table of one texel for a volume in one texture: bound, never read.
 pub(super) fn no_page_table(ctx: &GpuContext) -> wgpu::Texture {
     ctx.device.create_texture(&wgpu::TextureDescriptor {
@@ -55,7 +84,7 @@ pub(super) fn no_page_table(ctx: &GpuContext) -> wgpu::Texture {
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D3,
-        format: wgpu::TextureFormat::R32Uint,
+        format: PAGE_FORMAT,
         usage: wgpu::TextureUsages::TEXTURE_BINDING,
         view_formats: &[],
     })

@@ -368,8 +368,18 @@ impl Resident {
             .filter(|&&e| e & crate::accel::residency::CONSTANT != 0)
             .count();
         let pages = self.residency.grid(0);
-        write_page_texture(ctx, &self.rays, pages, &tables.rays);
-        write_page_texture(ctx, &self.slices, pages, &tables.slices);
+        let gpu = |entries: &[u32]| -> Vec<[u32; 4]> {
+            let [nx, ny, _] = pages.map(|p| p as usize);
+            let slot_vox = self.brick_vox + 2 * crate::accel::bricks::APRON;
+            (entries.iter().enumerate())
+                .map(|(i, &e)| {
+                    let b = [i % nx, i / nx % ny, i / (nx * ny)].map(|c| c as u32);
+                    super::atlas::gpu_page(e, b, self.brick_vox, slot_vox)
+                })
+                .collect()
+        };
+        write_page_texture(ctx, &self.rays, pages, &gpu(&tables.rays));
+        write_page_texture(ctx, &self.slices, pages, &gpu(&tables.slices));
         let before = std::mem::replace(&mut self.rays_written, tables.rays);
         (before.len() == self.rays_written.len()).then(|| {
             let [nx, ny, _] = pages.map(|p| p as usize);
@@ -393,14 +403,19 @@ fn page_texture(ctx: &GpuContext, pages: [u32; 3], label: &str) -> wgpu::Texture
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D3,
-        format: wgpu::TextureFormat::R32Uint,
+        format: super::atlas::PAGE_FORMAT,
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     })
 }
 
 /// Writes `entries` (x fastest) into the page table `texture` of `pages` per axis.
-fn write_page_texture(ctx: &GpuContext, texture: &wgpu::Texture, pages: [u32; 3], entries: &[u32]) {
+fn write_page_texture(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    pages: [u32; 3],
+    entries: &[[u32; 4]],
+) {
     ctx.queue.write_texture(
         wgpu::TexelCopyTextureInfo {
             texture,
@@ -411,7 +426,7 @@ fn write_page_texture(ctx: &GpuContext, texture: &wgpu::Texture, pages: [u32; 3]
         bytemuck::cast_slice(entries),
         wgpu::TexelCopyBufferLayout {
             offset: 0,
-            bytes_per_row: Some(pages[0] * 4),
+            bytes_per_row: Some(pages[0] * 16),
             rows_per_image: Some(pages[1]),
         },
         wgpu::Extent3d {
