@@ -192,3 +192,61 @@ fn a_dataset_that_cannot_be_measured_fails_the_run_unless_optional() {
         }
     }
 }
+
+/// `bench --stream` on a vessel tree twice its budget: the orbit renders while bricks are
+/// missing, the still frames end once none is, the memory never passes the budget, and the
+/// summary says so.
+#[test]
+fn stream_measures_an_orbit_while_bricks_arrive() {
+    let dir = common::TempDir::new("bench-stream");
+    let volume = dir.path().join("vessels.nhdr");
+    let status = Command::new(env!("CARGO_BIN_EXE_leapview"))
+        .args(["generate", "vessels", "--size", "256", "--out"])
+        .arg(&volume)
+        .status()
+        .expect("generate");
+    assert!(status.success());
+    let out = dir.path().join("out");
+    // Half the 256³ uint8 volume: the tree's bricks at full resolution fit, more of them than
+    // one upload batch (64).
+    let budget = 256u64.pow(3) / 2 / 1000 * 1000;
+    let output = Command::new(env!("CARGO_BIN_EXE_leapview"))
+        .args(["bench", "--stream"])
+        .arg(&volume)
+        .args([
+            "--gpu-budget",
+            &format!("{}KB", budget / 1000),
+            "--stream-frames",
+            "3",
+        ])
+        .args(["--stream-ms", "0", "--stream-size", "48x32", "--out"])
+        .arg(&out)
+        .output()
+        .expect("bench --stream");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        output.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let csv = read(&out.join("stream.csv"));
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    let column = |row: &Vec<&str>, i: usize| -> u64 { row[i].parse().expect("number") };
+    assert_eq!(rows.iter().filter(|r| r[0] == "orbit").count(), 3, "{csv}");
+    let last = rows.last().expect("rows");
+    // Counted from the end: the levels column ("0, 2") holds commas of its own.
+    assert_eq!(column(last, last.len() - 2), 0, "{csv}");
+    assert!(rows.iter().any(|r| column(r, r.len() - 2) > 0), "{csv}");
+    assert!(
+        rows.iter().all(|r| column(r, r.len() - 1) <= budget),
+        "{csv}"
+    );
+    assert!(
+        read(&out.join("stream.md")).contains("- complete at"),
+        "{stdout}"
+    );
+}
