@@ -273,7 +273,7 @@ fn summary(s: &Summary) -> String {
     if let Some(r) = last {
         let _ = writeln!(
             t,
-            "- {} at {:.0} ms after the upload started ({} frames), {} of {} wanted bricks resident",
+            "- {} at {:.0} ms after the upload started ({} frames): {} of {} wanted bricks resident ({} in the atlas, the others kept until their slots are needed)",
             if complete {
                 "complete"
             } else {
@@ -281,8 +281,9 @@ fn summary(s: &Summary) -> String {
             },
             r.since_upload_ms,
             r.frame + 1,
-            r.resident,
-            r.wanted
+            r.wanted.saturating_sub(r.missing),
+            r.wanted,
+            r.resident
         );
     }
     let _ = writeln!(
