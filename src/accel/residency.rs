@@ -326,7 +326,7 @@ pub struct PageTables {
 }
 
 /// Brick `index` (x fastest) of a grid of `grid` bricks per axis.
-fn index_to_brick(index: u32, grid: [u32; 3]) -> [u32; 3] {
+pub(crate) fn index_to_brick(index: u32, grid: [u32; 3]) -> [u32; 3] {
     [
         index % grid[0],
         (index / grid[0]) % grid[1],

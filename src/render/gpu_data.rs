@@ -203,8 +203,8 @@ pub fn layouts() -> Vec<StructLayout> {
             row_end, all_finite, colour_volume,
         }),
         layout!(VolumeGeometry = "VolumeGeometry" in "shared/volume_geometry.wgsl" {
-            dims, brick_vox, texel_size, slot_vox, bricks_per_box, _pad0, last_brick, _pad1,
-            atlas_per_box, _pad2,
+            dims, brick_vox, texel_size, _pad0, bricks_per_box, _pad1, last_brick, _pad2,
+            atlas_per_box, _pad3,
         }),
         layout!(LevelInfo = "LevelInfo" in "leap/pyramid.wgsl" {
             nodes, offset, brick_vox, _pad0, _pad1, _pad2,
@@ -338,20 +338,20 @@ pub struct VolumeGeometry {
     pub brick_vox: u32,
     /// 1 / the texture's texels per axis (the volume's, or the atlas's).
     pub texel_size: [f32; 3],
-    /// Edge of an atlas slot: the brick and its apron (0: one texture).
-    pub slot_vox: u32,
+    /// Padding.
+    pub _pad0: u32,
     /// Level-0 bricks per box unit along each axis (volume voxels / brick edge; 0: one texture).
     pub bricks_per_box: [f32; 3],
     /// Padding.
-    pub _pad0: u32,
+    pub _pad1: u32,
     /// The last level-0 brick's index per axis (0: one texture).
     pub last_brick: [u32; 3],
     /// Padding.
-    pub _pad1: u32,
+    pub _pad2: u32,
     /// Level-0 atlas units per box unit along each axis (volume voxels · texel size).
     pub atlas_per_box: [f32; 3],
     /// Padding.
-    pub _pad2: u32,
+    pub _pad3: u32,
 }
 
 /// One pyramid level as the shaders read it (`LevelInfo`).

@@ -206,8 +206,10 @@ pub struct LeapStructures {
     listed: Vec<[u32; 3]>,
     /// The list as the partial build reads it (count, then the bricks), where bricked.
     listed_buffer: Option<wgpu::Buffer>,
-    /// Bricks a partial build may list (the dispatch's limit), and their edge in voxels.
-    listed_limit: (usize, u32),
+    /// Bricks a partial build may list (the dispatch's limit).
+    listed_max: usize,
+    /// Edge of the volume's bricks in voxels (0: one texture).
+    data_brick: u32,
     /// What the node flags were built for, if anything.
     pub flags_for: Option<FlagRule>,
     /// The flags and leaf level the distance field was built for, if anything.
@@ -280,7 +282,7 @@ impl LeapStructures {
             })
             .collect();
         let emptiness_params = uniform(device, "emptiness params");
-        let listed = listed_limit(&pyramid, data_brick);
+        let listed_max = listed_limit(&pyramid, data_brick);
         Self {
             minmax: buffer(device, "node min/max", nodes * 8, storage),
             node_empty: buffer(device, "node emptiness", nodes * 4, storage),
@@ -315,7 +317,8 @@ impl LeapStructures {
                     U::STORAGE | U::COPY_DST,
                 )
             }),
-            listed_limit: (listed, data_brick),
+            listed_max,
+            data_brick,
             flags_for: None,
             distance_for: None,
         }
@@ -335,11 +338,9 @@ impl LeapStructures {
     /// from the pyramid.
     pub(crate) fn bricks_changed(&mut self, bricks: Option<&[[u32; 3]]>) {
         match bricks {
-            Some(b)
-                if self.minmax_ready
-                    && self.listed_buffer.is_some()
-                    && self.listed.len() + b.len() <= self.listed_limit.0 =>
-            {
+            // The rays' pages stayed as they were (only the slices' changed).
+            Some([]) => {}
+            Some(b) if self.minmax_ready && self.listed.len() + b.len() <= self.listed_max => {
                 self.listed.extend_from_slice(b);
                 self.flags_for = None;
                 self.distance_for = None;
@@ -357,95 +358,78 @@ impl LeapStructures {
         volume: &VolumeView,
         encoder: &mut wgpu::CommandEncoder,
     ) -> (bool, bool) {
-        if self.minmax_ready {
-            return (false, self.build_listed(ctx, pipelines, volume, encoder));
+        if !self.minmax_ready {
+            self.listed.clear();
+            self.record_levels(ctx, pipelines, volume, encoder, None);
+            self.minmax_ready = true;
+            return (true, false);
         }
-        self.listed.clear();
-        let device = &ctx.device;
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("min/max pyramid"),
-            timestamp_writes: None,
-        });
-        for (l, level) in self.pyramid.levels.iter().enumerate() {
-            let pipeline = if l == 0 {
-                &pipelines.base.pick(volume)[0]
-            } else {
-                &pipelines.parent
-            };
-            let layout = pipeline.get_bind_group_layout(0);
-            let mut entries = vec![
-                entry(0, self.level_params[l].as_entire_binding()),
-                entry(1, self.level_buffer.as_entire_binding()),
-                entry(2, self.minmax.as_entire_binding()),
-            ];
-            if l == 0 {
-                entries.extend(volume.entries([3, 4, 5]));
-            }
-            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("min/max build"),
-                layout: &layout,
-                entries: &entries,
-            });
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &group, &[]);
-            dispatch_over_nodes(&mut pass, level.nodes);
-        }
-        drop(pass);
-        self.minmax_ready = true;
-        (true, false)
-    }
-
-    /// Records the build of the nodes that read the listed bricks; returns whether it
-    /// recorded one.
-    fn build_listed(
-        &mut self,
-        ctx: &GpuContext,
-        pipelines: &LeapPipelines,
-        volume: &VolumeView,
-        encoder: &mut wgpu::CommandEncoder,
-    ) -> bool {
-        let Some(list) = &self.listed_buffer else {
-            return false;
+        let Some(list) = self
+            .listed_buffer
+            .as_ref()
+            .filter(|_| !self.listed.is_empty())
+        else {
+            return (false, false);
         };
-        if self.listed.is_empty() {
-            return false;
-        }
         let mut words: Vec<[u32; 4]> = vec![[self.listed.len() as u32, 0, 0, 0]];
         words.extend(self.listed.drain(..).map(|[x, y, z]| [x, y, z, 0]));
         ctx.queue
             .write_buffer(list, 0, bytemuck::cast_slice(&words));
         let bricks = words.len() as u32 - 1;
-        let device = &ctx.device;
+        self.record_levels(ctx, pipelines, volume, encoder, Some(bricks));
+        (false, true)
+    }
+
+    /// Records the build of every level, bottom up: all its nodes, or (`listed`: that many
+    /// bricks in the list buffer) the nodes that read a voxel of a listed brick.
+    fn record_levels(
+        &self,
+        ctx: &GpuContext,
+        pipelines: &LeapPipelines,
+        volume: &VolumeView,
+        encoder: &mut wgpu::CommandEncoder,
+        listed: Option<u32>,
+    ) {
+        let list = self.listed_buffer.as_ref().filter(|_| listed.is_some());
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("min/max pyramid (bricks that arrived)"),
+            label: Some(match list {
+                Some(_) => "min/max pyramid (bricks that arrived)",
+                None => "min/max pyramid",
+            }),
             timestamp_writes: None,
         });
+        let which = usize::from(list.is_some());
         for (l, level) in self.pyramid.levels.iter().enumerate() {
-            let pipeline = if l == 0 {
-                &pipelines.base.pick(volume)[1]
-            } else {
-                &pipelines.parent_listed
+            let pipeline = match l {
+                0 => &pipelines.base.pick(volume)[which],
+                _ => [&pipelines.parent, &pipelines.parent_listed][which],
             };
             let mut entries = vec![
                 entry(0, self.level_params[l].as_entire_binding()),
                 entry(1, self.level_buffer.as_entire_binding()),
                 entry(2, self.minmax.as_entire_binding()),
-                entry(6, list.as_entire_binding()),
             ];
             if l == 0 {
                 entries.extend(volume.entries([3, 4, 5]));
             }
-            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("min/max build (listed)"),
+            if let Some(list) = list {
+                entries.push(entry(6, list.as_entire_binding()));
+            }
+            let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("min/max build"),
                 layout: &pipeline.get_bind_group_layout(0),
                 entries: &entries,
             });
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &group, &[]);
-            let edge = box_edge(level.brick_vox, self.listed_limit.1);
-            pass.dispatch_workgroups((bricks * edge.pow(3)).div_ceil(LISTED_WORKGROUP), 1, 1);
+            match listed {
+                Some(bricks) => {
+                    let nodes = bricks * box_edge(level.brick_vox, self.data_brick).pow(3);
+                    pass.dispatch_workgroups(nodes.div_ceil(LISTED_WORKGROUP), 1, 1);
+                }
+                None => dispatch_over_nodes(&mut pass, level.nodes),
+            }
         }
-        true
     }
 
     /// Records the rebuild of the emptiness table and node flags from the lookup table (after

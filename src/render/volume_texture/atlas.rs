@@ -2,7 +2,7 @@
 //! as the shaders read them, and the page table of a volume in one texture.
 
 use super::encoding::{TexelEncoding, TexelSource, bytes_per_texel, encode_texels};
-use crate::accel::bricks::BrickLayout;
+use crate::accel::bricks::{APRON, BrickLayout};
 use crate::accel::residency::{CONSTANT, CONSTANT_F16};
 use crate::render::context::GpuContext;
 
@@ -49,9 +49,10 @@ pub(super) const PAGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32U
 
 /// A page-table entry as the shaders read it (`shaders/shared/volume.wgsl`: four f32, as u32
 /// bits, so that a sample needs no integer decoding): for brick `brick` (of `brick_vox`
-/// voxels, in slots of `slot_vox`) held in a slot, the atlas texel of its level's voxel 0
-/// (exact integers) and 2^-level; for a constant, (value, 0, 0, 0).
-pub(super) fn gpu_page(entry: u32, brick: [u32; 3], brick_vox: u32, slot_vox: u32) -> [u32; 4] {
+/// voxels) held in a slot, the atlas texel of its level's voxel 0 (exact integers: past the
+/// slot's apron, back by the held brick's first voxel) and 2^-level; for a constant, (value, 0,
+/// 0, 0).
+pub(super) fn gpu_page(entry: u32, brick: [u32; 3], brick_vox: u32) -> [u32; 4] {
     if entry & CONSTANT != 0 {
         let value = if entry & CONSTANT_F16 != 0 {
             half::f16::from_bits(entry as u16).to_f32()
@@ -61,8 +62,10 @@ pub(super) fn gpu_page(entry: u32, brick: [u32; 3], brick_vox: u32, slot_vox: u3
         return [value.to_bits(), 0, 0, 0];
     }
     let (slot, level) = BrickLayout::decode_entry(entry);
+    let slot_vox = brick_vox + 2 * APRON;
     let origin = |a: usize| {
-        (i64::from(slot[a] * slot_vox) + 1 - i64::from((brick[a] >> level) * brick_vox)) as f32
+        let held = i64::from((brick[a] >> level) * brick_vox);
+        (i64::from(slot[a] * slot_vox + APRON) - held) as f32
     };
     [
         origin(0).to_bits(),

@@ -506,9 +506,9 @@ pub(super) fn allocate(
 /// The `VolumeGeometry` uniform of a volume of `dims` laid out by `plan`.
 fn geometry(dims: [u32; 3], plan: Plan) -> VolumeGeometry {
     let extent = plan.extent();
-    let (brick_vox, slot_vox) = match plan {
-        Plan::Single(_) => (0, 0),
-        Plan::Bricked(atlas) => (atlas.brick_vox, atlas.slot_vox()),
+    let brick_vox = match plan {
+        Plan::Single(_) => 0,
+        Plan::Bricked(atlas) => atlas.brick_vox,
     };
     let texel_size = extent.map(|e| 1.0 / e as f32);
     let bricked = brick_vox != 0;
@@ -530,13 +530,13 @@ fn geometry(dims: [u32; 3], plan: Plan) -> VolumeGeometry {
         dims,
         brick_vox,
         texel_size,
-        slot_vox,
-        bricks_per_box,
         _pad0: 0,
-        last_brick,
+        bricks_per_box,
         _pad1: 0,
-        atlas_per_box: std::array::from_fn(|a| dims[a] as f32 * texel_size[a]),
+        last_brick,
         _pad2: 0,
+        atlas_per_box: std::array::from_fn(|a| dims[a] as f32 * texel_size[a]),
+        _pad3: 0,
     }
 }
 

@@ -7,12 +7,12 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use super::atlas::encode_brick;
+use super::atlas::{encode_brick, gpu_page};
 use super::encoding::{TexelEncoding, TexelSource, bytes_per_texel};
 use super::ranges::{BrickRange, brick_ranges};
 use super::unseen::{Cull, REACH, SlicePlane, Unseen, brick_box, in_frustum};
 use crate::accel::bricks::BrickLayout;
-use crate::accel::residency::{BrickKey, Residency, Wanted, dilate};
+use crate::accel::residency::{BrickKey, Residency, Wanted, dilate, index_to_brick};
 use crate::parallel::parallel;
 use crate::render::context::GpuContext;
 use crate::volume::Volume;
@@ -369,23 +369,17 @@ impl Resident {
             .count();
         let pages = self.residency.grid(0);
         let gpu = |entries: &[u32]| -> Vec<[u32; 4]> {
-            let [nx, ny, _] = pages.map(|p| p as usize);
-            let slot_vox = self.brick_vox + 2 * crate::accel::bricks::APRON;
-            (entries.iter().enumerate())
-                .map(|(i, &e)| {
-                    let b = [i % nx, i / nx % ny, i / (nx * ny)].map(|c| c as u32);
-                    super::atlas::gpu_page(e, b, self.brick_vox, slot_vox)
-                })
+            (entries.iter().zip(0u32..))
+                .map(|(&e, i)| gpu_page(e, index_to_brick(i, pages), self.brick_vox))
                 .collect()
         };
         write_page_texture(ctx, &self.rays, pages, &gpu(&tables.rays));
         write_page_texture(ctx, &self.slices, pages, &gpu(&tables.slices));
         let before = std::mem::replace(&mut self.rays_written, tables.rays);
         (before.len() == self.rays_written.len()).then(|| {
-            let [nx, ny, _] = pages.map(|p| p as usize);
-            (before.iter().zip(&self.rays_written).enumerate())
-                .filter(|(_, (a, b))| a != b)
-                .map(|(i, _)| [i % nx, i / nx % ny, i / (nx * ny)].map(|c| c as u32))
+            (before.iter().zip(&self.rays_written).zip(0u32..))
+                .filter(|((a, b), _)| a != b)
+                .map(|(_, i)| index_to_brick(i, pages))
                 .collect()
         })
     }
