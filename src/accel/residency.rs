@@ -54,6 +54,8 @@ pub struct Residency {
     held: Vec<Option<BrickKey>>,
     last_wanted: Vec<u64>,
     frame: u64,
+    /// Bricks admitted or evicted since the page tables were last refreshed.
+    dirty: Vec<BrickKey>,
 }
 
 impl Residency {
@@ -71,6 +73,7 @@ impl Residency {
             held: vec![None; capacity as usize],
             last_wanted: vec![0; capacity as usize],
             frame: 0,
+            dirty: Vec::new(),
         }
     }
 
@@ -254,7 +257,9 @@ impl Residency {
         for (key, slot) in missing.into_iter().zip(candidates) {
             if let Some(old) = self.held[slot as usize].take() {
                 self.resident.remove(&old);
+                self.dirty.push(old);
             }
+            self.dirty.push(key);
             self.held[slot as usize] = Some(key);
             self.last_wanted[slot as usize] = self.frame;
             self.resident.insert(key, slot);
@@ -269,6 +274,57 @@ impl Residency {
         [index % sx, (index / sx) % sy, index / (sx * sy)]
     }
 
+    /// The finest resident level holding each brick of level 0 (x fastest), with its slot:
+    /// every level's answer from the one above it, coarsest first, over dense grids filled
+    /// from the resident bricks (no lookup per brick and level: 2048 × 2048 × 1024 has 131 072
+    /// bricks and eight levels).
+    fn finest_resident_all(&self) -> Vec<Option<(u32, u32)>> {
+        let grids: Vec<[u32; 3]> = (0..self.levels).map(|l| self.grid(l)).collect();
+        let count = |g: &[u32; 3]| g.iter().map(|&v| v as usize).product::<usize>();
+        let mut own: Vec<Vec<Option<u32>>> = grids.iter().map(|g| vec![None; count(g)]).collect();
+        for (key, &slot) in &self.resident {
+            let g = grids[key.level as usize];
+            let [x, y, z] = key.brick;
+            own[key.level as usize][(x + g[0] * (y + g[1] * z)) as usize] = Some(slot);
+        }
+        let mut above: Vec<Option<(u32, u32)>> = Vec::new();
+        for level in (0..self.levels).rev() {
+            let g = grids[level as usize];
+            let up = grids.get(level as usize + 1).copied().unwrap_or([1; 3]);
+            let own = &own[level as usize];
+            let finest = |i: usize| {
+                own[i].map(|s| (level, s)).or_else(|| {
+                    let [x, y, z] = index_to_brick(i as u32, g).map(|c| c >> 1);
+                    above
+                        .get((x + up[0] * (y + up[1] * z)) as usize)
+                        .copied()
+                        .flatten()
+                })
+            };
+            above = (0..count(&g)).map(finest).collect();
+        }
+        above
+    }
+
+    /// Brick `i` of level 0's (rays', slices') entries, its finest resident ancestor being
+    /// `finest` (level, slot).
+    fn entries_of(
+        &self,
+        i: usize,
+        finest: Option<(u32, u32)>,
+        wanted: &Wanted,
+        constants: &[Option<u32>],
+    ) -> (u32, u32) {
+        let entry = finest
+            .map(|(level, slot)| BrickLayout::page_entry(self.slot_coords(slot), level))
+            .unwrap_or(0);
+        let constant = wanted.constant.get(i).copied().unwrap_or(false);
+        match constants.get(i).copied().flatten().filter(|_| constant) {
+            Some(c) => (CONSTANT | c, entry),
+            None => (entry, entry),
+        }
+    }
+
     /// The finest resident level holding brick `b` of level 0, with its slot.
     fn finest_resident(&self, b: [u32; 3]) -> Option<(u32, u32)> {
         (0..self.levels).find_map(|level| {
@@ -280,31 +336,85 @@ impl Residency {
         })
     }
 
+    /// Brings `tables`, the page tables of this residency as it stood at their last refresh
+    /// with `before` as the constant flags, up to `wanted` (and `constants`, as then): only the
+    /// bricks of level 0 under a brick admitted or evicted since, or whose flag changed, are
+    /// looked at again. Returns them, or `None` where they were more than a quarter of the
+    /// table and it was rebuilt whole (a 2048 × 2048 × 1024 volume's tables have 131 072
+    /// entries; a frame while bricks stream changes some hundreds).
+    pub fn refresh_page_tables(
+        &mut self,
+        tables: &mut PageTables,
+        before: &[bool],
+        wanted: &Wanted,
+        constants: &[Option<u32>],
+    ) -> Option<Vec<usize>> {
+        let dirty = std::mem::take(&mut self.dirty);
+        let n = self.page_count();
+        let whole = |r: &Self, tables: &mut PageTables| {
+            *tables = r.page_tables(wanted, constants);
+            None
+        };
+        if before.len() != wanted.constant.len() || tables.rays.len() != n {
+            return whole(self, tables);
+        }
+        let grid = self.grid(0);
+        let mut marked = vec![false; n];
+        let mut touched: Vec<usize> = (before.iter().zip(&wanted.constant).enumerate())
+            .filter(|(_, (a, b))| a != b)
+            .map(|(i, _)| i)
+            .collect();
+        for &i in &touched {
+            marked[i] = true;
+        }
+        for key in dirty {
+            let l = key.level;
+            let lo = key.brick.map(|c| c << l);
+            let hi: [u32; 3] = std::array::from_fn(|a| ((key.brick[a] + 1) << l).min(grid[a]));
+            let count: usize = (0..3)
+                .map(|a| hi[a].saturating_sub(lo[a]) as usize)
+                .product();
+            if touched.len() + count > n / 4 {
+                return whole(self, tables);
+            }
+            for z in lo[2]..hi[2] {
+                for y in lo[1]..hi[1] {
+                    for x in lo[0]..hi[0] {
+                        let i = (x + grid[0] * (y + grid[1] * z)) as usize;
+                        if !marked[i] {
+                            marked[i] = true;
+                            touched.push(i);
+                        }
+                    }
+                }
+            }
+        }
+        for &i in &touched {
+            let finest = self.finest_resident(index_to_brick(i as u32, grid));
+            (tables.rays[i], tables.slices[i]) = self.entries_of(i, finest, wanted, constants);
+        }
+        tables.levels = (tables.rays.iter())
+            .filter(|&&e| e & CONSTANT == 0)
+            .fold(0, |levels, &e| levels | 1 << BrickLayout::decode_entry(e).1);
+        Some(touched)
+    }
+
     /// The page tables (x fastest, one entry per brick of level 0): the rays' (a constant where
     /// `wanted` says so and `constants` has one, else the finest resident ancestor) and the
     /// slices' (always the finest resident ancestor: slices show data, never a constant), and
     /// the levels the rays' entries read (bit `k` for level `k`).
     pub fn page_tables(&self, wanted: &Wanted, constants: &[Option<u32>]) -> PageTables {
-        let pages = self.grid(0);
         let n = self.page_count();
         let mut rays = Vec::with_capacity(n);
         let mut slices = Vec::with_capacity(n);
         let mut levels = 0u32;
-        for i in 0..n {
-            let b = index_to_brick(i as u32, pages);
-            let data = self
-                .finest_resident(b)
-                .map(|(level, slot)| BrickLayout::page_entry(self.slot_coords(slot), level));
-            let entry = data.unwrap_or(0);
-            slices.push(entry);
-            let constant = wanted.constant.get(i).copied().unwrap_or(false);
-            match constants.get(i).copied().flatten().filter(|_| constant) {
-                Some(c) => rays.push(CONSTANT | c),
-                None => {
-                    levels |= 1 << BrickLayout::decode_entry(entry).1;
-                    rays.push(entry);
-                }
+        for (i, finest) in self.finest_resident_all().into_iter().enumerate() {
+            let (ray, slice) = self.entries_of(i, finest, wanted, constants);
+            if ray & CONSTANT == 0 {
+                levels |= 1 << BrickLayout::decode_entry(ray).1;
             }
+            rays.push(ray);
+            slices.push(slice);
         }
         PageTables {
             rays,
@@ -315,7 +425,7 @@ impl Residency {
 }
 
 /// The page tables a frame binds.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct PageTables {
     /// The rays' table.
     pub rays: Vec<u32>,
@@ -473,6 +583,78 @@ mod tests {
             brick: [1, 1, 0]
         }));
         assert_eq!(r.resident_count(), 3);
+    }
+
+    #[test]
+    fn every_page_reads_its_finest_resident_ancestor_as_a_search_level_by_level_finds() {
+        // An uneven grid (odd bricks per axis) and bricks of every level resident at random.
+        let mut r = Residency::new([200, 130, 70], 16, [64, 64, 64], 4096);
+        let mut seed = 7u64;
+        let mut coin = |n: u64| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) % n
+        };
+        let bricks: Vec<BrickKey> = (0..r.levels())
+            .rev()
+            .flat_map(|level| grid_keys(r.grid(level), level).collect::<Vec<_>>())
+            .filter(|k| k.level + 1 == r.levels() || coin(3) == 0)
+            .collect();
+        let wanted = Wanted {
+            level: 0,
+            bricks,
+            constant: vec![false; r.page_count()],
+        };
+        r.want(&wanted);
+        r.admit(&wanted, usize::MAX);
+        let tables = r.page_tables(&wanted, &[]);
+        for (i, &entry) in tables.slices.iter().enumerate() {
+            let b = index_to_brick(i as u32, r.grid(0));
+            let (level, slot) = (0..r.levels())
+                .find_map(|level| {
+                    let key = BrickKey {
+                        level,
+                        brick: b.map(|c| c >> level),
+                    };
+                    r.resident.get(&key).map(|&s| (level, s))
+                })
+                .expect("the coarsest brick is resident");
+            assert_eq!(
+                entry,
+                BrickLayout::page_entry(r.slot_coords(slot), level),
+                "brick {b:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn refreshed_page_tables_equal_tables_made_whole_as_bricks_come_and_go() {
+        // Capacity for a fraction of the bricks: admissions evict, flags change between frames.
+        let mut r = Residency::new([200, 130, 70], 16, [8, 8, 8], 60);
+        let mut seed = 11u64;
+        let mut coin = |n: u64| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) % n
+        };
+        let n = r.page_count();
+        let constants: Vec<Option<u32>> = (0..n as u32).map(|i| Some(i % 7)).collect();
+        let mut tables = PageTables::default();
+        let mut before: Vec<bool> = Vec::new();
+        let mut partial = 0;
+        for frame in 0..40 {
+            let needs: Vec<bool> = (0..n).map(|_| coin(4) == 0).collect();
+            let wanted = r.decide(&needs, &[]);
+            r.want(&wanted);
+            r.admit(&wanted, 1 + coin(20) as usize);
+            let refreshed = r.refresh_page_tables(&mut tables, &before, &wanted, &constants);
+            partial += usize::from(refreshed.is_some());
+            before.clone_from(&wanted.constant);
+            assert_eq!(tables, r.page_tables(&wanted, &constants), "frame {frame}");
+        }
+        assert!(partial > 20, "{partial} of 40 refreshes were partial");
     }
 
     #[test]

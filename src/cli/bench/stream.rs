@@ -35,6 +35,10 @@ struct Row {
     wall_ms: f64,
     /// The GPU's time for the frame's passes (timestamp queries), where the adapter has them.
     gpu_ms: Option<f64>,
+    /// The GPU's time for the leaping structures' rebuild (emptiness and distance field).
+    rebuild_ms: Option<f64>,
+    /// The CPU's time for the residency update (deciding, uploading, page tables).
+    residency_ms: f64,
     since_upload_ms: f64,
     levels: String,
     resident: usize,
@@ -123,6 +127,8 @@ pub fn run(args: &BenchArgs, file: &Path) -> Result<(), Failure> {
             azimuth,
             wall_ms,
             gpu_ms: results.gpu_ms,
+            rebuild_ms: results.rebuild_ms,
+            residency_ms: renderer.residency_ms(),
             since_upload_ms: upload_start.elapsed().as_secs_f64() * 1e3,
             levels: status.map(|s| s.levels_read()).unwrap_or_default(),
             resident: status.map_or(0, |s| s.resident),
@@ -173,17 +179,20 @@ fn write(path: &Path, text: &str) -> Result<(), Failure> {
 
 fn csv(rows: &[Row]) -> String {
     let mut s = String::from(
-        "phase,frame,azimuth_deg,wall_ms,gpu_ms,since_upload_ms,levels,resident,wanted,missing,bytes\n",
+        "phase,frame,azimuth_deg,wall_ms,gpu_ms,rebuild_ms,residency_ms,since_upload_ms,levels,\
+         resident,wanted,missing,bytes\n",
     );
     for r in rows {
         let gpu = r.gpu_ms.map(|g| format!("{g:.3}")).unwrap_or_default();
+        let rebuild = r.rebuild_ms.map(|g| format!("{g:.3}")).unwrap_or_default();
         let _ = writeln!(
             s,
-            "{},{},{:.1},{:.3},{gpu},{:.1},\"{}\",{},{},{},{}",
+            "{},{},{:.1},{:.3},{gpu},{rebuild},{:.3},{:.1},\"{}\",{},{},{},{}",
             r.phase,
             r.frame,
             r.azimuth,
             r.wall_ms,
+            r.residency_ms,
             r.since_upload_ms,
             r.levels,
             r.resident,
@@ -269,6 +278,17 @@ fn summary(s: &Summary) -> String {
         quantile(&mut wall, 1.0),
         quantile(&mut gpu, 0.5),
         quantile(&mut gpu, 1.0),
+    );
+    let missing: Vec<&&Row> = orbit.iter().filter(|r| r.missing > 0).collect();
+    let mut residency: Vec<f64> = missing.iter().map(|r| r.residency_ms).collect();
+    let mut rebuild: Vec<f64> = missing.iter().filter_map(|r| r.rebuild_ms).collect();
+    let _ = writeln!(
+        t,
+        "- where a streaming frame's time goes (median, max): the residency update on the CPU (deciding, uploading, page tables) {:.2} ms, {:.2} ms; the leaping structures' rebuild on the GPU {:.2} ms, {:.2} ms",
+        quantile(&mut residency, 0.5),
+        quantile(&mut residency, 1.0),
+        quantile(&mut rebuild, 0.5),
+        quantile(&mut rebuild, 1.0),
     );
     if let Some(r) = last {
         let _ = writeln!(

@@ -5,6 +5,7 @@
 //! slices').
 
 use std::sync::Arc;
+use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use super::atlas::{encode_brick, gpu_page};
@@ -12,14 +13,15 @@ use super::encoding::{TexelEncoding, TexelSource, bytes_per_texel};
 use super::ranges::{BrickRange, brick_ranges};
 use super::unseen::{Cull, REACH, SlicePlane, Unseen, brick_box, in_frustum};
 use crate::accel::bricks::BrickLayout;
-use crate::accel::residency::{BrickKey, Residency, Wanted, dilate, index_to_brick};
+use crate::accel::residency::{BrickKey, PageTables, Residency, Wanted, dilate, index_to_brick};
 use crate::parallel::parallel;
 use crate::render::context::GpuContext;
 use crate::volume::Volume;
 use crate::volume::downsample::Level;
 
-/// Bricks encoded and written per batch (about 5 MB of 16-bit slots).
-const BATCH: usize = 64;
+/// Bricks encoded and written per batch (about 1.3 MB of 16-bit slots): small enough that a
+/// frame's upload time is kept to within a batch (64 took 7 ms on the H100 machine's host).
+const BATCH: usize = 16;
 
 /// What a decision was made for: the rule's key, the slice planes, the frustum.
 type Decided = ((u8, u64), Vec<SlicePlane>, Option<[f64; 16]>);
@@ -76,9 +78,12 @@ pub struct Resident {
     brick_vox: u32,
     residency: Residency,
     ranges: Option<Vec<BrickRange>>,
+    /// The ranges while a worker still computes them: until then every brick needs data, and
+    /// the first picture need not wait for a pass over the whole volume.
+    ranges_coming: Option<JoinHandle<Option<Vec<BrickRange>>>>,
     rays: wgpu::Texture,
-    /// What `rays` was last written with (empty before the first write).
-    rays_written: Vec<u32>,
+    /// What the page tables were last written with (`None` before the first write).
+    written: Option<Written>,
     slices: wgpu::Texture,
     decided_for: Option<Decided>,
     wanted: Option<Wanted>,
@@ -96,6 +101,7 @@ impl Resident {
         (brick_vox, slots, capacity): (u32, [u32; 3], u32),
     ) -> Self {
         let residency = Residency::new(volume.dims(), brick_vox, slots, capacity);
+        let started = Instant::now();
         let mut levels: Vec<Level> = Vec::new();
         for _ in 1..residency.levels() {
             let next = match levels.last() {
@@ -104,22 +110,36 @@ impl Resident {
             };
             levels.push(next);
         }
+        log::debug!(
+            "{} coarser levels halved in {:.0} ms",
+            levels.len(),
+            started.elapsed().as_secs_f64() * 1e3
+        );
         let pages = residency.grid(0);
         // Ranges only matter where not every brick of level 0 fits.
         let all = residency.page_count() as u64 + u64::from(residency.levels() > 1);
-        let ranges = (all > u64::from(capacity) && volume.colour().is_none())
-            .then(|| brick_ranges(&volume, &encoding, brick_vox))
-            .flatten();
+        let (ranges, ranges_coming) = if all > u64::from(capacity) && volume.colour().is_none() {
+            match ranges_worker(Arc::clone(&volume), encoding, brick_vox) {
+                Ok(worker) => (None, Some(worker)),
+                Err(e) => {
+                    log::warn!("no thread for the bricks' value ranges ({e}): computed first");
+                    (brick_ranges(&volume, &encoding, brick_vox), None)
+                }
+            }
+        } else {
+            (None, None)
+        };
         Self {
             rays: page_texture(ctx, pages, "volume page table (rays)"),
             slices: page_texture(ctx, pages, "volume page table (slices)"),
-            rays_written: Vec::new(),
+            written: None,
             volume,
             levels,
             encoding,
             brick_vox,
             residency,
             ranges,
+            ranges_coming,
             decided_for: None,
             wanted: None,
             status: ResidencyStatus::default(),
@@ -167,6 +187,7 @@ impl Resident {
         time: Option<Duration>,
     ) -> Update {
         let start = Instant::now();
+        self.receive_ranges(time.is_none());
         let key = match &self.ranges {
             Some(_) if !unseen.cull.is_nothing() => {
                 let (kind, value) = unseen.cull.key();
@@ -203,6 +224,7 @@ impl Resident {
             }
             self.decided_for = Some(key);
         }
+        let decided = start.elapsed();
         let Some(mut wanted) = self.wanted.take() else {
             return Update::default();
         };
@@ -218,12 +240,17 @@ impl Resident {
                     .map(|a| ((f64::from(k.brick[a]) + 0.5) * size - eye[a]).powi(2))
                     .sum::<f64>()
             };
-            wanted.bricks[1..].sort_by(|p, q| {
-                q.level
-                    .cmp(&p.level)
-                    .then(distance(p).total_cmp(&distance(q)))
-            });
+            // Each brick's distance once, not once per comparison.
+            let mut order: Vec<(u32, f64, BrickKey)> = wanted.bricks[1..]
+                .iter()
+                .map(|k| (k.level, distance(k), *k))
+                .collect();
+            order.sort_by(|p, q| q.0.cmp(&p.0).then(p.1.total_cmp(&q.1)));
+            for (to, (_, _, k)) in wanted.bricks[1..].iter_mut().zip(order) {
+                *to = k;
+            }
         }
+        let sorted = start.elapsed();
         loop {
             let given = self.residency.admit(&wanted, BATCH);
             if given.is_empty() {
@@ -235,6 +262,7 @@ impl Resident {
                 break;
             }
         }
+        let uploaded = start.elapsed();
         let missing = self.residency.missing(&wanted);
         self.status.missing = missing;
         let mut bricks = None;
@@ -253,11 +281,39 @@ impl Resident {
                 * bytes_per_texel(self.encoding.format) as u64;
         }
         self.wanted = Some(wanted);
+        log::debug!(
+            "residency update: decided {:.2} ms, sorted {:.2}, uploaded {:.2}, pages {:.2}",
+            decided.as_secs_f64() * 1e3,
+            (sorted - decided).as_secs_f64() * 1e3,
+            (uploaded - sorted).as_secs_f64() * 1e3,
+            (start.elapsed() - uploaded).as_secs_f64() * 1e3,
+        );
         Update {
             changed,
             bricks,
-            complete: missing == 0,
+            complete: missing == 0 && self.ranges_coming.is_none(),
         }
+    }
+
+    /// Takes the bricks' value ranges once the worker has them (`wait`: waits for them), and
+    /// has residency decided again with them.
+    fn receive_ranges(&mut self, wait: bool) {
+        if !self
+            .ranges_coming
+            .as_ref()
+            .is_some_and(|w| wait || w.is_finished())
+        {
+            return;
+        }
+        let Some(worker) = self.ranges_coming.take() else {
+            return;
+        };
+        // A worker that panicked leaves every brick needing data, as without ranges.
+        self.ranges = worker.join().ok().flatten();
+        self.decided_for = None;
+        // Every brick may now read a constant: the page tables are written whole.
+        self.written = None;
+        log::debug!("brick value ranges arrived");
     }
 
     /// Which bricks of level 0 the rays need the data of: those `unseen` does not empty (over
@@ -360,7 +416,17 @@ impl Resident {
             Some(r) => r.iter().map(|r| r.constant).collect(),
             None => Vec::new(),
         };
-        let tables = self.residency.page_tables(wanted, &constants);
+        let first = self.written.is_none();
+        let mut written = self.written.take().unwrap_or_default();
+        let old_rays = written.tables.rays.clone();
+        let touched = self.residency.refresh_page_tables(
+            &mut written.tables,
+            &written.constant,
+            wanted,
+            &constants,
+        );
+        written.constant.clone_from(&wanted.constant);
+        let tables = &written.tables;
         self.status.levels = tables.levels;
         self.status.constant = tables
             .rays
@@ -368,21 +434,50 @@ impl Resident {
             .filter(|&&e| e & crate::accel::residency::CONSTANT != 0)
             .count();
         let pages = self.residency.grid(0);
-        let gpu = |entries: &[u32]| -> Vec<[u32; 4]> {
-            (entries.iter().zip(0u32..))
-                .map(|(&e, i)| gpu_page(e, index_to_brick(i, pages), self.brick_vox))
-                .collect()
-        };
-        write_page_texture(ctx, &self.rays, pages, &gpu(&tables.rays));
-        write_page_texture(ctx, &self.slices, pages, &gpu(&tables.slices));
-        let before = std::mem::replace(&mut self.rays_written, tables.rays);
-        (before.len() == self.rays_written.len()).then(|| {
-            (before.iter().zip(&self.rays_written).zip(0u32..))
+        let gpu = |e: u32, i: usize| gpu_page(e, index_to_brick(i as u32, pages), self.brick_vox);
+        match &touched {
+            Some(touched) => {
+                for &i in touched {
+                    written.rays[i] = gpu(tables.rays[i], i);
+                    written.slices[i] = gpu(tables.slices[i], i);
+                }
+            }
+            None => {
+                written.rays = (tables.rays.iter().enumerate())
+                    .map(|(i, &e)| gpu(e, i))
+                    .collect();
+                written.slices = (tables.slices.iter().enumerate())
+                    .map(|(i, &e)| gpu(e, i))
+                    .collect();
+            }
+        }
+        write_page_texture(ctx, &self.rays, pages, &written.rays);
+        write_page_texture(ctx, &self.slices, pages, &written.slices);
+        let changed: Option<Vec<[u32; 3]>> = (!first).then(|| match &touched {
+            Some(touched) => (touched.iter())
+                .filter(|&&i| old_rays[i] != written.tables.rays[i])
+                .map(|&i| index_to_brick(i as u32, pages))
+                .collect(),
+            None => (old_rays.iter().zip(&written.tables.rays).zip(0u32..))
                 .filter(|((a, b), _)| a != b)
                 .map(|(_, i)| index_to_brick(i, pages))
-                .collect()
-        })
+                .collect(),
+        });
+        self.written = Some(written);
+        changed
     }
+}
+
+/// The page tables as last written: for the residency's refresh, and as the GPU holds them.
+#[derive(Default)]
+struct Written {
+    /// Both tables as the residency gives them.
+    tables: PageTables,
+    /// The constant flags they were made with.
+    constant: Vec<bool>,
+    /// The GPU's copies (`gpu_page`).
+    rays: Vec<[u32; 4]>,
+    slices: Vec<[u32; 4]>,
 }
 
 /// An empty page table of `pages` entries per axis.
@@ -429,4 +524,23 @@ fn write_page_texture(
             depth_or_array_layers: pages[2],
         },
     );
+}
+
+/// Computes the bricks' value ranges on a thread of their own (on all cores).
+fn ranges_worker(
+    volume: Arc<Volume>,
+    encoding: TexelEncoding,
+    brick_vox: u32,
+) -> std::io::Result<JoinHandle<Option<Vec<BrickRange>>>> {
+    std::thread::Builder::new()
+        .name("brick ranges".into())
+        .spawn(move || {
+            let started = Instant::now();
+            let ranges = brick_ranges(&volume, &encoding, brick_vox);
+            log::debug!(
+                "brick value ranges in {:.0} ms",
+                started.elapsed().as_secs_f64() * 1e3
+            );
+            ranges
+        })
 }
