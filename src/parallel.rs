@@ -12,9 +12,23 @@ pub fn parallel<R: Send>(
     stop: &(dyn Fn() -> bool + Sync),
     work: &(dyn Fn(usize) -> R + Sync),
 ) -> Vec<Option<R>> {
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(count.max(1));
+    parallel_on(cores(), count, stop, work)
+}
+
+/// The cores this process may use.
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// [`parallel`] on at most `threads` threads (work in the background that leaves cores to the
+/// frames).
+pub fn parallel_on<R: Send>(
+    threads: usize,
+    count: usize,
+    stop: &(dyn Fn() -> bool + Sync),
+    work: &(dyn Fn(usize) -> R + Sync),
+) -> Vec<Option<R>> {
+    let threads = threads.clamp(1, count.max(1));
     let next = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<R>>> = Mutex::new((0..count).map(|_| None).collect());
     std::thread::scope(|scope| {

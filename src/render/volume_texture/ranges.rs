@@ -5,7 +5,7 @@ use super::encoding::{TexelEncoding, TexelSource, bytes_per_texel, encode_texels
 use super::unseen::REACH;
 use crate::accel::bricks::BrickLayout;
 use crate::accel::residency::CONSTANT_F16;
-use crate::parallel::parallel;
+use crate::parallel::parallel_on;
 use crate::volume::Volume;
 
 /// A brick of level 0's texels and those within [`REACH`] of it, as the shaders decode them.
@@ -28,6 +28,7 @@ pub(super) fn brick_ranges(
     volume: &Volume,
     encoding: &TexelEncoding,
     brick_vox: u32,
+    threads: usize,
 ) -> Option<Vec<BrickRange>> {
     use wgpu::TextureFormat as F;
     if volume.non_finite_count() > 0
@@ -42,7 +43,7 @@ pub(super) fn brick_ranges(
     let source = TexelSource::of(volume);
     let format = encoding.format;
     let dims = volume.dims();
-    let ranges = parallel(layout.count() as usize, &|| false, &|i| {
+    let ranges = parallel_on(threads, layout.count() as usize, &|| false, &|i| {
         let brick = layout.brick_at(i as u32);
         // Voxels [first, last] of each axis.
         let span: [(usize, usize); 3] = std::array::from_fn(|a| {
