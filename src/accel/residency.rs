@@ -339,21 +339,31 @@ impl Residency {
     /// Brings `tables`, the page tables of this residency as it stood at their last refresh
     /// with `before` as the constant flags, up to `wanted` (and `constants`, as then): only the
     /// bricks of level 0 under a brick admitted or evicted since, or whose flag changed, are
-    /// looked at again. Returns them, or `None` where they were more than a quarter of the
-    /// table and it was rebuilt whole (a 2048 × 2048 × 1024 volume's tables have 131 072
-    /// entries; a frame while bricks stream changes some hundreds).
+    /// looked at again, or the whole table where they are more than a quarter of it (a
+    /// 2048 × 2048 × 1024 volume's tables have 131 072 entries; a frame while bricks stream
+    /// changes some hundreds).
     pub fn refresh_page_tables(
         &mut self,
         tables: &mut PageTables,
         before: &[bool],
         wanted: &Wanted,
         constants: &[Option<u32>],
-    ) -> Option<Vec<usize>> {
+    ) -> Refreshed {
         let dirty = std::mem::take(&mut self.dirty);
         let n = self.page_count();
         let whole = |r: &Self, tables: &mut PageTables| {
-            *tables = r.page_tables(wanted, constants);
-            None
+            let new = r.page_tables(wanted, constants);
+            let rays_changed = (tables.rays.len() == n).then(|| {
+                (tables.rays.iter().zip(&new.rays).enumerate())
+                    .filter(|(_, (a, b))| a != b)
+                    .map(|(i, _)| i)
+                    .collect()
+            });
+            *tables = new;
+            Refreshed {
+                looked_at: None,
+                rays_changed,
+            }
         };
         if before.len() != wanted.constant.len() || tables.rays.len() != n {
             return whole(self, tables);
@@ -389,14 +399,20 @@ impl Residency {
                 }
             }
         }
+        let mut rays_changed = Vec::new();
         for &i in &touched {
             let finest = self.finest_resident(index_to_brick(i as u32, grid));
-            (tables.rays[i], tables.slices[i]) = self.entries_of(i, finest, wanted, constants);
+            let (ray, slice) = self.entries_of(i, finest, wanted, constants);
+            if ray != tables.rays[i] {
+                rays_changed.push(i);
+            }
+            (tables.rays[i], tables.slices[i]) = (ray, slice);
         }
-        tables.levels = (tables.rays.iter())
-            .filter(|&&e| e & CONSTANT == 0)
-            .fold(0, |levels, &e| levels | 1 << BrickLayout::decode_entry(e).1);
-        Some(touched)
+        tables.levels = levels_read(&tables.rays);
+        Refreshed {
+            looked_at: Some(touched),
+            rays_changed: Some(rays_changed),
+        }
     }
 
     /// The page tables (x fastest, one entry per brick of level 0): the rays' (a constant where
@@ -407,19 +423,15 @@ impl Residency {
         let n = self.page_count();
         let mut rays = Vec::with_capacity(n);
         let mut slices = Vec::with_capacity(n);
-        let mut levels = 0u32;
         for (i, finest) in self.finest_resident_all().into_iter().enumerate() {
             let (ray, slice) = self.entries_of(i, finest, wanted, constants);
-            if ray & CONSTANT == 0 {
-                levels |= 1 << BrickLayout::decode_entry(ray).1;
-            }
             rays.push(ray);
             slices.push(slice);
         }
         PageTables {
+            levels: levels_read(&rays),
             rays,
             slices,
-            levels,
         }
     }
 }
@@ -433,6 +445,22 @@ pub struct PageTables {
     pub slices: Vec<u32>,
     /// Levels the rays read data from (bit `k` for level `k`).
     pub levels: u32,
+}
+
+/// What [`Residency::refresh_page_tables`] did.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Refreshed {
+    /// The entries it looked at again (`None`: it rebuilt the tables whole).
+    pub looked_at: Option<Vec<usize>>,
+    /// The entries of the rays' table that changed (`None`: the tables were new).
+    pub rays_changed: Option<Vec<usize>>,
+}
+
+/// The levels a rays' page table reads data from (bit `k` for level `k`).
+fn levels_read(rays: &[u32]) -> u32 {
+    (rays.iter())
+        .filter(|&&e| e & CONSTANT == 0)
+        .fold(0, |levels, &e| levels | 1 << BrickLayout::decode_entry(e).1)
 }
 
 /// Brick `index` (x fastest) of a grid of `grid` bricks per axis.
@@ -480,6 +508,16 @@ mod tests {
     use super::*;
 
     /// A volume of 4 × 2 × 1 bricks of 8³ (levels: 4×2×1, 2×1×1, 1×1×1).
+    /// A seeded coin of `n` sides (an LCG): random residencies that repeat.
+    fn coin(mut seed: u64) -> impl FnMut(u64) -> u64 {
+        move |n| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) % n
+        }
+    }
+
     fn residency(capacity: u32) -> Residency {
         Residency::new([32, 16, 8], 8, [4, 4, 4], capacity)
     }
@@ -589,13 +627,7 @@ mod tests {
     fn every_page_reads_its_finest_resident_ancestor_as_a_search_level_by_level_finds() {
         // An uneven grid (odd bricks per axis) and bricks of every level resident at random.
         let mut r = Residency::new([200, 130, 70], 16, [64, 64, 64], 4096);
-        let mut seed = 7u64;
-        let mut coin = |n: u64| {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 33) % n
-        };
+        let mut coin = coin(7);
         let bricks: Vec<BrickKey> = (0..r.levels())
             .rev()
             .flat_map(|level| grid_keys(r.grid(level), level).collect::<Vec<_>>())
@@ -632,13 +664,7 @@ mod tests {
     fn refreshed_page_tables_equal_tables_made_whole_as_bricks_come_and_go() {
         // Capacity for a fraction of the bricks: admissions evict, flags change between frames.
         let mut r = Residency::new([200, 130, 70], 16, [8, 8, 8], 60);
-        let mut seed = 11u64;
-        let mut coin = |n: u64| {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 33) % n
-        };
+        let mut coin = coin(11);
         let n = r.page_count();
         let constants: Vec<Option<u32>> = (0..n as u32).map(|i| Some(i % 7)).collect();
         let mut tables = PageTables::default();
@@ -649,10 +675,17 @@ mod tests {
             let wanted = r.decide(&needs, &[]);
             r.want(&wanted);
             r.admit(&wanted, 1 + coin(20) as usize);
+            let old = tables.rays.clone();
             let refreshed = r.refresh_page_tables(&mut tables, &before, &wanted, &constants);
-            partial += usize::from(refreshed.is_some());
+            partial += usize::from(refreshed.looked_at.is_some());
             before.clone_from(&wanted.constant);
             assert_eq!(tables, r.page_tables(&wanted, &constants), "frame {frame}");
+            let differ: Vec<usize> = (0..n)
+                .filter(|&i| old.get(i) != Some(&tables.rays[i]))
+                .collect();
+            let mut changed = refreshed.rays_changed.unwrap_or_else(|| (0..n).collect());
+            changed.sort_unstable();
+            assert_eq!(changed, differ, "frame {frame}");
         }
         assert!(partial > 20, "{partial} of 40 refreshes were partial");
     }

@@ -56,9 +56,6 @@ pub struct VolumeRenderer {
     residency_ms: f64,
     /// Frames that some wanted brick was missing from.
     bricks_generation: u64,
-    /// Whether bricks were still missing after this frame's residency update: the distance
-    /// field waits for them (the frame's bands leap by the pyramid alone).
-    distance_waits: bool,
     /// Residency updates that changed the page tables (the slices' pictures too).
     pages_generation: u64,
     /// The slice planes shown beside the rays (their bricks hold data).
@@ -116,7 +113,6 @@ impl VolumeRenderer {
             residency_time: None,
             residency_ms: 0.0,
             bricks_generation: 0,
-            distance_waits: false,
             pages_generation: 0,
             slice_planes: Vec::new(),
         })
@@ -175,7 +171,7 @@ impl VolumeRenderer {
     pub fn residency_complete(&self) -> bool {
         self.volume_texture()
             .and_then(|t| t.residency())
-            .is_none_or(|s| s.missing == 0)
+            .is_none_or(|s| s.complete)
     }
 
     /// Bumped by every frame that some wanted brick was missing from: while it changes, the
@@ -379,12 +375,13 @@ impl VolumeRenderer {
                 self.pages_generation += 1;
             }
             self.bricks_generation += u64::from(!update.complete);
-            self.distance_waits = !update.complete;
         }
         // While bricks arrive the distance field waits (its rebuild measured 16 ms a frame at
         // 2048 × 2048 × 1024 on an H100): the pyramid's flags, rebuilt every frame, leap exactly
-        // meanwhile, and the field is built once no brick is missing.
-        if self.distance_waits && concrete.strategy == crate::settings::Strategy::RcSDistance {
+        // meanwhile, and the field is built once residency is complete. Every band of a frame
+        // reads the status its first band's update left.
+        let streaming = (volume.texture.residency()).is_some_and(|s| !s.complete);
+        if streaming && concrete.strategy == crate::settings::Strategy::RcSDistance {
             concrete.strategy = crate::settings::Strategy::RcS;
         }
         let settings = &concrete;

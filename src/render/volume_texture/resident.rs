@@ -53,6 +53,9 @@ pub struct ResidencyStatus {
     pub wanted_at_level: usize,
     /// Bricks wanted and not yet resident.
     pub missing: usize,
+    /// Whether residency is final: no wanted brick missing, and the bricks' value ranges in
+    /// (until they are, every brick counts as needing data).
+    pub complete: bool,
     /// Bricks of level 0 served by a constant.
     pub constant: usize,
     /// Bytes the resident bricks take.
@@ -266,6 +269,7 @@ impl Resident {
         let uploaded = start.elapsed();
         let missing = self.residency.missing(&wanted);
         self.status.missing = missing;
+        self.status.complete = missing == 0 && self.ranges_coming.is_none();
         let mut bricks = None;
         if changed {
             bricks = self.write_pages(ctx, &wanted);
@@ -292,7 +296,7 @@ impl Resident {
         Update {
             changed,
             bricks,
-            complete: missing == 0 && self.ranges_coming.is_none(),
+            complete: self.status.complete,
         }
     }
 
@@ -409,18 +413,16 @@ impl Resident {
         let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
     }
 
-    /// Writes both page tables for `wanted` as residency stands.
-    /// Writes the page tables of `wanted`; returns the level-0 bricks whose rays' entry changed
-    /// (`None` the first time).
+    /// Writes both page tables for `wanted` as residency stands (the entries that may have
+    /// changed converted again, the tables written whole); returns the level-0 bricks whose
+    /// rays' entry changed (`None` where the tables are new).
     fn write_pages(&mut self, ctx: &GpuContext, wanted: &Wanted) -> Option<Vec<[u32; 3]>> {
         let constants: Vec<Option<u32>> = match &self.ranges {
             Some(r) => r.iter().map(|r| r.constant).collect(),
             None => Vec::new(),
         };
-        let first = self.written.is_none();
         let mut written = self.written.take().unwrap_or_default();
-        let old_rays = written.tables.rays.clone();
-        let touched = self.residency.refresh_page_tables(
+        let refreshed = self.residency.refresh_page_tables(
             &mut written.tables,
             &written.constant,
             wanted,
@@ -435,34 +437,28 @@ impl Resident {
             .filter(|&&e| e & crate::accel::residency::CONSTANT != 0)
             .count();
         let pages = self.residency.grid(0);
-        let gpu = |e: u32, i: usize| gpu_page(e, index_to_brick(i as u32, pages), self.brick_vox);
-        match &touched {
-            Some(touched) => {
-                for &i in touched {
-                    written.rays[i] = gpu(tables.rays[i], i);
-                    written.slices[i] = gpu(tables.slices[i], i);
-                }
-            }
+        let n = tables.rays.len();
+        written.rays.resize(n, [0; 4]);
+        written.slices.resize(n, [0; 4]);
+        let every: Vec<usize>;
+        let looked_at = match &refreshed.looked_at {
+            Some(some) => some,
             None => {
-                written.rays = (tables.rays.iter().enumerate())
-                    .map(|(i, &e)| gpu(e, i))
-                    .collect();
-                written.slices = (tables.slices.iter().enumerate())
-                    .map(|(i, &e)| gpu(e, i))
-                    .collect();
+                every = (0..n).collect();
+                &every
             }
+        };
+        for &i in looked_at {
+            let brick = index_to_brick(i as u32, pages);
+            written.rays[i] = gpu_page(tables.rays[i], brick, self.brick_vox);
+            written.slices[i] = gpu_page(tables.slices[i], brick, self.brick_vox);
         }
         write_page_texture(ctx, &self.rays, pages, &written.rays);
         write_page_texture(ctx, &self.slices, pages, &written.slices);
-        let changed: Option<Vec<[u32; 3]>> = (!first).then(|| match &touched {
-            Some(touched) => (touched.iter())
-                .filter(|&&i| old_rays[i] != written.tables.rays[i])
-                .map(|&i| index_to_brick(i as u32, pages))
-                .collect(),
-            None => (old_rays.iter().zip(&written.tables.rays).zip(0u32..))
-                .filter(|((a, b), _)| a != b)
-                .map(|(_, i)| index_to_brick(i, pages))
-                .collect(),
+        let changed = (refreshed.rays_changed).map(|c| {
+            c.into_iter()
+                .map(|i| index_to_brick(i as u32, pages))
+                .collect()
         });
         self.written = Some(written);
         changed
