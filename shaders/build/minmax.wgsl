@@ -11,7 +11,7 @@
 @group(0) @binding(1) var<storage, read> levels: array<LevelInfo>;
 @group(0) @binding(2) var<storage, read_write> minmax: array<vec2<f32>>;
 @group(0) @binding(3) var volume_tex: texture_3d<f32>;
-@group(0) @binding(4) var volume_pages: texture_3d<u32>;
+@group(0) @binding(4) var<storage, read> volume_pages: array<vec4<f32>>;
 @group(0) @binding(5) var<uniform> volume_geometry: VolumeGeometry;
 
 // Texels of non-finite voxels decode below MISSING_BELOW (generated/constants.wgsl), as in

@@ -65,7 +65,7 @@ struct SliceParams {
 
 
 @group(0) @binding(0) var volume_tex: texture_3d<f32>;
-@group(0) @binding(6) var volume_pages: texture_3d<u32>;
+@group(0) @binding(6) var<storage, read> volume_pages: array<vec4<f32>>;
 @group(0) @binding(7) var<uniform> volume_geometry: VolumeGeometry;
 @group(0) @binding(1) var<uniform> params: SliceParams;
 #ifdef DISPLAY

@@ -114,7 +114,7 @@ const SAMPLE_CONTRIBUTED: u32 = 2u;
 @group(0) @binding(2) var linear_clamp: sampler;
 @group(0) @binding(3) var lut_tex: texture_2d<f32>;
 // The page table and geometry of shared/volume.wgsl (binding 4 is the pre-integration table).
-@group(0) @binding(5) var volume_pages: texture_3d<u32>;
+@group(0) @binding(5) var<storage, read> volume_pages: array<vec4<f32>>;
 @group(0) @binding(6) var<uniform> volume_geometry: VolumeGeometry;
 
 // The jittered first-sample offset of a pixel in [0, 1): the same hash as `pixel_jitter` in

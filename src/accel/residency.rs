@@ -399,6 +399,7 @@ impl Residency {
                 }
             }
         }
+        touched.sort_unstable();
         let mut rays_changed = Vec::new();
         for &i in &touched {
             let finest = self.finest_resident(index_to_brick(i as u32, grid));
@@ -450,7 +451,7 @@ pub struct PageTables {
 /// What [`Residency::refresh_page_tables`] did.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Refreshed {
-    /// The entries it looked at again (`None`: it rebuilt the tables whole).
+    /// The entries it looked at again, ascending (`None`: it rebuilt the tables whole).
     pub looked_at: Option<Vec<usize>>,
     /// The entries of the rays' table that changed (`None`: the tables were new).
     pub rays_changed: Option<Vec<usize>>,

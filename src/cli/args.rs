@@ -112,6 +112,9 @@ pub struct ShadersArgs {
     /// Unlit DVR and isosurfaces (default: Phong lighting, as the window and the benchmark).
     #[arg(long)]
     pub unlit: bool,
+    /// The variants for a bricked volume (the page-table reads of shaders/shared/volume.wgsl).
+    #[arg(long)]
+    pub bricked: bool,
     /// Ray-loop paths, comma-separated (auto is not a path here).
     ///
     /// The fragment variant does not depend on the image size.

@@ -93,7 +93,8 @@ fn variants_on(args: &ShadersArgs, path: ConcretePath) -> Vec<(PipelineKey, [u32
                 if args.unlit {
                     settings.shading = Shading::Off;
                 }
-                let key = PipelineKey::new(&settings, path, false, size);
+                let key =
+                    PipelineKey::new(&settings, path, false, size).for_volume(false, args.bricked);
                 if !keys.iter().any(|(k, _)| *k == key) {
                     keys.push((key, size));
                 }
@@ -226,6 +227,7 @@ mod tests {
             strategies: vec![Strategy::Auto],
             sizes: vec![[512, 512]],
             unlit: false,
+            bricked: false,
             paths: vec![RenderPath::Compute],
             device: None,
             json: false,

@@ -146,10 +146,10 @@ impl Layouts {
                 wgpu::BindGroupLayoutEntry {
                     binding: 5,
                     visibility: RAY_LOOP,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Uint,
-                        view_dimension: D3,
-                        multisampled: false,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
                     },
                     count: None,
                 },
@@ -216,7 +216,7 @@ impl Layouts {
                 Sampler(r.sampler),
                 TextureView(r.lut),
                 TextureView(r.integrals),
-                TextureView(&r.volume.pages),
+                r.volume.pages.as_entire_binding(),
                 r.volume.geometry.as_entire_binding(),
             ],
         )

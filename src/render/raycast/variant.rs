@@ -144,7 +144,7 @@ impl PipelineKey {
 
     /// The same variant for a volume that has non-finite voxels (`missing`) or not, bricked or
     /// not.
-    pub(crate) fn for_volume(self, missing: bool, bricked: bool) -> Self {
+    pub fn for_volume(self, missing: bool, bricked: bool) -> Self {
         Self {
             missing,
             bricked,

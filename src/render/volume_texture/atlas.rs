@@ -44,8 +44,8 @@ pub(super) fn encode_brick(
     }
 }
 
-/// The page tables' texel format: four u32 (see [`gpu_page`]).
-pub(super) const PAGE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+/// Bytes of one page-table entry (see [`gpu_page`]).
+pub(super) const PAGE_BYTES: u64 = 16;
 
 /// A page-table entry as the shaders read it (`shaders/shared/volume.wgsl`: four f32, as u32
 /// bits, so that a sample needs no integer decoding): for brick `brick` (of `brick_vox`
@@ -75,21 +75,18 @@ pub(super) fn gpu_page(entry: u32, brick: [u32; 3], brick_vox: u32) -> [u32; 4] 
     ]
 }
 
-/// A page table of one texel for a volume in one texture: bound, never read.
-pub(super) fn no_page_table(ctx: &GpuContext) -> wgpu::Texture {
-    ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("no page table"),
-        size: wgpu::Extent3d {
-            width: 1,
-            height: 1,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D3,
-        format: PAGE_FORMAT,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
+/// A page table of one entry for a volume in one texture: bound, never read.
+pub(super) fn no_page_table(ctx: &GpuContext) -> wgpu::Buffer {
+    page_buffer(ctx, 1, "no page table")
+}
+
+/// A page table of `entries` entries, zeroed, written with `Queue::write_buffer`.
+pub(super) fn page_buffer(ctx: &GpuContext, entries: u64, label: &str) -> wgpu::Buffer {
+    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: entries.max(1) * PAGE_BYTES,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
     })
 }
 

@@ -88,8 +88,8 @@ pub enum VolumeTextureError {
 pub struct VolumeView {
     /// The whole volume, or the atlas of its bricks.
     pub texels: wgpu::TextureView,
-    /// The page table (one texel, unread, for a volume in one texture).
-    pub pages: wgpu::TextureView,
+    /// The page table (one entry, unread, for a volume in one texture).
+    pub pages: wgpu::Buffer,
     /// The `VolumeGeometry` uniform.
     pub geometry: wgpu::Buffer,
     /// Whether the volume is bricked (the shaders' `BRICKED` variants read it).
@@ -116,7 +116,7 @@ impl VolumeView {
         if self.bricked {
             entries.push(wgpu::BindGroupEntry {
                 binding: bindings[1],
-                resource: wgpu::BindingResource::TextureView(&self.pages),
+                resource: self.pages.as_entire_binding(),
             });
         }
         entries
@@ -164,7 +164,7 @@ pub struct VolumeTexture {
     /// The bricks' residency, where the volume is bricked.
     resident: Option<Resident>,
     /// The slices' page table (data everywhere, never a constant), where bricked.
-    slice_pages: Option<wgpu::TextureView>,
+    slice_pages: Option<wgpu::Buffer>,
     /// The 3D texture limit the layout was made for, and the atlas size the GPU ran out of
     /// memory at before the budget was lowered, if it did (the note says so).
     limits: (u32, Option<u64>),
@@ -254,6 +254,20 @@ impl VolumeTexture {
                 (atlas::no_page_table(ctx), None)
             }
             Plan::Bricked(atlas) => {
+                let pages = dims.map(|d| u64::from(d.div_ceil(atlas.brick_vox)));
+                let table = pages.iter().product::<u64>() * atlas::PAGE_BYTES;
+                let most =
+                    (ctx.limits.max_storage_buffer_binding_size).min(ctx.limits.max_buffer_size);
+                if table > most {
+                    return Err(VolumeTextureError::Layout {
+                        name: volume.label(),
+                        why: format!(
+                            "its page table of {} is past the adapter's largest storage buffer ({})",
+                            crate::text::bytes(table),
+                            crate::text::bytes(most)
+                        ),
+                    });
+                }
                 let mut resident = Resident::new(
                     ctx,
                     Arc::clone(volume),
@@ -270,7 +284,7 @@ impl VolumeTexture {
         let geometry = geometry(dims, plan);
         let view = VolumeView {
             texels: texture.create_view(&wgpu::TextureViewDescriptor::default()),
-            pages: pages.create_view(&wgpu::TextureViewDescriptor::default()),
+            pages,
             geometry: ctx
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -281,10 +295,7 @@ impl VolumeTexture {
             bricked: resident.is_some(),
             brick_vox: geometry.brick_vox,
         };
-        let slice_pages = resident.as_ref().map(|r| {
-            r.slice_pages()
-                .create_view(&wgpu::TextureViewDescriptor::default())
-        });
+        let slice_pages = resident.as_ref().map(|r| r.slice_pages().clone());
         let mut texture = Self {
             texture,
             view,

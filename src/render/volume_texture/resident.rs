@@ -84,10 +84,10 @@ pub struct Resident {
     /// The ranges while a worker still computes them: until then every brick needs data, and
     /// the first picture need not wait for a pass over the whole volume.
     ranges_coming: Option<JoinHandle<Option<Vec<BrickRange>>>>,
-    rays: wgpu::Texture,
+    rays: wgpu::Buffer,
     /// What the page tables were last written with (`None` before the first write).
     written: Option<Written>,
-    slices: wgpu::Texture,
+    slices: wgpu::Buffer,
     decided_for: Option<Decided>,
     wanted: Option<Wanted>,
     status: ResidencyStatus,
@@ -134,8 +134,8 @@ impl Resident {
             (None, None)
         };
         Self {
-            rays: page_texture(ctx, pages, "volume page table (rays)"),
-            slices: page_texture(ctx, pages, "volume page table (slices)"),
+            rays: page_table(ctx, pages, "volume page table (rays)"),
+            slices: page_table(ctx, pages, "volume page table (slices)"),
             written: None,
             volume,
             levels,
@@ -151,12 +151,12 @@ impl Resident {
     }
 
     /// The rays' page table.
-    pub fn rays_pages(&self) -> &wgpu::Texture {
+    pub fn rays_pages(&self) -> &wgpu::Buffer {
         &self.rays
     }
 
     /// The slices' page table.
-    pub fn slice_pages(&self) -> &wgpu::Texture {
+    pub fn slice_pages(&self) -> &wgpu::Buffer {
         &self.slices
     }
 
@@ -453,8 +453,8 @@ impl Resident {
             written.rays[i] = gpu_page(tables.rays[i], brick, self.brick_vox);
             written.slices[i] = gpu_page(tables.slices[i], brick, self.brick_vox);
         }
-        write_page_texture(ctx, &self.rays, pages, &written.rays);
-        write_page_texture(ctx, &self.slices, pages, &written.slices);
+        write_page_table(ctx, &self.rays, &written.rays, looked_at);
+        write_page_table(ctx, &self.slices, &written.slices, looked_at);
         let changed = (refreshed.rays_changed).map(|c| {
             c.into_iter()
                 .map(|i| index_to_brick(i as u32, pages))
@@ -478,49 +478,35 @@ struct Written {
 }
 
 /// An empty page table of `pages` entries per axis.
-fn page_texture(ctx: &GpuContext, pages: [u32; 3], label: &str) -> wgpu::Texture {
-    ctx.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width: pages[0],
-            height: pages[1],
-            depth_or_array_layers: pages[2],
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D3,
-        format: super::atlas::PAGE_FORMAT,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    })
+fn page_table(ctx: &GpuContext, pages: [u32; 3], label: &str) -> wgpu::Buffer {
+    let n = pages.iter().map(|&p| u64::from(p)).product();
+    super::atlas::page_buffer(ctx, n, label)
 }
 
-/// Writes `entries` (x fastest) into the page table `texture` of `pages` per axis.
-fn write_page_texture(
+/// Writes the runs of `entries` (x fastest) that `looked_at` (ascending) touches into the page
+/// table `table`: a refresh sends what it changed, not the whole table.
+fn write_page_table(
     ctx: &GpuContext,
-    texture: &wgpu::Texture,
-    pages: [u32; 3],
+    table: &wgpu::Buffer,
     entries: &[[u32; 4]],
+    looked_at: &[usize],
 ) {
-    ctx.queue.write_texture(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        bytemuck::cast_slice(entries),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(pages[0] * 16),
-            rows_per_image: Some(pages[1]),
-        },
-        wgpu::Extent3d {
-            width: pages[0],
-            height: pages[1],
-            depth_or_array_layers: pages[2],
-        },
-    );
+    let mut k = 0;
+    while k < looked_at.len() {
+        let first = looked_at[k];
+        let mut last = first;
+        k += 1;
+        // Runs closer than a few entries are sent as one: a write costs more than 16 bytes.
+        while k < looked_at.len() && looked_at[k] <= last + 8 {
+            last = looked_at[k];
+            k += 1;
+        }
+        ctx.queue.write_buffer(
+            table,
+            first as u64 * super::atlas::PAGE_BYTES,
+            bytemuck::cast_slice(&entries[first..=last]),
+        );
+    }
 }
 
 /// Computes the bricks' value ranges on a thread of their own (on half the cores).
