@@ -1,6 +1,6 @@
 //! Which bricks of which levels the atlas holds (the Residency Octree's idea on our page table):
 //! a fixed number of slots, the coarsest level (one brick) always resident, and for the rest the
-//! finest level whose wanted bricks fit. A brick of level 0 that the frame cannot see (empty
+//! finest level whose wanted bricks fit, or the coarser one a brick's footprint on screen needs. A brick of level 0 that the frame cannot see (empty
 //! under the transfer function, and not beside one that is not) is served by a constant instead
 //! of data, so it costs no slot, no upload and no sample; every other brick of level 0 reads the
 //! finest resident level among its ancestors, so a brick still on its way shows a coarser one,
@@ -25,6 +25,9 @@ pub struct BrickKey {
 /// Levels coarser than the wanted one that a preview streams first (each brick of it stands for
 /// 64 of the wanted level's).
 const PREVIEW_LEVELS: u32 = 2;
+
+/// In [`Residency::decide_levels`]'s levels: a brick of level 0 whose data the rays do not need.
+pub const NOT_NEEDED: u8 = u8::MAX;
 
 /// Page-table bit of an entry that holds a constant instead of a slot.
 pub const CONSTANT: u32 = 1 << 31;
@@ -56,6 +59,9 @@ pub struct Residency {
     frame: u64,
     /// Bricks admitted or evicted since the page tables were last refreshed.
     dirty: Vec<BrickKey>,
+    /// The slots this frame may give, in the order it gives them, from the first admission
+    /// after [`Self::want`] on (what is given meanwhile is wanted: the rest keep their order).
+    givable: Option<std::vec::IntoIter<u32>>,
 }
 
 impl Residency {
@@ -74,6 +80,7 @@ impl Residency {
             last_wanted: vec![0; capacity as usize],
             frame: 0,
             dirty: Vec::new(),
+            givable: None,
         }
     }
 
@@ -129,6 +136,17 @@ impl Residency {
     /// preview that streams first); then the slices' bricks at that level, or the finest coarser
     /// one that still fits beside them (the rays' level is never given up for the slices').
     pub fn decide(&self, needs_data: &[bool], also: &[bool]) -> Wanted {
+        let finest: Vec<u8> = (needs_data.iter())
+            .map(|&n| if n { 0 } else { NOT_NEEDED })
+            .collect();
+        self.decide_levels(&finest, also)
+    }
+
+    /// [`Self::decide`], each brick of level 0 that the rays need wanted no finer than `finest`
+    /// says (x fastest; the level its footprint on screen needs, a voxel about a pixel, or
+    /// [`NOT_NEEDED`]): each at the finest level at which all fit, or the coarser one it needs;
+    /// `Wanted::level` is then the finest level any brick is wanted at.
+    pub fn decide_levels(&self, finest: &[u8], also: &[bool]) -> Wanted {
         let pages = self.grid(0);
         let coarsest = self.coarsest();
         let all = self.page_count() as u64;
@@ -143,28 +161,35 @@ impl Residency {
                 constant: vec![false; all as usize],
             };
         }
-        let constant: Vec<bool> = needs_data.iter().map(|n| !n).collect();
+        let constant: Vec<bool> = finest.iter().map(|&f| f == NOT_NEEDED).collect();
         let capacity = self.capacity as usize;
         for level in 0..self.levels {
             let mut bricks = vec![coarsest];
-            bricks.extend(self.ancestors(needs_data, level).filter(|k| *k != coarsest));
+            bricks.extend(self.ancestors_at(finest, level).filter(|k| *k != coarsest));
             if bricks.len() > capacity {
                 continue;
             }
+            let mut held: std::collections::HashSet<BrickKey> = bricks.iter().copied().collect();
             // A preview two levels coarser, where it fits, streams first: the coarsest alone
             // (a mean over the whole volume's bricks) hides thin structures while the rest comes.
             let preview_level = level + PREVIEW_LEVELS;
             if preview_level + 1 < self.levels {
-                let preview: Vec<BrickKey> = self.ancestors(needs_data, preview_level).collect();
+                let preview: Vec<BrickKey> = self
+                    .ancestors_at(finest, preview_level)
+                    .filter(|k| !held.contains(k))
+                    .collect();
                 if bricks.len() + preview.len() <= capacity {
+                    held.extend(preview.iter().copied());
                     bricks.splice(1..1, preview);
                 }
             }
             if also.iter().any(|a| *a) {
-                let held: std::collections::HashSet<BrickKey> = bricks.iter().copied().collect();
+                let also: Vec<u8> = (also.iter())
+                    .map(|&a| if a { 0 } else { NOT_NEEDED })
+                    .collect();
                 for coarser in level..self.levels {
                     let more: Vec<BrickKey> = self
-                        .ancestors(also, coarser)
+                        .ancestors_at(&also, coarser)
                         .filter(|k| !held.contains(k))
                         .collect();
                     if bricks.len() + more.len() <= capacity {
@@ -173,8 +198,10 @@ impl Residency {
                     }
                 }
             }
+            // Where footprints ask for coarser levels than fit, the finest actually wanted.
+            let finest_wanted = bricks[1..].iter().map(|k| k.level).min().unwrap_or(level);
             return Wanted {
-                level,
+                level: finest_wanted.max(level),
                 bricks,
                 constant,
             };
@@ -187,24 +214,43 @@ impl Residency {
         }
     }
 
-    /// The distinct ancestors at `level` of the bricks of level 0 `marked` marks, in brick
-    /// order.
-    fn ancestors(&self, marked: &[bool], level: u32) -> impl Iterator<Item = BrickKey> {
-        let pages = self.grid(0);
-        let grid = self.grid(level);
-        let mut wanted = vec![false; grid.iter().map(|&g| g as usize).product()];
-        for (i, _) in marked.iter().enumerate().filter(|(_, m)| **m) {
-            let b = index_to_brick(i as u32, pages).map(|c| c >> level);
-            wanted[(b[0] + grid[0] * (b[1] + grid[1] * b[2])) as usize] = true;
+    /// The distinct ancestors of the bricks of level 0 that `finest` wants, each at its level
+    /// there or at `level` where that is coarser: coarser levels first, each in brick order.
+    fn ancestors_at(&self, finest: &[u8], level: u32) -> impl Iterator<Item = BrickKey> {
+        let last = self.levels - 1;
+        let grids: Vec<[u32; 3]> = (0..self.levels).map(|l| self.grid(l)).collect();
+        let mut marks: Vec<Vec<bool>> = (grids.iter())
+            .map(|g| vec![false; g.iter().map(|&v| v as usize).product()])
+            .collect();
+        let pages = grids[0];
+        let mut i = 0;
+        for z in 0..pages[2] {
+            for y in 0..pages[1] {
+                for x in 0..pages[0] {
+                    let f = finest[i];
+                    i += 1;
+                    if f == NOT_NEEDED {
+                        continue;
+                    }
+                    let l = u32::from(f).max(level).min(last);
+                    let g = grids[l as usize];
+                    let (bx, by, bz) = (x >> l, y >> l, z >> l);
+                    marks[l as usize][(bx + g[0] * (by + g[1] * bz)) as usize] = true;
+                }
+            }
         }
-        wanted
-            .into_iter()
-            .enumerate()
-            .filter(|(_, w)| *w)
-            .map(move |(i, _)| BrickKey {
-                level,
-                brick: index_to_brick(i as u32, grid),
-            })
+        (0..self.levels).rev().flat_map(move |l| {
+            let g = grids[l as usize];
+            std::mem::take(&mut marks[l as usize])
+                .into_iter()
+                .enumerate()
+                .filter(|(_, m)| *m)
+                .map(move |(i, _)| BrickKey {
+                    level: l,
+                    brick: index_to_brick(i as u32, g),
+                })
+                .collect::<Vec<_>>()
+        })
     }
 
     /// How many of `wanted` are not resident.
@@ -220,6 +266,7 @@ impl Residency {
     /// of this frame gives their slots away.
     pub fn want(&mut self, wanted: &Wanted) {
         self.frame += 1;
+        self.givable = None;
         for key in &wanted.bricks {
             if let Some(&slot) = self.resident.get(key) {
                 self.last_wanted[slot as usize] = self.frame;
@@ -227,12 +274,12 @@ impl Residency {
         }
     }
 
-    /// Gives slots to at most `limit` of the bricks of `wanted` that are not resident, in its
-    /// order, taking free slots first and then those wanted least recently (never one wanted by
-    /// this frame); returns each brick with its slot index, for the caller to upload.
-    pub fn admit(&mut self, wanted: &Wanted, limit: usize) -> Vec<(BrickKey, u32)> {
-        let missing: Vec<BrickKey> = wanted
-            .bricks
+    /// Gives slots to at most `limit` of `bricks` that are not resident, in their order (a
+    /// frame's wanted bricks, or those of them missing), taking free slots first and then those
+    /// wanted least recently (never one wanted by this frame); returns each brick with its slot
+    /// index, for the caller to upload.
+    pub fn admit(&mut self, bricks: &[BrickKey], limit: usize) -> Vec<(BrickKey, u32)> {
+        let missing: Vec<BrickKey> = bricks
             .iter()
             .filter(|k| !self.resident.contains_key(k))
             .take(limit)
@@ -241,20 +288,24 @@ impl Residency {
         if missing.is_empty() {
             return Vec::new();
         }
-        // Free slots first, then the least recently wanted; none this frame wants.
-        let mut candidates: Vec<u32> = (0..self.capacity)
-            .filter(|&s| {
-                self.last_wanted[s as usize] < self.frame || self.held[s as usize].is_none()
-            })
-            .collect();
-        candidates.sort_by_key(|&s| {
-            (
-                self.held[s as usize].is_some(),
-                self.last_wanted[s as usize],
-            )
+        // Free slots first, then the least recently wanted; none this frame wants. Sorted once
+        // a frame: a frame admits a batch at a time, and the atlas may have 10⁵ slots.
+        let givable = self.givable.get_or_insert_with(|| {
+            let mut order: Vec<u32> = (0..self.capacity)
+                .filter(|&s| {
+                    self.last_wanted[s as usize] < self.frame || self.held[s as usize].is_none()
+                })
+                .collect();
+            order.sort_by_key(|&s| {
+                (
+                    self.held[s as usize].is_some(),
+                    self.last_wanted[s as usize],
+                )
+            });
+            order.into_iter()
         });
         let mut given = Vec::with_capacity(missing.len());
-        for (key, slot) in missing.into_iter().zip(candidates) {
+        for (key, slot) in missing.into_iter().zip(givable.by_ref()) {
             if let Some(old) = self.held[slot as usize].take() {
                 self.resident.remove(&old);
                 self.dirty.push(old);
@@ -534,6 +585,52 @@ mod tests {
     }
 
     #[test]
+    fn each_brick_is_held_no_finer_than_its_footprint_needs_and_coarser_where_all_do_not_fit() {
+        // 8 × 8 × 4 bricks of 8 voxels: levels of 8, 4, 2 and 1 brick per axis (x).
+        let r = Residency::new([64, 64, 32], 8, [8, 8, 8], 40);
+        let key = |level, brick| BrickKey { level, brick };
+        let mut finest = vec![NOT_NEEDED; 256];
+        // The near bricks (x < 2, y < 2, z = 0) at level 0, the far half (x ≥ 4) at level 1.
+        for y in 0..2 {
+            for x in 0..2 {
+                finest[x + 8 * y] = 0;
+            }
+        }
+        for z in 0..4 {
+            for y in 0..8 {
+                for x in 4..8 {
+                    finest[x + 8 * (y + 8 * z)] = 1;
+                }
+            }
+        }
+        let wanted = r.decide_levels(&finest, &[]);
+        assert_eq!(wanted.level, 0);
+        let at = |l: u32| wanted.bricks.iter().filter(|k| k.level == l).count();
+        // The coarsest; the preview, two levels coarser than level 0 (level 2: the near four's
+        // one brick and the far half's two); the far half's 4 × 8 × 4 at level 1 (2 × 4 × 2);
+        // the near four at level 0.
+        assert_eq!((at(3), at(2), at(1), at(0)), (1, 3, 16, 4));
+        assert!(wanted.bricks.contains(&key(0, [1, 1, 0])));
+        assert!(wanted.bricks.contains(&key(1, [3, 3, 1])));
+        assert!(
+            !wanted
+                .bricks
+                .iter()
+                .any(|k| k.level == 0 && k.brick[0] >= 4)
+        );
+        // With 12 slots the far half does not fit at level 1: all go one level coarser.
+        let tight = Residency::new([64, 64, 32], 8, [8, 8, 8], 12).decide_levels(&finest, &[]);
+        assert_eq!(tight.level, 2);
+        assert!(tight.bricks.iter().all(|k| k.level >= 2));
+        // Footprints of level 0 everywhere decide as `decide` does.
+        let everywhere: Vec<bool> = finest.iter().map(|&f| f != NOT_NEEDED).collect();
+        let zero: Vec<u8> = (everywhere.iter())
+            .map(|&n| if n { 0 } else { NOT_NEEDED })
+            .collect();
+        assert_eq!(r.decide(&everywhere, &[]), r.decide_levels(&zero, &[]));
+    }
+
+    #[test]
     fn over_capacity_only_bricks_that_need_data_are_held_at_the_finest_level_that_fits() {
         let mut needs = [false; 8];
         needs[0] = true;
@@ -583,7 +680,7 @@ mod tests {
             }]
         );
         r.want(&coarse);
-        assert_eq!(r.admit(&coarse, usize::MAX).len(), 1);
+        assert_eq!(r.admit(&coarse.bricks, usize::MAX).len(), 1);
         // Brick 5 needs data: it is admitted one at a time; until then it reads level 2.
         let mut needs = [false; 8];
         needs[5] = true;
@@ -597,12 +694,12 @@ mod tests {
         assert_eq!(before.rays[0], CONSTANT);
         assert_eq!(BrickLayout::decode_entry(before.slices[0]).1, 2);
         assert_eq!(before.levels, 1 << 2);
-        let first = r.admit(&fine, 1);
+        let first = r.admit(&fine.bricks, 1);
         assert_eq!(first.len(), 1);
         let after = r.page_tables(&fine, &constants);
         assert_eq!(BrickLayout::decode_entry(after.rays[5]).1, 0);
         assert_eq!(r.missing(&fine), 1);
-        r.admit(&fine, usize::MAX);
+        r.admit(&fine.bricks, usize::MAX);
         assert_eq!(r.missing(&fine), 0);
         // Another frame wants bricks 1 and 2: the slots of 5 and 6 (unwanted now) are reused,
         // the coarsest (wanted by every frame) stays.
@@ -611,7 +708,7 @@ mod tests {
         needs[2] = true;
         let other = r.decide(&needs, &[]);
         r.want(&other);
-        let given = r.admit(&other, usize::MAX);
+        let given = r.admit(&other.bricks, usize::MAX);
         assert_eq!(given.len(), 2);
         assert!(r.is_resident(&BrickKey {
             level: 2,
@@ -640,7 +737,7 @@ mod tests {
             constant: vec![false; r.page_count()],
         };
         r.want(&wanted);
-        r.admit(&wanted, usize::MAX);
+        r.admit(&wanted.bricks, usize::MAX);
         let tables = r.page_tables(&wanted, &[]);
         for (i, &entry) in tables.slices.iter().enumerate() {
             let b = index_to_brick(i as u32, r.grid(0));
@@ -675,7 +772,7 @@ mod tests {
             let needs: Vec<bool> = (0..n).map(|_| coin(4) == 0).collect();
             let wanted = r.decide(&needs, &[]);
             r.want(&wanted);
-            r.admit(&wanted, 1 + coin(20) as usize);
+            r.admit(&wanted.bricks, 1 + coin(20) as usize);
             let old = tables.rays.clone();
             let refreshed = r.refresh_page_tables(&mut tables, &before, &wanted, &constants);
             partial += usize::from(refreshed.looked_at.is_some());
@@ -701,7 +798,7 @@ mod tests {
             let w = r.decide(&needs, &[]);
             assert_eq!(w.level, 0);
             r.want(&w);
-            r.admit(&w, usize::MAX);
+            r.admit(&w.bricks, usize::MAX);
         };
         want(&mut r, &[0, 1, 2]);
         want(&mut r, &[1, 2]);
@@ -754,7 +851,7 @@ mod tests {
         let wanted = r.decide(&[true; 280], &[]);
         assert_eq!(wanted.level, 2);
         r.want(&wanted);
-        let given = r.admit(&wanted, usize::MAX);
+        let given = r.admit(&wanted.bricks, usize::MAX);
         assert_eq!(given.len(), 7);
         let tables = r.page_tables(&wanted, &[]);
         assert_eq!(tables.rays, tables.slices);

@@ -193,22 +193,22 @@ fn a_dataset_that_cannot_be_measured_fails_the_run_unless_optional() {
     }
 }
 
-/// `bench --stream` on a vessel tree twice its budget: the orbit renders while bricks are
-/// missing, the still frames end once none is, the memory never passes the budget, and the
-/// summary says so.
-#[test]
-fn stream_measures_an_orbit_while_bricks_arrive() {
-    let dir = common::TempDir::new("bench-stream");
+/// `bench --stream` of a 256³ vessel tree under half its size as the GPU budget, its image
+/// `size` pixels: the CSV's rows (the levels column, "0, 2", holds commas of its own: count
+/// from the end) and the summary.
+fn stream_rows(dir: &common::TempDir, size: &str) -> (Vec<Vec<String>>, String, u64) {
     let volume = dir.path().join("vessels.nhdr");
-    let status = Command::new(env!("CARGO_BIN_EXE_leapview"))
-        .args(["generate", "vessels", "--size", "256", "--out"])
-        .arg(&volume)
-        .status()
-        .expect("generate");
-    assert!(status.success());
-    let out = dir.path().join("out");
+    if !volume.exists() {
+        let status = Command::new(env!("CARGO_BIN_EXE_leapview"))
+            .args(["generate", "vessels", "--size", "256", "--out"])
+            .arg(&volume)
+            .status()
+            .expect("generate");
+        assert!(status.success());
+    }
+    let out = dir.path().join(format!("out-{size}"));
     // Half the 256³ uint8 volume: the tree's bricks at full resolution fit, more of them than
-    // one upload batch (64).
+    // one upload batch (16).
     let budget = 256u64.pow(3) / 2 / 1000 * 1000;
     let output = Command::new(env!("CARGO_BIN_EXE_leapview"))
         .args(["bench", "--stream"])
@@ -219,7 +219,7 @@ fn stream_measures_an_orbit_while_bricks_arrive() {
             "--stream-frames",
             "3",
         ])
-        .args(["--stream-ms", "0", "--stream-size", "48x32", "--out"])
+        .args(["--stream-ms", "0", "--stream-size", size, "--out"])
         .arg(&out)
         .output()
         .expect("bench --stream");
@@ -230,23 +230,52 @@ fn stream_measures_an_orbit_while_bricks_arrive() {
         String::from_utf8_lossy(&output.stderr)
     );
     let csv = read(&out.join("stream.csv"));
-    let rows: Vec<Vec<&str>> = csv
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').collect())
+    let rows = (csv.lines().skip(1))
+        .map(|l| l.split(',').map(str::to_string).collect())
         .collect();
-    let column = |row: &Vec<&str>, i: usize| -> u64 { row[i].parse().expect("number") };
-    assert_eq!(rows.iter().filter(|r| r[0] == "orbit").count(), 3, "{csv}");
+    (rows, read(&out.join("stream.md")), budget)
+}
+
+/// `bench --stream` on a vessel tree twice its budget, seen large enough that its voxels need
+/// level 0: the orbit renders while bricks are missing, the still frames end once none is, the
+/// memory never passes the budget, and the summary says so.
+#[test]
+fn stream_measures_an_orbit_while_bricks_arrive() {
+    let dir = common::TempDir::new("bench-stream");
+    let (rows, summary, budget) = stream_rows(&dir, "320x320");
+    let column = |row: &Vec<String>, from_end: usize| -> u64 {
+        row[row.len() - from_end].parse().expect("number")
+    };
+    assert_eq!(
+        rows.iter().filter(|r| r[0] == "orbit").count(),
+        3,
+        "{rows:?}"
+    );
     let last = rows.last().expect("rows");
-    // Counted from the end: the levels column ("0, 2") holds commas of its own.
-    assert_eq!(column(last, last.len() - 2), 0, "{csv}");
-    assert!(rows.iter().any(|r| column(r, r.len() - 2) > 0), "{csv}");
+    assert_eq!(column(last, 2), 0, "{rows:?}");
+    assert!(rows.iter().any(|r| column(r, 2) > 0), "{rows:?}");
+    assert!(rows.iter().all(|r| column(r, 1) <= budget), "{rows:?}");
+    assert!(summary.contains("- complete at"), "{summary}");
+    // Its levels column ends in the levels read: level 0 among them.
+    let levels = |r: &Vec<String>| r[8..r.len() - 4].join(",");
     assert!(
-        rows.iter().all(|r| column(r, r.len() - 1) <= budget),
-        "{csv}"
+        levels(last).trim_matches('"').split(", ").any(|l| l == "0"),
+        "{rows:?}"
+    );
+
+    // The same seen in 48 × 32 pixels: a voxel of level 0 is a tenth of a pixel, so the
+    // bricks are held three levels coarser (a voxel of 8 still under a pixel), and far fewer.
+    let (small, _, _) = stream_rows(&dir, "48x32");
+    let last_small = small.last().expect("rows");
+    assert!(
+        !levels(last_small)
+            .trim_matches('"')
+            .split(", ")
+            .any(|l| l == "0"),
+        "{small:?}"
     );
     assert!(
-        read(&out.join("stream.md")).contains("- complete at"),
-        "{stdout}"
+        column(last_small, 1) < column(last, 1),
+        "{small:?} against {rows:?}"
     );
 }

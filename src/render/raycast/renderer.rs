@@ -364,6 +364,9 @@ impl VolumeRenderer {
                 eye: Some(eye.to_array()),
                 slices: self.slice_planes.clone(),
                 frustum: Some(clip_from_voxel(request, volume.dims, volume.spacing_mm)),
+                // Streaming under a time budget (the window) holds each brick at the level its
+                // footprint needs; without one (`render`) every brick is wanted at level 0.
+                footprint: self.residency_time.map(|_| request.size),
             };
             let started = std::time::Instant::now();
             let update = volume

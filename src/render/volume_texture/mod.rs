@@ -418,7 +418,7 @@ impl VolumeTexture {
             Some(r) => {
                 let s = r.status();
                 format!(
-                    "bricks of {}³: {} resident of {} wanted (level {} wanted, levels {} read), \
+                    "bricks of {}³: {} resident of {} wanted (finest level wanted {}, levels {} read), \
                      {} empty, {}",
                     r.brick_vox(),
                     s.resident,

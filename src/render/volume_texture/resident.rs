@@ -11,9 +11,11 @@ use std::time::{Duration, Instant};
 use super::atlas::{encode_brick, gpu_page};
 use super::encoding::{TexelEncoding, TexelSource, bytes_per_texel};
 use super::ranges::{BrickRange, brick_ranges};
-use super::unseen::{Cull, REACH, SlicePlane, Unseen, brick_box, in_frustum};
+use super::unseen::{REACH, Unseen, brick_box, footprint_levels, in_view};
 use crate::accel::bricks::BrickLayout;
-use crate::accel::residency::{BrickKey, PageTables, Residency, Wanted, dilate, index_to_brick};
+use crate::accel::residency::{
+    BrickKey, NOT_NEEDED, PageTables, Residency, Wanted, dilate, index_to_brick,
+};
 use crate::parallel::parallel;
 use crate::render::context::GpuContext;
 use crate::volume::Volume;
@@ -23,8 +25,23 @@ use crate::volume::downsample::Level;
 /// frame's upload time is kept to within a batch (64 took 7 ms on the H100 machine's host).
 const BATCH: usize = 16;
 
-/// What a decision was made for: the rule's key, the slice planes, the frustum.
-type Decided = ((u8, u64), Vec<SlicePlane>, Option<[f64; 16]>);
+/// Missing bricks a frame puts in order before uploading (the nearest of them; the rest wait):
+/// more than a frame's time budget uploads on the H100 machine (about 300 at 8 ms).
+const ORDERED: usize = 1024;
+
+/// Which bricks of level 0 a frame needs: the finest level the rays need each at
+/// ([`NOT_NEEDED`]: its constant), and whether the slices show it. A frame whose needs are
+/// those residency was last decided for decides nothing.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Needs {
+    rays: Vec<u8>,
+    slices: Vec<bool>,
+}
+
+/// The rays' needs under the rule alone (before the view): what they were computed for (the
+/// rule's key and whether steps are long) and the answer; made again when the rule changes or
+/// the value ranges arrive.
+type RuleNeeds = (((u8, u64), bool), Vec<bool>);
 
 /// What one [`Resident::update`] did.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -41,7 +58,7 @@ pub struct Update {
 /// How far residency is, for the overlay: one line.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ResidencyStatus {
-    /// The level data bricks are wanted at.
+    /// The finest level any data brick is wanted at (coarser ones where footprints allow).
     pub level: u32,
     /// Levels the rays read (bit `k`: level `k`).
     pub levels: u32,
@@ -88,7 +105,8 @@ pub struct Resident {
     /// What the page tables were last written with (`None` before the first write).
     written: Option<Written>,
     slices: wgpu::Buffer,
-    decided_for: Option<Decided>,
+    decided_for: Option<Needs>,
+    by_rule: Option<RuleNeeds>,
     wanted: Option<Wanted>,
     status: ResidencyStatus,
 }
@@ -145,6 +163,7 @@ impl Resident {
             ranges,
             ranges_coming,
             decided_for: None,
+            by_rule: None,
             wanted: None,
             status: ResidencyStatus::default(),
         }
@@ -192,29 +211,11 @@ impl Resident {
     ) -> Update {
         let start = Instant::now();
         self.receive_ranges(time.is_none());
-        let key = match &self.ranges {
-            Some(_) if !unseen.cull.is_nothing() => {
-                let (kind, value) = unseen.cull.key();
-                (kind + 3 * u8::from(unseen.long_steps), value)
-            }
-            _ => Cull::Nothing.key(),
-        };
+        let needs = self.needs_data(unseen);
         let mut changed = false;
-        // The view decides only where not every brick fits.
-        let frustum = unseen
-            .frustum
-            .filter(|_| !self.residency.holds_everything())
-            .map(|m| m.to_cols_array());
-        // Slices matter only where the rays leave bricks out.
-        let slices = if key == Cull::Nothing.key() && frustum.is_none() {
-            Vec::new()
-        } else {
-            unseen.slices.clone()
-        };
-        let key = (key, slices, frustum);
-        if self.decided_for.as_ref() != Some(&key) {
-            let (rays, slices) = self.needs_data(unseen);
-            let wanted = self.residency.decide(&rays, &slices);
+        // An orbit changes the frustum every frame, mostly not the bricks it needs.
+        if self.decided_for.as_ref() != Some(&needs) {
+            let wanted = self.residency.decide_levels(&needs.rays, &needs.slices);
             log::debug!(
                 "residency decided in {:.2} ms: {} bricks wanted at level {}",
                 start.elapsed().as_secs_f64() * 1e3,
@@ -226,40 +227,21 @@ impl Resident {
                 self.wanted = Some(wanted);
                 changed = true;
             }
-            self.decided_for = Some(key);
+            self.decided_for = Some(needs);
         }
         let decided = start.elapsed();
-        let Some(mut wanted) = self.wanted.take() else {
+        let Some(wanted) = self.wanted.take() else {
             return Update::default();
         };
-        if let Some(eye) = unseen.eye
-            && self.residency.missing(&wanted) > 0
-        {
-            // The coarsest stays first; then coarser levels (the preview) before finer, each
-            // nearest the eye first.
-            let b = f64::from(self.brick_vox);
-            let distance = |k: &BrickKey| {
-                let size = b * f64::from(1u32 << k.level);
-                (0..3)
-                    .map(|a| ((f64::from(k.brick[a]) + 0.5) * size - eye[a]).powi(2))
-                    .sum::<f64>()
-            };
-            // Each brick's distance once, not once per comparison.
-            let mut order: Vec<(u32, f64, BrickKey)> = wanted.bricks[1..]
-                .iter()
-                .map(|k| (k.level, distance(k), *k))
-                .collect();
-            order.sort_by(|p, q| q.0.cmp(&p.0).then(p.1.total_cmp(&q.1)));
-            for (to, (_, _, k)) in wanted.bricks[1..].iter_mut().zip(order) {
-                *to = k;
-            }
-        }
+        let queue = self.upload_order(&wanted, unseen.eye, time.is_some());
         let sorted = start.elapsed();
-        loop {
-            let given = self.residency.admit(&wanted, BATCH);
+        let mut rest = &queue[..];
+        while !rest.is_empty() {
+            let given = self.residency.admit(rest, BATCH);
             if given.is_empty() {
                 break;
             }
+            rest = &rest[given.len()..];
             self.upload(ctx, atlas, &given);
             changed = true;
             if time.is_some_and(|t| start.elapsed() >= t) {
@@ -316,54 +298,128 @@ impl Resident {
         // A worker that panicked leaves every brick needing data, as without ranges.
         self.ranges = worker.join().ok().flatten();
         self.decided_for = None;
+        self.by_rule = None;
         // Every brick may now read a constant: the page tables are written whole.
         self.written = None;
         log::debug!("brick value ranges arrived");
     }
 
-    /// Which bricks of level 0 the rays need the data of: those `unseen` does not empty (over
-    /// the brick and [`REACH`] around it), with their neighbours where steps are longer than
-    /// that covers, and any without a constant; and which the slices show (within [`REACH`] of
-    /// a plane or its slab).
-    fn needs_data(&self, unseen: &Unseen) -> (Vec<bool>, Vec<bool>) {
-        let n = self.residency.page_count();
-        let grid = self.residency.grid(0);
-        let mut rays = match &self.ranges {
-            Some(ranges) => {
-                let seen: Vec<bool> = ranges
-                    .iter()
-                    .map(|r| !unseen.cull.is_empty(r.lo, r.hi))
-                    .collect();
-                let mut rays = if unseen.long_steps {
-                    dilate(&seen, grid)
-                } else {
-                    seen
-                };
-                for (need, range) in rays.iter_mut().zip(ranges) {
-                    *need |= range.constant.is_none();
-                }
-                rays
-            }
-            None => vec![true; n],
+    /// The wanted bricks that are missing, in the order they are uploaded: the coarsest
+    /// first, then coarser levels (the preview) before finer, each nearest `eye` first; where
+    /// the upload has a time budget (`budgeted`), only the first [`ORDERED`] are put in order.
+    fn upload_order(
+        &self,
+        wanted: &Wanted,
+        eye: Option<[f64; 3]>,
+        budgeted: bool,
+    ) -> Vec<BrickKey> {
+        let mut missing: Vec<BrickKey> = (wanted.bricks.iter())
+            .filter(|k| !self.residency.is_resident(k))
+            .copied()
+            .collect();
+        let (Some(eye), Some((first, _))) = (eye, wanted.bricks.split_first()) else {
+            return missing;
         };
         let b = f64::from(self.brick_vox);
-        if let Some(clip) = &unseen.frustum {
-            let reach = f64::from(REACH);
-            for (i, need) in rays.iter_mut().enumerate().filter(|(_, n)| **n) {
-                let (lo, hi) = brick_box(i, grid, b);
-                *need = in_frustum(clip, lo.map(|v| v - reach), hi.map(|v| v + reach));
+        let distance = |k: &BrickKey| {
+            let size = b * f64::from(1u32 << k.level);
+            (0..3)
+                .map(|a| ((f64::from(k.brick[a]) + 0.5) * size - eye[a]).powi(2))
+                .sum::<f64>()
+        };
+        let coarsest = missing.first() == Some(first);
+        let from = usize::from(coarsest);
+        // Each brick's distance once, not once per comparison.
+        let mut order: Vec<(u32, f64, BrickKey)> = missing[from..]
+            .iter()
+            .map(|k| (k.level, distance(k), *k))
+            .collect();
+        let before = |p: &(u32, f64, BrickKey), q: &(u32, f64, BrickKey)| {
+            q.0.cmp(&p.0).then(p.1.total_cmp(&q.1))
+        };
+        if budgeted && order.len() > ORDERED {
+            order.select_nth_unstable_by(ORDERED, before);
+            order[..ORDERED].sort_by(before);
+        } else {
+            order.sort_by(before);
+        }
+        missing.truncate(from);
+        missing.extend(order.into_iter().map(|(_, _, k)| k));
+        missing
+    }
+
+    /// Which bricks of level 0 the rays need the data of: those `unseen` does not empty (over
+    /// the brick and [`REACH`] around it), with their neighbours where steps are longer than
+    /// that covers, and any without a constant, in the view frustum, each at the level its
+    /// footprint needs where `unseen` asks for that (else level 0); and which the slices show
+    /// (within [`REACH`] of a plane or its slab), where the rays leave some out or coarser.
+    fn needs_data(&mut self, unseen: &Unseen) -> Needs {
+        let n = self.residency.page_count();
+        let grid = self.residency.grid(0);
+        let rule = (unseen.cull.key(), unseen.long_steps);
+        let by_rule = match &self.by_rule {
+            Some((made_for, rays)) if *made_for == rule => rays,
+            _ => {
+                let rays = self.needs_by_rule(unseen);
+                &self.by_rule.insert((rule, rays)).1
+            }
+        };
+        let mut rays: Vec<u8> = (by_rule.iter())
+            .map(|&need| if need { 0 } else { NOT_NEEDED })
+            .collect();
+        let b = f64::from(self.brick_vox);
+        // The view decides only where not every brick fits.
+        if let Some(clip) = unseen.frustum
+            && !self.residency.holds_everything()
+        {
+            let in_view = in_view(&clip, grid, b, f64::from(REACH));
+            for (need, seen) in rays.iter_mut().zip(in_view) {
+                if !seen {
+                    *need = NOT_NEEDED;
+                }
+            }
+            if let Some(size) = unseen.footprint {
+                let levels = self.residency.levels();
+                let needed = footprint_levels(&clip, size, grid, b, levels);
+                for (need, level) in rays.iter_mut().zip(needed) {
+                    if *need != NOT_NEEDED {
+                        *need = level;
+                    }
+                }
             }
         }
-        let slices = (0..n)
-            .map(|i| {
-                let (lo, hi) = brick_box(i, grid, b);
-                unseen
-                    .slices
-                    .iter()
-                    .any(|s| s.meets(lo, hi, f64::from(REACH)))
-            })
+        // Slices matter only where the rays leave bricks out, or hold them coarser.
+        let slices = if unseen.slices.is_empty() || rays.iter().all(|&r| r == 0) {
+            Vec::new()
+        } else {
+            (0..n)
+                .map(|i| {
+                    let (lo, hi) = brick_box(i, grid, b);
+                    (unseen.slices.iter()).any(|s| s.meets(lo, hi, f64::from(REACH)))
+                })
+                .collect()
+        };
+        Needs { rays, slices }
+    }
+
+    /// The rays' needs under the mode's rule alone (see [`Self::needs_data`]).
+    fn needs_by_rule(&self, unseen: &Unseen) -> Vec<bool> {
+        let Some(ranges) = &self.ranges else {
+            return vec![true; self.residency.page_count()];
+        };
+        let seen: Vec<bool> = ranges
+            .iter()
+            .map(|r| !unseen.cull.is_empty(r.lo, r.hi))
             .collect();
-        (rays, slices)
+        let mut rays = if unseen.long_steps {
+            dilate(&seen, self.residency.grid(0))
+        } else {
+            seen
+        };
+        for (need, range) in rays.iter_mut().zip(ranges) {
+            *need |= range.constant.is_none();
+        }
+        rays
     }
 
     /// Encodes `given` (on all cores) and writes each into its slot.
