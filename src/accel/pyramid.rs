@@ -61,11 +61,22 @@ impl Pyramid {
 
     /// The layout with the finest blocks that keep the node min/max array (8 bytes a node, the
     /// largest of the structures) within `max_bytes`, the most a shader can bind: 4³ blocks
-    /// where they fit (a 1024³ volume's pyramid of them is 153 MB, past lavapipe's 128 MiB).
-    pub fn within(dims: [u32; 3], max_bytes: u64) -> Self {
-        let fits = |b: &u32| u64::from(Self::with_finest(dims, *b).node_count()) * 8 <= max_bytes;
+    /// where they fit (a 1024³ volume's pyramid of them is 153 MB, past lavapipe's 128 MiB),
+    /// and all the structures on the GPU ([`Self::gpu_bytes`]) within `most`, where given.
+    pub fn within(dims: [u32; 3], max_bytes: u64, most: Option<u64>) -> Self {
+        let fits = |b: &u32| {
+            let p = Self::with_finest(dims, *b);
+            u64::from(p.node_count()) * 8 <= max_bytes && most.is_none_or(|m| p.gpu_bytes() <= m)
+        };
         let finest = BLOCK_SIZES.iter().copied().find(|b| fits(b));
         Self::with_finest(dims, finest.unwrap_or(BLOCK_SIZES[BLOCK_SIZES.len() - 1]))
+    }
+
+    /// Bytes the leaping structures of this layout take on the GPU: per node its min/max (8)
+    /// and its flags (4), per block of the finest level its distance twice (4 each).
+    pub fn gpu_bytes(&self) -> u64 {
+        let leaves = self.levels.first().map_or(0, |l| u64::from(l.count()));
+        u64::from(self.node_count()) * 12 + leaves * 8
     }
 
     /// The layout whose finest blocks are `finest` voxels (one of [`BLOCK_SIZES`]).
@@ -211,8 +222,8 @@ mod tests {
         assert_eq!(fine.levels[0].brick_vox, FINEST_BRICK);
         let bytes = u64::from(fine.node_count()) * 8;
         assert!(bytes > 128 << 20, "{bytes}");
-        assert_eq!(Pyramid::within(dims, bytes), fine);
-        let coarser = Pyramid::within(dims, 128 << 20);
+        assert_eq!(Pyramid::within(dims, bytes, None), fine);
+        let coarser = Pyramid::within(dims, 128 << 20, None);
         assert_eq!(coarser.levels[0].brick_vox, 8);
         assert!(u64::from(coarser.node_count()) * 8 <= 128 << 20);
         // Every level above the finest is the finer pyramid's level of the same block size.
@@ -220,7 +231,26 @@ mod tests {
             let same = fine.levels[fine.level_of_block(level.brick_vox).unwrap()];
             assert_eq!(level.nodes, same.nodes);
         }
-        assert_eq!(Pyramid::within(dims, 8).levels[0].brick_vox, 128);
+        assert_eq!(Pyramid::within(dims, 8, None).levels[0].brick_vox, 128);
+    }
+
+    #[test]
+    fn finest_blocks_grow_until_all_the_structures_fit_their_share_of_the_budget() {
+        // 2048 × 2048 × 1024: 4³ blocks take 1.46 GB (min/max, flags, two distance fields).
+        let dims = [2048, 2048, 1024];
+        let fine = Pyramid::within(dims, u64::MAX, None);
+        assert_eq!(fine.levels[0].brick_vox, 4);
+        let leaves = 512u64 * 512 * 256;
+        let nodes = u64::from(fine.node_count());
+        assert!(nodes > leaves && nodes < leaves * 8 / 7 + 64, "{nodes}");
+        assert_eq!(fine.gpu_bytes(), nodes * 12 + leaves * 8);
+        // A quarter of a 1 GB budget: 8³ blocks (183 MB).
+        let share = Pyramid::within(dims, u64::MAX, Some(250_000_000));
+        assert_eq!(share.levels[0].brick_vox, 8);
+        assert!(share.gpu_bytes() <= 250_000_000, "{}", share.gpu_bytes());
+        assert!(
+            Pyramid::within(dims, u64::MAX, Some(share.gpu_bytes() - 1)).levels[0].brick_vox > 8
+        );
     }
 
     #[test]

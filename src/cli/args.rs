@@ -37,7 +37,9 @@ pub struct Cli {
 #[derive(Args, Debug, Clone, Copy, Default)]
 pub struct GpuArgs {
     /// GPU memory the volume may take: 2GB, 512MiB, 800M… Past it, or past the GPU's 3D texture
-    /// limit, the volume is shown from bricks of a coarser level (one line says which).
+    /// limit, the volume is shown from bricks of a coarser level (one line says which). It holds
+    /// the volume's leaping structures (at most a quarter of it: coarser blocks where finer
+    /// would take more) and page tables too.
     ///
     /// Without it, only the GPU's limits bound it.
     #[arg(long, value_parser = parse_gpu_budget, help_heading = "GPU", hide_short_help = true)]

@@ -70,9 +70,9 @@ impl GpuVolume {
         let leap = LeapStructures::new(
             ctx,
             volume.dims(),
-            texture.encoding.scale,
-            texture.encoding.bias,
+            (texture.encoding.scale, texture.encoding.bias),
             texture.view.brick_vox,
+            texture.leap_most,
         );
         let leap_group = layouts.leap_group(&ctx.device, &leap.resources());
         Ok(Self {

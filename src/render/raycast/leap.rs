@@ -218,13 +218,14 @@ pub struct LeapStructures {
 
 impl LeapStructures {
     /// Allocates the structures for a volume of `dims` whose texels decode as
-    /// `s = texel * scale + bias`, held in bricks of `data_brick` voxels (0: one texture).
+    /// `s = texel * scale + bias`, held in bricks of `data_brick` voxels (0: one texture), in at
+    /// most `most` bytes where given (coarser blocks where finer would take more).
     pub fn new(
         ctx: &GpuContext,
         dims: [u32; 3],
-        texel_scale: f32,
-        texel_bias: f32,
+        (texel_scale, texel_bias): (f32, f32),
         data_brick: u32,
+        most: Option<u64>,
     ) -> Self {
         use wgpu::BufferUsages as U;
         let device = &ctx.device;
@@ -232,7 +233,7 @@ impl LeapStructures {
             .limits
             .max_storage_buffer_binding_size
             .min(ctx.limits.max_buffer_size);
-        let pyramid = Pyramid::within(dims, binding);
+        let pyramid = Pyramid::within(dims, binding, most);
         let finest = pyramid.levels[0].brick_vox;
         if finest > crate::accel::pyramid::FINEST_BRICK {
             log::info!(

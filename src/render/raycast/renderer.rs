@@ -214,6 +214,11 @@ impl VolumeRenderer {
         self.volume.as_ref().map(|v| &v.texture)
     }
 
+    /// Bytes the volume's leaping structures take on the GPU.
+    pub fn leap_bytes(&self) -> Option<u64> {
+        self.volume.as_ref().map(|v| v.leap.pyramid.gpu_bytes())
+    }
+
     /// Sets the transfer function; the tables are rebuilt before the next frame that needs
     /// them. Returns whether the function changed.
     pub fn set_transfer_function(&mut self, transfer: &TransferFunction) -> bool {

@@ -149,6 +149,11 @@ impl<T> PerLayout<T> {
     }
 }
 
+/// The share of the GPU memory budget the leaping structures may take, as its divisor: a
+/// quarter (8³ blocks of a 2048 × 2048 × 1024 volume under 1 GB, 183 MB; its 4³ blocks would
+/// take 1.46 GB).
+const LEAP_SHARE: u64 = 4;
+
 /// The volume on the GPU.
 pub struct VolumeTexture {
     /// The 3D texture: the whole volume, or the atlas of its bricks.
@@ -161,6 +166,9 @@ pub struct VolumeTexture {
     pub coarser: Option<String>,
     /// The GPU memory budget it was laid out within (given, or the adapter's default).
     pub budget: Option<u64>,
+    /// The most the volume's leaping structures may take of that budget (a share of it; the
+    /// texels have what they and the page tables leave).
+    pub leap_most: Option<u64>,
     /// The bricks' residency, where the volume is bricked.
     resident: Option<Resident>,
     /// The slices' page table (data everywhere, never a constant), where bricked.
@@ -207,6 +215,18 @@ impl VolumeTexture {
         }
         let bpt = bytes_per_texel(encoding.format);
         let mut budget = upload.gpu_budget.or_else(|| ctx.default_gpu_budget());
+        // The budget holds the leaping structures and page tables too: the structures take at
+        // most a share of it (coarser blocks where finer would take more), the texels the rest.
+        let binding = (ctx.limits.max_storage_buffer_binding_size).min(ctx.limits.max_buffer_size);
+        let leap_most = budget.map(|b| b / LEAP_SHARE);
+        let besides = leap_most.map_or(0, |most| {
+            let leap = crate::accel::pyramid::Pyramid::within(dims, binding, Some(most));
+            let pages =
+                dims.map(|d| u64::from(d.div_ceil(crate::accel::bricks::DEFAULT_BRICK_VOX)));
+            leap.gpu_bytes() + 2 * pages.iter().product::<u64>() * atlas::PAGE_BYTES
+        });
+        let texels = |budget: Option<u64>| budget.map(|b| b.saturating_sub(besides).max(1));
+        let given = budget;
         let layout_error = |e: PlanError| match e {
             PlanError::TooLarge { max } => VolumeTextureError::TooLarge {
                 name: volume.label(),
@@ -216,15 +236,23 @@ impl VolumeTexture {
             },
             other => VolumeTextureError::Layout {
                 name: volume.label(),
-                why: other.to_string(),
+                why: match given {
+                    Some(b) if besides > 0 => format!(
+                        "{other} (the texels' share of a budget of {}: its leaping structures \
+                         and page tables take {})",
+                        crate::text::bytes(b),
+                        crate::text::bytes(besides)
+                    ),
+                    _ => other.to_string(),
+                },
             },
         };
         // Where the GPU runs out of memory for the texture, the budget is halved below it and
         // the layout chosen again (fewer slots), until one fits or none is left.
         let mut lowered = None;
         let (plan, texture) = loop {
-            let plan =
-                plan(dims, upload.bricking, (max, budget), bpt as u64).map_err(layout_error)?;
+            let plan = plan(dims, upload.bricking, (max, texels(budget)), bpt as u64)
+                .map_err(layout_error)?;
             let extent = plan.extent();
             let bytes = extent.iter().map(|&e| u64::from(e)).product::<u64>() * bpt as u64;
             match allocate(ctx, extent, encoding.format) {
@@ -234,7 +262,7 @@ impl VolumeTexture {
                         "the GPU ran out of memory for a {} volume texture",
                         crate::text::bytes(bytes)
                     );
-                    budget = Some(bytes / 2);
+                    budget = Some(bytes / 2 + besides);
                     lowered = Some(bytes);
                 }
                 Err(Allocation::OutOfMemory) => {
@@ -302,6 +330,7 @@ impl VolumeTexture {
             encoding,
             coarser: None,
             budget,
+            leap_most,
             resident,
             slice_pages,
             limits: (max, lowered),
@@ -311,6 +340,14 @@ impl VolumeTexture {
             log::info!("{note} ({})", volume.name());
         }
         Ok(texture)
+    }
+
+    /// Bytes its page tables take on the GPU (the rays' and the slices'; 0 for one texture).
+    pub fn page_table_bytes(&self) -> u64 {
+        let pages = |b: &wgpu::Buffer| b.size();
+        self.slice_pages
+            .as_ref()
+            .map_or(0, |s| pages(s) + pages(&self.view.pages))
     }
 
     /// What the slices bind: the rays' view with the slices' page table (data everywhere).

@@ -44,8 +44,8 @@ pub(super) enum PlanError {
     },
     /// One texture was asked for and it is larger than the budget.
     #[error(
-        "one texture of the volume takes {} but the GPU memory budget is {}; let it be bricked \
-         (--bricks auto)",
+        "one texture of the volume takes {} but the GPU memory budget leaves it {}; let it be \
+         bricked (--bricks auto)",
         crate::text::bytes(*bytes),
         crate::text::bytes(*budget)
     )]
