@@ -244,7 +244,7 @@ mod tests {
         let nodes = u64::from(fine.node_count());
         assert!(nodes > leaves && nodes < leaves * 8 / 7 + 64, "{nodes}");
         assert_eq!(fine.gpu_bytes(), nodes * 12 + leaves * 8);
-        // A quarter of a 1 GB budget: 8³ blocks (183 MB).
+        // A quarter of a 1 GB budget: 8³ blocks (182 MB).
         let share = Pyramid::within(dims, u64::MAX, Some(250_000_000));
         assert_eq!(share.levels[0].brick_vox, 8);
         assert!(share.gpu_bytes() <= 250_000_000, "{}", share.gpu_bytes());

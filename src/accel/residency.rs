@@ -1,10 +1,10 @@
 //! Which bricks of which levels the atlas holds (the Residency Octree's idea on our page table):
 //! a fixed number of slots, the coarsest level (one brick) always resident, and for the rest the
-//! finest level whose wanted bricks fit, or the coarser one a brick's footprint on screen needs. A brick of level 0 that the frame cannot see (empty
-//! under the transfer function, and not beside one that is not) is served by a constant instead
-//! of data, so it costs no slot, no upload and no sample; every other brick of level 0 reads the
-//! finest resident level among its ancestors, so a brick still on its way shows a coarser one,
-//! never a hole. Slots not wanted for the longest time are given first (least recently used).
+//! finest level whose wanted bricks fit, or the coarser one a brick's footprint on screen needs.
+//! A brick of level 0 that the frame cannot see (empty under the transfer function, and not
+//! beside one that is not) is served by a constant instead of data, so it costs no slot, no
+//! upload and no sample; every other brick of level 0 reads the finest resident level among its
+//! ancestors, so a brick still on its way shows a coarser one, never a hole. Slots not wanted for the longest time are given first (least recently used).
 //!
 //! Pure bookkeeping: what to upload where, and the page tables that follow. The GPU side is
 //! `render::volume_texture`.
@@ -28,6 +28,13 @@ const PREVIEW_LEVELS: u32 = 2;
 
 /// In [`Residency::decide_levels`]'s levels: a brick of level 0 whose data the rays do not need.
 pub const NOT_NEEDED: u8 = u8::MAX;
+
+/// Levels that want each brick `marked` marks at level 0, and no other.
+pub fn at_level_0(marked: &[bool]) -> Vec<u8> {
+    (marked.iter())
+        .map(|&m| if m { 0 } else { NOT_NEEDED })
+        .collect()
+}
 
 /// Page-table bit of an entry that holds a constant instead of a slot.
 pub const CONSTANT: u32 = 1 << 31;
@@ -136,10 +143,7 @@ impl Residency {
     /// preview that streams first); then the slices' bricks at that level, or the finest coarser
     /// one that still fits beside them (the rays' level is never given up for the slices').
     pub fn decide(&self, needs_data: &[bool], also: &[bool]) -> Wanted {
-        let finest: Vec<u8> = (needs_data.iter())
-            .map(|&n| if n { 0 } else { NOT_NEEDED })
-            .collect();
-        self.decide_levels(&finest, also)
+        self.decide_levels(&at_level_0(needs_data), also)
     }
 
     /// [`Self::decide`], each brick of level 0 that the rays need wanted no finer than `finest`
@@ -184,9 +188,7 @@ impl Residency {
                 }
             }
             if also.iter().any(|a| *a) {
-                let also: Vec<u8> = (also.iter())
-                    .map(|&a| if a { 0 } else { NOT_NEEDED })
-                    .collect();
+                let also = at_level_0(also);
                 for coarser in level..self.levels {
                     let more: Vec<BrickKey> = self
                         .ancestors_at(&also, coarser)
@@ -249,7 +251,6 @@ impl Residency {
                     level: l,
                     brick: index_to_brick(i as u32, g),
                 })
-                .collect::<Vec<_>>()
         })
     }
 
@@ -624,8 +625,8 @@ mod tests {
         assert!(tight.bricks.iter().all(|k| k.level >= 2));
         // Footprints of level 0 everywhere decide as `decide` does.
         let everywhere: Vec<bool> = finest.iter().map(|&f| f != NOT_NEEDED).collect();
-        let zero: Vec<u8> = (everywhere.iter())
-            .map(|&n| if n { 0 } else { NOT_NEEDED })
+        let zero: Vec<u8> = (finest.iter())
+            .map(|&f| if f == NOT_NEEDED { f } else { 0 })
             .collect();
         assert_eq!(r.decide(&everywhere, &[]), r.decide_levels(&zero, &[]));
     }

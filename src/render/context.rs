@@ -120,11 +120,13 @@ impl GpuContext {
         bytes_per_pixel: u64,
     ) -> Option<u64> {
         let bytes = u64::from(size[0]) * u64::from(size[1]) * bytes_per_pixel;
-        let largest = self
-            .limits
-            .max_storage_buffer_binding_size
-            .min(self.limits.max_buffer_size);
-        (bytes > 0 && bytes <= largest).then_some(bytes)
+        (bytes > 0 && bytes <= self.largest_binding()).then_some(bytes)
+    }
+
+    /// The most bytes a shader can bind as one storage buffer (the smaller of the binding and
+    /// buffer limits).
+    pub(crate) fn largest_binding(&self) -> u64 {
+        (self.limits.max_storage_buffer_binding_size).min(self.limits.max_buffer_size)
     }
 
     /// Creates a device without a window. Prefers Vulkan (on data-centre GPUs the GL backend

@@ -229,10 +229,7 @@ impl LeapStructures {
     ) -> Self {
         use wgpu::BufferUsages as U;
         let device = &ctx.device;
-        let binding = ctx
-            .limits
-            .max_storage_buffer_binding_size
-            .min(ctx.limits.max_buffer_size);
+        let binding = ctx.largest_binding();
         let pyramid = Pyramid::within(dims, binding, most);
         let finest = pyramid.levels[0].brick_vox;
         if finest > crate::accel::pyramid::FINEST_BRICK {

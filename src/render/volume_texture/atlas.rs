@@ -47,6 +47,14 @@ pub(super) fn encode_brick(
 /// Bytes of one page-table entry (see [`gpu_page`]).
 pub(super) const PAGE_BYTES: u64 = 16;
 
+/// Bytes of one page table of a volume of `dims` in bricks of `brick_vox`: an entry a brick.
+pub(super) fn page_table_bytes(dims: [u32; 3], brick_vox: u32) -> u64 {
+    dims.iter()
+        .map(|&d| u64::from(d.div_ceil(brick_vox)))
+        .product::<u64>()
+        * PAGE_BYTES
+}
+
 /// A page-table entry as the shaders read it (`shaders/shared/volume.wgsl`: four f32, as u32
 /// bits, so that a sample needs no integer decoding): for brick `brick` (of `brick_vox`
 /// voxels) held in a slot, the atlas texel of its level's voxel 0 (exact integers: past the

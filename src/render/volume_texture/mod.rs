@@ -150,7 +150,7 @@ impl<T> PerLayout<T> {
 }
 
 /// The share of the GPU memory budget the leaping structures may take, as its divisor: a
-/// quarter (8³ blocks of a 2048 × 2048 × 1024 volume under 1 GB, 183 MB; its 4³ blocks would
+/// quarter (8³ blocks of a 2048 × 2048 × 1024 volume under 1 GB, 182 MB; its 4³ blocks would
 /// take 1.46 GB).
 const LEAP_SHARE: u64 = 4;
 
@@ -217,13 +217,12 @@ impl VolumeTexture {
         let mut budget = upload.gpu_budget.or_else(|| ctx.default_gpu_budget());
         // The budget holds the leaping structures and page tables too: the structures take at
         // most a share of it (coarser blocks where finer would take more), the texels the rest.
-        let binding = (ctx.limits.max_storage_buffer_binding_size).min(ctx.limits.max_buffer_size);
         let leap_most = budget.map(|b| b / LEAP_SHARE);
         let besides = leap_most.map_or(0, |most| {
-            let leap = crate::accel::pyramid::Pyramid::within(dims, binding, Some(most));
-            let pages =
-                dims.map(|d| u64::from(d.div_ceil(crate::accel::bricks::DEFAULT_BRICK_VOX)));
-            leap.gpu_bytes() + 2 * pages.iter().product::<u64>() * atlas::PAGE_BYTES
+            let leap =
+                crate::accel::pyramid::Pyramid::within(dims, ctx.largest_binding(), Some(most));
+            let pages = atlas::page_table_bytes(dims, crate::accel::bricks::DEFAULT_BRICK_VOX);
+            leap.gpu_bytes() + 2 * pages
         });
         let texels = |budget: Option<u64>| budget.map(|b| b.saturating_sub(besides).max(1));
         let given = budget;
@@ -282,10 +281,8 @@ impl VolumeTexture {
                 (atlas::no_page_table(ctx), None)
             }
             Plan::Bricked(atlas) => {
-                let pages = dims.map(|d| u64::from(d.div_ceil(atlas.brick_vox)));
-                let table = pages.iter().product::<u64>() * atlas::PAGE_BYTES;
-                let most =
-                    (ctx.limits.max_storage_buffer_binding_size).min(ctx.limits.max_buffer_size);
+                let table = atlas::page_table_bytes(dims, atlas.brick_vox);
+                let most = ctx.largest_binding();
                 if table > most {
                     return Err(VolumeTextureError::Layout {
                         name: volume.label(),
@@ -344,10 +341,7 @@ impl VolumeTexture {
 
     /// Bytes its page tables take on the GPU (the rays' and the slices'; 0 for one texture).
     pub fn page_table_bytes(&self) -> u64 {
-        let pages = |b: &wgpu::Buffer| b.size();
-        self.slice_pages
-            .as_ref()
-            .map_or(0, |s| pages(s) + pages(&self.view.pages))
+        (self.slice_pages.as_ref()).map_or(0, |s| s.size() + self.view.pages.size())
     }
 
     /// What the slices bind: the rays' view with the slices' page table (data everywhere).

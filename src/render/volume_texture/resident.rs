@@ -14,7 +14,7 @@ use super::ranges::{BrickRange, brick_ranges};
 use super::unseen::{REACH, Unseen, brick_box, footprint_levels, in_view};
 use crate::accel::bricks::BrickLayout;
 use crate::accel::residency::{
-    BrickKey, NOT_NEEDED, PageTables, Residency, Wanted, dilate, index_to_brick,
+    BrickKey, NOT_NEEDED, PageTables, Residency, Wanted, at_level_0, dilate, index_to_brick,
 };
 use crate::parallel::parallel;
 use crate::render::context::GpuContext;
@@ -364,9 +364,7 @@ impl Resident {
                 &self.by_rule.insert((rule, rays)).1
             }
         };
-        let mut rays: Vec<u8> = (by_rule.iter())
-            .map(|&need| if need { 0 } else { NOT_NEEDED })
-            .collect();
+        let mut rays = at_level_0(by_rule);
         let b = f64::from(self.brick_vox);
         // The view decides only where not every brick fits.
         if let Some(clip) = unseen.frustum
@@ -470,8 +468,8 @@ impl Resident {
     }
 
     /// Writes both page tables for `wanted` as residency stands (the entries that may have
-    /// changed converted again, the tables written whole); returns the level-0 bricks whose
-    /// rays' entry changed (`None` where the tables are new).
+    /// changed converted again and sent); returns the level-0 bricks whose rays' entry changed
+    /// (`None` where the tables are new).
     fn write_pages(&mut self, ctx: &GpuContext, wanted: &Wanted) -> Option<Vec<[u32; 3]>> {
         let constants: Vec<Option<u32>> = match &self.ranges {
             Some(r) => r.iter().map(|r| r.constant).collect(),

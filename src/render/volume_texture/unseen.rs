@@ -142,16 +142,13 @@ pub(super) fn in_view(clip: &glam::DMat4, grid: [u32; 3], brick: f64, reach: f64
             Side::Across if !single => {
                 let mid: [u32; 3] = std::array::from_fn(|a| lo[a] + (hi[a] - lo[a]).div_ceil(2));
                 for octant in 0..8 {
-                    let pick = |a: usize| {
-                        if octant >> a & 1 == 0 {
-                            (lo[a], mid[a])
-                        } else {
-                            (mid[a], hi[a])
-                        }
-                    };
-                    let (p, q): (Vec<u32>, Vec<u32>) = (0..3).map(pick).unzip();
+                    let upper = |a: usize| octant >> a & 1 == 1;
+                    let p: [u32; 3] =
+                        std::array::from_fn(|a| if upper(a) { mid[a] } else { lo[a] });
+                    let q: [u32; 3] =
+                        std::array::from_fn(|a| if upper(a) { hi[a] } else { mid[a] });
                     if (0..3).all(|a| p[a] < q[a]) {
-                        parts.push(([p[0], p[1], p[2]], [q[0], q[1], q[2]]));
+                        parts.push((p, q));
                     }
                 }
             }
