@@ -46,6 +46,9 @@ pub const CONSTANT_F16: u32 = 1 << 30;
 pub struct Wanted {
     /// The level the data bricks are wanted at (0: full resolution).
     pub level: u32,
+    /// The finest level at which every brick the rays need fits the atlas: `level` is coarser
+    /// than this where the footprints on screen ask for no finer.
+    pub fits: u32,
     /// The bricks, coarsest level first.
     pub bricks: Vec<BrickKey>,
     /// Per brick of level 0 (x fastest): whether the rays read its constant, not data.
@@ -161,6 +164,7 @@ impl Residency {
             }
             return Wanted {
                 level: 0,
+                fits: 0,
                 bricks,
                 constant: vec![false; all as usize],
             };
@@ -204,6 +208,7 @@ impl Residency {
             let finest_wanted = bricks[1..].iter().map(|k| k.level).min().unwrap_or(level);
             return Wanted {
                 level: finest_wanted.max(level),
+                fits: level,
                 bricks,
                 constant,
             };
@@ -211,6 +216,7 @@ impl Residency {
         // The coarsest alone always fits one slot.
         Wanted {
             level: self.levels - 1,
+            fits: self.levels - 1,
             bricks: vec![coarsest],
             constant,
         }
@@ -622,6 +628,16 @@ mod tests {
         // With 12 slots the far half does not fit at level 1: all go one level coarser.
         let tight = Residency::new([64, 64, 32], 8, [8, 8, 8], 12).decide_levels(&finest, &[]);
         assert_eq!(tight.level, 2);
+        assert_eq!(
+            tight.fits, 2,
+            "the budget, not the footprints, chose level 2"
+        );
+        // Where only the far half is needed, the footprints alone ask for level 1: it fits at 0.
+        let far: Vec<u8> = (finest.iter())
+            .map(|&f| if f == 1 { 1 } else { NOT_NEEDED })
+            .collect();
+        let by_footprint = r.decide_levels(&far, &[]);
+        assert_eq!((by_footprint.level, by_footprint.fits), (1, 0));
         assert!(tight.bricks.iter().all(|k| k.level >= 2));
         // Footprints of level 0 everywhere decide as `decide` does.
         let everywhere: Vec<bool> = finest.iter().map(|&f| f != NOT_NEEDED).collect();
@@ -734,6 +750,7 @@ mod tests {
             .collect();
         let wanted = Wanted {
             level: 0,
+            fits: 0,
             bricks,
             constant: vec![false; r.page_count()],
         };

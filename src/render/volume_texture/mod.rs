@@ -23,7 +23,7 @@ use wgpu::util::DeviceExt;
 use super::context::GpuContext;
 use super::gpu_data::VolumeGeometry;
 use encoding::{TexelSource, choose_encoding, encode_texels, encoding_for};
-use plan::{Plan, PlanError, coarser_note, plan};
+use plan::{Plan, PlanError, coarser_note, footprint_note, plan};
 use resident::Resident;
 pub use resident::{ResidencyStatus, Update};
 pub use unseen::{Cull, REACH_STEP_VOX, SlicePlane, Unseen};
@@ -382,16 +382,17 @@ impl VolumeTexture {
         self.resident.as_ref().map(Resident::status)
     }
 
-    /// Sets [`Self::coarser`] from the level the bricks are held at.
+    /// Sets [`Self::coarser`] from the level the bricks are held at: coarser than the volume's
+    /// own where the budget holds no finer, or where the view needs no finer.
     fn note(&mut self, ctx: &GpuContext) {
         let Some(resident) = &self.resident else {
             return;
         };
         let ((max, lowered), budget) = (self.limits, self.budget);
         let bpt = bytes_per_texel(self.encoding.format) as u64;
-        let level = resident.status().level;
+        let status = resident.status();
         let mut coarser = coarser_note(
-            (resident.dims(), resident.brick_vox(), level),
+            (resident.dims(), resident.brick_vox(), status.fits),
             (max, budget),
             bpt,
         );
@@ -403,6 +404,9 @@ impl VolumeTexture {
                 crate::render::memory::DEFAULT_SHARE * 100.0,
                 crate::text::bytes(memory.available_bytes.unwrap_or(memory.heap_bytes))
             ));
+        }
+        if coarser.is_none() && status.level > 0 {
+            coarser = Some(footprint_note(resident.dims(), status.level));
         }
         if let Some(failed) = lowered {
             let said = format!(

@@ -95,6 +95,17 @@ pub(super) fn coarser_note(
     ))
 }
 
+/// Why the finest bricks held are of `level` although finer ones fit the budget: at this zoom a
+/// voxel of that level covers about a pixel (the footprint rule, `unseen::footprint_levels`).
+pub(super) fn footprint_note(dims: [u32; 3], level: u32) -> String {
+    let [x, y, z] = level_dims(dims, level);
+    format!(
+        "the volume is shown at 1/{} resolution ({x} x {y} x {z} voxels, level {level}): at this \
+         zoom a voxel of it covers about a pixel; zooming in loads finer bricks",
+        1u32 << level
+    )
+}
+
 /// The atlas for a volume of `dims` in bricks of `brick_vox` under a 3D texture limit of `max`
 /// and `budget` bytes (slots of `bytes_per_texel`): as many slots as every brick of level 0 and
 /// the coarsest need, or as the budget and the limit allow, whichever is fewer.

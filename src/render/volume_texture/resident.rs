@@ -60,6 +60,9 @@ pub struct Update {
 pub struct ResidencyStatus {
     /// The finest level any data brick is wanted at (coarser ones where footprints allow).
     pub level: u32,
+    /// The finest level at which every brick the rays need fits the budget (`level` is coarser
+    /// where the footprints on screen ask for no finer).
+    pub fits: u32,
     /// Levels the rays read (bit `k`: level `k`).
     pub levels: u32,
     /// Bricks resident.
@@ -263,6 +266,7 @@ impl Resident {
                 .filter(|k| k.level == wanted.level)
                 .count();
             self.status.level = wanted.level;
+            self.status.fits = wanted.fits;
             self.status.bytes = self.status.resident as u64
                 * u64::from(self.brick_vox + 2).pow(3)
                 * bytes_per_texel(self.encoding.format) as u64;
