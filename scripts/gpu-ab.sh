@@ -10,7 +10,7 @@
 # .bench-data/bins.tar.xz`: builds share most bytes, so two or three fit the 64 MiB carry beside
 # the scans); its members run in the archive's order, ROUNDS times (main-1, fix-1, main-2, …).
 # Each run writes /tmp/r/NAME-I/ and NAME-I.log; before the runs every build's `leapview shaders`
-# (and `--unlit`) goes to /tmp/r/shaders-NAME.md, where the driver reports statistics; the SM
+# (and `--unlit`, `--bricked`) goes to /tmp/r/shaders-NAME.md, where the driver reports statistics; the SM
 # clock is logged every 500 ms to /tmp/r/clock.log. After every run /tmp/r is packed into
 # OUT/r.tgz (the device tool brings back 8 files a call; a call cut short keeps what it ran).
 # A member NAME.flags is not a build: its one line of flags is added to build NAME's runs (the
@@ -52,6 +52,7 @@ fi
 for name in "${names[@]}"; do
     "$bins/$name" shaders >"/tmp/r/shaders-$name.md" 2>&1 || true
     "$bins/$name" shaders --unlit >"/tmp/r/shaders-$name-unlit.md" 2>&1 || true
+    "$bins/$name" shaders --bricked >"/tmp/r/shaders-$name-bricked.md" 2>&1 || true
 done
 pack
 status=0

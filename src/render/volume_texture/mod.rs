@@ -429,8 +429,13 @@ impl VolumeTexture {
         let budget = self
             .budget
             .map_or(String::new(), |b| format!(" of {}", crate::text::bytes(b)));
+        let levels = if s.levels.count_ones() > 1 {
+            "levels"
+        } else {
+            "level"
+        };
         Some(format!(
-            "bricks: level {} read, {} of {} wanted resident, {}{budget}",
+            "bricks: {levels} {} read, {} of {} wanted resident, {}{budget}",
             s.levels_read(),
             s.wanted - s.missing,
             s.wanted,
