@@ -25,6 +25,10 @@ use crate::volume::downsample::Level;
 /// frame's upload time is kept to within a batch (64 took 7 ms on the H100 machine's host).
 const BATCH: usize = 16;
 
+/// Bytes of bricks an update sends before it waits for the GPU to take them (what wgpu's
+/// staging copies hold at most, besides the batch being written).
+const STAGING_MOST: u64 = 64 << 20;
+
 /// Missing bricks a frame puts in order before uploading (the nearest of them; the rest wait):
 /// more than a frame's time budget uploads on the H100 machine (about 300 at 8 ms).
 const ORDERED: usize = 1024;
@@ -239,13 +243,27 @@ impl Resident {
         let queue = self.upload_order(&wanted, unseen.eye, time.is_some());
         let sorted = start.elapsed();
         let mut rest = &queue[..];
+        let (mut sent, mut encoding) = (0, Duration::ZERO);
+        let mut staged = 0;
         while !rest.is_empty() {
             let given = self.residency.admit(rest, BATCH);
             if given.is_empty() {
                 break;
             }
             rest = &rest[given.len()..];
-            self.upload(ctx, atlas, &given);
+            sent += given.len();
+            let (took, bytes, submitted) = self.upload(ctx, atlas, &given);
+            encoding += took;
+            // The staging copies wgpu holds until the GPU has taken them: bounded, and no
+            // wait for the GPU (nor the frame it is drawing) below that bound.
+            staged += bytes;
+            if staged > STAGING_MOST {
+                let _ = ctx.device.poll(wgpu::PollType::Wait {
+                    submission_index: Some(submitted),
+                    timeout: None,
+                });
+                staged = 0;
+            }
             changed = true;
             if time.is_some_and(|t| start.elapsed() >= t) {
                 break;
@@ -273,10 +291,12 @@ impl Resident {
         }
         self.wanted = Some(wanted);
         log::debug!(
-            "residency update: decided {:.2} ms, sorted {:.2}, uploaded {:.2}, pages {:.2}",
+            "residency update: decided {:.2} ms, sorted {:.2}, uploaded {:.2} ({sent} bricks, \
+             encoding {:.2}), pages {:.2}",
             decided.as_secs_f64() * 1e3,
             (sorted - decided).as_secs_f64() * 1e3,
             (uploaded - sorted).as_secs_f64() * 1e3,
+            encoding.as_secs_f64() * 1e3,
             (start.elapsed() - uploaded).as_secs_f64() * 1e3,
         );
         Update {
@@ -424,8 +444,15 @@ impl Resident {
         rays
     }
 
-    /// Encodes `given` (on all cores) and writes each into its slot.
-    fn upload(&self, ctx: &GpuContext, atlas: &wgpu::Texture, given: &[(BrickKey, u32)]) {
+    /// Encodes `given` (on all cores) and writes each into its slot; returns how long the
+    /// encoding took, the bytes sent and the submission that sends them.
+    fn upload(
+        &self,
+        ctx: &GpuContext,
+        atlas: &wgpu::Texture,
+        given: &[(BrickKey, u32)],
+    ) -> (Duration, u64, wgpu::SubmissionIndex) {
+        let start = Instant::now();
         let s = self.brick_vox + 2;
         let bpt = bytes_per_texel(self.encoding.format) as u32;
         let encoded = parallel(given.len(), &|| false, &|k| {
@@ -439,8 +466,11 @@ impl Resident {
             encode_brick(&source, &self.encoding, &layout, key.brick, &mut out);
             out
         });
+        let encoded_in = start.elapsed();
+        let mut sent = 0;
         for ((_, slot), bytes) in given.iter().zip(encoded) {
             let Some(bytes) = bytes else { continue };
+            sent += bytes.len() as u64;
             let at = self.residency.slot_coords(*slot);
             ctx.queue.write_texture(
                 wgpu::TexelCopyTextureInfo {
@@ -466,9 +496,7 @@ impl Resident {
                 },
             );
         }
-        // As the whole upload: wgpu lets go of the batch's staging copy before the next.
-        ctx.queue.submit([]);
-        let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
+        (encoded_in, sent, ctx.queue.submit([]))
     }
 
     /// Writes both page tables for `wanted` as residency stands (the entries that may have
