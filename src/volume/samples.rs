@@ -1,5 +1,9 @@
 //! Typed storage of a volume's samples, in the type the file stored them.
 
+/// Samples each task of [`Samples::fold_f64`] takes: large enough that a task's overhead is
+/// nothing beside it, small enough that all cores share a 256³ volume.
+const FOLD_CHUNK: usize = 1 << 18;
+
 /// The stored type of a volume's samples.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ScalarType {
@@ -147,6 +151,29 @@ impl Samples {
         if row > 0 {
             each_variant!(self, v => v.chunks_mut(row).for_each(<[_]>::reverse))
         }
+    }
+
+    /// Folds every stored value as f64 on the pool of threads, in chunks of [`FOLD_CHUNK`]
+    /// each folded from `init()`, then joins the chunks' results in an order `join` must not
+    /// depend on (a minimum, a sum of counts).
+    #[allow(clippy::unnecessary_cast)]
+    pub(crate) fn fold_f64<T: Send>(
+        &self,
+        init: impl Fn() -> T + Sync + Send,
+        fold: impl Fn(&mut T, f64) + Sync + Send,
+        join: impl Fn(T, T) -> T + Sync + Send,
+    ) -> T {
+        use rayon::prelude::*;
+        each_variant!(self, v => v
+            .par_chunks(FOLD_CHUNK)
+            .map(|chunk| {
+                let mut acc = init();
+                for &x in chunk {
+                    fold(&mut acc, x as f64);
+                }
+                acc
+            })
+            .reduce(&init, &join))
     }
 
     /// Calls `f` with every stored value as f64, in storage order.

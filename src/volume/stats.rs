@@ -76,18 +76,20 @@ pub(super) fn compute(
     samples: &Samples,
     mapping: ValueMapping,
 ) -> (Option<ValueRange>, Histogram, u64) {
-    let mut min = f64::INFINITY;
-    let mut max = f64::NEG_INFINITY;
-    let mut non_finite = 0u64;
-    samples.for_each_f64(|s| {
-        let v = mapping.apply(s);
-        if v.is_finite() {
-            min = min.min(v);
-            max = max.max(v);
-        } else {
-            non_finite += 1;
-        }
-    });
+    // On all cores: 1024³ voxels took 14 s to load on the H100 machine, mostly these passes.
+    let (min, max, non_finite) = samples.fold_f64(
+        || (f64::INFINITY, f64::NEG_INFINITY, 0u64),
+        |(min, max, non_finite), s| {
+            let v = mapping.apply(s);
+            if v.is_finite() {
+                *min = min.min(v);
+                *max = max.max(v);
+            } else {
+                *non_finite += 1;
+            }
+        },
+        |a, b| (a.0.min(b.0), a.1.max(b.1), a.2 + b.2),
+    );
     let range = (min <= max).then_some(ValueRange { min, max });
     let hist_range = range.unwrap_or(ValueRange { min: 0.0, max: 0.0 });
     let mut histogram = Histogram {
@@ -95,13 +97,21 @@ pub(super) fn compute(
         counts: vec![0; HISTOGRAM_BINS],
     };
     if range.is_some() {
-        samples.for_each_f64(|s| {
-            let v = mapping.apply(s);
-            if v.is_finite() {
-                let bin = histogram.bin_of(v);
-                histogram.counts[bin] += 1;
-            }
-        });
+        let bins = &histogram;
+        let counts = samples.fold_f64(
+            || vec![0; HISTOGRAM_BINS],
+            |counts, s| {
+                let v = mapping.apply(s);
+                if v.is_finite() {
+                    counts[bins.bin_of(v)] += 1;
+                }
+            },
+            |mut a, b| {
+                a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+                a
+            },
+        );
+        histogram.counts = counts;
     }
     (range, histogram, non_finite)
 }
