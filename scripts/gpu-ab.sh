@@ -10,8 +10,8 @@
 # .bench-data/bins.tar.xz`: builds share most bytes, so two or three fit the 64 MiB carry beside
 # the scans); its members run in the archive's order, ROUNDS times (main-1, fix-1, main-2, …).
 # Each run writes /tmp/r/NAME-I/ and NAME-I.log; before the runs every build's `leapview shaders`
-# (and `--unlit`, `--bricked`) goes to /tmp/r/shaders-NAME.md, where the driver reports statistics; the SM
-# clock is logged every 500 ms to /tmp/r/clock.log. After every run /tmp/r is packed into
+# (and `--unlit`, `--bricked`) goes to /tmp/r/shaders-NAME*.md, where the driver reports
+# statistics; the SM clock is logged every 500 ms to /tmp/r/clock.log. After every run /tmp/r is packed into
 # OUT/r.tgz (the device tool brings back 8 files a call; a call cut short keeps what it ran).
 # A member NAME.flags is not a build: its one line of flags is added to build NAME's runs (the
 # same build twice under two names, e.g. `--bricks off` against `--bricks on`).

@@ -1,4 +1,4 @@
-//! Work spread over every core with scoped threads: items by index, results in order
+//! Work spread over every core: items by index on rayon's pool of threads, results in order
 //! ([`parallel`]), or a buffer of z slices filled a slab per thread ([`fill_slabs`]). Used by the
 //! loaders, the generators, the GPU upload and the downsampling.
 
@@ -31,9 +31,11 @@ pub fn parallel_on<R: Send>(
     let threads = threads.clamp(1, count.max(1));
     let next = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<R>>> = Mutex::new((0..count).map(|_| None).collect());
-    std::thread::scope(|scope| {
+    // On rayon's pool, not threads spawned per call: streamed bricks come in batches of 16,
+    // several a frame, and each batch would spawn a thread per core.
+    rayon::scope(|scope| {
         for _ in 0..threads {
-            scope.spawn(|| {
+            scope.spawn(|_| {
                 loop {
                     let i = next.fetch_add(1, Ordering::Relaxed);
                     if i >= count || stop() {

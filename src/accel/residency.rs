@@ -4,7 +4,8 @@
 //! A brick of level 0 that the frame cannot see (empty under the transfer function, and not
 //! beside one that is not) is served by a constant instead of data, so it costs no slot, no
 //! upload and no sample; every other brick of level 0 reads the finest resident level among its
-//! ancestors, so a brick still on its way shows a coarser one, never a hole. Slots not wanted for the longest time are given first (least recently used).
+//! ancestors, so a brick still on its way shows a coarser one, never a hole. Slots not wanted
+//! for the longest time are given first (least recently used).
 //!
 //! Pure bookkeeping: what to upload where, and the page tables that follow. The GPU side is
 //! `render::volume_texture`.
@@ -628,6 +629,7 @@ mod tests {
         // With 12 slots the far half does not fit at level 1: all go one level coarser.
         let tight = Residency::new([64, 64, 32], 8, [8, 8, 8], 12).decide_levels(&finest, &[]);
         assert_eq!(tight.level, 2);
+        assert!(tight.bricks.iter().all(|k| k.level >= 2));
         assert_eq!(
             tight.fits, 2,
             "the budget, not the footprints, chose level 2"
@@ -638,7 +640,6 @@ mod tests {
             .collect();
         let by_footprint = r.decide_levels(&far, &[]);
         assert_eq!((by_footprint.level, by_footprint.fits), (1, 0));
-        assert!(tight.bricks.iter().all(|k| k.level >= 2));
         // Footprints of level 0 everywhere decide as `decide` does.
         let everywhere: Vec<bool> = finest.iter().map(|&f| f != NOT_NEEDED).collect();
         let zero: Vec<u8> = (finest.iter())

@@ -76,7 +76,7 @@ pub(super) fn compute(
     samples: &Samples,
     mapping: ValueMapping,
 ) -> (Option<ValueRange>, Histogram, u64) {
-    // On all cores: 1024³ voxels took 14 s to load on the H100 machine, mostly these passes.
+    // On all cores (1024³ uint8 `leapview info` on 2 cores: 16.4 s with one, 11.2 s with both).
     let (min, max, non_finite) = samples.fold_f64(
         || (f64::INFINITY, f64::NEG_INFINITY, 0u64),
         |(min, max, non_finite), s| {

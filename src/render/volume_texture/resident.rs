@@ -16,10 +16,10 @@ use crate::accel::bricks::BrickLayout;
 use crate::accel::residency::{
     BrickKey, NOT_NEEDED, PageTables, Residency, Wanted, at_level_0, dilate, index_to_brick,
 };
+use crate::parallel::parallel;
 use crate::render::context::GpuContext;
 use crate::volume::Volume;
 use crate::volume::downsample::Level;
-use rayon::prelude::*;
 
 /// Bricks encoded and written per batch (about 1.3 MB of 16-bit slots): small enough that a
 /// frame's upload time is kept to within a batch (64 took 7 ms on the H100 machine's host).
@@ -455,26 +455,21 @@ impl Resident {
         let start = Instant::now();
         let s = self.brick_vox + 2;
         let bpt = bytes_per_texel(self.encoding.format) as u32;
-        // On the process's pool of threads: spawning a thread per core for each batch of 16
-        // took 2-3 ms of a streaming frame on the H100 machine's 16 cores.
-        let (volume, levels, encoding) = (&self.volume, &self.levels, &self.encoding);
-        let (dims, brick_vox) = (volume.dims(), self.brick_vox);
-        let encoded: Vec<Vec<u8>> = given
-            .par_iter()
-            .map(|&(key, _)| {
-                let layout = BrickLayout::geometry(dims, brick_vox, key.level);
-                let source = match key.level {
-                    0 => TexelSource::of(volume),
-                    l => TexelSource::level(volume, &levels[l as usize - 1]),
-                };
-                let mut out = Vec::new();
-                encode_brick(&source, encoding, &layout, key.brick, &mut out);
-                out
-            })
-            .collect();
+        let encoded = parallel(given.len(), &|| false, &|k| {
+            let (key, _) = given[k];
+            let layout = BrickLayout::geometry(self.volume.dims(), self.brick_vox, key.level);
+            let source = match key.level {
+                0 => TexelSource::of(&self.volume),
+                l => TexelSource::level(&self.volume, &self.levels[l as usize - 1]),
+            };
+            let mut out = Vec::new();
+            encode_brick(&source, &self.encoding, &layout, key.brick, &mut out);
+            out
+        });
         let encoded_in = start.elapsed();
         let mut sent = 0;
         for ((_, slot), bytes) in given.iter().zip(encoded) {
+            let Some(bytes) = bytes else { continue };
             sent += bytes.len() as u64;
             let at = self.residency.slot_coords(*slot);
             ctx.queue.write_texture(
