@@ -10,7 +10,10 @@
 //! Pure bookkeeping: what to upload where, and the page tables that follow. The GPU side is
 //! `render::volume_texture`.
 
-use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use rayon::prelude::*;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use super::bricks::{BrickLayout, level_count, level_dims};
 
@@ -64,7 +67,7 @@ pub struct Residency {
     levels: u32,
     slots: [u32; 3],
     capacity: u32,
-    resident: HashMap<BrickKey, u32>,
+    resident: FxHashMap<BrickKey, u32>,
     held: Vec<Option<BrickKey>>,
     last_wanted: Vec<u64>,
     frame: u64,
@@ -86,7 +89,7 @@ impl Residency {
             levels: level_count(dims, brick_vox).min(super::bricks::MAX_LEVELS),
             slots,
             capacity,
-            resident: HashMap::new(),
+            resident: FxHashMap::default(),
             held: vec![None; capacity as usize],
             last_wanted: vec![0; capacity as usize],
             frame: 0,
@@ -178,7 +181,7 @@ impl Residency {
             if bricks.len() > capacity {
                 continue;
             }
-            let mut held: std::collections::HashSet<BrickKey> = bricks.iter().copied().collect();
+            let mut held: FxHashSet<BrickKey> = bricks.iter().copied().collect();
             // A preview two levels coarser, where it fits, streams first: the coarsest alone
             // (a mean over the whole volume's bricks) hides thin structures while the rest comes.
             let preview_level = level + PREVIEW_LEVELS;
@@ -225,40 +228,52 @@ impl Residency {
 
     /// The distinct ancestors of the bricks of level 0 that `finest` wants, each at its level
     /// there or at `level` where that is coarser: coarser levels first, each in brick order.
+    /// On all cores, a plane of bricks per task: a frame of an orbit decides again wherever a
+    /// brick's footprint crosses a level, and 131 072 bricks took 0.6 ms a pass on one core.
     fn ancestors_at(&self, finest: &[u8], level: u32) -> impl Iterator<Item = BrickKey> {
         let last = self.levels - 1;
         let grids: Vec<[u32; 3]> = (0..self.levels).map(|l| self.grid(l)).collect();
-        let mut marks: Vec<Vec<bool>> = (grids.iter())
-            .map(|g| vec![false; g.iter().map(|&v| v as usize).product()])
+        let marks: Vec<Vec<AtomicBool>> = (grids.iter())
+            .map(|g| {
+                (0..g.iter().map(|&v| v as usize).product::<usize>())
+                    .map(|_| AtomicBool::new(false))
+                    .collect()
+            })
             .collect();
         let pages = grids[0];
-        let mut i = 0;
-        for z in 0..pages[2] {
-            for y in 0..pages[1] {
-                for x in 0..pages[0] {
-                    let f = finest[i];
-                    i += 1;
+        let plane = (pages[0] * pages[1]) as usize;
+        finest
+            .par_chunks(plane.max(1))
+            .enumerate()
+            .for_each(|(z, wants)| {
+                let z = z as u32;
+                for (i, &f) in wants.iter().enumerate() {
                     if f == NOT_NEEDED {
                         continue;
                     }
+                    let (x, y) = (i as u32 % pages[0], i as u32 / pages[0]);
                     let l = u32::from(f).max(level).min(last);
                     let g = grids[l as usize];
                     let (bx, by, bz) = (x >> l, y >> l, z >> l);
-                    marks[l as usize][(bx + g[0] * (by + g[1] * bz)) as usize] = true;
+                    marks[l as usize][(bx + g[0] * (by + g[1] * bz)) as usize]
+                        .store(true, Ordering::Relaxed);
                 }
-            }
-        }
-        (0..self.levels).rev().flat_map(move |l| {
-            let g = grids[l as usize];
-            std::mem::take(&mut marks[l as usize])
-                .into_iter()
-                .enumerate()
-                .filter(|(_, m)| *m)
-                .map(move |(i, _)| BrickKey {
-                    level: l,
-                    brick: index_to_brick(i as u32, g),
-                })
-        })
+            });
+        let keys: Vec<Vec<BrickKey>> = (0..self.levels)
+            .rev()
+            .map(|l| {
+                let g = grids[l as usize];
+                (marks[l as usize].par_iter())
+                    .enumerate()
+                    .filter(|(_, m)| m.load(Ordering::Relaxed))
+                    .map(|(i, _)| BrickKey {
+                        level: l,
+                        brick: index_to_brick(i as u32, g),
+                    })
+                    .collect()
+            })
+            .collect();
+        keys.into_iter().flatten()
     }
 
     /// How many of `wanted` are not resident.

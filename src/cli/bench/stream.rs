@@ -165,12 +165,15 @@ pub fn run(args: &BenchArgs, file: &Path) -> Result<(), Failure> {
         budget: args.gpu.gpu_budget,
         load_s,
         texture: texture.as_deref().unwrap_or("no volume"),
-        besides: (
-            renderer.leap_bytes().unwrap_or(0),
-            renderer
+        allocated: Allocated {
+            texture: renderer.volume_texture().map_or(0, |t| t.texture_bytes()),
+            leap: renderer.leap_bytes().unwrap_or(0),
+            pages: renderer
                 .volume_texture()
                 .map_or(0, |t| t.page_table_bytes()),
-        ),
+            staging: renderer.volume_texture().map_or(0, |t| t.reserved.0),
+            targets: leapview::render::raycast::targets::Targets::bytes(size),
+        },
         rows: &rows,
     });
     write(&out.join("stream.md"), &summary)?;
@@ -221,9 +224,22 @@ struct Summary<'a> {
     budget: Option<u64>,
     load_s: f64,
     texture: &'a str,
-    /// Bytes the leaping structures and the page tables take beside the bricks.
-    besides: (u64, u64),
+    allocated: Allocated,
     rows: &'a [Row],
+}
+
+/// What the renderer allocated on the GPU (bytes): the count the budget is held to.
+struct Allocated {
+    /// The volume's 3D texture: the whole atlas, however many of its slots are used.
+    texture: u64,
+    /// The leaping structures.
+    leap: u64,
+    /// The page tables.
+    pages: u64,
+    /// The most the upload's staging copies hold before it waits for the GPU.
+    staging: u64,
+    /// The frame's targets.
+    targets: u64,
 }
 
 /// The `q` quantile (0..=1) of `v` (sorted here).
@@ -314,16 +330,27 @@ fn summary(s: &Summary) -> String {
             r.resident
         );
     }
+    let a = &s.allocated;
+    let total = a.texture + a.leap + a.pages + a.staging + a.targets;
+    let mb = |b: u64| b as f64 / 1e6;
     let _ = writeln!(
         t,
-        "- the most GPU memory its bricks took (the renderer's count): {:.1} MB; with its \
-         leaping structures ({:.1} MB) and page tables ({:.1} MB): {:.1} MB{}",
-        most as f64 / 1e6,
-        s.besides.0 as f64 / 1e6,
-        s.besides.1 as f64 / 1e6,
-        (most + s.besides.0 + s.besides.1) as f64 / 1e6,
+        "- the renderer's allocations on the GPU: the volume's texture {:.1} MB (its bricks at \
+         most {:.1} MB of it), leaping structures {:.1} MB, page tables {:.1} MB, upload staging \
+         at most {:.1} MB, the frame's targets {:.1} MB: {:.1} MB{}",
+        mb(a.texture),
+        mb(most),
+        mb(a.leap),
+        mb(a.pages),
+        mb(a.staging),
+        mb(a.targets),
+        mb(total),
         s.budget
-            .map(|b| format!(" of the {:.1} MB budget", b as f64 / 1e6))
+            .map(|b| format!(
+                " of the {:.1} MB budget ({})",
+                mb(b),
+                if total <= b { "within" } else { "OVER" }
+            ))
             .unwrap_or_default()
     );
     t

@@ -4,7 +4,7 @@ use crate::render::context::GpuContext;
 
 use super::encoding::{bytes_per_texel, candidates};
 use super::plan::plan;
-use super::{Allocation, allocate};
+use super::{Allocation, allocate, besides_texels};
 use crate::settings::Bricking;
 
 /// The check a load makes of the volume's shape before reading its samples
@@ -34,11 +34,27 @@ pub fn admission(
         // The default layout: one texture where the volume fits it, else bricks of the finest
         // level that fits.
         let budget = gpu_budget.or_else(|| ctx.default_gpu_budget());
-        let extent = match plan(shape.dims, Bricking::Auto, (max, budget), bpt) {
+        // The texels' share, as the upload lays them out: the test allocation stays inside the
+        // budget too.
+        let besides = besides_texels(&ctx, shape.dims, budget);
+        let texels = budget.map(|b| b.saturating_sub(besides).max(1));
+        let extent = match plan(shape.dims, Bricking::Auto, (max, texels), bpt) {
             Ok(plan) => plan.extent(),
             Err(e) => {
+                // Named against the budget given where that alone is too small, else against
+                // the texels' share of it.
+                let why = match (plan(shape.dims, Bricking::Auto, (max, budget), bpt), budget) {
+                    (Err(whole), _) => whole.to_string(),
+                    (Ok(_), Some(b)) => format!(
+                        "{e} (the texels' share of a budget of {}: its leaping structures, page \
+                         tables, upload staging and a frame's targets take {})",
+                        crate::text::bytes(b),
+                        crate::text::bytes(besides)
+                    ),
+                    (Ok(_), None) => e.to_string(),
+                };
                 return Err(format!(
-                    "the volume is {} x {} x {} voxels and does not fit this GPU ({}): {e}",
+                    "the volume is {} x {} x {} voxels and does not fit this GPU ({}): {why}",
                     shape.dims[0], shape.dims[1], shape.dims[2], ctx.adapter_info.name
                 ));
             }

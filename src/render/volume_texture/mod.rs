@@ -154,6 +154,50 @@ impl<T> PerLayout<T> {
 /// take 1.46 GB).
 const LEAP_SHARE: u64 = 4;
 
+/// The upload's staging copies take at most this divisor's share of the budget (tests' budgets
+/// of a few bricks), at most [`STAGING_MOST`].
+const STAGING_SHARE: u64 = 16;
+
+/// A frame's targets take at most this divisor's share of the budget, at most those of a frame
+/// of [`FRAME_RESERVE`] (50 MB; a budget of 256 MB keeps them all).
+const FRAME_SHARE: u64 = 4;
+
+/// Bytes of bricks an update sends before it waits for the GPU to take them (what wgpu's
+/// staging copies hold at most, besides the batch being written), where the budget allows: a
+/// frame of the window's 8 ms uploads some 200 bricks of 32³ (8-16 MB) on the H100 machine.
+const STAGING_MOST: u64 = 32 << 20;
+
+/// The frame's targets the budget keeps room for: an image of 1920 × 1080 (a larger one takes
+/// more, outside the volume's budget).
+const FRAME_RESERVE: [u32; 2] = [1920, 1080];
+
+/// What the budget keeps back from the volume's texels for the upload's staging copies and a
+/// frame's targets: (staging, frame).
+fn reserves(budget: Option<u64>) -> (u64, u64) {
+    let frame = crate::render::raycast::targets::Targets::bytes(FRAME_RESERVE);
+    match budget {
+        Some(b) => (
+            (b / STAGING_SHARE).min(STAGING_MOST),
+            (b / FRAME_SHARE).min(frame),
+        ),
+        None => (STAGING_MOST, 0),
+    }
+}
+
+/// What a `budget` holds beside the texels of a volume of `dims`: its leaping structures (at
+/// most a [`LEAP_SHARE`] of it), page tables, the upload's staging and a frame's targets
+/// ([`reserves`]). The upload and the load's admission check both lay the texels out in the rest.
+pub(super) fn besides_texels(ctx: &GpuContext, dims: [u32; 3], budget: Option<u64>) -> u64 {
+    let Some(budget) = budget else {
+        return 0;
+    };
+    let most = budget / LEAP_SHARE;
+    let leap = crate::accel::pyramid::Pyramid::within(dims, ctx.largest_binding(), Some(most));
+    let pages = atlas::page_table_bytes(dims, crate::accel::bricks::DEFAULT_BRICK_VOX);
+    let (staging, frame) = reserves(Some(budget));
+    leap.gpu_bytes() + 2 * pages + staging + frame
+}
+
 /// The volume on the GPU.
 pub struct VolumeTexture {
     /// The 3D texture: the whole volume, or the atlas of its bricks.
@@ -169,6 +213,9 @@ pub struct VolumeTexture {
     /// The most the volume's leaping structures may take of that budget (a share of it; the
     /// texels have what they and the page tables leave).
     pub leap_most: Option<u64>,
+    /// What that budget keeps back for the upload's staging copies (their bound) and for a
+    /// frame's targets.
+    pub reserved: (u64, u64),
     /// The bricks' residency, where the volume is bricked.
     resident: Option<Resident>,
     /// The slices' page table (data everywhere, never a constant), where bricked.
@@ -218,12 +265,8 @@ impl VolumeTexture {
         // The budget holds the leaping structures and page tables too: the structures take at
         // most a share of it (coarser blocks where finer would take more), the texels the rest.
         let leap_most = budget.map(|b| b / LEAP_SHARE);
-        let besides = leap_most.map_or(0, |most| {
-            let leap =
-                crate::accel::pyramid::Pyramid::within(dims, ctx.largest_binding(), Some(most));
-            let pages = atlas::page_table_bytes(dims, crate::accel::bricks::DEFAULT_BRICK_VOX);
-            leap.gpu_bytes() + 2 * pages
-        });
+        let reserved = reserves(budget);
+        let besides = besides_texels(ctx, dims, budget);
         let texels = |budget: Option<u64>| budget.map(|b| b.saturating_sub(besides).max(1));
         let given = budget;
         let layout_error = |e: PlanError| match e {
@@ -237,8 +280,8 @@ impl VolumeTexture {
                 name: volume.label(),
                 why: match given {
                     Some(b) if besides > 0 => format!(
-                        "{other} (the texels' share of a budget of {}: its leaping structures \
-                         and page tables take {})",
+                        "{other} (the texels' share of a budget of {}: its leaping structures, \
+                         page tables, upload staging and a frame's targets take {})",
                         crate::text::bytes(b),
                         crate::text::bytes(besides)
                     ),
@@ -298,6 +341,7 @@ impl VolumeTexture {
                     Arc::clone(volume),
                     encoding,
                     (atlas.brick_vox, atlas.slots, atlas.capacity),
+                    reserved.0,
                 );
                 resident.update(ctx, &texture, &Unseen::NOTHING, time);
                 (resident.rays_pages().clone(), Some(resident))
@@ -328,6 +372,7 @@ impl VolumeTexture {
             coarser: None,
             budget,
             leap_most,
+            reserved,
             resident,
             slice_pages,
             limits: (max, lowered),
@@ -342,6 +387,15 @@ impl VolumeTexture {
     /// Bytes its page tables take on the GPU (the rays' and the slices'; 0 for one texture).
     pub fn page_table_bytes(&self) -> u64 {
         (self.slice_pages.as_ref()).map_or(0, |s| s.size() + self.view.pages.size())
+    }
+
+    /// Bytes of its 3D texture as allocated (the whole atlas, however many slots are used).
+    pub fn texture_bytes(&self) -> u64 {
+        let size = self.texture.size();
+        u64::from(size.width)
+            * u64::from(size.height)
+            * u64::from(size.depth_or_array_layers)
+            * bytes_per_texel(self.encoding.format) as u64
     }
 
     /// What the slices bind: the rays' view with the slices' page table (data everywhere).
@@ -446,15 +500,11 @@ impl VolumeTexture {
     /// How the GPU holds the volume, for the developer readout: one texture, or how many bricks
     /// of which levels, and the memory they take.
     pub fn describe(&self) -> String {
-        let bpt = bytes_per_texel(self.encoding.format) as u64;
         let held = match &self.resident {
-            None => {
-                let size = self.texture.size();
-                let texels = u64::from(size.width)
-                    * u64::from(size.height)
-                    * u64::from(size.depth_or_array_layers);
-                format!("one 3D texture, {}", crate::text::bytes(texels * bpt))
-            }
+            None => format!(
+                "one 3D texture, {}",
+                crate::text::bytes(self.texture_bytes())
+            ),
             Some(r) => {
                 let s = r.status();
                 format!(

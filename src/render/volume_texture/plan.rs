@@ -128,17 +128,45 @@ fn atlas(
             coarsest_bytes: slot_bytes,
         });
     }
-    let capacity = all.min(by_budget).min(per_axis.pow(3));
-    let slots = arrange(capacity, per_axis).ok_or(BrickError::AtlasFull {
+    let mut capacity = all.min(by_budget).min(per_axis.pow(3));
+    let full = BrickError::AtlasFull {
         bricks: all,
         brick_vox,
         max,
-    })?;
+    };
+    let mut slots = arrange(capacity, per_axis).ok_or(full.clone())?;
+    // The texture is a box of slots: where rounding up to one passes the budget, the largest
+    // box within it (its slots all used), so the allocation itself stays inside the budget.
+    if slot_count(slots) > by_budget {
+        slots = arrange_within(by_budget, per_axis).ok_or(full)?;
+        capacity = capacity.min(slot_count(slots));
+    }
     Ok(Atlas {
         brick_vox,
         slots,
         capacity: capacity as u32,
     })
+}
+
+fn slot_count(slots: [u32; 3]) -> u64 {
+    slots.iter().map(|&s| u64::from(s)).product()
+}
+
+/// Slots per axis for at most `count` slots, at most `per_axis` each: the box holding the most
+/// (the most even of those), found by trying every x and y extent (`per_axis` is at most
+/// [`MAX_SLOTS_PER_AXIS`]).
+fn arrange_within(count: u64, per_axis: u64) -> Option<[u32; 3]> {
+    let mut best: Option<(u64, u64, [u32; 3])> = None;
+    for sx in 1..=per_axis.min(count) {
+        for sy in 1..=per_axis.min(count / sx) {
+            let sz = (count / (sx * sy)).min(per_axis);
+            let (held, widest) = (sx * sy * sz, sx.max(sy).max(sz));
+            if sz >= 1 && best.is_none_or(|(h, w, _)| held > h || (held == h && widest < w)) {
+                best = Some((held, widest, [sx as u32, sy as u32, sz as u32]));
+            }
+        }
+    }
+    best.map(|(_, _, slots)| slots)
 }
 
 /// Slots per axis for `count` slots, about as many along each axis, at most `per_axis` each.
@@ -207,11 +235,11 @@ mod tests {
             Err(PlanError::TooLarge { max: 4096 })
         );
         // 256³ at 2 bytes is 33.6 MB: under 30 MB it is bricked in 381 slots of 34³ × 2 bytes
-        // (full resolution's 512 bricks and the coarsest need 513).
+        // (full resolution's 512 bricks and the coarsest need 513), 380 of them a box (2 × 10 × 19).
         let budget = (4096, Some(30_000_000));
         assert!(matches!(
             plan([256; 3], Bricking::Auto, budget, 2),
-            Ok(Plan::Bricked(Atlas { capacity: 381, .. }))
+            Ok(Plan::Bricked(Atlas { capacity: 380, .. }))
         ));
         assert!(matches!(
             plan([256; 3], Bricking::Off, budget, 2),
@@ -221,6 +249,29 @@ mod tests {
             plan([256; 3], Bricking::Auto, (4096, Some(50_000)), 2),
             Err(PlanError::Bricks(BrickError::Budget { .. }))
         ));
+    }
+
+    #[test]
+    fn the_atlas_texture_never_takes_more_slots_than_the_budget_holds() {
+        let slot_bytes = 34u64.pow(3) * 2;
+        for slots in [1, 2, 7, 30, 80, 81, 99, 1000, 12_345, 20_000] {
+            let Ok(Plan::Bricked(atlas)) = plan(
+                [2048, 2048, 1024],
+                Bricking::On,
+                (4096, Some(slots * slot_bytes)),
+                2,
+            ) else {
+                panic!("bricked under {slots} slots");
+            };
+            let count = slot_count(atlas.slots);
+            assert!(count <= slots, "{slots}: {atlas:?}");
+            assert!(u64::from(atlas.capacity) <= count, "{slots}: {atlas:?}");
+            // The best box within loses few slots.
+            assert!(
+                count * 100 >= slots * 95 || slots < 20,
+                "{slots}: {atlas:?}"
+            );
+        }
     }
 
     #[test]

@@ -25,10 +25,6 @@ use crate::volume::downsample::Level;
 /// frame's upload time is kept to within a batch (64 took 7 ms on the H100 machine's host).
 const BATCH: usize = 16;
 
-/// Bytes of bricks an update sends before it waits for the GPU to take them (what wgpu's
-/// staging copies hold at most, besides the batch being written).
-const STAGING_MOST: u64 = 64 << 20;
-
 /// Missing bricks a frame puts in order before uploading (the nearest of them; the rest wait):
 /// more than a frame's time budget uploads on the H100 machine (about 300 at 8 ms).
 const ORDERED: usize = 1024;
@@ -118,6 +114,9 @@ pub struct Resident {
     status: ResidencyStatus,
     /// How long the last page-table write took.
     pages_took: Duration,
+    /// Bytes of bricks an update sends before it waits for the GPU to take them (what wgpu's
+    /// staging copies hold at most, besides the batch being written).
+    staging_most: u64,
 }
 
 impl Resident {
@@ -129,6 +128,7 @@ impl Resident {
         volume: Arc<Volume>,
         encoding: TexelEncoding,
         (brick_vox, slots, capacity): (u32, [u32; 3], u32),
+        staging_most: u64,
     ) -> Self {
         let residency = Residency::new(volume.dims(), brick_vox, slots, capacity);
         let started = Instant::now();
@@ -176,6 +176,7 @@ impl Resident {
             wanted: None,
             status: ResidencyStatus::default(),
             pages_took: Duration::ZERO,
+            staging_most,
         }
     }
 
@@ -255,7 +256,7 @@ impl Resident {
             // The staging copies wgpu holds until the GPU has taken them: bounded, and no
             // wait for the GPU (nor the frame it is drawing) below that bound.
             staged += bytes;
-            if staged > STAGING_MOST {
+            if staged > self.staging_most {
                 let _ = ctx.device.poll(wgpu::PollType::Wait {
                     submission_index: Some(submitted),
                     timeout: None,
@@ -577,22 +578,38 @@ fn write_page_table(
     entries: &[[u32; 4]],
     looked_at: &[usize],
 ) {
-    let mut k = 0;
-    while k < looked_at.len() {
-        let first = looked_at[k];
-        let mut last = first;
-        k += 1;
-        // Runs closer than a few entries are sent as one: a write costs more than 16 bytes.
-        while k < looked_at.len() && looked_at[k] <= last + 8 {
-            last = looked_at[k];
-            k += 1;
-        }
+    for (first, last) in write_runs(looked_at) {
         ctx.queue.write_buffer(
             table,
             first as u64 * super::atlas::PAGE_BYTES,
             bytemuck::cast_slice(&entries[first..=last]),
         );
     }
+}
+
+/// Entries closer than this are sent in one write: each write costs a staging allocation of
+/// its own, more than sending a few kilobytes between two runs.
+const RUN_GAP: usize = 256;
+/// Writes per refresh past which the span from the first entry to the last goes as one (a
+/// preview brick of level 3 touches 512 entries of level 0 in 8 planes, its 32 a frame
+/// hundreds of runs; the whole span is at most 2 MB at 2048 × 2048 × 1024).
+const MOST_RUNS: usize = 16;
+
+/// The runs (first, last entry) that [`write_page_table`] writes for `looked_at` (ascending).
+fn write_runs(looked_at: &[usize]) -> Vec<(usize, usize)> {
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    for &i in looked_at {
+        match runs.last_mut() {
+            Some((_, last)) if i <= *last + RUN_GAP => *last = i,
+            _ => runs.push((i, i)),
+        }
+    }
+    if runs.len() > MOST_RUNS
+        && let (Some(&(first, _)), Some(&(_, last))) = (runs.first(), runs.last())
+    {
+        return vec![(first, last)];
+    }
+    runs
 }
 
 /// Computes the bricks' value ranges on a thread of their own (on half the cores).
@@ -616,4 +633,32 @@ fn ranges_worker(
             );
             ranges
         })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn page_writes_cover_every_entry_looked_at_in_few_ascending_runs() {
+        // Runs of four in planes of a 64 × 64 grid, as a level-2 brick's entries fall.
+        let plane: Vec<usize> = (0..4)
+            .flat_map(|y| (0..4).map(move |x| x + 64 * y))
+            .collect();
+        for planes in [1, 4, 40] {
+            let looked_at: Vec<usize> = (0..planes)
+                .flat_map(|z| plane.iter().map(move |i| i + 4096 * z + 7))
+                .collect();
+            let runs = write_runs(&looked_at);
+            assert!(runs.len() <= MOST_RUNS && !runs.is_empty());
+            assert!(runs.windows(2).all(|w| w[0].1 < w[1].0));
+            for i in &looked_at {
+                assert_eq!(runs.iter().filter(|r| r.0 <= *i && *i <= r.1).count(), 1);
+            }
+            // Nothing outside the span of what was looked at is written.
+            assert_eq!(runs[0].0, looked_at[0]);
+            assert_eq!(runs[runs.len() - 1].1, *looked_at.last().unwrap_or(&0));
+        }
+        assert!(write_runs(&[]).is_empty());
+    }
 }

@@ -4,6 +4,8 @@
 
 use std::sync::Arc;
 
+use rayon::prelude::*;
+
 use crate::accel::emptiness::OpacityIndex;
 
 /// Voxels around a brick whose values its range includes. A brick is served by a constant only
@@ -188,10 +190,16 @@ pub(super) fn footprint_levels(
     // How far W falls from a brick's centre to its nearest corner.
     let spread: f64 = cols.iter().map(|c| c.w.abs() * brick / 2.0).sum();
     let last = levels.saturating_sub(1).min(u32::from(u8::MAX - 1));
-    let mut out = Vec::with_capacity(grid.iter().map(|&g| g as usize).product());
-    for z in 0..grid[2] {
-        for y in 0..grid[1] {
-            for x in 0..grid[0] {
+    let plane = grid[0] as usize * grid[1] as usize;
+    let mut out = vec![0u8; plane * grid[2] as usize];
+    // A plane of bricks per task: 131 072 bricks took 1-2 ms of every frame of an orbit on one
+    // core of the H100 machine.
+    out.par_chunks_mut(plane.max(1))
+        .enumerate()
+        .for_each(|(z, levels_of)| {
+            let z = z as u32;
+            for (i, out) in levels_of.iter_mut().enumerate() {
+                let (x, y) = (i as u32 % grid[0], i as u32 / grid[0]);
                 let centre = [x, y, z].map(|v| (f64::from(v) + 0.5) * brick);
                 let w = clip.x_axis.w * centre[0]
                     + clip.y_axis.w * centre[1]
@@ -204,10 +212,9 @@ pub(super) fn footprint_levels(
                 } else {
                     ((w / k).log2().floor().max(0.0) as u32).min(last)
                 };
-                out.push(level as u8);
+                *out = level as u8;
             }
-        }
-    }
+        });
     out
 }
 
