@@ -28,9 +28,6 @@ use resident::Resident;
 pub use resident::{ResidencyStatus, Update};
 pub use unseen::{Cull, REACH_STEP_VOX, SlicePlane, Unseen};
 
-/// Largest slab uploaded in one `write_texture` call, in bytes.
-const SLAB_BYTES: usize = 64 << 20;
-
 /// Why a volume cannot go to the GPU.
 #[derive(Debug, thiserror::Error)]
 pub enum VolumeTextureError {
@@ -162,9 +159,10 @@ const STAGING_SHARE: u64 = 16;
 /// of [`FRAME_RESERVE`] (50 MB; a budget of 256 MB keeps them all).
 const FRAME_SHARE: u64 = 4;
 
-/// Bytes of bricks an update sends before it waits for the GPU to take them (what wgpu's
-/// staging copies hold at most, besides the batch being written), where the budget allows: a
-/// frame of the window's 8 ms uploads some 200 bricks of 32³ (8-16 MB) on the H100 machine.
+/// Bytes an upload sends before it waits for the GPU to take them (what wgpu's staging copies
+/// hold at most, besides the batch or slab being written), where the budget allows: frames of
+/// 8 ms of uploads sent 112-192 bricks of 34³ uint8 texels (4-8 MB) on the H100 machine
+/// (`bench --stream`, docs/benchmarks/nvidia-h100-bricks-stream §9).
 const STAGING_MOST: u64 = 32 << 20;
 
 /// The frame's targets the budget keeps room for: an image of 1920 × 1080 (a larger one takes
@@ -320,7 +318,7 @@ impl VolumeTexture {
         let uploaded = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let (pages, resident) = match plan {
             Plan::Single(_) => {
-                upload_slabs(ctx, &texture, volume, &encoding);
+                upload_slabs(ctx, &texture, volume, &encoding, reserved.0);
                 (atlas::no_page_table(ctx), None)
             }
             Plan::Bricked(atlas) => {
@@ -642,17 +640,20 @@ fn geometry(dims: [u32; 3], plan: Plan) -> VolumeGeometry {
 }
 
 /// Encodes `volume`'s samples in `encoding` and writes them into `texture`, a slab of slices at a
-/// time (at most [`SLAB_BYTES`] in memory at once).
+/// time: at most `staging_most` bytes (the budget's staging reserve, as bricks are bounded by),
+/// or one slice where that is larger, in memory and in wgpu's staging copy at once.
 fn upload_slabs(
     ctx: &GpuContext,
     texture: &wgpu::Texture,
     volume: &Volume,
     encoding: &TexelEncoding,
+    staging_most: u64,
 ) {
     let dims = volume.dims();
     let bpt = bytes_per_texel(encoding.format);
     let slice_texels = dims[0] as usize * dims[1] as usize;
-    let slices_per_slab = (SLAB_BYTES / (slice_texels * bpt)).max(1);
+    let slab_bytes = usize::try_from(staging_most).unwrap_or(usize::MAX);
+    let slices_per_slab = (slab_bytes / (slice_texels * bpt).max(1)).max(1);
     let mut bytes = Vec::new();
     let mut z = 0usize;
     while z < dims[2] as usize {
@@ -688,7 +689,7 @@ fn upload_slabs(
             },
         );
         z = z_end;
-        // As the bricked upload: one slab's staging copy in memory at a time.
+        // One slab's staging copy in memory at a time.
         ctx.queue.submit([]);
         let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
     }
