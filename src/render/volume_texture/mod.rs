@@ -260,8 +260,9 @@ impl VolumeTexture {
         }
         let bpt = bytes_per_texel(encoding.format);
         let mut budget = upload.gpu_budget.or_else(|| ctx.default_gpu_budget());
-        // The budget holds the leaping structures and page tables too: the structures take at
-        // most a share of it (coarser blocks where finer would take more), the texels the rest.
+        // The budget holds the leaping structures, page tables, staging and a frame too
+        // (`besides_texels`): the structures take at most a share of it (coarser blocks where
+        // finer would take more), the texels the rest.
         let leap_most = budget.map(|b| b / LEAP_SHARE);
         let reserved = reserves(budget);
         let besides = besides_texels(ctx, dims, budget);
