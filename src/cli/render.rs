@@ -290,7 +290,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
             if let Some(ms) = first.rebuild_ms {
                 outln!(
                     out,
-                    "rebuild_ms: {ms:.3} (leaping structures for this transfer function)"
+                    "rebuild_ms: {ms:.3} (the leaping structures this frame built)"
                 );
             }
         }

@@ -182,7 +182,8 @@ impl ProbePool {
     ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
         let probe = &mut self.probes[slot.0];
         probe.has_rebuild = true;
-        let q = probe.queries.as_ref()?;
+        // A pass inside the span writes no timestamp (wgpu refuses a pass that writes neither).
+        let q = probe.queries.as_ref().filter(|_| first || last)?;
         Some(wgpu::ComputePassTimestampWrites {
             query_set: q,
             beginning_of_pass_write_index: first.then_some(2),

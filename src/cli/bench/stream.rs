@@ -35,7 +35,8 @@ struct Row {
     wall_ms: f64,
     /// The GPU's time for the frame's passes (timestamp queries), where the adapter has them.
     gpu_ms: Option<f64>,
-    /// The GPU's time for the leaping structures' rebuild (emptiness and distance field).
+    /// The GPU's time for the leaping structures' rebuild (min/max pyramid, emptiness, distance
+    /// field: what the frame built).
     rebuild_ms: Option<f64>,
     /// The CPU's time for the residency update (deciding, uploading, page tables).
     residency_ms: f64,
@@ -45,6 +46,8 @@ struct Row {
     wanted: usize,
     missing: usize,
     bytes: u64,
+    /// What the GPU memory allocator held after the frame (bytes), where the backend reports it.
+    held: Option<u64>,
 }
 
 /// Runs the streaming measurement on `file`.
@@ -135,6 +138,11 @@ pub fn run(args: &BenchArgs, file: &Path) -> Result<(), Failure> {
             wanted: status.map_or(0, |s| s.wanted),
             missing: status.map_or(0, |s| s.missing),
             bytes: status.map_or(0, |s| s.bytes),
+            held: renderer
+                .context()
+                .device
+                .generate_allocator_report()
+                .map(|r| r.total_reserved_bytes),
         });
         frame += 1;
         Ok::<_, Failure>(renderer.residency_complete())
@@ -149,6 +157,9 @@ pub fn run(args: &BenchArgs, file: &Path) -> Result<(), Failure> {
         if render(last, *azimuth, "still", &mut renderer)? {
             break;
         }
+    }
+    if let Some(report) = renderer.context().device.generate_allocator_report() {
+        log::debug!("the GPU memory allocator at the end: {report:.24?}");
     }
     let texture = renderer.volume_texture().map(|t| t.describe());
     std::fs::create_dir_all(&out)
@@ -189,14 +200,15 @@ fn write(path: &Path, text: &str) -> Result<(), Failure> {
 fn csv(rows: &[Row]) -> String {
     let mut s = String::from(
         "phase,frame,azimuth_deg,wall_ms,gpu_ms,rebuild_ms,residency_ms,since_upload_ms,levels,\
-         resident,wanted,missing,bytes\n",
+         resident,wanted,missing,bytes,allocator_bytes\n",
     );
     for r in rows {
         let gpu = r.gpu_ms.map(|g| format!("{g:.3}")).unwrap_or_default();
         let rebuild = r.rebuild_ms.map(|g| format!("{g:.3}")).unwrap_or_default();
+        let held = r.held.map(|h| h.to_string()).unwrap_or_default();
         let _ = writeln!(
             s,
-            "{},{},{:.1},{:.3},{gpu},{rebuild},{:.3},{:.1},\"{}\",{},{},{},{}",
+            "{},{},{:.1},{:.3},{gpu},{rebuild},{:.3},{:.1},\"{}\",{},{},{},{},{held}",
             r.phase,
             r.frame,
             r.azimuth,
@@ -353,5 +365,23 @@ fn summary(s: &Summary) -> String {
             ))
             .unwrap_or_default()
     );
+    if let Some(held) = s.rows.iter().filter_map(|r| r.held).max() {
+        let _ = writeln!(
+            t,
+            "- the GPU memory allocator (wgpu's, in the driver's memory blocks) held at most {:.1} \
+             MB after a frame{}",
+            mb(held),
+            s.budget
+                .map(|b| format!(
+                    " ({})",
+                    if held <= b {
+                        "within the budget"
+                    } else {
+                        "OVER the budget"
+                    }
+                ))
+                .unwrap_or_default()
+        );
+    }
     t
 }

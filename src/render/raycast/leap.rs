@@ -331,6 +331,16 @@ impl LeapStructures {
         self.distance_for = None;
     }
 
+    /// How many more level-0 bricks' page changes a partial rebuild of the pyramid takes
+    /// before it is built whole (unbounded while a whole build is due anyway).
+    pub(crate) fn listing_room(&self) -> usize {
+        if self.minmax_ready {
+            self.listed_max.saturating_sub(self.listed.len())
+        } else {
+            usize::MAX
+        }
+    }
+
     /// The pages of these level-0 bricks changed (`None`: of any): the pyramid's nodes that
     /// read them are built again (all of them where the list is long), and what was built
     /// from the pyramid.
@@ -347,6 +357,11 @@ impl LeapStructures {
         }
     }
 
+    /// Whether [`Self::build_minmax`] will record a build.
+    fn minmax_pending(&self) -> bool {
+        !self.minmax_ready || (self.listed_buffer.is_some() && !self.listed.is_empty())
+    }
+
     /// Records the pyramid build (once per volume, then of the nodes that read bricks whose
     /// pages changed); returns whether it recorded one of each.
     fn build_minmax(
@@ -355,10 +370,11 @@ impl LeapStructures {
         pipelines: &LeapPipelines,
         volume: &VolumeView,
         encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> (bool, bool) {
         if !self.minmax_ready {
             self.listed.clear();
-            self.record_levels(ctx, pipelines, volume, encoder, None);
+            self.record_levels(ctx, pipelines, volume, encoder, None, timestamps);
             self.minmax_ready = true;
             return (true, false);
         }
@@ -374,7 +390,7 @@ impl LeapStructures {
         ctx.queue
             .write_buffer(list, 0, bytemuck::cast_slice(&words));
         let bricks = words.len() as u32 - 1;
-        self.record_levels(ctx, pipelines, volume, encoder, Some(bricks));
+        self.record_levels(ctx, pipelines, volume, encoder, Some(bricks), timestamps);
         (false, true)
     }
 
@@ -387,6 +403,7 @@ impl LeapStructures {
         volume: &VolumeView,
         encoder: &mut wgpu::CommandEncoder,
         listed: Option<u32>,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let list = self.listed_buffer.as_ref().filter(|_| listed.is_some());
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -394,7 +411,7 @@ impl LeapStructures {
                 Some(_) => "min/max pyramid (bricks that arrived)",
                 None => "min/max pyramid",
             }),
-            timestamp_writes: None,
+            timestamp_writes: timestamps,
         });
         let which = usize::from(list.is_some());
         for (l, level) in self.pyramid.levels.iter().enumerate() {
@@ -620,7 +637,7 @@ impl LeapStructures {
     /// (DVR: the transfer function; X-ray with the distance field: the window; isosurfaces with
     /// it: the iso value); the distance field when its flags or the block size changed. MIP,
     /// MinIP, octree isosurfaces and octree X-ray read the min/max pyramid directly. The rebuild
-    /// is timed into `probe` when given.
+    /// (every pass recorded here, the pyramid's included) is timed into `probe` when given.
     pub(crate) fn prepare(
         &mut self,
         ctx: &GpuContext,
@@ -635,37 +652,60 @@ impl LeapStructures {
             .pyramid
             .level_of_block(settings.leaf_block_vox())
             .unwrap_or(0) as u32;
-        let (minmax, minmax_bricks) = self.build_minmax(ctx, pipelines, request.volume, encoder);
-        let mut builds = Builds {
-            minmax,
-            minmax_bricks,
-            ..Builds::default()
-        };
         let levels = LeapLevels {
             leaf_level: leaf,
             level_count: self.level_count(),
         };
         let distance = settings.strategy.untimed(settings.mode) == Strategy::RcSDistance;
         let rule = match settings.mode {
-            Mode::Dvr => FlagRule::Transfer(request.transfer_generation),
+            Mode::Dvr => Some(FlagRule::Transfer(request.transfer_generation)),
             Mode::Xray | Mode::XrayAttenuation if distance => {
-                FlagRule::AtMost(request.window_lo.to_bits())
+                Some(FlagRule::AtMost(request.window_lo.to_bits()))
             }
-            Mode::Iso if distance => FlagRule::Iso(request.iso_threshold.to_bits()),
-            _ => return (levels, builds),
+            Mode::Iso if distance => Some(FlagRule::Iso(request.iso_threshold.to_bits())),
+            _ => None,
         };
-        builds.flags = self.flags_for != Some(rule);
-        builds.distance = distance && (builds.flags || self.distance_for != Some((rule, leaf)));
-        if builds.flags {
+        let flags = rule.is_some_and(|r| self.flags_for != Some(r));
+        let builds_distance =
+            rule.is_some_and(|r| distance && (flags || self.distance_for != Some((r, leaf))));
+        // One span times every pass recorded here: its first begins it, its last ends it.
+        let passes = [self.minmax_pending(), flags, builds_distance];
+        let (first, last) = (
+            passes.iter().position(|&p| p),
+            passes.iter().rposition(|&p| p),
+        );
+        let ends = |pass: usize| (first == Some(pass), last == Some(pass));
+        let ts = passes[0]
+            .then(|| {
+                let (f, l) = ends(0);
+                probe
+                    .as_mut()
+                    .and_then(|(p, s)| p.rebuild_timestamps(s, f, l))
+            })
+            .flatten();
+        let (minmax, minmax_bricks) =
+            self.build_minmax(ctx, pipelines, request.volume, encoder, ts);
+        let builds = Builds {
+            minmax,
+            minmax_bricks,
+            flags,
+            distance: builds_distance,
+        };
+        let Some(rule) = rule else {
+            return (levels, builds);
+        };
+        if flags {
+            let (f, l) = ends(1);
             let ts = probe
                 .as_mut()
-                .and_then(|(p, s)| p.rebuild_timestamps(s, true, !builds.distance));
+                .and_then(|(p, s)| p.rebuild_timestamps(s, f, l));
             self.build_flags(ctx, pipelines, rule, request.lut, encoder, ts);
         }
-        if builds.distance {
+        if builds_distance {
+            let (f, l) = ends(2);
             let ts = probe
                 .as_mut()
-                .and_then(|(p, s)| p.rebuild_timestamps(s, !builds.flags, true));
+                .and_then(|(p, s)| p.rebuild_timestamps(s, f, l));
             self.build_distance(ctx, pipelines, leaf, encoder, ts);
         }
         (levels, builds)

@@ -373,10 +373,17 @@ impl VolumeRenderer {
                 // footprint needs; without one (`render`) every brick is wanted at level 0.
                 footprint: self.residency_time.map(|_| request.size),
             };
+            // Past what the pyramid's partial rebuild lists it is built whole, so a streaming
+            // frame sends no more bricks than the list holds entries for.
+            let entries = match self.residency_time {
+                Some(_) => volume.leap.listing_room(),
+                None => usize::MAX,
+            };
             let started = std::time::Instant::now();
-            let update = volume
-                .texture
-                .update_residency(&self.ctx, &unseen, self.residency_time);
+            let update =
+                volume
+                    .texture
+                    .update_residency(&self.ctx, &unseen, (self.residency_time, entries));
             self.residency_ms = started.elapsed().as_secs_f64() * 1e3;
             if update.changed {
                 volume.leap.bricks_changed(update.bricks.as_deref());

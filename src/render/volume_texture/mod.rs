@@ -342,7 +342,7 @@ impl VolumeTexture {
                     (atlas.brick_vox, atlas.slots, atlas.capacity),
                     reserved.0,
                 );
-                resident.update(ctx, &texture, &Unseen::NOTHING, time);
+                resident.update(ctx, &texture, &Unseen::NOTHING, (time, usize::MAX));
                 (resident.rays_pages().clone(), Some(resident))
             }
         };
@@ -407,14 +407,14 @@ impl VolumeTexture {
     }
 
     /// Decides again which bricks the rays need, leaving out what `unseen` says they cannot
-    /// see, and uploads what is missing,
-    /// for at most `time` (all of it without): see [`Resident::update`]. Nothing to do for a
-    /// volume in one texture.
+    /// see, and uploads what is missing, for at most `time` (all of it without) and bricks
+    /// standing for at most `entries` level-0 page entries: see [`Resident::update`]. Nothing
+    /// to do for a volume in one texture.
     pub fn update_residency(
         &mut self,
         ctx: &GpuContext,
         unseen: &Unseen,
-        time: Option<std::time::Duration>,
+        pace: (Option<std::time::Duration>, usize),
     ) -> Update {
         let Some(resident) = &mut self.resident else {
             return Update {
@@ -423,7 +423,7 @@ impl VolumeTexture {
                 complete: true,
             };
         };
-        let update = resident.update(ctx, &self.texture, unseen, time);
+        let update = resident.update(ctx, &self.texture, unseen, pace);
         if update.changed {
             self.note(ctx);
         }

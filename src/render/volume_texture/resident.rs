@@ -206,14 +206,15 @@ impl Resident {
     }
 
     /// Decides what `cull` lets the rays go without (again, only when it changed), then
-    /// uploads missing bricks, coarsest first, until none is missing or `time` has passed (at
-    /// least one batch), and rewrites the page tables where anything changed.
+    /// uploads missing bricks, coarsest first, until none is missing, `time` has passed or the
+    /// bricks sent stand for `entries` level-0 page entries (each at least one brick), and
+    /// rewrites the page tables where anything changed.
     pub fn update(
         &mut self,
         ctx: &GpuContext,
         atlas: &wgpu::Texture,
         unseen: &Unseen,
-        time: Option<Duration>,
+        (time, entries): (Option<Duration>, usize),
     ) -> Update {
         let start = Instant::now();
         self.receive_ranges(time.is_none());
@@ -243,12 +244,15 @@ impl Resident {
         let sorted = start.elapsed();
         let mut rest = &queue[..];
         let (mut sent, mut encoding) = (0, Duration::ZERO);
-        let mut staged = 0;
+        let (mut staged, mut covered) = (0, 0);
         while !rest.is_empty() {
-            let given = self.residency.admit(rest, BATCH);
+            let grid = self.residency.grid(0);
+            let fit = fitting(rest, grid, entries.saturating_sub(covered), sent == 0);
+            let given = self.residency.admit(rest, fit);
             if given.is_empty() {
                 break;
             }
+            covered += given.iter().map(|(k, _)| covers(grid, k)).sum::<usize>();
             rest = &rest[given.len()..];
             sent += given.len();
             let (took, bytes, submitted) = self.upload(ctx, atlas, &given);
@@ -552,6 +556,27 @@ impl Resident {
     }
 }
 
+/// How many of `queue`'s first bricks (at most a batch) stand for no more than `room` level-0
+/// page entries of a volume of `grid` level-0 bricks; at least one where `first`.
+fn fitting(queue: &[BrickKey], grid: [u32; 3], room: usize, first: bool) -> usize {
+    let mut used = 0;
+    let fit = (queue.iter().take(BATCH))
+        .take_while(|k| {
+            used += covers(grid, k);
+            used <= room
+        })
+        .count();
+    fit.max(usize::from(first))
+}
+
+/// The level-0 page entries (of a volume of `grid` level-0 bricks) that a brick stands in for.
+fn covers(grid: [u32; 3], key: &BrickKey) -> usize {
+    let edge = 1u32 << key.level;
+    (0..3)
+        .map(|a| grid[a].saturating_sub(key.brick[a] * edge).min(edge) as usize)
+        .product()
+}
+
 /// The page tables as last written: for the residency's refresh, and as the GPU holds them.
 #[derive(Default)]
 struct Written {
@@ -638,6 +663,27 @@ fn ranges_worker(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_brick_stands_for_the_level_0_entries_inside_its_box_and_a_frame_takes_what_fits() {
+        let grid = [10, 8, 3];
+        let key = |level, brick| BrickKey { level, brick };
+        assert_eq!(covers(grid, &key(0, [9, 7, 2])), 1);
+        assert_eq!(covers(grid, &key(2, [0, 0, 0])), 4 * 4 * 3);
+        // At the far border only what lies inside: 10 - 8 = 2 across, 8 - 4 = 4, 3 deep.
+        assert_eq!(covers(grid, &key(2, [2, 1, 0])), 2 * 4 * 3);
+        assert_eq!(covers(grid, &key(4, [0, 0, 0])), 10 * 8 * 3);
+        let queue = [key(2, [0, 0, 0]), key(2, [1, 0, 0]), key(0, [0, 0, 0])];
+        assert_eq!(fitting(&queue, grid, 48, false), 1);
+        assert_eq!(fitting(&queue, grid, 97, false), 3);
+        assert_eq!(fitting(&queue, grid, 96, false), 2);
+        assert_eq!(fitting(&queue, grid, 10, false), 0);
+        assert_eq!(fitting(&queue, grid, 10, true), 1);
+        assert_eq!(
+            fitting(&[key(0, [0, 0, 0]); 40], grid, usize::MAX, false),
+            BATCH
+        );
+    }
 
     #[test]
     fn page_writes_cover_every_entry_looked_at_in_few_ascending_runs() {
