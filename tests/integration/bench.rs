@@ -265,7 +265,10 @@ fn stream_measures_an_orbit_while_bricks_arrive() {
         rows.iter().all(|r| column(r, held) >= column(r, bytes)),
         "{rows:?}"
     );
-    assert!(summary.contains("- the GPU memory allocator"), "{summary}");
+    assert!(
+        summary.contains("- wgpu's memory allocator held"),
+        "{summary}"
+    );
     assert!(summary.contains("- complete at"), "{summary}");
     // Its levels column ends in the levels read: level 0 among them.
     let levels = |r: &Vec<String>| r[8..r.len() - 5].join(",");

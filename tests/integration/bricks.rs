@@ -394,11 +394,12 @@ fn over_budget_the_bricks_the_transfer_function_hides_are_constants_and_images_s
     let tf = tf();
     let mut single = renderer(&volume, &tf, Bricking::Off);
     let mut culled = common::renderer();
+    let budget = budget_of_slots(30);
     culled
         .set_volume_with(
             &Arc::new(volume.clone()),
             &Upload {
-                gpu_budget: Some(budget_of_slots(30)),
+                gpu_budget: Some(budget),
                 ..Upload::default()
             },
         )
@@ -556,6 +557,40 @@ fn over_budget_the_bricks_a_slice_crosses_stay_at_full_resolution() {
             .zip(&got.values)
             .all(|(a, b)| a.to_bits() == b.to_bits());
         assert_eq!(same, with_plane, "with the plane: {with_plane}; {s:?}");
+    }
+}
+
+/// The atlas as the driver allocates it stays inside the texels' share of the budget (the
+/// budget less a sixteenth for staging and a quarter for a frame): lavapipe pads x to 64 texels
+/// and y to 4, so a box of slots 4 across (136 texels) takes 1.4× its texels unless it lies
+/// otherwise or holds fewer slots.
+#[test]
+fn the_atlas_as_allocated_stays_inside_the_texels_share() {
+    let (ctx, volume) = (common::gpu(), Arc::new(ball_in_noise()));
+    for slots in [9, 24, 40, 60, 100] {
+        let budget = budget_of_slots(slots);
+        let texture = VolumeTexture::upload_with(
+            &ctx,
+            &volume,
+            &Upload {
+                gpu_budget: Some(budget),
+                bricking: Bricking::On,
+                ..Upload::default()
+            },
+        )
+        .expect("upload");
+        let size = texture.texture.size();
+        let texels = u64::from(size.width * size.height * size.depth_or_array_layers) * 2;
+        let atlas = texture.texture_bytes();
+        assert!(
+            atlas <= budget * 11 / 16,
+            "{slots} slots: the atlas {size:?} takes {atlas} bytes ({texels} of texels) of {budget}"
+        );
+        // Not much lost to the padding: at least half the slots the texels' share holds.
+        assert!(
+            texels * 2 >= slots * 34u64.pow(3) * 2,
+            "{slots} slots: {size:?}"
+        );
     }
 }
 

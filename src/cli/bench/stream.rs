@@ -46,8 +46,9 @@ struct Row {
     wanted: usize,
     missing: usize,
     bytes: u64,
-    /// What the GPU memory allocator held after the frame (bytes), where the backend reports it.
-    held: Option<u64>,
+    /// What the GPU memory allocator held after the frame in its memory blocks, and of that
+    /// what was allocated (bytes), where the backend reports it.
+    held: Option<(u64, u64)>,
 }
 
 /// Runs the streaming measurement on `file`.
@@ -142,7 +143,7 @@ pub fn run(args: &BenchArgs, file: &Path) -> Result<(), Failure> {
                 .context()
                 .device
                 .generate_allocator_report()
-                .map(|r| r.total_reserved_bytes),
+                .map(|r| (r.total_reserved_bytes, r.total_allocated_bytes)),
         });
         frame += 1;
         Ok::<_, Failure>(renderer.residency_complete())
@@ -205,7 +206,7 @@ fn csv(rows: &[Row]) -> String {
     for r in rows {
         let gpu = r.gpu_ms.map(|g| format!("{g:.3}")).unwrap_or_default();
         let rebuild = r.rebuild_ms.map(|g| format!("{g:.3}")).unwrap_or_default();
-        let held = r.held.map(|h| h.to_string()).unwrap_or_default();
+        let held = r.held.map(|h| h.0.to_string()).unwrap_or_default();
         let _ = writeln!(
             s,
             "{},{},{:.1},{:.3},{gpu},{rebuild},{:.3},{:.1},\"{}\",{},{},{},{},{held}",
@@ -365,12 +366,13 @@ fn summary(s: &Summary) -> String {
             ))
             .unwrap_or_default()
     );
-    if let Some(held) = s.rows.iter().filter_map(|r| r.held).max() {
+    if let Some((held, allocated)) = s.rows.iter().filter_map(|r| r.held).max() {
         let _ = writeln!(
             t,
-            "- the GPU memory allocator (wgpu's, in the driver's memory blocks) held at most {:.1} \
-             MB after a frame{}",
+            "- wgpu's memory allocator held at most {:.1} MB of the driver's memory after a frame \
+             ({:.1} MB of it allocated){}",
             mb(held),
+            mb(allocated),
             s.budget
                 .map(|b| format!(
                     " ({})",

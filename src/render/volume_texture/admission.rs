@@ -63,7 +63,7 @@ pub fn admission(
             * bytes_per_texel(format) as f64
             / 1e6;
         match allocate(&ctx, extent, format) {
-            Ok(texture) => {
+            Ok((texture, _)) => {
                 texture.destroy();
                 Ok(())
             }

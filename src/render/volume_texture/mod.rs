@@ -8,6 +8,7 @@ mod encoding;
 mod plan;
 mod ranges;
 mod resident;
+mod tiling;
 mod unseen;
 
 pub use admission::admission;
@@ -200,6 +201,8 @@ pub(super) fn besides_texels(ctx: &GpuContext, dims: [u32; 3], budget: Option<u6
 pub struct VolumeTexture {
     /// The 3D texture: the whole volume, or the atlas of its bricks.
     pub texture: wgpu::Texture,
+    /// Bytes the texture took (see [`Self::texture_bytes`]).
+    taken: u64,
     /// What the rays bind to read it.
     pub view: VolumeView,
     /// How texels map to normalised values.
@@ -289,21 +292,35 @@ impl VolumeTexture {
             },
         };
         // Where the GPU runs out of memory for the texture, the budget is halved below it and
-        // the layout chosen again (fewer slots), until one fits or none is left.
+        // the layout chosen again (fewer slots), until one fits or none is left. A texture that
+        // takes more than its texels' share (the driver's tiling) is laid out again smaller.
         let mut lowered = None;
-        let (plan, texture) = loop {
-            let plan = plan(dims, upload.bricking, (max, texels(budget)), bpt as u64)
-                .map_err(layout_error)?;
+        let mut share = texels(budget);
+        let (plan, texture, taken) = loop {
+            let plan =
+                plan(dims, upload.bricking, (max, share), bpt as u64).map_err(layout_error)?;
             let extent = plan.extent();
             let bytes = extent.iter().map(|&e| u64::from(e)).product::<u64>() * bpt as u64;
-            match allocate(ctx, extent, encoding.format) {
-                Ok(texture) => break (plan, texture),
+            let replan = |lower: u64| match upload.bricking {
+                Bricking::Off => None,
+                b => self::plan::plan(dims, b, (max, Some(lower)), bpt as u64).ok(),
+            };
+            let placed = allocate(ctx, extent, encoding.format).and_then(|(texture, taken)| {
+                let placed = (plan, texture, taken.unwrap_or(bytes));
+                match share {
+                    Some(s) => tiling::within(ctx, placed, s, replan, encoding.format),
+                    None => Ok(placed),
+                }
+            });
+            match placed {
+                Ok(placed) => break placed,
                 Err(Allocation::OutOfMemory) if upload.bricking != Bricking::Off && bytes > 1 => {
                     log::warn!(
                         "the GPU ran out of memory for a {} volume texture",
                         crate::text::bytes(bytes)
                     );
                     budget = Some(bytes / 2 + besides);
+                    share = texels(budget);
                     lowered = Some(bytes);
                 }
                 Err(Allocation::OutOfMemory) => {
@@ -366,6 +383,7 @@ impl VolumeTexture {
         let slice_pages = resident.as_ref().map(|r| r.slice_pages().clone());
         let mut texture = Self {
             texture,
+            taken,
             view,
             encoding,
             coarser: None,
@@ -388,13 +406,10 @@ impl VolumeTexture {
         (self.slice_pages.as_ref()).map_or(0, |s| s.size() + self.view.pages.size())
     }
 
-    /// Bytes of its 3D texture as allocated (the whole atlas, however many slots are used).
+    /// Bytes of its 3D texture as allocated (the whole atlas, however many slots are used):
+    /// as wgpu's allocator reported them, else its texels.
     pub fn texture_bytes(&self) -> u64 {
-        let size = self.texture.size();
-        u64::from(size.width)
-            * u64::from(size.height)
-            * u64::from(size.depth_or_array_layers)
-            * bytes_per_texel(self.encoding.format) as u64
+        self.taken
     }
 
     /// What the slices bind: the rays' view with the slices' page table (data everywhere).
@@ -574,8 +589,9 @@ pub(super) fn allocate(
     ctx: &GpuContext,
     extent: [u32; 3],
     format: wgpu::TextureFormat,
-) -> Result<wgpu::Texture, Allocation> {
+) -> Result<(wgpu::Texture, Option<u64>), Allocation> {
     let [width, height, depth] = extent;
+    let before = tiling::allocated_bytes(ctx);
     let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
     let validation = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
     let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
@@ -599,7 +615,11 @@ pub(super) fn allocate(
     }
     match refused {
         Some(e) => Err(Allocation::Refused(e.to_string())),
-        None => Ok(texture),
+        None => {
+            let taken =
+                (tiling::allocated_bytes(ctx).zip(before)).map(|(a, b)| a.saturating_sub(b));
+            Ok((texture, taken.filter(|&t| t > 0)))
+        }
     }
 }
 
