@@ -27,6 +27,10 @@ use super::request::{Accumulate, FrameRequest, SubmittedFrame, WorkCounts};
 use super::strategy_choice::{self, ChoiceKey, StrategyChoice};
 use super::targets::Targets;
 use super::uniforms::FrameGeometry;
+
+/// Level-0 page entries the bricks one streaming frame uploads stand for at most (a level-2
+/// preview brick stands for 64): the pyramid's partial rebuild of 4096 took 17 ms on the H100.
+const STREAM_ENTRIES: usize = 1024;
 use super::variant::PipelineKey;
 use crate::render::gpu_data::{FrameUniforms, SPLIT_GROUP_ROWS, WORKGROUP};
 
@@ -373,10 +377,12 @@ impl VolumeRenderer {
                 // footprint needs; without one (`render`) every brick is wanted at level 0.
                 footprint: self.residency_time.map(|_| request.size),
             };
-            // Past what the pyramid's partial rebuild lists it is built whole, so a streaming
-            // frame sends no more bricks than the list holds entries for.
+            // Past what the pyramid's partial rebuild lists it is built whole (200-230 ms at
+            // 2048 × 2048 × 1024 on the H100), and the partial rebuild grows with the list (17
+            // ms for 4096 level-0 bricks: docs/benchmarks/nvidia-h100-bricks-stream §11), so a
+            // streaming frame sends no more bricks than stand for STREAM_ENTRIES.
             let entries = match self.residency_time {
-                Some(_) => volume.leap.listing_room(),
+                Some(_) => volume.leap.listing_room().min(STREAM_ENTRIES),
                 None => usize::MAX,
             };
             let started = std::time::Instant::now();

@@ -11,6 +11,16 @@ pub(super) type Placed = (Plan, wgpu::Texture, u64);
 /// Rounds of laying the texture out again smaller before the last is kept.
 const ROUNDS: usize = 4;
 
+/// Textures up to this size try every order of their axes (each a trial allocation); larger
+/// ones only shrink: allocations of 700-870 MB took 50-90 ms each on the H100 machine, and a
+/// search of them held 2.6-3.2 GB at its peak under a budget of 1 GB (`nvidia-smi`,
+/// docs/benchmarks/nvidia-h100-bricks-stream §11).
+const SEARCH_MOST: u64 = 64 << 20;
+
+/// A shrunk layout aims this much below the share, as the padding of its new shape is not known
+/// before it is allocated.
+const MARGIN: f64 = 0.99;
+
 /// `first` within `share` bytes as allocated: a bricked atlas takes the order of its axes that
 /// takes least; where that is still more than `share`, `replan` lays the volume out for a share
 /// lowered by the ratio of taken to texels, a few rounds. Where no smaller layout exists (the
@@ -30,7 +40,7 @@ pub(super) fn within(
             break;
         }
         let texels = texels_of(plan, format);
-        let lower = (share.min(texels) as f64 * texels as f64 / *taken as f64) as u64;
+        let lower = (share.min(texels) as f64 * texels as f64 / *taken as f64 * MARGIN) as u64;
         log::debug!(
             "a volume texture of {} takes {}, more than the texels' share of {}",
             crate::text::bytes(texels),
@@ -57,11 +67,15 @@ fn texels_of(plan: &Plan, format: wgpu::TextureFormat) -> u64 {
 /// Of the boxes of an atlas's slots in each order of the axes, and in one row where the limit
 /// allows, the texture that takes the least memory as allocated (`first`: the one its own box
 /// took): drivers pad each axis to tiles of their own (lavapipe: x to 64 texels, y to 4), so the
-/// same slots take more or less by how they lie. One texture is kept as it is.
+/// same slots take more or less by how they lie. One texture, and an atlas past
+/// [`SEARCH_MOST`], is kept as it is.
 fn least_taking(ctx: &GpuContext, first: Placed, format: wgpu::TextureFormat) -> Placed {
     let Plan::Bricked(atlas) = first.0 else {
         return first;
     };
+    if texels_of(&first.0, format) > SEARCH_MOST {
+        return first;
+    }
     let [x, y, z] = atlas.slots;
     let count = x * y * z;
     let per_axis = (ctx.limits.max_texture_dimension_3d / atlas.slot_vox())
