@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# B (bc03314: bounded partial rebuilds, Performance memory hints) against E (the tiling search
+# only below 64 MB, a 1 % margin, 1024 entries a streaming frame) on the stream suite, nvidia-smi every 50 ms.
+set -u
+start=$SECONDS
+source scripts/gpu-env.sh
+mkdir -p /tmp/s
+for b in B E; do xz -dc .bench-data/$b.xz > /tmp/$b; chmod +x /tmp/$b; done
+pack() { tar czf $OUT/s.tgz --exclude='*.raw' -C /tmp s; }
+stream() { local bin=$1 v=$2 budget=$3 tag=$4
+  nvidia-smi --query-gpu=timestamp,memory.used --format=csv,noheader -lms 50 > /tmp/s/smi-$tag.log 2>&1 & smi=$!
+  RUST_LOG=leapview=debug timeout 120 python3 .bench-data/rss.py /tmp/$bin bench --stream $v --gpu-budget $budget --out /tmp/s/$tag > /tmp/s/$tag.log 2>&1
+  kill $smi; echo "$tag done at $((SECONDS-start)) s" >> /tmp/s/gen.txt; pack
+}
+nvidia-smi > /tmp/s/smi.txt 2>&1
+for n in 256 512 1024; do /tmp/E generate vessels --size $n --out /tmp/v$n.nhdr > /dev/null 2>&1; done
+python3 scripts/tile-volume.py /tmp/v1024.raw /tmp/big.raw 1024
+sed -e 's/sizes: 1024 1024 1024/sizes: 2048 2048 1024/' -e 's/v1024.raw/big.raw/' /tmp/v1024.nhdr > /tmp/big.nhdr
+echo "data at $((SECONDS-start)) s" >> /tmp/s/gen.txt
+stream E /tmp/big.nhdr 1GB big-E1
+stream B /tmp/big.nhdr 1GB big-B1
+stream E /tmp/big.nhdr 1GB big-E2
+stream B /tmp/big.nhdr 1GB big-B2
+stream E /tmp/v1024.nhdr 1GB v1024-1g-E
+stream E /tmp/v1024.nhdr 256MB v1024-256m-E
+stream E /tmp/v512.nhdr 1GB v512-1g-E
+stream E /tmp/v256.nhdr 1GB v256-1g-E
+xz -dc .bench-data/F.xz > /tmp/F; chmod +x /tmp/F
+stream F /tmp/v1024.nhdr 256MB v1024-256m-F
+stream F /tmp/big.nhdr 1GB big-F
+stream F /tmp/v1024.nhdr 1GB v1024-1g-F
