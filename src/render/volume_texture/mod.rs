@@ -299,15 +299,19 @@ impl VolumeTexture {
         let (plan, texture, taken) = loop {
             let plan =
                 plan(dims, upload.bricking, (max, share), bpt as u64).map_err(layout_error)?;
-            let extent = plan.extent();
-            let bytes = extent.iter().map(|&e| u64::from(e)).product::<u64>() * bpt as u64;
             let replan = |lower: u64| match upload.bricking {
                 Bricking::Off => None,
                 b => self::plan::plan(dims, b, (max, Some(lower)), bpt as u64).ok(),
             };
+            // Laid out by what Vulkan says the texture will take, where it says: then the
+            // allocation is not measured against the share again.
+            let fitted = share.and_then(|s| tiling::fit(ctx, plan, s, replan, encoding.format));
+            let plan = fitted.unwrap_or(plan);
+            let extent = plan.extent();
+            let bytes = extent.iter().map(|&e| u64::from(e)).product::<u64>() * bpt as u64;
             let placed = allocate(ctx, extent, encoding.format).and_then(|(texture, taken)| {
                 let placed = (plan, texture, taken.unwrap_or(bytes));
-                match share {
+                match share.filter(|_| fitted.is_none()) {
                     Some(s) => tiling::within(ctx, placed, s, replan, encoding.format),
                     None => Ok(placed),
                 }

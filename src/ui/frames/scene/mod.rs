@@ -382,7 +382,9 @@ impl Scene {
             ));
             self.shown.refinement.target = state.refine_frames;
             true
-        } else if shared.job.is_none() && self.wants_refinement() {
+        } else if shared.job.is_none() && shared.finished.is_empty() && self.wants_refinement() {
+            // A finished frame not yet taken has not counted into the mean: the next
+            // refinement waits for it (else its index came twice, a mean of 9/8).
             let index = self.shown.refinement.done;
             let settings = crate::settings::RenderSettings {
                 sample_offset: crate::render::raycast::refine::offset(index),
