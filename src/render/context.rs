@@ -19,9 +19,9 @@ pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'sta
         required_limits: adapter.limits(),
         experimental_features: wgpu::ExperimentalFeatures::disabled(),
         // Small memory blocks: the default's (Performance: blocks of 64-256 MB, kept while any
-        // allocation lives in them) held 67.1 MB beside an 8 MB budget whose allocations took
-        // 12.2 MB, these 13.2 MB (lavapipe, `bench --stream` of a 256³ volume); the budget
-        // counts allocations, and the volume's texture, the one large one, is a block of its own.
+        // allocation lives in them) held 1344 MB under a 1 GB budget on the H100, these 934.5
+        // MB (docs/benchmarks/nvidia-h100-bricks-stream §11-§12; lavapipe: 67.1 against 13.2
+        // MB for 12.2 MB allocated); the budget counts allocations.
         memory_hints: wgpu::MemoryHints::MemoryUsage,
         trace: wgpu::Trace::Off,
     }
