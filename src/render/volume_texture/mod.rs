@@ -293,38 +293,28 @@ impl VolumeTexture {
         };
         // Where the GPU runs out of memory for the texture, the budget is halved below it and
         // the layout chosen again (fewer slots), until one fits or none is left. A texture that
-        // takes more than its texels' share (the driver's tiling) is laid out again smaller.
+        // would take more than its texels' share (the driver's tiling) is laid out again smaller.
         let mut lowered = None;
-        let mut share = texels(budget);
         let (plan, texture, taken) = loop {
+            let share = texels(budget);
             let plan =
                 plan(dims, upload.bricking, (max, share), bpt as u64).map_err(layout_error)?;
             let replan = |lower: u64| match upload.bricking {
                 Bricking::Off => None,
                 b => self::plan::plan(dims, b, (max, Some(lower)), bpt as u64).ok(),
             };
-            // Laid out by what Vulkan says the texture will take, where it says: then the
-            // allocation is not measured against the share again.
-            let fitted = share.and_then(|s| tiling::fit(ctx, plan, s, replan, encoding.format));
-            let plan = fitted.unwrap_or(plan);
-            let extent = plan.extent();
-            let bytes = extent.iter().map(|&e| u64::from(e)).product::<u64>() * bpt as u64;
-            let placed = allocate(ctx, extent, encoding.format).and_then(|(texture, taken)| {
-                let placed = (plan, texture, taken.unwrap_or(bytes));
-                match share.filter(|_| fitted.is_none()) {
-                    Some(s) => tiling::within(ctx, placed, s, replan, encoding.format),
-                    None => Ok(placed),
-                }
-            });
-            match placed {
-                Ok(placed) => break placed,
+            let plan = share
+                .and_then(|s| tiling::fit(ctx, plan, s, replan, encoding.format))
+                .unwrap_or(plan);
+            let bytes = plan.bytes(bpt as u64);
+            match allocate(ctx, plan.extent(), encoding.format) {
+                Ok((texture, taken)) => break (plan, texture, taken.unwrap_or(bytes)),
                 Err(Allocation::OutOfMemory) if upload.bricking != Bricking::Off && bytes > 1 => {
                     log::warn!(
                         "the GPU ran out of memory for a {} volume texture",
                         crate::text::bytes(bytes)
                     );
                     budget = Some(bytes / 2 + besides);
-                    share = texels(budget);
                     lowered = Some(bytes);
                 }
                 Err(Allocation::OutOfMemory) => {

@@ -68,6 +68,11 @@ impl Plan {
             Self::Bricked(atlas) => atlas.slots.map(|s| s * atlas.slot_vox()),
         }
     }
+
+    /// Bytes of those texels at `bytes_per_texel` (what the driver takes may be more).
+    pub(super) fn bytes(&self, bytes_per_texel: u64) -> u64 {
+        self.extent().iter().map(|&e| u64::from(e)).product::<u64>() * bytes_per_texel
+    }
 }
 
 /// Why the volume's bricks are held at `level` rather than full resolution, as one line

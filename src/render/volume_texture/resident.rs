@@ -245,8 +245,8 @@ impl Resident {
         let mut rest = &queue[..];
         let (mut sent, mut encoding) = (0, Duration::ZERO);
         let (mut staged, mut covered) = (0, 0);
+        let grid = self.residency.grid(0);
         while !rest.is_empty() {
-            let grid = self.residency.grid(0);
             let fit = fitting(rest, grid, entries.saturating_sub(covered), sent == 0);
             let given = self.residency.admit(rest, fit);
             if given.is_empty() {
