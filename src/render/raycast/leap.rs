@@ -675,14 +675,11 @@ impl LeapStructures {
             passes.iter().rposition(|&p| p),
         );
         let ends = |pass: usize| (first == Some(pass), last == Some(pass));
-        let ts = passes[0]
-            .then(|| {
-                let (f, l) = ends(0);
-                probe
-                    .as_mut()
-                    .and_then(|(p, s)| p.rebuild_timestamps(s, f, l))
-            })
-            .flatten();
+        let ts = if passes[0] {
+            rebuild_span(&mut probe, ends(0))
+        } else {
+            None
+        };
         let (minmax, minmax_bricks) =
             self.build_minmax(ctx, pipelines, request.volume, encoder, ts);
         let builds = Builds {
@@ -695,21 +692,26 @@ impl LeapStructures {
             return (levels, builds);
         };
         if flags {
-            let (f, l) = ends(1);
-            let ts = probe
-                .as_mut()
-                .and_then(|(p, s)| p.rebuild_timestamps(s, f, l));
+            let ts = rebuild_span(&mut probe, ends(1));
             self.build_flags(ctx, pipelines, rule, request.lut, encoder, ts);
         }
         if builds_distance {
-            let (f, l) = ends(2);
-            let ts = probe
-                .as_mut()
-                .and_then(|(p, s)| p.rebuild_timestamps(s, f, l));
+            let ts = rebuild_span(&mut probe, ends(2));
             self.build_distance(ctx, pipelines, leaf, encoder, ts);
         }
         (levels, builds)
     }
+}
+
+/// The timestamp writes of one pass of the rebuild's span (`(first, last)`: whether it begins
+/// or ends it), where a probe times the frame.
+fn rebuild_span<'p>(
+    probe: &'p mut Option<(&mut ProbePool, &ProbeSlot)>,
+    (first, last): (bool, bool),
+) -> Option<wgpu::ComputePassTimestampWrites<'p>> {
+    probe
+        .as_mut()
+        .and_then(|(p, s)| p.rebuild_timestamps(s, first, last))
 }
 
 #[cfg(test)]

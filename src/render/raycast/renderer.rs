@@ -27,12 +27,13 @@ use super::request::{Accumulate, FrameRequest, SubmittedFrame, WorkCounts};
 use super::strategy_choice::{self, ChoiceKey, StrategyChoice};
 use super::targets::Targets;
 use super::uniforms::FrameGeometry;
-
-/// Level-0 page entries the bricks one streaming frame uploads stand for at most (a level-2
-/// preview brick stands for 64): the pyramid's partial rebuild of 4096 took 17 ms on the H100.
-const STREAM_ENTRIES: usize = 1024;
 use super::variant::PipelineKey;
 use crate::render::gpu_data::{FrameUniforms, SPLIT_GROUP_ROWS, WORKGROUP};
+
+/// Level-0 page entries the bricks one streaming frame uploads stand for at most (a level-2
+/// preview brick stands for 64): under a cap of 4096 the pyramid's partial rebuild took up to
+/// 17 ms a frame on the H100.
+const STREAM_ENTRIES: usize = 1024;
 
 /// The renderer. See the module documentation.
 pub struct VolumeRenderer {
@@ -378,9 +379,9 @@ impl VolumeRenderer {
                 footprint: self.residency_time.map(|_| request.size),
             };
             // Past what the pyramid's partial rebuild lists it is built whole (200-230 ms at
-            // 2048 × 2048 × 1024 on the H100), and the partial rebuild grows with the list (17
-            // ms for 4096 level-0 bricks: docs/benchmarks/nvidia-h100-bricks-stream §11), so a
-            // streaming frame sends no more bricks than stand for STREAM_ENTRIES.
+            // 2048 × 2048 × 1024 on the H100), and the partial rebuild grows with the list (up
+            // to 17 ms under a cap of 4096: docs/benchmarks/nvidia-h100-bricks-stream §11), so
+            // a streaming frame sends no more bricks than stand for STREAM_ENTRIES.
             let entries = match self.residency_time {
                 Some(_) => volume.leap.listing_room().min(STREAM_ENTRIES),
                 None => usize::MAX,
