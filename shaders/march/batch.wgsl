@@ -21,32 +21,13 @@ fn take_batch(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray, k:
     let p1 = ray.entry + ray.box_per_mm * t1;
     let p2 = ray.entry + ray.box_per_mm * t2;
     let p3 = ray.entry + ray.box_per_mm * t3;
-#ifdef BRICKED
-    // Where the first and the last lie in one brick the two between do too (positions move
-    // monotonically along the ray): one brick, found once, for the four.
-    var s0: f32;
-    var s1: f32;
-    var s2: f32;
-    var s3: f32;
-    let b0 = brick_at(p0);
-    if all(b0 == brick_at(p3)) {
-        let m = map_of(b0);
-        s0 = sample_value_in(m, p0);
-        s1 = sample_value_in(m, p1);
-        s2 = sample_value_in(m, p2);
-        s3 = sample_value_in(m, p3);
-    } else {
-        s0 = inner_value(p0);
-        s1 = inner_value(p1);
-        s2 = inner_value(p2);
-        s3 = inner_value(p3);
-    }
-#else
-    let s0 = sample_value(p0);
-    let s1 = sample_value(p1);
-    let s2 = sample_value(p2);
-    let s3 = sample_value(p3);
-#endif
+    // Bricked, each through its own brick with no branch: a batch where one lane crosses
+    // into another brick costs its warp one round of reads, not two
+    // (docs/benchmarks/nvidia-h100-bricks-stream §13).
+    let s0 = inner_value(p0);
+    let s1 = inner_value(p1);
+    let s2 = inner_value(p2);
+    let s3 = inner_value(p3);
     // Then each in order, up to `end` (written out, not as a loop over arrays, so that no
     // driver's compiler can put the values in memory or move a read after a use).
     if take_one(acc, tally, ray, k, t0, p0, s0) {

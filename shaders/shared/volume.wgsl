@@ -25,8 +25,8 @@ fn volume_dims() -> vec3<i32> {
 // p · atlas_per_box · 2^-level + origin · texel_size, or, for a brick no ray can see, the
 // constant. The apron and the overhang past the volume repeat the nearest voxel, so no clamp is
 // needed for points of the box: the filter blends equal texels there, as clamp to edge does.
-// The entry itself is the map, kept as read: a ray holds it for every sample (held_entry), and
-// each register it takes lowers how many rays a GPU core keeps in flight.
+// The entry itself is the map, read for each sample (nothing kept between reads: keeping the
+// last brick's entry measured no faster, docs/benchmarks/nvidia-h100-bricks-stream §7, §13).
 struct BrickMap {
     // (origin, 2^-level), or (value, 0, 0, 0).
     entry: vec4<f32>,
@@ -49,38 +49,28 @@ fn page_index(b: vec3<i32>) -> i32 {
 fn volume_load(i: vec3<i32>) -> vec4<f32> {
     let j = clamp(i, vec3<i32>(0), volume_dims() - vec3<i32>(1));
     let e = volume_pages[page_index(j / i32(volume_geometry.brick_vox))];
-    if e.w == 0.0 {
-        return vec4<f32>(e.x, 0.0, 0.0, 1.0);
-    }
-    // j · 2^-level, floored: exact in f32 for any voxel index below 2^24.
+    // j · 2^-level, floored: exact in f32 for any voxel index below 2^24. A constant's entry
+    // reads texel (value, 0, 0), which the select drops: no branch.
     let at_level = vec3<i32>(floor(vec3<f32>(j) * e.w));
-    return textureLoad(volume_tex, vec3<i32>(e.xyz) + at_level, 0);
+    let t = textureLoad(volume_tex, vec3<i32>(e.xyz) + at_level, 0);
+    return select(t, vec4<f32>(e.x, 0.0, 0.0, 1.0), e.w == 0.0);
 }
 
-// The last brick a read went through (its page index), and its entry: consecutive reads mostly
-// stay in one brick. Which brick a point reads through depends on the point alone (brick_at),
-// never on the reads before it, so that a value does not depend on the path a ray took to it.
-var<private> held_brick: i32 = -1;
-var<private> held_entry: vec4<f32>;
-
-// The map of brick `b`, from the page table where it is not the last one read.
+// The map of brick `b`: its page entry, read at each use and never behind a branch, so that a
+// lane crossing into another brick does not make its warp wait twice (a lane's reads of one
+// brick hit the same cache line).
 fn map_of(b: vec3<i32>) -> BrickMap {
-    let i = page_index(b);
-    if i != held_brick {
-        held_brick = i;
-        held_entry = volume_pages[i];
-    }
-    return BrickMap(held_entry);
+    return BrickMap(volume_pages[page_index(b)]);
 }
 
 // The texture unit's trilinear sample at box position p inside brick `m`'s brick.
 fn volume_filtered_in(m: BrickMap, linear: sampler, p: vec3<f32>) -> vec4<f32> {
-    if m.entry.w == 0.0 {
-        return vec4<f32>(m.entry.x, 0.0, 0.0, 1.0);
-    }
+    // A constant's entry scales by 0 and reads the atlas at (value, 0, 0) · texel size, which
+    // the select drops: no branch.
     let scale = volume_geometry.atlas_per_box * m.entry.w;
     let offset = m.entry.xyz * volume_geometry.texel_size;
-    return textureSampleLevel(volume_tex, linear, fma(p, scale, offset), 0.0);
+    let t = textureSampleLevel(volume_tex, linear, fma(p, scale, offset), 0.0);
+    return select(t, vec4<f32>(m.entry.x, 0.0, 0.0, 1.0), m.entry.w == 0.0);
 }
 
 // The texture unit's trilinear sample at box position p (clamp to edge): through the brick

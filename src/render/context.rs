@@ -19,13 +19,22 @@ pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'sta
         required_limits: adapter.limits(),
         experimental_features: wgpu::ExperimentalFeatures::disabled(),
         // Small memory blocks: the default's (Performance: blocks of 64-256 MB, kept while any
-        // allocation lives in them) held 1344 MB under a 1 GB budget on the H100, these 934.5
-        // MB (docs/benchmarks/nvidia-h100-bricks-stream §11-§12; lavapipe: 67.1 against 13.2
-        // MB for 12.2 MB allocated); the budget counts allocations.
-        memory_hints: wgpu::MemoryHints::MemoryUsage,
+        // allocation lives in them) held 1344 MB under a 1 GB budget on the H100, MemoryUsage's
+        // (8-64 MB) 934.5 MB but up to 56 MB of it unused (docs/benchmarks/
+        // nvidia-h100-bricks-stream §11-§13; lavapipe: 67.1 against 13.2 MB for 12.2 MB
+        // allocated); the budget counts allocations and keeps one block back for what is unused.
+        memory_hints: wgpu::MemoryHints::Manual {
+            suballocated_device_memory_block_size: ALLOCATOR_BLOCK_MIN..ALLOCATOR_BLOCK,
+        },
         trace: wgpu::Trace::Off,
     }
 }
+
+/// The smallest and largest blocks wgpu's allocator takes device memory in (gpu-allocator
+/// clamps them to 4-256 MB): a GPU memory budget keeps the largest back for their unused parts.
+const ALLOCATOR_BLOCK_MIN: u64 = 4 << 20;
+/// See [`ALLOCATOR_BLOCK_MIN`].
+pub(crate) const ALLOCATOR_BLOCK: u64 = 16 << 20;
 
 /// Why no GPU device could be had.
 #[derive(Debug, thiserror::Error)]

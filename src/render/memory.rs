@@ -14,13 +14,31 @@ pub struct DeviceMemory {
     /// What the driver estimates this process may still allocate in that heap
     /// (`VK_EXT_memory_budget`), where it says.
     pub available_bytes: Option<u64>,
+    /// What the driver says this process held in that heap when asked (`VK_EXT_memory_budget`'s
+    /// `heapUsage`): asked once the device is made, it is the driver's own context (54 MiB on
+    /// the H100 machine), which `nvidia-smi` counts and a budget holds too.
+    pub used_bytes: Option<u64>,
 }
+
+/// What a driver that reports its heaps' usage holds for a process beside it (its context), as
+/// `nvidia-smi` shows it: 54 MiB while loading, before anything was allocated, and 40-57 MB
+/// beyond wgpu's allocator after (H100 machine, docs/benchmarks/nvidia-h100-bricks-stream
+/// §11-§13). A budget keeps it back (at most an eighth of a small one).
+pub const DRIVER_CONTEXT: u64 = 56 << 20;
 
 /// Share of what the driver says is available that a volume takes by default: the rest is left
 /// to the frame's targets, the leaping structures, the window and other programs.
 pub const DEFAULT_SHARE: f64 = 0.6;
 
 impl DeviceMemory {
+    /// What a volume's `budget` keeps back for the process's memory besides its own allocations:
+    /// what the driver said the process held when the device was made, and its context
+    /// ([`DRIVER_CONTEXT`]); nothing where the driver does not report usage (lavapipe).
+    pub(crate) fn held_besides(&self, budget: u64) -> u64 {
+        self.used_bytes
+            .map_or(0, |used| used + DRIVER_CONTEXT.min(budget / 8))
+    }
+
     /// The default GPU memory budget of a volume: [`DEFAULT_SHARE`] of what the driver says is
     /// available, else of the heap.
     pub fn default_budget(&self) -> u64 {
@@ -80,5 +98,28 @@ fn memory_of(instance: &ash::Instance, info: &wgpu::AdapterInfo) -> Option<Devic
     Some(DeviceMemory {
         heap_bytes: heap.size,
         available_bytes: available.filter(|&b| b > 0),
+        used_bytes: has_budget.then(|| budget.heap_usage[index]),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_budget_keeps_back_what_the_driver_holds_only_where_it_reports_usage() {
+        let memory = |used| DeviceMemory {
+            heap_bytes: 80 << 30,
+            available_bytes: Some(79 << 30),
+            used_bytes: used,
+        };
+        assert_eq!(memory(None).held_besides(1 << 30), 0);
+        let used = 8_585_216;
+        assert_eq!(
+            memory(Some(used)).held_besides(1_000_000_000),
+            used + DRIVER_CONTEXT
+        );
+        // An eighth of a small budget, not the whole context.
+        assert_eq!(memory(Some(used)).held_besides(64 << 20), used + (8 << 20));
+    }
 }

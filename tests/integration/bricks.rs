@@ -88,10 +88,10 @@ fn render(r: &mut VolumeRenderer, camera: &Camera, settings: &RenderSettings) ->
 
 /// A GPU memory budget whose texels' share holds about `slots` slots of 34³ × 2 bytes (a little
 /// less: the leaping structures and page tables take theirs): besides, a budget keeps a quarter
-/// for a frame's targets and a sixteenth for the upload's staging (`reserves` in
-/// src/render/volume_texture/mod.rs).
+/// for a frame's targets, a sixteenth for the upload's staging and one for the allocator's
+/// unused blocks (`reserves`, `besides_texels` in src/render/volume_texture/mod.rs).
 fn budget_of_slots(slots: u64) -> u64 {
-    slots * 34u64.pow(3) * 2 * 16 / 11
+    slots * 34u64.pow(3) * 2 * 16 / 10
 }
 
 /// Every mode of the mode tests, with RC-t and each leaping strategy, on both paths: bricked

@@ -381,9 +381,14 @@ impl VolumeRenderer {
             // Past what the pyramid's partial rebuild lists it is built whole (200-230 ms at
             // 2048 × 2048 × 1024 on the H100), and the partial rebuild grows with the list (up
             // to 17 ms under a cap of 4096: docs/benchmarks/nvidia-h100-bricks-stream §11), so
-            // a streaming frame sends no more bricks than stand for STREAM_ENTRIES.
+            // a streaming frame sends no more bricks than stand for STREAM_ENTRIES; but where
+            // the pyramid is to be built whole anyway (the first frame), as many as its upload
+            // time allows: a coarse preview brick stands for 4096 entries at 2048 × 2048 × 1024,
+            // and sent one a frame after the first each took a 14-19 ms rebuild (§13).
+            let room = volume.leap.listing_room();
             let entries = match self.residency_time {
-                Some(_) => volume.leap.listing_room().min(STREAM_ENTRIES),
+                Some(_) if room == usize::MAX => room,
+                Some(_) => room.min(STREAM_ENTRIES),
                 None => usize::MAX,
             };
             let started = std::time::Instant::now();

@@ -185,7 +185,9 @@ fn reserves(budget: Option<u64>) -> (u64, u64) {
 
 /// What a `budget` holds beside the texels of a volume of `dims`: its leaping structures (at
 /// most a [`LEAP_SHARE`] of it), page tables, the upload's staging and a frame's targets
-/// ([`reserves`]). The upload and the load's admission check both lay the texels out in the rest.
+/// ([`reserves`]), what the driver held for the process before (its context, where it says)
+/// and a block of wgpu's allocator left unused (a share of a small budget). The upload and the load's admission check both
+/// lay the texels out in the rest.
 pub(super) fn besides_texels(ctx: &GpuContext, dims: [u32; 3], budget: Option<u64>) -> u64 {
     let Some(budget) = budget else {
         return 0;
@@ -194,7 +196,10 @@ pub(super) fn besides_texels(ctx: &GpuContext, dims: [u32; 3], budget: Option<u6
     let leap = crate::accel::pyramid::Pyramid::within(dims, ctx.largest_binding(), Some(most));
     let pages = atlas::page_table_bytes(dims, crate::accel::bricks::DEFAULT_BRICK_VOX);
     let (staging, frame) = reserves(Some(budget));
-    leap.gpu_bytes() + 2 * pages + staging + frame
+    let before = ctx.memory.map_or(0, |m| m.held_besides(budget));
+    // A small budget (tests') keeps a share back, as for staging.
+    let unused = crate::render::context::ALLOCATOR_BLOCK.min(budget / STAGING_SHARE);
+    leap.gpu_bytes() + 2 * pages + staging + frame + before + unused
 }
 
 /// The volume on the GPU.
