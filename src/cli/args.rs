@@ -39,8 +39,9 @@ pub struct GpuArgs {
     /// GPU memory the volume may take: 2GB, 512MiB, 800M… Past it, or past the GPU's 3D texture
     /// limit, the volume is shown from bricks of a coarser level (one line says which). It holds
     /// the volume's leaping structures (at most a quarter of it: coarser blocks where finer
-    /// would take more), page tables, upload staging (a sixteenth, at most 32 MB) and a
-    /// frame's targets (a quarter, at most 50 MB: 1920 × 1080) too.
+    /// would take more), page tables, upload staging (a sixteenth, at most 32 MB), a frame's
+    /// targets (a quarter, at most 50 MB: 1920 × 1080), what the driver holds for the process
+    /// (56 MiB where it reports its memory) and the allocator's unused space (16 MB) too.
     ///
     /// Without it, only the GPU's limits bound it.
     #[arg(long, value_parser = parse_gpu_budget, help_heading = "GPU", hide_short_help = true)]
