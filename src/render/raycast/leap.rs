@@ -331,6 +331,11 @@ impl LeapStructures {
         self.distance_for = None;
     }
 
+    /// Whether the min/max pyramid is built (else the next frame that leaps builds it whole).
+    pub(crate) fn pyramid_ready(&self) -> bool {
+        self.minmax_ready
+    }
+
     /// How many more level-0 bricks' page changes a partial rebuild of the pyramid takes
     /// before it is built whole (unbounded while a whole build is due anyway).
     pub(crate) fn listing_room(&self) -> usize {
