@@ -11,7 +11,7 @@ use crate::render::context::GpuContext;
 use crate::render::pack::Rgba8Reader;
 use crate::render::probe::{FrameResults, ProbePool};
 use crate::render::volume_texture::VolumeTexture;
-use crate::render::volume_texture::{Cull, REACH_STEP_VOX, SlicePlane, Unseen};
+use crate::render::volume_texture::{Cull, Pace, REACH_STEP_VOX, SlicePlane, Unseen};
 use crate::settings::{ConcretePath, Mode, RenderPath, RenderSettings, Upload};
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
@@ -383,19 +383,24 @@ impl VolumeRenderer {
             // to 17 ms under a cap of 4096: docs/benchmarks/nvidia-h100-bricks-stream §11), so
             // a streaming frame sends no more bricks than stand for STREAM_ENTRIES; but where
             // the pyramid is to be built whole anyway (the first frame), as many as its upload
-            // time allows: a coarse preview brick stands for 4096 entries at 2048 × 2048 × 1024,
-            // and sent one a frame after the first each took a 14-19 ms rebuild (§13).
+            // time allows, and every brick standing for more than a later frame may send (a
+            // coarse preview brick stands for 4096 entries at 2048 × 2048 × 1024; sent alone
+            // after the first frame, each took a 10-19 ms rebuild: §13-§14).
             let room = volume.leap.listing_room();
-            let entries = match self.residency_time {
-                Some(_) if room == usize::MAX => room,
-                Some(_) => room.min(STREAM_ENTRIES),
-                None => usize::MAX,
+            let pace = match self.residency_time {
+                Some(time) => Pace {
+                    time: Some(time),
+                    entries: if room == usize::MAX {
+                        room
+                    } else {
+                        room.min(STREAM_ENTRIES)
+                    },
+                    later: STREAM_ENTRIES,
+                },
+                None => Pace::ALL,
             };
             let started = std::time::Instant::now();
-            let update =
-                volume
-                    .texture
-                    .update_residency(&self.ctx, &unseen, (self.residency_time, entries));
+            let update = volume.texture.update_residency(&self.ctx, &unseen, pace);
             self.residency_ms = started.elapsed().as_secs_f64() * 1e3;
             if update.changed {
                 volume.leap.bricks_changed(update.bricks.as_deref());

@@ -26,7 +26,7 @@ use super::gpu_data::VolumeGeometry;
 use encoding::{TexelSource, choose_encoding, encode_texels, encoding_for};
 use plan::{Plan, PlanError, coarser_note, footprint_note, plan};
 use resident::Resident;
-pub use resident::{ResidencyStatus, Update};
+pub use resident::{Pace, ResidencyStatus, Update};
 pub use unseen::{Cull, REACH_STEP_VOX, SlicePlane, Unseen};
 
 /// Why a volume cannot go to the GPU.
@@ -358,7 +358,12 @@ impl VolumeTexture {
                     (atlas.brick_vox, atlas.slots, atlas.capacity),
                     reserved.0,
                 );
-                resident.update(ctx, &texture, &Unseen::NOTHING, (time, usize::MAX));
+                let pace = Pace {
+                    time,
+                    entries: usize::MAX,
+                    later: usize::MAX,
+                };
+                resident.update(ctx, &texture, &Unseen::NOTHING, pace);
                 (resident.rays_pages().clone(), Some(resident))
             }
         };
@@ -421,15 +426,9 @@ impl VolumeTexture {
     }
 
     /// Decides again which bricks the rays need, leaving out what `unseen` says they cannot
-    /// see, and uploads what is missing, for at most `time` (all of it without) and bricks
-    /// standing for at most `entries` level-0 page entries: see [`Resident::update`]. Nothing
+    /// see, and uploads what is missing as `pace` lets it: see [`Resident::update`]. Nothing
     /// to do for a volume in one texture.
-    pub fn update_residency(
-        &mut self,
-        ctx: &GpuContext,
-        unseen: &Unseen,
-        pace: (Option<std::time::Duration>, usize),
-    ) -> Update {
+    pub fn update_residency(&mut self, ctx: &GpuContext, unseen: &Unseen, pace: Pace) -> Update {
         let Some(resident) = &mut self.resident else {
             return Update {
                 changed: false,

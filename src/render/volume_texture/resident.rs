@@ -43,6 +43,34 @@ struct Needs {
 /// the value ranges arrive.
 type RuleNeeds = (((u8, u64), bool), Vec<bool>);
 
+/// How much one [`Resident::update`] may upload.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Pace {
+    /// Time for the uploads (`None`: until nothing is missing).
+    pub time: Option<Duration>,
+    /// Level-0 page entries the bricks sent may stand for, at most (each update sends one
+    /// brick at least).
+    pub entries: usize,
+    /// What a later update's bricks may stand for: where this one's are unbounded (the leaping
+    /// pyramid is built whole this frame), the bricks that stand for more are sent past `time`
+    /// (up to [`COARSE_TIME`] times it), as a later frame could only send each alone.
+    pub later: usize,
+}
+
+impl Pace {
+    /// Everything, at once.
+    pub const ALL: Self = Self {
+        time: None,
+        entries: usize::MAX,
+        later: usize::MAX,
+    };
+}
+
+/// How many times its time budget a frame whose pyramid is built whole may spend sending the
+/// bricks that a later frame could only send alone (a 2048 × 2048 × 1024 volume's 33 level-4
+/// preview bricks: one sent alone took a 10-19 ms rebuild on the H100, §13-§14).
+const COARSE_TIME: u32 = 4;
+
 /// What one [`Resident::update`] did.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Update {
@@ -214,8 +242,9 @@ impl Resident {
         ctx: &GpuContext,
         atlas: &wgpu::Texture,
         unseen: &Unseen,
-        (time, entries): (Option<Duration>, usize),
+        pace: Pace,
     ) -> Update {
+        let Pace { time, entries, .. } = pace;
         let start = Instant::now();
         self.receive_ranges(time.is_none());
         let needs = self.needs_data(unseen);
@@ -269,7 +298,8 @@ impl Resident {
             }
             changed = true;
             // The page tables are written after the uploads: their last time is kept back.
-            if time.is_some_and(|t| start.elapsed() + self.pages_took >= t) {
+            let next = rest.first().map(|k| covers(grid, k));
+            if !goes_on(&pace, start.elapsed() + self.pages_took, next) {
                 break;
             }
         }
@@ -569,6 +599,18 @@ fn fitting(queue: &[BrickKey], grid: [u32; 3], room: usize, first: bool) -> usiz
     fit.max(usize::from(first))
 }
 
+/// Whether an update that has `spent` this long goes on sending, the next brick standing for
+/// `next` level-0 entries (`None`: none is left).
+fn goes_on(pace: &Pace, spent: Duration, next: Option<usize>) -> bool {
+    let Some(time) = pace.time else {
+        return true;
+    };
+    let coarse = pace.entries == usize::MAX
+        && next.is_some_and(|n| n > pace.later)
+        && spent < time * COARSE_TIME;
+    coarse || spent < time
+}
+
 /// The level-0 page entries (of a volume of `grid` level-0 bricks) that a brick stands in for.
 fn covers(grid: [u32; 3], key: &BrickKey) -> usize {
     let edge = 1u32 << key.level;
@@ -693,6 +735,28 @@ mod tests {
             fitting(&[key(0, [0, 0, 0]); 40], grid, usize::MAX, false),
             BATCH
         );
+    }
+
+    #[test]
+    fn a_frame_that_builds_the_pyramid_whole_sends_the_coarse_bricks_past_its_time() {
+        let ms = Duration::from_millis;
+        let whole = Pace {
+            time: Some(ms(8)),
+            entries: usize::MAX,
+            later: 1024,
+        };
+        assert!(goes_on(&whole, ms(7), Some(64)));
+        assert!(!goes_on(&whole, ms(8), Some(64)));
+        // A brick that a later frame could only send alone: up to four times the time.
+        assert!(goes_on(&whole, ms(20), Some(4096)));
+        assert!(!goes_on(&whole, ms(32), Some(4096)));
+        // A later frame (its entries bounded) stops at its time whatever comes next.
+        let later = Pace {
+            entries: 1024,
+            ..whole
+        };
+        assert!(!goes_on(&later, ms(9), Some(4096)));
+        assert!(goes_on(&Pace::ALL, ms(1000), Some(4096)));
     }
 
     #[test]
