@@ -86,27 +86,51 @@ pub(super) fn brick_ranges(
     let (b, r) = (brick_vox as usize, REACH as usize);
     // A brick-relative coordinate's part along its axis: 0, 1 or 2.
     let part = |v: usize| usize::from(v >= r) + usize::from(v >= b - r);
-    let parts = parallel_on(threads, layout.count() as usize, &|| false, &|i| {
-        let brick = layout.brick_at(i as u32).map(|c| c as usize * b);
-        let end: [usize; 3] = std::array::from_fn(|a| (brick[a] + b).min(dims[a] as usize));
-        let (row, plane) = (dims[0] as usize, dims[0] as usize * dims[1] as usize);
-        let mut spans = [Span::EMPTY; 27];
-        let mut out = Vec::new();
-        for z in brick[2]..end[2] {
-            for y in brick[1]..end[1] {
+    let [gx, gy, gz] = layout.bricks.map(|g| g as usize);
+    let (row, plane) = (dims[0] as usize, dims[0] as usize * dims[1] as usize);
+    let bpt = bytes_per_texel(format);
+    // A task per row of bricks along x, reading whole rows of the volume in order (a task per
+    // brick read 32-voxel pieces of rows a plane apart: 5.9 s at 1024³ on one core here,
+    // against 3.5 s with this loop's extremes per part and 5.5 s at 2048 x 2048 x 1024 on 8
+    // of the H100 machine's cores).
+    let rows = parallel_on(threads, gy * gz, &|| false, &|j| {
+        let (y0, z0) = ((j % gy) * b, (j / gy) * b);
+        let (y1, z1) = (
+            (y0 + b).min(dims[1] as usize),
+            (z0 + b).min(dims[2] as usize),
+        );
+        let mut spans = vec![[Span::EMPTY; 27]; gx];
+        let mut out = Vec::with_capacity(row * bpt);
+        for z in z0..z1 {
+            for y in y0..y1 {
                 let base = z * plane + y * row;
                 out.clear();
-                encode_texels(&source, encoding, base + brick[0]..base + end[0], &mut out);
-                let at = 9 * part(z - brick[2]) + 3 * part(y - brick[1]);
-                let texels = out.chunks_exact(bytes_per_texel(format));
-                for (x, texel) in texels.enumerate() {
-                    spans[at + part(x)].take(decode_texel(format, texel));
+                encode_texels(&source, encoding, base..base + row, &mut out);
+                let at = 9 * part(z - z0) + 3 * part(y - y0);
+                for (bx, brick) in spans.iter_mut().enumerate() {
+                    // The brick's three parts along x, each by its extremes.
+                    let x0 = bx * b;
+                    let texels = (row - x0).min(b);
+                    let cuts = [0, r.min(texels), (b - r).min(texels), texels];
+                    for p in 0..3 {
+                        let bytes = &out[(x0 + cuts[p]) * bpt..(x0 + cuts[p + 1]) * bpt];
+                        if let Some((lo, hi)) = extremes(format, bytes) {
+                            brick[at + p].take(lo);
+                            brick[at + p].hi = brick[at + p].hi.max(hi);
+                        }
+                    }
                 }
             }
         }
         spans
     });
-    let parts: Vec<[Span; 27]> = parts.into_iter().collect::<Option<_>>()?;
+    // Bricks in the layout's order, x fastest: row j of bricks holds bricks gx·j … gx·j + gx − 1.
+    let parts: Vec<[Span; 27]> = rows
+        .into_iter()
+        .collect::<Option<Vec<_>>>()?
+        .into_iter()
+        .flatten()
+        .collect();
     let grid = layout.bricks;
     // Along an axis: the previous brick's last part, all of this one's, the next one's first.
     let reach = [(-1i64, 2..3), (0, 0..3), (1, 0..1)];
@@ -214,6 +238,38 @@ fn f16_at_least(t: f32) -> Option<half::f16> {
     };
     let u = half::f16::from_bits(up);
     (u.is_finite() && u.to_f32() >= t).then_some(u)
+}
+
+/// The lowest of texels `bytes` (of `format`) as [`decode_texel`] gives it, the first of them
+/// where several are equally low, and the highest value; `None` for no texels. Unorm texels
+/// are compared as integers (as they decode, in order), the others decoded.
+fn extremes(format: wgpu::TextureFormat, bytes: &[u8]) -> Option<((f32, Option<u32>), f32)> {
+    use wgpu::TextureFormat as F;
+    match format {
+        F::R8Unorm => {
+            let lo = *bytes.iter().min()?;
+            let hi = *bytes.iter().max()?;
+            Some((decode_texel(format, &[lo]), decode_texel(format, &[hi]).0))
+        }
+        F::R16Unorm => {
+            let values = || {
+                bytes
+                    .chunks_exact(2)
+                    .map(|b| u16::from_le_bytes([b[0], b[1]]))
+            };
+            let lo = values().min()?;
+            let hi = values().max()?;
+            let decoded = |v: u16| decode_texel(format, &v.to_le_bytes());
+            Some((decoded(lo), decoded(hi).0))
+        }
+        _ => {
+            let mut span = Span::EMPTY;
+            for texel in bytes.chunks_exact(bytes_per_texel(format)) {
+                span.take(decode_texel(format, texel));
+            }
+            (span.lo <= span.hi).then_some(((span.lo, span.constant), span.hi))
+        }
+    }
 }
 
 /// A texel's value as the texture unit returns it, and its page-table constant (unorm16 bits,
