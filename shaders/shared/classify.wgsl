@@ -15,20 +15,8 @@ fn sample_value(p: vec3<f32>) -> f32 {
 
 // sample_value at a position p inside the box (a ray's sample): bricks need no clamp there.
 fn inner_value(p: vec3<f32>) -> f32 {
-#ifdef BRICKED
-    return sample_value_in(map_of(brick_at(p)), p);
-#else
-    return sample_value(p);
-#endif
+    return value_of(volume_inner(linear_clamp, p).r, p);
 }
-
-#ifdef BRICKED
-// sample_value at a box position p of the brick that `m` maps (shared/volume.wgsl): the same
-// value, without finding the brick.
-fn sample_value_in(m: BrickMap, p: vec3<f32>) -> f32 {
-    return value_of(volume_filtered_in(m, linear_clamp, p).r, p);
-}
-#endif
 
 // The normalised value of texel `texel` read at p.
 fn value_of(texel: f32, p: vec3<f32>) -> f32 {

@@ -25,12 +25,9 @@ fn volume_dims() -> vec3<i32> {
 // p · atlas_per_box · 2^-level + origin · texel_size, or, for a brick no ray can see, the
 // constant. The apron and the overhang past the volume repeat the nearest voxel, so no clamp is
 // needed for points of the box: the filter blends equal texels there, as clamp to edge does.
-// The entry itself is the map, read for each sample (nothing kept between reads: keeping the
-// last brick's entry measured no faster, docs/benchmarks/nvidia-h100-bricks-stream §7, §13).
-struct BrickMap {
-    // (origin, 2^-level), or (value, 0, 0, 0).
-    entry: vec4<f32>,
-}
+// Each read takes its brick's entry afresh and never behind a branch, so that a lane crossing
+// into another brick does not make its warp read twice (keeping the last brick's entry measured
+// no faster: docs/benchmarks/nvidia-h100-bricks-stream §7, §13).
 
 // The level-0 brick holding box position p (p in the box; points a rounding past a face count
 // to the brick inside).
@@ -56,28 +53,21 @@ fn volume_load(i: vec3<i32>) -> vec4<f32> {
     return select(t, vec4<f32>(e.x, 0.0, 0.0, 1.0), e.w == 0.0);
 }
 
-// The map of brick `b`: its page entry, read at each use and never behind a branch, so that a
-// lane crossing into another brick does not make its warp wait twice (a lane's reads of one
-// brick hit the same cache line).
-fn map_of(b: vec3<i32>) -> BrickMap {
-    return BrickMap(volume_pages[page_index(b)]);
-}
-
-// The texture unit's trilinear sample at box position p inside brick `m`'s brick.
-fn volume_filtered_in(m: BrickMap, linear: sampler, p: vec3<f32>) -> vec4<f32> {
-    // A constant's entry scales by 0 and reads the atlas at (value, 0, 0) · texel size, which
-    // the select drops: no branch.
-    let scale = volume_geometry.atlas_per_box * m.entry.w;
-    let offset = m.entry.xyz * volume_geometry.texel_size;
-    let t = textureSampleLevel(volume_tex, linear, fma(p, scale, offset), 0.0);
-    return select(t, vec4<f32>(m.entry.x, 0.0, 0.0, 1.0), m.entry.w == 0.0);
-}
-
-// The texture unit's trilinear sample at box position p (clamp to edge): through the brick
+// The texture unit's trilinear sample at box position p inside the box, through the brick
 // holding it, at the level that brick is held at.
+fn volume_inner(linear: sampler, p: vec3<f32>) -> vec4<f32> {
+    // (origin, 2^-level), or a constant's (value, 0, 0, 0): that scales by 0 and reads the atlas
+    // at (value, 0, 0) · texel size, which the select drops.
+    let e = volume_pages[page_index(brick_at(p))];
+    let scale = volume_geometry.atlas_per_box * e.w;
+    let offset = e.xyz * volume_geometry.texel_size;
+    let t = textureSampleLevel(volume_tex, linear, fma(p, scale, offset), 0.0);
+    return select(t, vec4<f32>(e.x, 0.0, 0.0, 1.0), e.w == 0.0);
+}
+
+// The texture unit's trilinear sample at box position p (clamp to edge).
 fn volume_filtered(linear: sampler, p: vec3<f32>) -> vec4<f32> {
-    let q = clamp(p, vec3<f32>(0.0), vec3<f32>(1.0));
-    return volume_filtered_in(map_of(brick_at(q)), linear, q);
+    return volume_inner(linear, clamp(p, vec3<f32>(0.0), vec3<f32>(1.0)));
 }
 #else
 // Voxel `i` (inside the volume).
@@ -88,5 +78,10 @@ fn volume_load(i: vec3<i32>) -> vec4<f32> {
 // The texture unit's trilinear sample at box position p (clamp to edge).
 fn volume_filtered(linear: sampler, p: vec3<f32>) -> vec4<f32> {
     return textureSampleLevel(volume_tex, linear, p, 0.0);
+}
+
+// volume_filtered at a position p inside the box.
+fn volume_inner(linear: sampler, p: vec3<f32>) -> vec4<f32> {
+    return volume_filtered(linear, p);
 }
 #endif

@@ -15,8 +15,8 @@ pub struct DeviceMemory {
     /// (`VK_EXT_memory_budget`), where it says.
     pub available_bytes: Option<u64>,
     /// What the driver says this process held in that heap when asked (`VK_EXT_memory_budget`'s
-    /// `heapUsage`): asked once the device is made, it is the driver's own context (54 MiB on
-    /// the H100 machine), which `nvidia-smi` counts and a budget holds too.
+    /// `heapUsage`): asked once the device is made, 8.6 MB on the H100 machine, where
+    /// `nvidia-smi` showed more ([`DRIVER_CONTEXT`]); a budget holds both.
     pub used_bytes: Option<u64>,
 }
 

@@ -327,7 +327,17 @@ fn summary(s: &Summary) -> String {
         quantile(&mut rebuild, 0.5),
         quantile(&mut rebuild, 1.0),
     );
-    if let Some(r) = last {
+    // Complete from the frame after the last that missed a brick (an orbit may go on past it).
+    let completed = s
+        .rows
+        .get(
+            s.rows
+                .iter()
+                .rposition(|r| r.missing > 0)
+                .map_or(0, |i| i + 1),
+        )
+        .filter(|_| complete);
+    if let (Some(r), Some(at)) = (last, completed.or(last)) {
         let _ = writeln!(
             t,
             "- {} at {:.0} ms after the upload started ({} frames): {} of {} wanted bricks resident ({} in the atlas, the others kept until their slots are needed)",
@@ -336,8 +346,8 @@ fn summary(s: &Summary) -> String {
             } else {
                 "still incomplete"
             },
-            r.since_upload_ms,
-            r.frame + 1,
+            at.since_upload_ms,
+            at.frame + 1,
             r.wanted.saturating_sub(r.missing),
             r.wanted,
             r.resident

@@ -386,14 +386,13 @@ impl VolumeRenderer {
             // time allows, and every brick standing for more than a later frame may send (a
             // coarse preview brick stands for 4096 entries at 2048 × 2048 × 1024; sent alone
             // after the first frame, each took a 10-19 ms rebuild: §13-§14).
-            let room = volume.leap.listing_room();
             let pace = match self.residency_time {
                 Some(time) => Pace {
                     time: Some(time),
-                    entries: if room == usize::MAX {
-                        room
+                    entries: if volume.leap.pyramid_ready() {
+                        volume.leap.listing_room().min(STREAM_ENTRIES)
                     } else {
-                        room.min(STREAM_ENTRIES)
+                        usize::MAX
                     },
                     later: STREAM_ENTRIES,
                 },

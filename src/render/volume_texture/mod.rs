@@ -185,9 +185,9 @@ fn reserves(budget: Option<u64>) -> (u64, u64) {
 
 /// What a `budget` holds beside the texels of a volume of `dims`: its leaping structures (at
 /// most a [`LEAP_SHARE`] of it), page tables, the upload's staging and a frame's targets
-/// ([`reserves`]), what the driver held for the process before (its context, where it says)
-/// and a block of wgpu's allocator left unused (a share of a small budget). The upload and the load's admission check both
-/// lay the texels out in the rest.
+/// ([`reserves`]), what the driver holds for the process ([`crate::render::memory::DeviceMemory::held_besides`])
+/// and a block of wgpu's allocator left unused (a share of a small budget). The upload and the
+/// load's admission check both lay the texels out in the rest.
 pub(super) fn besides_texels(ctx: &GpuContext, dims: [u32; 3], budget: Option<u64>) -> u64 {
     let Some(budget) = budget else {
         return 0;
@@ -358,11 +358,7 @@ impl VolumeTexture {
                     (atlas.brick_vox, atlas.slots, atlas.capacity),
                     reserved.0,
                 );
-                let pace = Pace {
-                    time,
-                    entries: usize::MAX,
-                    later: usize::MAX,
-                };
+                let pace = Pace { time, ..Pace::ALL };
                 resident.update(ctx, &texture, &Unseen::NOTHING, pace);
                 (resident.rays_pages().clone(), Some(resident))
             }

@@ -89,10 +89,10 @@ pub(super) fn brick_ranges(
     let [gx, gy, gz] = layout.bricks.map(|g| g as usize);
     let (row, plane) = (dims[0] as usize, dims[0] as usize * dims[1] as usize);
     let bpt = bytes_per_texel(format);
-    // A task per row of bricks along x, reading whole rows of the volume in order (a task per
-    // brick read 32-voxel pieces of rows a plane apart: 5.9 s at 1024³ on one core here,
-    // against 3.5 s with this loop's extremes per part and 5.5 s at 2048 x 2048 x 1024 on 8
-    // of the H100 machine's cores).
+    // A task per row of bricks along x, reading whole rows of the volume in order, each
+    // brick's part of a row by its extremes: 2.0 s at 1024³ on one core here, where a task per
+    // brick decoding each texel of its 32-voxel pieces of rows a plane apart took 5.9-7.3 s
+    // (docs/benchmarks/nvidia-h100-bricks-stream §13).
     let rows = parallel_on(threads, gy * gz, &|| false, &|j| {
         let (y0, z0) = ((j % gy) * b, (j / gy) * b);
         let (y1, z1) = (
