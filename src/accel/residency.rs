@@ -375,7 +375,7 @@ impl Residency {
                         .flatten()
                 })
             };
-            above = (0..count(&g)).map(finest).collect();
+            above = (0..count(&g)).into_par_iter().map(finest).collect();
         }
         above
     }
@@ -448,6 +448,10 @@ impl Residency {
             .filter(|(_, (a, b))| a != b)
             .map(|(i, _)| i)
             .collect();
+        // A lookup per level and entry costs more than the whole table's dense pass past this.
+        if touched.len() > n / 4 {
+            return whole(self, tables);
+        }
         for &i in &touched {
             marked[i] = true;
         }
@@ -495,14 +499,10 @@ impl Residency {
     /// slices' (always the finest resident ancestor: slices show data, never a constant), and
     /// the levels the rays' entries read (bit `k` for level `k`).
     pub fn page_tables(&self, wanted: &Wanted, constants: &[Option<u32>]) -> PageTables {
-        let n = self.page_count();
-        let mut rays = Vec::with_capacity(n);
-        let mut slices = Vec::with_capacity(n);
-        for (i, finest) in self.finest_resident_all().into_iter().enumerate() {
-            let (ray, slice) = self.entries_of(i, finest, wanted, constants);
-            rays.push(ray);
-            slices.push(slice);
-        }
+        let (rays, slices): (Vec<u32>, Vec<u32>) = (self.finest_resident_all().into_par_iter())
+            .enumerate()
+            .map(|(i, finest)| self.entries_of(i, finest, wanted, constants))
+            .unzip();
         PageTables {
             levels: levels_read(&rays),
             rays,
@@ -802,8 +802,12 @@ mod tests {
         let mut tables = PageTables::default();
         let mut before: Vec<bool> = Vec::new();
         let mut partial = 0;
+        let mut needs: Vec<bool> = (0..n).map(|_| coin(4) == 0).collect();
         for frame in 0..40 {
-            let needs: Vec<bool> = (0..n).map(|_| coin(4) == 0).collect();
+            // Some flags change each frame (past a quarter of them the table is made whole).
+            for need in needs.iter_mut() {
+                *need ^= coin(20) == 0;
+            }
             let wanted = r.decide(&needs, &[]);
             r.want(&wanted);
             r.admit(&wanted.bricks, 1 + coin(20) as usize);

@@ -705,6 +705,25 @@ fn streamed_bricks_rebuild_only_their_pyramid_nodes_the_distance_field_waits_and
     let (a, b) = (minmax(&streamed), minmax(&whole));
     let differ = a.iter().zip(&b).filter(|(x, y)| x != y).count();
     assert_eq!(differ, 0, "{differ} of {} nodes differ", a.len());
+    // The bricks' builder (a brick's texels each once) equals one texture's (every voxel
+    // through volume_load, which tests/integration/leaping.rs checks against the CPU's).
+    let mut one = common::renderer();
+    let off = Upload {
+        bricking: Bricking::Off,
+        ..Upload::default()
+    };
+    one.set_volume_with(&volume, &off).expect("upload");
+    one.set_transfer_function(&tf);
+    render(&mut one, &camera, &leaping);
+    let c = minmax(&one);
+    assert_eq!(c.len(), b.len());
+    let differ = c.iter().zip(&b).filter(|(x, y)| x != y).count();
+    assert_eq!(
+        differ,
+        0,
+        "{differ} of {} nodes differ from one texture's",
+        c.len()
+    );
     // Equal but for rounding: the two atlases put the bricks in different slots, so a sample's
     // texture coordinate rounds differently (seen: 2.4e-4 at one pixel in a few, on lavapipe).
     common::assert_close("streamed-leaping", &got, &want, 1e-3, 0.0);
@@ -714,4 +733,55 @@ fn streamed_bricks_rebuild_only_their_pyramid_nodes_the_distance_field_waits_and
     };
     let plain = render(&mut streamed, &camera, &rc_t);
     common::assert_close("streamed-rc-t", &got, &plain, 1.0 / 255.0 + 1e-6, 0.0);
+}
+
+/// Streaming under a time budget while the bricks' value ranges are computed on a thread of
+/// their own: whenever they arrive (the frame deciding with them, the next writing the page
+/// tables), residency completes, and the tables it leaves give, once every brick is wanted at
+/// level 0, the image `render` waits for.
+#[test]
+fn streaming_while_the_ranges_arrive_completes_to_the_image_render_waits_for() {
+    let volume = Arc::new(ball_in_noise());
+    let tf = tf();
+    let upload = Upload {
+        gpu_budget: Some(budget_of_slots(30)),
+        ..Upload::default()
+    };
+    let camera = Camera::framing(
+        &Aabb::of_volume(volume.dims(), volume.spacing_mm()),
+        DVec3::new(0.3, -1.0, 0.4).normalize(),
+        DVec3::Z,
+        ProjectionKind::Perspective,
+    );
+    let dvr = RenderSettings {
+        mode: Mode::Dvr,
+        strategy: Strategy::RcSDistance,
+        path: RenderPath::Compute,
+        ..RenderSettings::default()
+    };
+    let mut streamed = common::renderer();
+    streamed.set_residency_time(Some(std::time::Duration::ZERO));
+    streamed.set_volume_with(&volume, &upload).expect("upload");
+    streamed.set_transfer_function(&tf);
+    let mut frames = 0;
+    while !streamed.residency_complete() {
+        render(&mut streamed, &camera, &dvr);
+        frames += 1;
+        assert!(frames < 200, "still streaming after {frames} frames");
+    }
+    let status = streamed
+        .volume_texture()
+        .and_then(|t| t.residency().cloned());
+    let s = status.expect("bricked");
+    assert!(s.constant > 0 && s.missing == 0, "{s:?}");
+    // Streaming held each brick at its footprint's level (40 × 40 pixels: coarse); without a
+    // time budget every brick is wanted at level 0, and the tables streaming left are
+    // refreshed only where that changes them.
+    streamed.set_residency_time(None);
+    let got = render(&mut streamed, &camera, &dvr);
+    let mut waited = common::renderer();
+    waited.set_volume_with(&volume, &upload).expect("upload");
+    waited.set_transfer_function(&tf);
+    let want = render(&mut waited, &camera, &dvr);
+    common::assert_close("streamed-with-ranges", &got, &want, 1e-3, 0.0);
 }

@@ -20,6 +20,7 @@ use crate::parallel::parallel;
 use crate::render::context::GpuContext;
 use crate::volume::Volume;
 use crate::volume::downsample::Level;
+use rayon::prelude::*;
 
 /// Bricks encoded and written per batch (about 1.3 MB of 16-bit slots): small enough that a
 /// frame's upload time is kept to within a batch (64 took 7 ms on the H100 machine's host).
@@ -135,6 +136,11 @@ pub struct Resident {
     rays: wgpu::Buffer,
     /// What the page tables were last written with (`None` before the first write).
     written: Option<Written>,
+    /// The page tables are to be written whole in the next update: the frame the ranges
+    /// arrived in decided residency with them, the next writes the tables (each took 4-7 ms at
+    /// 2048 × 2048 × 1024 on the H100 machine's CPU, docs/benchmarks/nvidia-h100-bricks-stream
+    /// §15); neither sends bricks.
+    pages_due: bool,
     slices: wgpu::Buffer,
     decided_for: Option<Needs>,
     by_rule: Option<RuleNeeds>,
@@ -192,6 +198,7 @@ impl Resident {
             rays: page_table(ctx, pages, "volume page table (rays)"),
             slices: page_table(ctx, pages, "volume page table (slices)"),
             written: None,
+            pages_due: false,
             volume,
             levels,
             encoding,
@@ -246,15 +253,22 @@ impl Resident {
     ) -> Update {
         let Pace { time, entries, .. } = pace;
         let start = Instant::now();
-        self.receive_ranges(time.is_none());
+        let drawn = self.written.is_some();
+        // Under a time budget, after the first frame, the ranges' arrival is spread over two
+        // frames that send no bricks: this one decides, the next writes the tables whole.
+        let arrived = self.receive_ranges(time.is_none()) && drawn && time.is_some();
+        let writes_whole = std::mem::take(&mut self.pages_due);
+        self.pages_due = arrived;
         let needs = self.needs_data(unseen);
-        let mut changed = false;
+        let decided_at = start.elapsed();
+        let mut changed = writes_whole;
         // An orbit changes the frustum every frame, mostly not the bricks it needs.
         if self.decided_for.as_ref() != Some(&needs) {
             let wanted = self.residency.decide_levels(&needs.rays, &needs.slices);
             log::debug!(
-                "residency decided in {:.2} ms: {} bricks wanted at level {}",
+                "residency decided in {:.2} ms ({:.2} the needs): {} bricks wanted at level {}",
                 start.elapsed().as_secs_f64() * 1e3,
+                decided_at.as_secs_f64() * 1e3,
                 wanted.bricks.len(),
                 wanted.level
             );
@@ -275,7 +289,8 @@ impl Resident {
         let (mut sent, mut encoding) = (0, Duration::ZERO);
         let (mut staged, mut covered) = (0, 0);
         let grid = self.residency.grid(0);
-        while !rest.is_empty() {
+        let sends = !(arrived || writes_whole);
+        while sends && !rest.is_empty() {
             let fit = fitting(rest, grid, entries.saturating_sub(covered), sent == 0);
             let given = self.residency.admit(rest, fit);
             if given.is_empty() {
@@ -306,9 +321,12 @@ impl Resident {
         let uploaded = start.elapsed();
         let missing = self.residency.missing(&wanted);
         self.status.missing = missing;
-        self.status.complete = missing == 0 && self.ranges_coming.is_none();
+        self.status.complete = missing == 0 && self.ranges_coming.is_none() && !self.pages_due;
         let mut bricks = None;
-        if changed {
+        if arrived {
+            // The tables as written still hold what they point at: nothing was evicted.
+            changed = false;
+        } else if changed {
             bricks = self.write_pages(ctx, &wanted);
             self.pages_took = start.elapsed() - uploaded;
             self.status.resident = self.residency.resident_count();
@@ -342,17 +360,17 @@ impl Resident {
     }
 
     /// Takes the bricks' value ranges once the worker has them (`wait`: waits for them), and
-    /// has residency decided again with them.
-    fn receive_ranges(&mut self, wait: bool) {
+    /// has residency decided again with them; returns whether they arrived now.
+    fn receive_ranges(&mut self, wait: bool) -> bool {
         if !self
             .ranges_coming
             .as_ref()
             .is_some_and(|w| wait || w.is_finished())
         {
-            return;
+            return false;
         }
         let Some(worker) = self.ranges_coming.take() else {
-            return;
+            return false;
         };
         // A worker that panicked leaves every brick needing data, as without ranges.
         self.ranges = worker.join().ok().flatten();
@@ -361,6 +379,7 @@ impl Resident {
         // Every brick may now read a constant: the page tables are written whole.
         self.written = None;
         log::debug!("brick value ranges arrived");
+        true
     }
 
     /// The wanted bricks that are missing, in the order they are uploaded: the coarsest
@@ -465,7 +484,7 @@ impl Resident {
             return vec![true; self.residency.page_count()];
         };
         let seen: Vec<bool> = ranges
-            .iter()
+            .par_iter()
             .map(|r| !unseen.cull.is_empty(r.lo, r.hi))
             .collect();
         let mut rays = if unseen.long_steps {
@@ -569,10 +588,20 @@ impl Resident {
                 &every
             }
         };
-        for &i in looked_at {
+        let convert = |i: usize| {
             let brick = index_to_brick(i as u32, pages);
-            written.rays[i] = gpu_page(tables.rays[i], brick, self.brick_vox);
-            written.slices[i] = gpu_page(tables.slices[i], brick, self.brick_vox);
+            (
+                gpu_page(tables.rays[i], brick, self.brick_vox),
+                gpu_page(tables.slices[i], brick, self.brick_vox),
+            )
+        };
+        if refreshed.looked_at.is_none() {
+            // The whole table (131 072 entries at 2048 × 2048 × 1024) on all cores.
+            (written.rays, written.slices) = (0..n).into_par_iter().map(convert).unzip();
+        } else {
+            for &i in looked_at {
+                (written.rays[i], written.slices[i]) = convert(i);
+            }
         }
         write_page_table(ctx, &self.rays, &written.rays, looked_at);
         write_page_table(ctx, &self.slices, &written.slices, looked_at);
