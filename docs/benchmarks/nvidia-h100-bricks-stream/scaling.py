@@ -1,19 +1,22 @@
 #!/usr/bin/env python3
-"""Plots how load, first picture, frame time and completion grow with the volume (§8): reads
-stream-5/*.md (`leapview bench --stream`'s summaries) and writes scaling.svg, log-log.
+"""Plots how load, first picture, frame time and completion grow with the volume: reads the
+summaries (`leapview bench --stream`'s stream.md, as RUN.md) of four runs, 256³, 512³, 1024³ and
+2048 × 2048 × 1024, in one folder, and writes scaling.svg, log-log.
 
-    python3 scaling.py
+    python3 scaling.py                       # §15: stream-13, built at 5d4db34
+    python3 scaling.py stream-5 v256-1g v512-1g v1024-1g big-cur ca37d6f   # §8
 """
 import math
 import re
+import sys
 from pathlib import Path
 
 here = Path(__file__).parent
-runs = ["v256-1g", "v512-1g", "v1024-1g", "big-cur"]
+folder, *runs, build = sys.argv[1:] or ["stream-13", "v256-1g-m6", "v512-1g-m6", "v1024-1g-m6", "big-m6", "5d4db34"]
 series = {"load": [], "first picture": [], "frame median": [], "frame 95th pct": [], "complete": []}
 voxels = []
 for run in runs:
-    text = (here / "stream-5" / f"{run}.md").read_text()
+    text = (here / folder / f"{run}.md").read_text()
     dims = [int(d) for d in re.search(r"volume: (\d+)×(\d+)×(\d+)", text).groups()]
     voxels.append(dims[0] * dims[1] * dims[2])
     series["load"].append(float(re.search(r"loaded in ([\d.]+) s", text).group(1)) * 1e3)
@@ -40,7 +43,7 @@ labels = ["256³", "512³", "1024³", "2048²×1024"]
 for x, label in zip(xs, labels):
     out.append(f'<line x1="{px(x):.1f}" y1="{T}" x2="{px(x):.1f}" y2="{H - B}" stroke="#eee"/>')
     out.append(f'<text x="{px(x):.1f}" y="{H - B + 16}" text-anchor="middle">{label}</text>')
-out.append(f'<text x="{W / 2}" y="{H - 8}" text-anchor="middle">vessel trees, 1 GB budget, 1920×1080, H100, ca37d6f; 256³, 512³ one texture, larger ones streamed bricks</text>')
+out.append(f'<text x="{W / 2}" y="{H - 8}" text-anchor="middle">vessel trees, 1 GB budget, 1920×1080, H100, {build}; 256³, 512³ one texture, larger ones streamed bricks</text>')
 colours = ["#444", "#1f77b4", "#2ca02c", "#98df8a", "#d62728"]
 for (name, values), colour, k in zip(series.items(), colours, range(5)):
     points = " ".join(f"{px(x):.1f},{py(math.log10(v)):.1f}" for x, v in zip(xs, values))
