@@ -289,7 +289,8 @@ impl Resident {
         let (mut sent, mut encoding) = (0, Duration::ZERO);
         let (mut staged, mut covered) = (0, 0);
         let grid = self.residency.grid(0);
-        let sends = !(arrived || writes_whole);
+        // (An update without a time budget sends as usual, the whole write due or not.)
+        let sends = !(arrived || (writes_whole && time.is_some()));
         while sends && !rest.is_empty() {
             let fit = fitting(rest, grid, entries.saturating_sub(covered), sent == 0);
             let given = self.residency.admit(rest, fit);
