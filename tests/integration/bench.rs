@@ -270,6 +270,20 @@ fn stream_measures_an_orbit_while_bricks_arrive() {
         "{summary}"
     );
     assert!(summary.contains("- complete at"), "{summary}");
+    // The frames after the first up to the one completing the stream (the frame after the last
+    // with a brick missing), their slowest as the rows give it.
+    let orbit: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "orbit").collect();
+    let last_missing = orbit.iter().rposition(|r| column(r, missing) > 0);
+    let until = last_missing.map_or(1, |i| (i + 2).min(orbit.len()));
+    let slowest = orbit[1..until]
+        .iter()
+        .map(|r| r[3].parse::<f64>().expect("wall ms"))
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(
+        summary.contains(&format!(": slowest {slowest:.2} ms, ")),
+        until > 1,
+        "{summary}"
+    );
     // Its levels column ends in the levels read: level 0 among them.
     let levels = |r: &Vec<String>| r[8..r.len() - 5].join(",");
     assert!(
