@@ -56,8 +56,8 @@ fn base_node(id: vec3<u32>) {
 #ifdef BRICKED
 // The span of voxels lo ..= hi (in the volume) as volume_load reads them, brick by brick: a
 // constant's entry once, a data brick's texels each once (voxel j of a brick held at level k
-// reads texel ⌊j·2^-k⌋, so a run of voxels reads a run of texels: 4³ of the 10³ voxel reads at
-// level 2), with no page read per voxel.
+// reads texel ⌊j·2^-k⌋, so a run of voxels reads a run of texels: a node's 10 voxels per axis
+// are 3-4 texels at level 2), with no page read per voxel.
 fn bricked_span(lo: vec3<i32>, hi: vec3<i32>) -> vec2<f32> {
     let b = i32(volume_geometry.brick_vox);
     let first = lo / b;

@@ -86,6 +86,49 @@ fn render(r: &mut VolumeRenderer, camera: &Camera, settings: &RenderSettings) ->
         .unwrap_or_else(|e| panic!("{settings:?}: {e}"))
 }
 
+/// A camera framing `volume` from the front, a little from the right and above.
+fn oblique_camera(volume: &Volume) -> Camera {
+    Camera::framing(
+        &Aabb::of_volume(volume.dims(), volume.spacing_mm()),
+        DVec3::new(0.3, -1.0, 0.4).normalize(),
+        DVec3::Z,
+        ProjectionKind::Perspective,
+    )
+}
+
+/// A renderer of `volume` under `upload` that streams its bricks as the window does, with no
+/// upload time: a batch of bricks a frame.
+fn streaming_renderer(
+    volume: &Arc<Volume>,
+    upload: &Upload,
+    tf: &TransferFunction,
+) -> VolumeRenderer {
+    let mut r = common::renderer();
+    r.set_residency_time(Some(std::time::Duration::ZERO));
+    r.set_volume_with(volume, upload).expect("upload");
+    r.set_transfer_function(tf);
+    r
+}
+
+/// Renders frames until residency is complete (the first frame whatever it finds); returns
+/// how many, fewer than `most`.
+fn stream_until_complete(
+    r: &mut VolumeRenderer,
+    camera: &Camera,
+    settings: &RenderSettings,
+    most: u64,
+) -> u64 {
+    let mut frames = 0;
+    loop {
+        render(r, camera, settings);
+        frames += 1;
+        if r.residency_complete() {
+            return frames;
+        }
+        assert!(frames < most, "still streaming after {frames} frames");
+    }
+}
+
 /// A GPU memory budget whose texels' share holds about `slots` slots of 34³ × 2 bytes (a little
 /// less: the leaping structures and page tables take theirs): besides, a budget keeps a quarter
 /// for a frame's targets, a sixteenth for the upload's staging and one for the allocator's
@@ -654,12 +697,7 @@ fn streamed_bricks_rebuild_only_their_pyramid_nodes_the_distance_field_waits_and
     use leapview::render::readback::read_buffer;
     let volume = Arc::new(structured([200, 160, 136], None));
     let tf = tf();
-    let camera = Camera::framing(
-        &Aabb::of_volume(volume.dims(), volume.spacing_mm()),
-        DVec3::new(0.3, -1.0, 0.4).normalize(),
-        DVec3::Z,
-        ProjectionKind::Perspective,
-    );
+    let camera = oblique_camera(&volume);
     let upload = Upload {
         bricking: Bricking::On,
         ..Upload::default()
@@ -670,19 +708,8 @@ fn streamed_bricks_rebuild_only_their_pyramid_nodes_the_distance_field_waits_and
         path: RenderPath::Compute,
         ..RenderSettings::default()
     };
-    let mut streamed = common::renderer();
-    streamed.set_residency_time(Some(std::time::Duration::ZERO));
-    streamed.set_volume_with(&volume, &upload).expect("upload");
-    streamed.set_transfer_function(&tf);
-    let mut frames = 0;
-    loop {
-        render(&mut streamed, &camera, &leaping);
-        frames += 1;
-        if streamed.residency_complete() {
-            break;
-        }
-        assert!(frames < 50, "still streaming after {frames} frames");
-    }
+    let mut streamed = streaming_renderer(&volume, &upload, &tf);
+    let frames = stream_until_complete(&mut streamed, &camera, &leaping, 50);
     let counts = streamed.work_counts();
     assert!(frames >= 2, "{frames} frame: the bricks came in one batch");
     assert_eq!(counts.minmax_builds, 1, "{counts:?}");
@@ -747,28 +774,15 @@ fn streaming_while_the_ranges_arrive_completes_to_the_image_render_waits_for() {
         gpu_budget: Some(budget_of_slots(30)),
         ..Upload::default()
     };
-    let camera = Camera::framing(
-        &Aabb::of_volume(volume.dims(), volume.spacing_mm()),
-        DVec3::new(0.3, -1.0, 0.4).normalize(),
-        DVec3::Z,
-        ProjectionKind::Perspective,
-    );
+    let camera = oblique_camera(&volume);
     let dvr = RenderSettings {
         mode: Mode::Dvr,
         strategy: Strategy::RcSDistance,
         path: RenderPath::Compute,
         ..RenderSettings::default()
     };
-    let mut streamed = common::renderer();
-    streamed.set_residency_time(Some(std::time::Duration::ZERO));
-    streamed.set_volume_with(&volume, &upload).expect("upload");
-    streamed.set_transfer_function(&tf);
-    let mut frames = 0;
-    while !streamed.residency_complete() {
-        render(&mut streamed, &camera, &dvr);
-        frames += 1;
-        assert!(frames < 200, "still streaming after {frames} frames");
-    }
+    let mut streamed = streaming_renderer(&volume, &upload, &tf);
+    stream_until_complete(&mut streamed, &camera, &dvr, 200);
     let status = streamed
         .volume_texture()
         .and_then(|t| t.residency().cloned());

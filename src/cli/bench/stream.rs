@@ -259,6 +259,12 @@ struct Allocated {
 /// frames above.
 const SMOOTH_MS: f64 = 16.0;
 
+/// The index of the frame that completes the stream: the one after the last with a brick
+/// missing (0 where none missed one).
+fn completing<R: std::borrow::Borrow<Row>>(rows: &[R]) -> usize {
+    (rows.iter().rposition(|r| r.borrow().missing > 0)).map_or(0, |i| i + 1)
+}
+
 /// The `q` quantile (0..=1) of `v` (sorted here).
 fn quantile(v: &mut [f64], q: f64) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -322,7 +328,7 @@ fn summary(s: &Summary) -> String {
     );
     // The frames while bricks stream: the orbit's up to the one that completes (the frame after
     // the last with a brick missing), the first (the first picture) apart.
-    let until = (orbit.iter().rposition(|r| r.missing > 0)).map_or(1, |i| i + 2);
+    let until = completing(&orbit) + 1;
     let mut after: Vec<f64> = (orbit.get(1..until.min(orbit.len())).unwrap_or_default())
         .iter()
         .map(|r| r.wall_ms)
@@ -356,16 +362,8 @@ fn summary(s: &Summary) -> String {
             quantile(&mut rebuild, 1.0),
         );
     }
-    // Complete from the frame after the last that missed a brick (an orbit may go on past it).
-    let completed = s
-        .rows
-        .get(
-            s.rows
-                .iter()
-                .rposition(|r| r.missing > 0)
-                .map_or(0, |i| i + 1),
-        )
-        .filter(|_| complete);
+    // Complete at the frame that completed (an orbit may go on past it).
+    let completed = s.rows.get(completing(s.rows)).filter(|_| complete);
     if let (Some(r), Some(at)) = (last, completed.or(last)) {
         let _ = writeln!(
             t,

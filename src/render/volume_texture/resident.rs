@@ -137,7 +137,7 @@ pub struct Resident {
     /// What the page tables were last written with (`None` before the first write).
     written: Option<Written>,
     /// The page tables are to be written whole in the next update: the frame the ranges
-    /// arrived in decided residency with them, the next writes the tables (each took 4-7 ms at
+    /// arrived in decided residency with them, the next writes the tables (each took 3.7-6.8 ms at
     /// 2048 × 2048 × 1024 on the H100 machine's CPU, docs/benchmarks/nvidia-h100-bricks-stream
     /// §15); neither sends bricks.
     pages_due: bool,
