@@ -288,10 +288,15 @@ pub struct RawArgs {
     /// the most slices, or the series of the file named.
     #[arg(long, global = true, help_heading = "Input file", value_name = "N|UID")]
     pub series: Option<String>,
-    /// 4-D files (an fMRI time series, NIfTI diffusion directions): which volume to open, counted
-    /// from 1 (default: the first; leapview info says how many there are).
+    /// 4-D files (an fMRI time series, NIfTI diffusion directions, an OME-Zarr `t` axis): which
+    /// volume (time point) to open, counted from 1 (default: the first; leapview info says how
+    /// many there are).
     #[arg(long, global = true, help_heading = "Input file", value_name = "N", value_parser = clap::value_parser!(u32).range(1..), hide_short_help = true)]
     pub volume: Option<u32>,
+    /// Images with channels (an OME-Zarr `c` axis): which channel to open, counted from 1
+    /// (default: the first).
+    #[arg(long, global = true, help_heading = "Input file", value_name = "N", value_parser = clap::value_parser!(u32).range(1..), hide_short_help = true)]
+    pub channel: Option<u32>,
 }
 
 /// `leapview render`.

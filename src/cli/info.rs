@@ -153,6 +153,8 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
             })),
             "series_found": volume.provenance().listing,
             "series_opened": volume.provenance().chosen.map(|i| i + 1),
+            "volume_opened": volume.provenance().volumes.map(|v| [v.chosen + 1, v.count]),
+            "channel_opened": volume.provenance().channels.map(|c| [c.chosen + 1, c.count]),
             "skipped": volume.provenance().skipped,
             "origin_lps_mm": volume.provenance().origin_lps,
             "patient_box_lps_mm": patient_box(&volume, dims[2], stride),
@@ -332,6 +334,20 @@ fn series_text(out: &mut String, volume: &Volume) {
         if let Some(i) = p.chosen {
             outln!(out, "opened:      series {} (marked *)", i + 1);
         }
+    }
+    if let Some(v) = p.volumes {
+        let (n, count) = (v.chosen + 1, v.count);
+        outln!(
+            out,
+            "volume:      {n} of {count} (pick one with --volume N)"
+        );
+    }
+    if let Some(c) = p.channels {
+        let (n, count) = (c.chosen + 1, c.count);
+        outln!(
+            out,
+            "channel:     {n} of {count} (pick one with --channel N)"
+        );
     }
     if let Some(skipped) = &p.skipped {
         outln!(out, "skipped:     {skipped}");

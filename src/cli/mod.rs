@@ -89,11 +89,13 @@ pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
         .map(leapview::volume::dicom::SeriesChoice::parse);
     // Counted from 1 on the command line, from 0 in LoadOptions.
     let volume = raw.volume.map(|n| n - 1);
+    let channel = raw.channel.map(|n| n - 1);
     let Some(dims) = raw.dims else {
         return Ok(LoadOptions {
             orientation,
             series,
             volume,
+            channel,
             ..LoadOptions::default()
         });
     };
@@ -114,6 +116,7 @@ pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
         orientation,
         series,
         volume,
+        channel,
         ..LoadOptions::default()
     })
 }

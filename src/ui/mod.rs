@@ -134,6 +134,8 @@ pub enum Action {
     OpenSeries(usize),
     /// Open another volume of the 4-D file on screen (counted from 0).
     OpenVolume(u32),
+    /// Open another channel of the image on screen (counted from 0).
+    OpenChannel(u32),
     /// Generate the Shepp–Logan head phantom.
     LoadPhantom,
     /// Generate the vessel tree.

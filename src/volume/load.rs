@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::error::{LoadError, VolumeError};
 use super::raw::RawParams;
-use super::{decode, dicom, metaimage, model::Volume, nifti, nrrd, raw};
+use super::{decode, dicom, metaimage, model::Volume, nifti, nrrd, raw, zarr};
 
 /// How to open a file beyond what its name tells.
 #[derive(Clone, Debug, Default)]
@@ -21,6 +21,9 @@ pub struct LoadOptions {
     /// Which volume of a file holding several (a 4-D NIfTI), counted from 0; the first by
     /// default.
     pub volume: Option<u32>,
+    /// Which channel of an image holding several (an OME-Zarr `c` axis), counted from 0; the
+    /// first by default.
+    pub channel: Option<u32>,
 }
 
 /// The readers, as chosen from a file name and the options.
@@ -68,8 +71,11 @@ fn load(path: &Path, options: &LoadOptions) -> Result<Volume, VolumeError> {
         |n| n.to_string_lossy().into_owned(),
     );
     let progress = options.progress.as_deref();
-    // A folder is a DICOM series (or several).
+    // A folder is an OME-Zarr store, else a DICOM series (or several).
     if options.raw.is_none() && std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
+        if zarr::is_store(path) {
+            return zarr::load(path, name, options);
+        }
         return dicom::load(path, options.series.as_ref(), progress);
     }
     // A missing file, a folder or an empty file is reported as such whatever its name.

@@ -53,6 +53,8 @@ pub struct Provenance {
     pub path: Option<std::path::PathBuf>,
     /// Of a file holding several volumes (a 4-D NIfTI time series), which one this is.
     pub volumes: Option<VolumeIndex>,
+    /// Of an image holding several channels (an OME-Zarr `c` axis), which one this is.
+    pub channels: Option<VolumeIndex>,
     /// Whether the file asks for its lowest value to be shown white (DICOM MONOCHROME1, as
     /// computed and digital radiographs are stored): the grey ramp is inverted, the values are
     /// not.

@@ -17,3 +17,4 @@ mod orientation;
 mod pydicom_conformance;
 mod real_data;
 mod sampled;
+mod zarr_python;

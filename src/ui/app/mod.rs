@@ -301,6 +301,7 @@ impl LeapViewApp {
             Action::OpenFolderDialog => self.dialogs.open_folder_dialog(ctx),
             Action::OpenSeries(number) => self.open_series(number, ctx),
             Action::OpenVolume(index) => self.open_volume(index, ctx),
+            Action::OpenChannel(index) => self.open_channel(index, ctx),
             Action::OpenPathPrompt => self.dialogs.open_prompt(),
             Action::LoadPhantom => self.start_loading(VolumeSource::SheppLogan, ctx),
             Action::LoadVessels => self.start_loading(VolumeSource::VesselTree, ctx),
@@ -363,6 +364,15 @@ impl LeapViewApp {
             return;
         };
         options.volume = Some(index);
+        self.start_loading(VolumeSource::File { path, options }, ctx);
+    }
+
+    /// Opens channel `index` (counted from 0) of the image on screen, at the same volume.
+    fn open_channel(&mut self, index: u32, ctx: &egui::Context) {
+        let Some(VolumeSource::File { path, mut options }) = self.shown_source.clone() else {
+            return;
+        };
+        options.channel = Some(index);
         self.start_loading(VolumeSource::File { path, options }, ctx);
     }
 

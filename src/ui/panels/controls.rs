@@ -570,7 +570,10 @@ fn series_rows(ui: &mut egui::Ui, v: &VolumeSummary, action: &mut Option<Action>
             ));
     }
     if let Some(volumes) = p.volumes {
-        volume_chooser(ui, volumes, action);
+        index_chooser(ui, volumes, Pick::Volume, action);
+    }
+    if let Some(channels) = p.channels {
+        index_chooser(ui, channels, Pick::Channel, action);
     }
     if let Some(skipped) = &p.skipped {
         ui.label(
@@ -581,44 +584,76 @@ fn series_rows(ui: &mut egui::Ui, v: &VolumeSummary, action: &mut Option<Action>
     }
 }
 
-/// The volume of a 4-D file to show: a slider (the file is read again once it is let go) and a
-/// step either way.
-fn volume_chooser(
+/// What an index chooser picks: a volume of a 4-D file (a time point) or a channel.
+#[derive(Clone, Copy)]
+enum Pick {
+    Volume,
+    Channel,
+}
+
+impl Pick {
+    fn label(self) -> &'static str {
+        match self {
+            Self::Volume => "Volume",
+            Self::Channel => "Channel",
+        }
+    }
+
+    fn hover(self) -> &'static str {
+        match self {
+            Self::Volume => {
+                "Which volume of this 4-D file (a time point, a diffusion direction) is shown"
+            }
+            Self::Channel => "Which channel of this image is shown",
+        }
+    }
+
+    fn action(self, index: u32) -> Action {
+        match self {
+            Self::Volume => Action::OpenVolume(index),
+            Self::Channel => Action::OpenChannel(index),
+        }
+    }
+}
+
+/// The volume of a 4-D file (or the channel of an image) to show: a slider (the file is read
+/// again once it is let go) and a step either way.
+fn index_chooser(
     ui: &mut egui::Ui,
-    volumes: crate::volume::VolumeIndex,
+    index: crate::volume::VolumeIndex,
+    pick: Pick,
     action: &mut Option<Action>,
 ) {
-    let id = ui.make_persistent_id("volume chooser");
+    let id = ui.make_persistent_id((pick.label(), "chooser"));
     let mut shown = ui
         .data(|d| d.get_temp::<u32>(id))
-        .unwrap_or(volumes.chosen + 1);
+        .unwrap_or(index.chosen + 1);
+    let name = pick.label().to_lowercase();
     ui.horizontal(|ui| {
-        ui.label("Volume");
+        ui.label(pick.label());
         if ui
-            .add_enabled(volumes.chosen > 0, egui::Button::new("<"))
-            .on_hover_text("The volume before")
+            .add_enabled(index.chosen > 0, egui::Button::new("<"))
+            .on_hover_text(format!("The {name} before"))
             .clicked()
         {
-            *action = Some(Action::OpenVolume(volumes.chosen - 1));
+            *action = Some(pick.action(index.chosen - 1));
         }
         let slider = ui
             .add(
-                egui::Slider::new(&mut shown, 1..=volumes.count)
-                    .suffix(format!(" of {}", volumes.count)),
+                egui::Slider::new(&mut shown, 1..=index.count)
+                    .suffix(format!(" of {}", index.count)),
             )
-            .on_hover_text(
-                "Which volume of this 4-D file (a time point, a diffusion direction) is shown",
-            );
+            .on_hover_text(pick.hover());
         if ui
-            .add_enabled(volumes.chosen + 1 < volumes.count, egui::Button::new(">"))
-            .on_hover_text("The volume after")
+            .add_enabled(index.chosen + 1 < index.count, egui::Button::new(">"))
+            .on_hover_text(format!("The {name} after"))
             .clicked()
         {
-            *action = Some(Action::OpenVolume(volumes.chosen + 1));
+            *action = Some(pick.action(index.chosen + 1));
         }
         let settled = slider.drag_stopped() || (slider.changed() && !slider.dragged());
-        if settled && shown != volumes.chosen + 1 {
-            *action = Some(Action::OpenVolume(shown - 1));
+        if settled && shown != index.chosen + 1 {
+            *action = Some(pick.action(shown - 1));
         }
     });
     if action.is_some() {

@@ -2,6 +2,7 @@
 //! message says what is wrong in words a user can act on; [`LoadError`] adds the file, last.
 
 pub mod dicom;
+pub mod zarr;
 
 use std::path::PathBuf;
 
@@ -44,6 +45,9 @@ pub enum VolumeError {
     /// A DICOM file, folder or series that cannot be read.
     #[error(transparent)]
     Dicom(dicom::DicomError),
+    /// An OME-Zarr store that cannot be read.
+    #[error(transparent)]
+    Zarr(zarr::ZarrError),
 
     /// The file does not exist.
     #[error("no such file")]
@@ -86,8 +90,8 @@ pub enum VolumeError {
     /// The file name does not tell a supported format.
     #[error(
         "unrecognised volume file type '{extension}'; LeapView reads .nrrd, .nhdr, .nii, \
-         .nii.gz, .mha, .mhd, DICOM files and folders, and raw files given with --dims X,Y,Z \
-         --type T"
+         .nii.gz, .mha, .mhd, DICOM files and folders, OME-Zarr stores (folders), and raw \
+         files given with --dims X,Y,Z --type T"
     )]
     UnknownFormat {
         /// The file's extension as written (may be empty).
@@ -346,6 +350,12 @@ impl From<dicom::DicomError> for VolumeError {
             dicom::DicomError::Cancelled => Self::Cancelled,
             e => Self::Dicom(e),
         }
+    }
+}
+
+impl From<zarr::ZarrError> for VolumeError {
+    fn from(e: zarr::ZarrError) -> Self {
+        Self::Zarr(e)
     }
 }
 

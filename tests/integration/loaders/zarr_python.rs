@@ -1,0 +1,92 @@
+//! OME-Zarr stores written by zarr-python and ome-zarr-py (`scripts/python/zarr_stores.py`):
+//! NGFF 0.4 on Zarr v2 (blosc, gzip, absent chunks, channels) and 0.5 on Zarr v3 (sharded zstd,
+//! gzip, a time axis, float with NaN), a plain array, ome-zarr-py's own pyramid and a chunk that
+//! fails to decode, each read with the values, spacing and origin the writer holds; and the
+//! stores LeapView must refuse, each with a message that says why.
+
+use leapview::volume::{LoadOptions, VolumeIndex, load_volume};
+use serde_json::Value;
+
+use crate::common::{self, run_python};
+
+fn options(case: &Value) -> LoadOptions {
+    let index = |key: &str| case.get(key).and_then(Value::as_u64).map(|n| n as u32);
+    LoadOptions {
+        volume: index("time").filter(|&t| t > 0),
+        channel: index("channel").filter(|&c| c > 0),
+        ..LoadOptions::default()
+    }
+}
+
+#[test]
+fn stores_written_by_zarr_python_and_ome_zarr_open_with_their_values() {
+    let out = common::TempDir::new("zarr");
+    run_python("zarr_stores.py", &[out.path()]);
+    let all: Value =
+        serde_json::from_slice(&std::fs::read(out.path().join("cases.json")).expect("the cases"))
+            .expect("JSON");
+    let cases = all["cases"].as_array().expect("cases");
+    assert!(cases.len() >= 7, "{} cases", cases.len());
+    for case in cases {
+        let name = case["name"].as_str().expect("a name");
+        let path = out.path().join(case["store"].as_str().expect("a store"));
+        let v = load_volume(&path, &options(case)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let numbers = |key: &str| -> Vec<f64> {
+            serde_json::from_value(case[key].clone()).unwrap_or_else(|e| panic!("{key}: {e}"))
+        };
+        let dims: Vec<u32> = numbers("dims").iter().map(|&d| d as u32).collect();
+        assert_eq!(v.dims().to_vec(), dims, "{name}");
+        let (spacing, want) = (v.spacing_mm(), numbers("spacing"));
+        assert!(
+            (0..3).all(|a| (spacing[a] - want[a]).abs() <= 1e-9 * want[a]),
+            "{name}: spacing {spacing:?}, the store's {want:?}"
+        );
+        let (origin, want) = (
+            v.provenance().origin_lps.expect("an origin"),
+            numbers("origin_lps"),
+        );
+        assert!(
+            (0..3).all(|a| (origin[a] - want[a]).abs() < 1e-12),
+            "{name}: origin {origin:?}, the store's {want:?}"
+        );
+        // No patient orientation in NGFF: the views assume RAS.
+        assert_eq!(v.file_orientation(), None, "{name}");
+        let times = case["times"].as_u64().expect("times") as u32;
+        let time = case["time"].as_u64().expect("time") as u32;
+        let expected = (times > 1).then_some(VolumeIndex {
+            chosen: time,
+            count: times,
+        });
+        assert_eq!(v.provenance().volumes, expected, "{name}");
+        let notes = v.provenance().notes.join(" | ");
+        match case["note"].as_str() {
+            Some(said) => assert!(notes.contains(said), "{name}: notes {notes:?}"),
+            None => assert!(notes.is_empty(), "{name}: unexpected notes {notes:?}"),
+        }
+        let reference: Vec<f64> = std::fs::read(out.path().join(format!("{name}.f64")))
+            .expect("the writer's data")
+            .chunks_exact(8)
+            .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+            .collect();
+        assert_eq!(reference.len() as u64, v.sample_count(), "{name}");
+        let [nx, ny, _] = v.dims();
+        for (i, &want) in reference.iter().enumerate() {
+            let (x, y, z) = (i as u32 % nx, (i as u32 / nx) % ny, i as u32 / (nx * ny));
+            let got = v.value(x, y, z);
+            assert!(
+                got == want || (got.is_nan() && want.is_nan()),
+                "{name}: voxel ({x}, {y}, {z}) is {got}, the store holds {want}"
+            );
+        }
+    }
+    for bad in all["errors"].as_array().expect("errors") {
+        let path = out.path().join(bad["store"].as_str().expect("a store"));
+        let said = bad["said"].as_str().expect("words");
+        let e = load_volume(&path, &options(bad))
+            .map(|_| ())
+            .expect_err(said)
+            .to_string();
+        assert!(e.contains(said), "{}: {e}", path.display());
+        assert!(e.ends_with(&path.display().to_string()), "{e}");
+    }
+}
