@@ -3,7 +3,7 @@
 # build compiles CharLS, the JPEG-LS codec DICOM files use), a Vulkan driver (Mesa's CPU
 # driver lavapipe, only where no Vulkan driver is installed) and, with --tests, the virtual X
 # server the window tests start and xdotool, with which they click in the window, and a Python
-# environment `.venv` with pydicom and nibabel (scripts/python/requirements-tests.txt), whose
+# environment `.venv` with pydicom, nibabel and zarr (scripts/python/requirements-tests.txt), whose
 # readers the tests check LeapView's against. Uses sudo unless run as root. Installs nothing
 # when all is there.
 #
