@@ -78,6 +78,12 @@ pub enum Command {
     /// The window's phantom and vessel tree and the benchmark's scenes, to try every command
     /// without data of your own.
     Generate(GenerateArgs),
+    /// Write any volume LeapView reads as a multiscale OME-Zarr store (NGFF 0.5).
+    ///
+    /// Levels halved down to one 32³ chunk, sharded, zstd-compressed; spacing and origin in the
+    /// levels' transformations, the orientation and the source's facts in its attributes, which
+    /// LeapView reads back. The store appears under OUT only once complete.
+    Convert(ConvertArgs),
     /// Write a slice or a thick slab through a volume to a PNG.
     ///
     /// Axial, coronal, sagittal or oblique, in the patient's frame, grey through a window (what
@@ -224,16 +230,27 @@ pub enum Generated {
     PeerScene,
 }
 
+/// `leapview convert`.
+#[derive(Args, Debug)]
+pub struct ConvertArgs {
+    /// Volume file or DICOM folder (any input `render` takes; --volume, --channel and the other
+    /// input options apply).
+    pub input: PathBuf,
+    /// The store to write: a new folder, by custom named NAME.ome.zarr.
+    pub out: PathBuf,
+}
+
 /// `leapview generate`.
 #[derive(Args, Debug)]
 pub struct GenerateArgs {
     /// Which volume.
     #[arg(value_enum)]
     pub what: Generated,
-    /// Output: a .nrrd or .nhdr file, or a folder for a DICOM series.
+    /// Output: a .nrrd or .nhdr file, a .zarr store, or a folder for a DICOM series.
     ///
     /// .nrrd: one gzip-compressed file. .nhdr: a header, with the samples raw and little-endian
-    /// in a .raw file of the same name. A folder (created if missing, else empty) receives a
+    /// in a .raw file of the same name. .zarr (e.g. NAME.ome.zarr): a multiscale OME-Zarr store,
+    /// as `leapview convert` writes it. A folder (created if missing, else empty) receives a
     /// DICOM series, one uncompressed file per slice.
     #[arg(long)]
     pub out: PathBuf,

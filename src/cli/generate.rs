@@ -13,11 +13,12 @@ use crate::cli::OrFail;
 /// Runs the command.
 pub fn run(args: &GenerateArgs) -> Result<(), Failure> {
     let extension = args.out.extension().and_then(|e| e.to_str());
-    let dicom = extension.is_none() || args.out.is_dir();
-    if !dicom && !matches!(extension, Some("nrrd" | "nhdr")) {
+    let zarr = extension == Some("zarr");
+    let dicom = !zarr && (extension.is_none() || args.out.is_dir());
+    if !dicom && !zarr && !matches!(extension, Some("nrrd" | "nhdr")) {
         return Err(Failure::BadInput(anyhow::anyhow!(
-            "{}: the output must be a .nrrd file (or .nhdr, for a header and a .raw file), or a \
-             folder for a DICOM series",
+            "{}: the output must be a .nrrd file (or .nhdr, for a header and a .raw file), a \
+             .zarr store (OME-Zarr), or a folder for a DICOM series",
             args.out.display()
         )));
     }
@@ -68,6 +69,15 @@ pub fn run(args: &GenerateArgs) -> Result<(), Failure> {
             "wrote {} DICOM files into {} ({what})",
             files.len(),
             args.out.display()
+        );
+        return Ok(());
+    }
+    if zarr {
+        let written = super::convert::write(&volume, &args.out, std::path::Path::new(&what))?;
+        eprintln!(
+            "wrote {} ({what}; OME-Zarr, {} levels)",
+            args.out.display(),
+            written.levels.len()
         );
         return Ok(());
     }

@@ -6,6 +6,7 @@
 mod accuracy;
 pub mod args;
 mod bench;
+mod convert;
 mod datasets;
 pub mod effect_args;
 mod generate;
@@ -69,6 +70,7 @@ pub fn run(command: Command, raw: &args::RawArgs) -> Result<(), Failure> {
         Command::Bench(args) => bench::run(*args),
         Command::Accuracy(args) => accuracy::run(*args),
         Command::Generate(args) => generate::run(&args),
+        Command::Convert(args) => convert::run(&args, raw),
         Command::Slice(args) => slice::run(&args, raw),
         Command::Shaders(args) => shaders::run(&args),
     }

@@ -33,7 +33,7 @@ pub mod raw;
 pub mod samples;
 pub mod stats;
 pub mod synthetic;
-mod zarr;
+pub mod zarr;
 
 pub use colour::Colour;
 pub use error::VolumeError;

@@ -18,3 +18,4 @@ mod pydicom_conformance;
 mod real_data;
 mod sampled;
 mod zarr_python;
+mod zarr_written;

@@ -9,6 +9,7 @@
 
 mod ngff;
 mod read;
+pub mod write;
 
 use std::path::Path;
 use std::sync::Arc;
@@ -53,7 +54,7 @@ pub(crate) fn load(
             path: "/".into(),
             reason: e.to_string(),
         })?);
-    let (root, image) = image_of(path, &store)?;
+    let (root, image, facts) = image_of(path, &store)?;
     let arrays = image
         .levels
         .iter()
@@ -117,18 +118,28 @@ pub(crate) fn load(
         Some(n) if !n.is_empty() && n != &name => format!("{name} ({n})"),
         _ => name,
     };
-    Ok(
-        Volume::new(name, dims, spacing, samples, ValueMapping::IDENTITY)?.with_provenance(
-            Provenance {
-                notes,
-                window,
-                origin_lps: Some(origin),
-                volumes,
-                channels,
-                ..Provenance::default()
-            },
-        ),
-    )
+    let facts = facts
+        .as_ref()
+        .map(ngff::LeapViewFacts::of)
+        .unwrap_or_default();
+    let volume = Volume::new(
+        name,
+        dims,
+        spacing,
+        samples,
+        facts.mapping.unwrap_or(ValueMapping::IDENTITY),
+    )?
+    .with_orientation(facts.orientation)
+    .with_modality(facts.modality)
+    .with_provenance(Provenance {
+        notes,
+        window: window.or(facts.window),
+        origin_lps: Some(facts.origin_lps.unwrap_or(origin)),
+        volumes,
+        channels,
+        ..Provenance::default()
+    });
+    Ok(volume)
 }
 
 /// The node path of `child` inside the group at `root` (`/` or `/0`).
@@ -157,15 +168,15 @@ fn check_metadata(dir: &Path, node: &str) -> Result<(), ZarrError> {
     Ok(())
 }
 
-/// The group path and image of the store: its root's multiscales, those of `0/` under a
+/// The group path and image of the store, and its `leapview` attribute: its root's multiscales, those of `0/` under a
 /// bioformats2raw root, or the root array itself as a one-level image without metadata.
 fn image_of(
     dir: &Path,
     store: &Arc<dyn ReadableStorageTraits>,
-) -> Result<(String, Image), ZarrError> {
+) -> Result<(String, Image, Option<serde_json::Value>), ZarrError> {
     check_metadata(dir, "/")?;
     if is_array(dir) {
-        return Ok(("/".into(), bare_image()));
+        return Ok(("/".into(), bare_image(), None));
     }
     let attributes = |node: &str| -> Result<serde_json::Map<String, serde_json::Value>, ZarrError> {
         check_metadata(dir, node)?;
@@ -179,14 +190,14 @@ fn image_of(
     };
     let root = attributes("/")?;
     if let Some(image) = ngff::image(&root)? {
-        return Ok(("/".into(), image));
+        return Ok(("/".into(), image, root.get("leapview").cloned()));
     }
     let nested = root.contains_key("bioformats2raw.layout")
         || root
             .get("ome")
             .is_some_and(|o| o.get("bioformats2raw.layout").is_some());
     if nested && let Some(image) = ngff::image(&attributes("/0")?)? {
-        return Ok(("/0".into(), image));
+        return Ok(("/0".into(), image, None));
     }
     Err(ZarrError::NoMultiscales)
 }

@@ -316,6 +316,64 @@ fn transformations(
     Ok((scale, translation))
 }
 
+/// What LeapView writes beside NGFF (`write.rs`, the `leapview` attribute) and reads back: the
+/// facts NGFF has no field for. Each is taken only where it is well formed.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct LeapViewFacts {
+    /// The patient orientation of the index axes.
+    pub orientation: Option<crate::volume::orientation::Orientation>,
+    /// The first voxel's centre (LPS, mm).
+    pub origin_lps: Option<[f64; 3]>,
+    /// Stored values to data units.
+    pub mapping: Option<crate::volume::samples::ValueMapping>,
+    /// The modality.
+    pub modality: Option<crate::volume::modality::Modality>,
+    /// The display window (data units).
+    pub window: Option<[f64; 2]>,
+}
+
+impl LeapViewFacts {
+    /// The facts of a `leapview` attribute.
+    pub(super) fn of(value: &Value) -> Self {
+        use crate::volume::orientation::{Orientation, OrientationSource};
+        let triple = |key: &str| -> Option<[f64; 3]> {
+            let v: Vec<f64> = value
+                .get(key)?
+                .as_array()?
+                .iter()
+                .map(Value::as_f64)
+                .collect::<Option<_>>()?;
+            let t: [f64; 3] = v.try_into().ok()?;
+            t.iter().all(|x| x.is_finite()).then_some(t)
+        };
+        let window = value.get("window").and_then(|w| {
+            let lo = w.get(0)?.as_f64()?;
+            let hi = w.get(1)?.as_f64()?;
+            (lo.is_finite() && hi.is_finite() && lo < hi).then_some([lo, hi])
+        });
+        let mapping = value.get("value_mapping").and_then(|m| {
+            let slope = m.get("slope")?.as_f64()?;
+            let intercept = m.get("intercept")?.as_f64()?;
+            (slope.is_finite() && slope != 0.0 && intercept.is_finite())
+                .then_some(crate::volume::samples::ValueMapping { slope, intercept })
+        });
+        Self {
+            orientation: value
+                .get("orientation")
+                .and_then(Value::as_str)
+                .and_then(|c| Orientation::parse_code(c).ok())
+                .map(|o| o.said_by(OrientationSource::Header)),
+            origin_lps: triple("origin_lps"),
+            mapping,
+            modality: value
+                .get("modality")
+                .and_then(Value::as_str)
+                .and_then(crate::volume::modality::Modality::parse),
+            window,
+        }
+    }
+}
+
 /// Millimetres per unit of a space axis named as NGFF names units (`micrometer`), or as
 /// microscopy software writes them (`µm`, `um`, `micron`); `None` for a unit that is not a length.
 pub(super) fn millimetres_per(unit: &str) -> Option<f64> {
