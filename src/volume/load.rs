@@ -4,7 +4,7 @@ use std::path::Path;
 
 use super::error::{LoadError, VolumeError};
 use super::raw::RawParams;
-use super::{decode, dicom, metaimage, model::Volume, nifti, nrrd, raw, zarr};
+use super::{decode, dicom, metaimage, model::Volume, nifti, nrrd, raw, tiff, zarr};
 
 /// How to open a file beyond what its name tells.
 #[derive(Clone, Debug, Default)]
@@ -34,6 +34,7 @@ enum Format {
     Raw,
     Dicom,
     MetaImage,
+    Tiff,
 }
 
 /// Loads a NRRD (`.nrrd`, `.nhdr`), NIfTI-1 (`.nii`, `.nii.gz`), MetaImage (`.mha`, `.mhd`),
@@ -71,10 +72,13 @@ fn load(path: &Path, options: &LoadOptions) -> Result<Volume, VolumeError> {
         |n| n.to_string_lossy().into_owned(),
     );
     let progress = options.progress.as_deref();
-    // A folder is an OME-Zarr store, else a DICOM series (or several).
+    // A folder is an OME-Zarr store, a stack of TIFF slices, else a DICOM series (or several).
     if options.raw.is_none() && std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
         if zarr::is_store(path) {
             return zarr::load(path, name, options);
+        }
+        if let Some(files) = tiff::stack_files(path) {
+            return tiff::load_folder(&files, name, options);
         }
         return dicom::load(path, options.series.as_ref(), progress);
     }
@@ -88,6 +92,7 @@ fn load(path: &Path, options: &LoadOptions) -> Result<Volume, VolumeError> {
         (Format::Nifti, _) => nifti::read_nifti(path, name, options.volume, progress),
         (Format::MetaImage, _) => metaimage::read_metaimage(path, name, progress),
         (Format::Dicom, _) => dicom::load(path, options.series.as_ref(), progress),
+        (Format::Tiff, _) => tiff::load_file(path, name, options),
     }
 }
 
@@ -108,6 +113,8 @@ fn format_of(
         Ok(Format::Nifti)
     } else if has(".mha") || has(".mhd") {
         Ok(Format::MetaImage)
+    } else if tiff::is_tiff_name(&lower) {
+        Ok(Format::Tiff)
     } else if has(".dcm") || has(".dicom") || has(".ima") || lower == "dicomdir" || sniff() {
         Ok(Format::Dicom)
     } else {

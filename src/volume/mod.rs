@@ -33,6 +33,7 @@ pub mod raw;
 pub mod samples;
 pub mod stats;
 pub mod synthetic;
+mod tiff;
 pub mod zarr;
 
 pub use colour::Colour;

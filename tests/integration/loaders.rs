@@ -17,5 +17,6 @@ mod orientation;
 mod pydicom_conformance;
 mod real_data;
 mod sampled;
+mod tiff_stacks;
 mod zarr_python;
 mod zarr_written;

@@ -90,8 +90,9 @@ pub enum VolumeError {
     /// The file name does not tell a supported format.
     #[error(
         "unrecognised volume file type '{extension}'; LeapView reads .nrrd, .nhdr, .nii, \
-         .nii.gz, .mha, .mhd, DICOM files and folders, OME-Zarr stores (folders), and raw \
-         files given with --dims X,Y,Z --type T"
+         .nii.gz, .mha, .mhd, .tif/.tiff (stacks, OME-TIFF), DICOM files and folders, \
+         OME-Zarr stores and folders of TIFF slices, and raw files given with --dims X,Y,Z \
+         --type T"
     )]
     UnknownFormat {
         /// The file's extension as written (may be empty).

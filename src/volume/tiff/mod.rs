@@ -1,0 +1,427 @@
+//! TIFF stacks as micro-CT and microscopy write them, through the `tiff` crate: a multi-page
+//! TIFF (pages are slices), OME-TIFF (sizes, plane order and physical sizes from its OME-XML: one
+//! channel and time point chosen), ImageJ hyperstacks (slice spacing and unit from their
+//! description), or a folder of 2-D slices in natural order (`slice_2` before `slice_10`).
+//! Greyscale, 8/16/32-bit integers (signed or not), 16/32/64-bit floats; any compression the crate
+//! reads (LZW, deflate, PackBits, zstd, JPEG), strips or tiles, BigTIFF. TIFF has no patient
+//! orientation: the views assume RAS.
+
+mod description;
+
+use std::fs::File;
+use std::io::BufReader;
+use std::path::{Path, PathBuf};
+
+use tiff::ColorType;
+use tiff::decoder::{Decoder, DecodingResult, Limits, ifd::Value};
+use tiff::tags::Tag;
+
+use super::error::VolumeError;
+use super::limits;
+use super::load::LoadOptions;
+use super::model::{Provenance, Volume, VolumeIndex};
+use super::samples::{Samples, ScalarType, ValueMapping};
+
+type TiffDecoder = Decoder<BufReader<File>>;
+
+/// Whether `name` is a TIFF file's name.
+pub(crate) fn is_tiff_name(name: &str) -> bool {
+    let lower = name.to_ascii_lowercase();
+    [".tif", ".tiff", ".btf", ".tf8"]
+        .iter()
+        .any(|e| lower.ends_with(e))
+}
+
+/// The TIFF files of a folder, in natural order, where they are most of its files (a stack of
+/// slices); `None` otherwise.
+pub(crate) fn stack_files(dir: &Path) -> Option<Vec<PathBuf>> {
+    let entries = std::fs::read_dir(dir).ok()?;
+    let mut others = 0usize;
+    let mut tiffs = Vec::new();
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if name.starts_with('.') || !entry.file_type().is_ok_and(|t| t.is_file()) {
+            continue;
+        }
+        if is_tiff_name(&name) {
+            tiffs.push(entry.path());
+        } else {
+            others += 1;
+        }
+    }
+    if tiffs.is_empty() || tiffs.len() <= others {
+        return None;
+    }
+    tiffs.sort_by(|a, b| natural(&a.to_string_lossy(), &b.to_string_lossy()));
+    Some(tiffs)
+}
+
+/// Compares names with runs of digits taken as numbers (`s2` before `s10`).
+fn natural(a: &str, b: &str) -> std::cmp::Ordering {
+    fn runs(s: &str) -> Vec<(bool, &str)> {
+        let mut out = Vec::new();
+        let mut start = 0;
+        let bytes = s.as_bytes();
+        for i in 1..=bytes.len() {
+            if i == bytes.len() || bytes[i].is_ascii_digit() != bytes[start].is_ascii_digit() {
+                out.push((bytes[start].is_ascii_digit(), &s[start..i]));
+                start = i;
+            }
+        }
+        out
+    }
+    let (ra, rb) = (runs(a), runs(b));
+    for (x, y) in ra.iter().zip(&rb) {
+        let order = match (x, y) {
+            ((true, p), (true, q)) => {
+                let (p, q) = (p.trim_start_matches('0'), q.trim_start_matches('0'));
+                p.len().cmp(&q.len()).then_with(|| p.cmp(q))
+            }
+            ((_, p), (_, q)) => p.cmp(q),
+        };
+        if order.is_ne() {
+            return order;
+        }
+    }
+    ra.len().cmp(&rb.len()).then_with(|| a.cmp(b))
+}
+
+fn bad(reason: impl Into<String>) -> VolumeError {
+    VolumeError::BadHeader {
+        format: "TIFF",
+        reason: reason.into(),
+    }
+}
+
+fn tiff_error(e: tiff::TiffError) -> VolumeError {
+    match e {
+        tiff::TiffError::IoError(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => {
+            bad("the file ends before its directory says it does")
+        }
+        tiff::TiffError::IoError(e) => VolumeError::Io { source: e },
+        e => bad(e.to_string()),
+    }
+}
+
+fn open(path: &Path) -> Result<TiffDecoder, VolumeError> {
+    let (file, _) = super::decode::open_file(path)?;
+    let mut limits = Limits::default();
+    // One page at a time, as large as the machine's memory allows.
+    limits.decoding_buffer_size = usize::try_from(limits::max_volume_bytes()).unwrap_or(usize::MAX);
+    limits.intermediate_buffer_size = limits.decoding_buffer_size;
+    Ok(Decoder::new(BufReader::new(file))
+        .map_err(tiff_error)?
+        .with_limits(limits))
+}
+
+/// The width, height and sample type of the decoder's current page.
+fn page_shape(decoder: &mut TiffDecoder) -> Result<(u32, u32, ScalarType), VolumeError> {
+    let (w, h) = decoder.dimensions().map_err(tiff_error)?;
+    let bits = match decoder.colortype().map_err(tiff_error)? {
+        ColorType::Gray(bits) => bits,
+        other => {
+            return Err(VolumeError::UnsupportedType {
+                name: format!("{other:?} colour TIFF pages (greyscale stacks are read)"),
+            });
+        }
+    };
+    let format = decoder
+        .find_tag_unsigned::<u16>(Tag::SampleFormat)
+        .map_err(tiff_error)?
+        .unwrap_or(1);
+    let scalar = match (format, bits) {
+        (1, 8) => ScalarType::U8,
+        (1, 16) => ScalarType::U16,
+        (1, 32) => ScalarType::U32,
+        (2, 8) => ScalarType::I8,
+        (2, 16) => ScalarType::I16,
+        (2, 32) => ScalarType::I32,
+        (3, 16 | 32) => ScalarType::F32,
+        (3, 64) => ScalarType::F64,
+        _ => {
+            return Err(VolumeError::UnsupportedType {
+                name: format!("{bits}-bit TIFF samples of format {format}"),
+            });
+        }
+    };
+    Ok((w, h, scalar))
+}
+
+/// Appends a decoded page to `samples` (of the stack's type).
+fn append(samples: &mut Samples, page: DecodingResult) -> Result<(), VolumeError> {
+    match (samples, page) {
+        (Samples::U8(v), DecodingResult::U8(p)) => v.extend_from_slice(&p),
+        (Samples::U16(v), DecodingResult::U16(p)) => v.extend_from_slice(&p),
+        (Samples::U32(v), DecodingResult::U32(p)) => v.extend_from_slice(&p),
+        (Samples::I8(v), DecodingResult::I8(p)) => v.extend_from_slice(&p),
+        (Samples::I16(v), DecodingResult::I16(p)) => v.extend_from_slice(&p),
+        (Samples::I32(v), DecodingResult::I32(p)) => v.extend_from_slice(&p),
+        (Samples::F32(v), DecodingResult::F32(p)) => v.extend_from_slice(&p),
+        (Samples::F32(v), DecodingResult::F16(p)) => v.extend(p.iter().map(|h| h.to_f32())),
+        (Samples::F64(v), DecodingResult::F64(p)) => v.extend_from_slice(&p),
+        _ => {
+            return Err(bad(
+                "a page's samples are of another type than the first page's",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Empty samples of `scalar` with room for `count`, or the error that they do not fit.
+fn reserved(scalar: ScalarType, count: u64) -> Result<Samples, VolumeError> {
+    let bytes = count.saturating_mul(scalar.size_bytes() as u64);
+    let out_of_memory = || VolumeError::OutOfMemory { bytes };
+    let n = usize::try_from(count).map_err(|_| out_of_memory())?;
+    macro_rules! empty {
+        ($variant:ident) => {{
+            let mut v = Vec::new();
+            v.try_reserve_exact(n).map_err(|_| out_of_memory())?;
+            Samples::$variant(v)
+        }};
+    }
+    Ok(match scalar {
+        ScalarType::U8 => empty!(U8),
+        ScalarType::I8 => empty!(I8),
+        ScalarType::U16 => empty!(U16),
+        ScalarType::I16 => empty!(I16),
+        ScalarType::U32 => empty!(U32),
+        ScalarType::I32 => empty!(I32),
+        ScalarType::F32 => empty!(F32),
+        ScalarType::F64 => empty!(F64),
+    })
+}
+
+/// The page's description text, where it has one in UTF-8.
+fn description_of(decoder: &mut TiffDecoder) -> Option<String> {
+    match decoder.find_tag(Tag::ImageDescription) {
+        Ok(Some(Value::Ascii(text))) => Some(text),
+        _ => None,
+    }
+}
+
+/// Millimetres per pixel along x and y from the resolution tags: pixels per unit, the unit the
+/// ImageJ description names (`unit_mm`), else ResolutionUnit centimetre; inches (72 dpi and the
+/// like) say nothing of a specimen.
+fn resolution_mm(decoder: &mut TiffDecoder, unit_mm: Option<f64>) -> [Option<f64>; 2] {
+    let unit = unit_mm.or_else(
+        || match decoder.find_tag_unsigned::<u16>(Tag::ResolutionUnit) {
+            Ok(Some(3)) => Some(10.0),
+            _ => None,
+        },
+    );
+    let per_unit = |decoder: &mut TiffDecoder, tag| match decoder.find_tag(tag) {
+        Ok(Some(Value::Rational(n, d))) if n > 0 && d > 0 => Some(f64::from(n) / f64::from(d)),
+        Ok(Some(Value::Double(v))) if v > 0.0 => Some(v),
+        Ok(Some(Value::Float(v))) if v > 0.0 => Some(f64::from(v)),
+        _ => None,
+    };
+    let x = per_unit(decoder, Tag::XResolution);
+    let y = per_unit(decoder, Tag::YResolution);
+    [x, y].map(|r| {
+        let mm = unit? / r?;
+        (mm.is_finite() && mm > 0.0).then_some(mm)
+    })
+}
+
+/// Spacing from what the stack says, each missing axis filled and the fill said in a note.
+fn spacing(said: [Option<f64>; 3], notes: &mut Vec<String>) -> [f64; 3] {
+    match said {
+        [Some(x), Some(y), Some(z)] => [x, y, z],
+        [Some(x), y, None] => {
+            notes.push(
+                "the stack names no slice spacing: taken as the pixel spacing (isotropic voxels)"
+                    .into(),
+            );
+            [x, y.unwrap_or(x), x]
+        }
+        [x, y, z] => {
+            if x.is_none() {
+                notes.push("the stack names no pixel size: taken as 1 mm".into());
+            }
+            let xy = x.or(y).unwrap_or(1.0);
+            [x.unwrap_or(xy), y.unwrap_or(xy), z.unwrap_or(xy)]
+        }
+    }
+}
+
+/// Opens a TIFF file: a multi-page stack, OME-TIFF or an ImageJ hyperstack.
+pub(crate) fn load_file(
+    path: &Path,
+    name: String,
+    options: &LoadOptions,
+) -> Result<Volume, VolumeError> {
+    let progress = options.progress.as_deref();
+    let mut decoder = open(path)?;
+    let text = description_of(&mut decoder);
+    let layout = text.as_deref().and_then(description::layout);
+    let (w, h, scalar) = page_shape(&mut decoder)?;
+    let mut notes = Vec::new();
+    let (pages, volumes, channels) = match &layout {
+        Some(l) => {
+            let pick = |asked: Option<u32>, count: u32, what: &'static str, flag: &str| {
+                let i = asked.unwrap_or(0);
+                if i >= count {
+                    return Err(bad(format!(
+                        "there is no {what} {}: the stack has {count} ({flag} 1 to {count})",
+                        i + 1
+                    )));
+                }
+                Ok((count > 1).then_some(VolumeIndex { chosen: i, count }))
+            };
+            let t = pick(options.volume, l.t, "time point", "--volume")?;
+            let c = pick(options.channel, l.c, "channel", "--channel")?;
+            let (ti, ci) = (t.map_or(0, |v| v.chosen), c.map_or(0, |v| v.chosen));
+            let pages: Vec<u64> = (0..l.z).map(|z| l.page(z, ci, ti)).collect();
+            (pages, t, c)
+        }
+        None => {
+            if options.channel.is_some_and(|c| c > 0) {
+                return Err(bad("the stack has one channel (--channel 1)"));
+            }
+            let mut count = 1u64;
+            while decoder.more_images() && count < u64::from(limits::MAX_DIMENSION) {
+                decoder.next_image().map_err(tiff_error)?;
+                count += 1;
+            }
+            decoder.seek_to_image(0).map_err(tiff_error)?;
+            ((0..count).collect(), None, None)
+        }
+    };
+    let z = pages.len() as u64;
+    let (dims, bytes) = limits::check_dims([u64::from(w), u64::from(h), z], scalar)?;
+    limits::admit(progress, dims, scalar, false)?;
+    let mut samples = reserved(scalar, u64::from(w) * u64::from(h) * z)?;
+    if let Some(p) = progress {
+        p.start(bytes);
+    }
+    let unit = text.as_deref().and_then(description::imagej_unit_mm);
+    let [rx, ry] = resolution_mm(&mut decoder, unit);
+    for &page in &pages {
+        if progress.is_some_and(|p| p.is_cancelled()) {
+            return Err(VolumeError::Cancelled);
+        }
+        let index = usize::try_from(page).map_err(|_| bad("too many pages"))?;
+        decoder.seek_to_image(index).map_err(tiff_error)?;
+        let (pw, ph, ps) = page_shape(&mut decoder)?;
+        if (pw, ph, ps) != (w, h, scalar) {
+            return Err(bad(format!(
+                "page {} is {pw} x {ph} {ps}, the first {w} x {h} {scalar}",
+                page + 1
+            )));
+        }
+        append(&mut samples, decoder.read_image().map_err(tiff_error)?)?;
+        if let Some(p) = progress {
+            p.advance(bytes / z.max(1));
+        }
+    }
+    let said = match &layout {
+        Some(l) if l.kind == "OME-XML" => l.spacing_mm,
+        Some(l) => [rx, ry, l.spacing_mm[2]],
+        None => [rx, ry, None],
+    };
+    let spacing = spacing(said, &mut notes);
+    finish(name, dims, spacing, samples, notes, volumes, channels)
+}
+
+/// Opens a folder of 2-D TIFF slices (`files`, in order: [`stack_files`]).
+pub(crate) fn load_folder(
+    files: &[PathBuf],
+    name: String,
+    options: &LoadOptions,
+) -> Result<Volume, VolumeError> {
+    let progress = options.progress.as_deref();
+    let first = files
+        .first()
+        .ok_or_else(|| bad("the folder holds no TIFF file"))?;
+    let mut decoder = open(first)?;
+    let (w, h, scalar) = page_shape(&mut decoder)?;
+    let text = description_of(&mut decoder);
+    let unit = text.as_deref().and_then(description::imagej_unit_mm);
+    let [rx, ry] = resolution_mm(&mut decoder, unit);
+    let z = files.len() as u64;
+    let (dims, bytes) = limits::check_dims([u64::from(w), u64::from(h), z], scalar)?;
+    limits::admit(progress, dims, scalar, false)?;
+    let mut samples = reserved(scalar, u64::from(w) * u64::from(h) * z)?;
+    if let Some(p) = progress {
+        p.start(bytes);
+    }
+    append(&mut samples, decoder.read_image().map_err(tiff_error)?)?;
+    if let Some(p) = progress {
+        p.advance(bytes / z.max(1));
+    }
+    for file in &files[1..] {
+        if progress.is_some_and(|p| p.is_cancelled()) {
+            return Err(VolumeError::Cancelled);
+        }
+        let mut decoder = open(file)?;
+        let (pw, ph, ps) = page_shape(&mut decoder)?;
+        if (pw, ph, ps) != (w, h, scalar) {
+            return Err(bad(format!(
+                "{} is {pw} x {ph} {ps}, the first slice {w} x {h} {scalar}",
+                file.file_name().unwrap_or_default().to_string_lossy()
+            )));
+        }
+        append(&mut samples, decoder.read_image().map_err(tiff_error)?)?;
+        if let Some(p) = progress {
+            p.advance(bytes / z.max(1));
+        }
+    }
+    let mut notes = vec![format!(
+        "{} slices, one TIFF file each, in natural order",
+        files.len()
+    )];
+    let spacing = spacing([rx, ry, None], &mut notes);
+    finish(name, dims, spacing, samples, notes, None, None)
+}
+
+fn finish(
+    name: String,
+    dims: [u32; 3],
+    spacing: [f64; 3],
+    samples: Samples,
+    notes: Vec<String>,
+    volumes: Option<VolumeIndex>,
+    channels: Option<VolumeIndex>,
+) -> Result<Volume, VolumeError> {
+    Ok(
+        Volume::new(name, dims, spacing, samples, ValueMapping::IDENTITY)?.with_provenance(
+            Provenance {
+                notes,
+                volumes,
+                channels,
+                ..Provenance::default()
+            },
+        ),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_sort_with_their_numbers() {
+        let mut names = vec!["s10.tif", "s2.tif", "s1.tif", "s02b.tif", "a.tif"];
+        names.sort_by(|a, b| natural(a, b));
+        assert_eq!(names, ["a.tif", "s1.tif", "s2.tif", "s02b.tif", "s10.tif"]);
+    }
+
+    #[test]
+    fn missing_spacing_is_filled_and_said() {
+        let mut notes = Vec::new();
+        assert_eq!(
+            spacing([Some(0.5), Some(0.5), Some(2.0)], &mut notes),
+            [0.5, 0.5, 2.0]
+        );
+        assert!(notes.is_empty());
+        assert_eq!(
+            spacing([Some(0.5), None, None], &mut notes),
+            [0.5, 0.5, 0.5]
+        );
+        assert!(notes[0].contains("slice spacing"));
+        notes.clear();
+        assert_eq!(spacing([None, None, None], &mut notes), [1.0, 1.0, 1.0]);
+        assert!(notes[0].contains("1 mm"));
+    }
+}
