@@ -15,7 +15,8 @@ use super::parse::{parse_dims, parse_size, parse_vec3, parse_window};
     about,
     args_conflicts_with_subcommands = true,
     after_help = "Formats: NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), DICOM (file or folder),\n\
-                  MetaImage (.mha, .mhd), raw (any file, with --dims and --type).\n\
+                  MetaImage (.mha, .mhd), OME-Zarr (a .zarr folder), TIFF (.tif, .tiff: stacks,\n\
+                  OME-TIFF, or a folder of slices), raw (any file, with --dims and --type).\n\
                   Without a command, the viewer window opens: with FILE, else a generated head phantom.\n\
                   Run 'leapview <COMMAND> -h' for a command's options, --help for all of them."
 )]
@@ -233,7 +234,7 @@ pub enum Generated {
 /// `leapview convert`.
 #[derive(Args, Debug)]
 pub struct ConvertArgs {
-    /// Volume file or DICOM folder (any input `render` takes; --volume, --channel and the other
+    /// Volume file or DICOM folder (any input render takes; --volume, --channel and the other
     /// input options apply).
     pub input: PathBuf,
     /// The store to write: a new folder, by custom named NAME.ome.zarr.
@@ -250,7 +251,7 @@ pub struct GenerateArgs {
     ///
     /// .nrrd: one gzip-compressed file. .nhdr: a header, with the samples raw and little-endian
     /// in a .raw file of the same name. .zarr (e.g. NAME.ome.zarr): a multiscale OME-Zarr store,
-    /// as `leapview convert` writes it. A folder (created if missing, else empty) receives a
+    /// as leapview convert writes it. A folder (created if missing, else empty) receives a
     /// DICOM series, one uncompressed file per slice.
     #[arg(long)]
     pub out: PathBuf,
@@ -305,12 +306,12 @@ pub struct RawArgs {
     /// the most slices, or the series of the file named.
     #[arg(long, global = true, help_heading = "Input file", value_name = "N|UID")]
     pub series: Option<String>,
-    /// 4-D files (an fMRI time series, NIfTI diffusion directions, an OME-Zarr `t` axis): which
+    /// 4-D files (an fMRI time series, NIfTI diffusion directions, an OME-Zarr t axis): which
     /// volume (time point) to open, counted from 1 (default: the first; leapview info says how
     /// many there are).
     #[arg(long, global = true, help_heading = "Input file", value_name = "N", value_parser = clap::value_parser!(u32).range(1..), hide_short_help = true)]
     pub volume: Option<u32>,
-    /// Images with channels (an OME-Zarr `c` axis): which channel to open, counted from 1
+    /// Images with channels (an OME-Zarr c axis): which channel to open, counted from 1
     /// (default: the first).
     #[arg(long, global = true, help_heading = "Input file", value_name = "N", value_parser = clap::value_parser!(u32).range(1..), hide_short_help = true)]
     pub channel: Option<u32>,

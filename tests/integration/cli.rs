@@ -659,7 +659,7 @@ mod help {
             .map(String::from)
             .collect();
         for expected in [
-            "render", "info", "bench", "accuracy", "generate", "slice", "shaders",
+            "render", "info", "bench", "accuracy", "generate", "convert", "slice", "shaders",
         ] {
             assert!(
                 commands.iter().any(|c| c == expected),
@@ -720,6 +720,8 @@ mod help {
                 "DICOM",
                 "MetaImage",
                 ".mha",
+                "OME-Zarr",
+                "TIFF",
                 "raw",
             ] {
                 assert!(
