@@ -183,15 +183,21 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
             FULL_READ_BYTES >> 30
         );
     }
+    // Microscopy's voxels (an OME-Zarr or OME-TIFF in micrometres) in micrometres.
+    let (per_mm, unit) = if sx.max(sy).max(sz) < 0.1 {
+        (1000.0, "µm")
+    } else {
+        (1.0, "mm")
+    };
     outln!(
         out,
-        "spacing:     {} x {} x {} mm (extent {:.1} x {:.1} x {:.1} mm)",
-        number(sx),
-        number(sy),
-        number(sz),
-        x as f64 * sx,
-        y as f64 * sy,
-        z as f64 * sz
+        "spacing:     {} x {} x {} {unit} (extent {:.1} x {:.1} x {:.1} {unit})",
+        number(sx * per_mm),
+        number(sy * per_mm),
+        number(sz * per_mm),
+        x as f64 * sx * per_mm,
+        y as f64 * sy * per_mm,
+        z as f64 * sz * per_mm
     );
     outln!(out, "type:        {}", volume.scalar_type());
     outln!(out, "orientation: {}", orientation_text(&volume));

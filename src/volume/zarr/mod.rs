@@ -111,7 +111,7 @@ pub(crate) fn load(
         notes.push("the store names no unit for its space axes: taken as millimetres".into());
     }
     let channel = selection_index(&axes, &selection, AxisKind::Channel);
-    let window = channel.and_then(|c| image.windows.get(c as usize).copied().flatten());
+    let window = (image.windows.get(channel.unwrap_or(0) as usize).copied()).flatten();
     let volumes = chosen_of(&axes, arrays[0].shape(), &selection, AxisKind::Time);
     let channels = chosen_of(&axes, arrays[0].shape(), &selection, AxisKind::Channel);
     let name = match &image.name {
@@ -134,7 +134,13 @@ pub(crate) fn load(
     .with_provenance(Provenance {
         notes,
         window: window.or(facts.window),
-        origin_lps: Some(facts.origin_lps.unwrap_or(origin)),
+        // LeapView's own origin is level 0's, in its orientation: a coarser level read
+        // instead has none that can be stated without the shift in that frame.
+        origin_lps: match (facts.origin_lps, facts.orientation) {
+            (Some(o), _) if index == 0 => Some(o),
+            (_, Some(_)) => None,
+            _ => Some(origin),
+        },
         volumes,
         channels,
         ..Provenance::default()

@@ -106,8 +106,9 @@ fn unknown_file_types_and_raw_files_without_a_layout_say_what_to_do() {
     let e = fails(&path);
     assert!(matches!(e, VolumeError::UnknownFormat { .. }), "{e}");
     assert!(
-        e.to_string()
-            .contains(".nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd, DICOM"),
+        e.to_string().contains(
+            ".nrrd, .nhdr, .nii, .nii.gz, .mha, .mhd, .tif/.tiff (stacks, OME-TIFF), DICOM"
+        ),
         "{e}"
     );
     let path = dir.write("scan.raw", &[0; 8]);
