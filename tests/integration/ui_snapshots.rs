@@ -616,3 +616,42 @@ fn the_2x2_layout_shows_three_slices_and_a_click_moves_the_others() {
         "the axial plane stays where it was: {step}"
     );
 }
+
+/// An image with time points and channels (an OME-Zarr, an OME-TIFF) gets a chooser for each;
+/// a step either way asks for that volume or channel, and a step past the ends is disabled.
+#[test]
+fn an_image_with_time_points_and_channels_has_a_chooser_for_each() {
+    let index = |chosen, count| Some(leapview::volume::VolumeIndex { chosen, count });
+    let volume = leapview::volume::synthetic::constant([4, 4, 4], [1.0; 3], 1.0)
+        .expect("volume")
+        .with_provenance(leapview::volume::Provenance {
+            volumes: index(0, 3),
+            channels: index(1, 2),
+            ..Default::default()
+        });
+    let panel = SidePanel {
+        state: ViewerState::default(),
+        volume: VolumeSummary {
+            from_file: true,
+            ..VolumeSummary::of(&volume)
+        },
+        actions: Vec::new(),
+    };
+    let mut h = side_panel(harness([400.0, 900.0]), panel);
+    h.run();
+    assert!(h.query_by_label("Channel").is_some());
+    assert_eq!(h.query_all_by_label(">").count(), 2);
+    // The volume's next (the first is shown) and, the last channel shown, no channel's next.
+    for i in 0..2 {
+        h.query_all_by_label(">").nth(i).expect("a step").click();
+        h.run();
+    }
+    assert_eq!(h.state().actions, [Action::OpenVolume(1)]);
+    h.state_mut().actions.clear();
+    // No volume before the first; the channel before the second.
+    for i in 0..2 {
+        h.query_all_by_label("<").nth(i).expect("a step").click();
+        h.run();
+    }
+    assert_eq!(h.state().actions, [Action::OpenChannel(0)]);
+}

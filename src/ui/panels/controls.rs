@@ -53,10 +53,18 @@ pub fn controls_ui(
     let mut action = None;
     // Where the volume came from, first: the series chooser of a DICOM folder and what loading
     // had to say (a resampled gap, an assumption) must not hide below the fold.
+    // A file's time points and channels are chosen here too.
     if let Some(v) = info.volume
-        && (v.provenance.series.is_some() || !v.provenance.notes.is_empty())
+        && (v.provenance.series.is_some()
+            || !v.provenance.notes.is_empty()
+            || v.provenance.volumes.is_some()
+            || v.provenance.channels.is_some())
     {
-        ui.heading("Series");
+        ui.heading(if v.provenance.series.is_some() {
+            "Series"
+        } else {
+            "Source"
+        });
         series_rows(ui, v, &mut action);
         ui.separator();
     }
