@@ -34,6 +34,7 @@ pub mod samples;
 pub mod stats;
 pub mod synthetic;
 mod tiff;
+mod units;
 pub mod zarr;
 
 pub use colour::Colour;

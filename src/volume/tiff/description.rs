@@ -2,6 +2,8 @@
 //! (OME-TIFF: the `Pixels` element's sizes, plane order and physical sizes) or ImageJ's
 //! `key=value` lines (hyperstack sizes, slice spacing and unit). Pure, bounded text parsing.
 
+use crate::volume::units::millimetres_per;
+
 /// The stack's layout and voxel size as a description gives them.
 #[derive(Clone, Debug, PartialEq)]
 pub(super) struct Layout {
@@ -46,21 +48,6 @@ impl Layout {
         }
         page
     }
-}
-
-/// Millimetres per unit as microscopy software names length units.
-fn millimetres(unit: &str) -> Option<f64> {
-    Some(match unit.trim() {
-        "mm" | "millimeter" | "millimetre" => 1.0,
-        "µm" | "μm" | "um" | "micron" | "microns" | "micrometer" | "micrometre" | "\\u00B5m" => {
-            1e-3
-        }
-        "nm" | "nanometer" | "nanometre" => 1e-6,
-        "cm" | "centimeter" => 10.0,
-        "m" | "meter" => 1000.0,
-        "Å" | "angstrom" => 1e-7,
-        _ => return None,
-    })
 }
 
 /// The layout a description gives, `None` when it is neither OME-XML nor ImageJ's.
@@ -120,7 +107,7 @@ fn ome(xml: &str) -> Option<Layout> {
     let physical = |axis: &str| {
         let value: f64 = get(&format!("PhysicalSize{axis}"))?.trim().parse().ok()?;
         let unit = get(&format!("PhysicalSize{axis}Unit")).unwrap_or("µm");
-        let mm = value * millimetres(unit)?;
+        let mm = value * millimetres_per(unit)?;
         (mm.is_finite() && mm > 0.0).then_some(mm)
     };
     Some(Layout {
@@ -148,7 +135,7 @@ fn imagej(text: &str) -> Layout {
     let (c, t) = (count("channels").unwrap_or(1), count("frames").unwrap_or(1));
     let z = count("slices")
         .unwrap_or_else(|| count("images").map_or(1, |n| (n / c.saturating_mul(t).max(1)).max(1)));
-    let unit = get("unit").and_then(millimetres);
+    let unit = get("unit").and_then(millimetres_per);
     let z_spacing = get("spacing")
         .and_then(|v| v.parse::<f64>().ok())
         .zip(unit)
@@ -170,7 +157,7 @@ pub(super) fn imagej_unit_mm(text: &str) -> Option<f64> {
     text.lines()
         .filter_map(|l| l.split_once('='))
         .find(|(k, _)| k.trim() == "unit")
-        .and_then(|(_, v)| millimetres(v))
+        .and_then(|(_, v)| millimetres_per(v))
 }
 
 #[cfg(test)]

@@ -245,6 +245,65 @@ fn spacing(said: [Option<f64>; 3], notes: &mut Vec<String>) -> [f64; 3] {
     }
 }
 
+/// A stack being read: pages of one shape and type appended in order, the load's progress and
+/// cancellation checked at each.
+struct Stack<'a> {
+    shape: (u32, u32, ScalarType),
+    dims: [u32; 3],
+    samples: Samples,
+    page_bytes: u64,
+    progress: Option<&'a super::progress::LoadProgress>,
+}
+
+impl<'a> Stack<'a> {
+    /// Room for `z` pages like the decoder's current one, once the limits and the load's
+    /// admission check allow it.
+    fn new(
+        decoder: &mut TiffDecoder,
+        z: u64,
+        progress: Option<&'a super::progress::LoadProgress>,
+    ) -> Result<Self, VolumeError> {
+        let shape @ (w, h, scalar) = page_shape(decoder)?;
+        let (dims, bytes) = limits::check_dims([u64::from(w), u64::from(h), z], scalar)?;
+        limits::admit(progress, dims, scalar, false)?;
+        let samples = reserved(scalar, u64::from(w) * u64::from(h) * z)?;
+        if let Some(p) = progress {
+            p.start(bytes);
+        }
+        Ok(Self {
+            shape,
+            dims,
+            samples,
+            page_bytes: bytes / z.max(1),
+            progress,
+        })
+    }
+
+    /// Appends the decoder's current page; `what` names it where it differs from the first.
+    fn add(
+        &mut self,
+        decoder: &mut TiffDecoder,
+        what: impl Fn() -> String,
+    ) -> Result<(), VolumeError> {
+        if self.progress.is_some_and(|p| p.is_cancelled()) {
+            return Err(VolumeError::Cancelled);
+        }
+        let (pw, ph, ps) = page_shape(decoder)?;
+        let (w, h, scalar) = self.shape;
+        if (pw, ph, ps) != self.shape {
+            return Err(bad(format!(
+                "{} is {pw} x {ph} {ps}, the first {w} x {h} {scalar}",
+                what()
+            )));
+        }
+        append(&mut self.samples, decoder.read_image().map_err(tiff_error)?)?;
+        if let Some(p) = self.progress {
+            p.advance(self.page_bytes);
+        }
+        Ok(())
+    }
+}
+
 /// Opens a TIFF file: a multi-page stack, OME-TIFF or an ImageJ hyperstack.
 pub(crate) fn load_file(
     path: &Path,
@@ -255,7 +314,6 @@ pub(crate) fn load_file(
     let mut decoder = open(path)?;
     let text = description_of(&mut decoder);
     let layout = text.as_deref().and_then(description::layout);
-    let (w, h, scalar) = page_shape(&mut decoder)?;
     let mut notes = Vec::new();
     let (pages, volumes, channels) = match &layout {
         Some(l) => {
@@ -288,32 +346,13 @@ pub(crate) fn load_file(
             ((0..count).collect(), None, None)
         }
     };
-    let z = pages.len() as u64;
-    let (dims, bytes) = limits::check_dims([u64::from(w), u64::from(h), z], scalar)?;
-    limits::admit(progress, dims, scalar, false)?;
-    let mut samples = reserved(scalar, u64::from(w) * u64::from(h) * z)?;
-    if let Some(p) = progress {
-        p.start(bytes);
-    }
+    let mut stack = Stack::new(&mut decoder, pages.len() as u64, progress)?;
     let unit = text.as_deref().and_then(description::imagej_unit_mm);
     let [rx, ry] = resolution_mm(&mut decoder, unit);
     for &page in &pages {
-        if progress.is_some_and(|p| p.is_cancelled()) {
-            return Err(VolumeError::Cancelled);
-        }
         let index = usize::try_from(page).map_err(|_| bad("too many pages"))?;
         decoder.seek_to_image(index).map_err(tiff_error)?;
-        let (pw, ph, ps) = page_shape(&mut decoder)?;
-        if (pw, ph, ps) != (w, h, scalar) {
-            return Err(bad(format!(
-                "page {} is {pw} x {ph} {ps}, the first {w} x {h} {scalar}",
-                page + 1
-            )));
-        }
-        append(&mut samples, decoder.read_image().map_err(tiff_error)?)?;
-        if let Some(p) = progress {
-            p.advance(bytes / z.max(1));
-        }
+        stack.add(&mut decoder, || format!("page {}", page + 1))?;
     }
     let said = match &layout {
         Some(l) if l.kind == "OME-XML" => l.spacing_mm,
@@ -321,7 +360,7 @@ pub(crate) fn load_file(
         None => [rx, ry, None],
     };
     let spacing = spacing(said, &mut notes);
-    finish(name, dims, spacing, samples, notes, volumes, channels)
+    finish(name, stack, spacing, notes, volumes, channels)
 }
 
 /// Opens a folder of 2-D TIFF slices (`files`, in order: [`stack_files`]).
@@ -335,65 +374,49 @@ pub(crate) fn load_folder(
         .first()
         .ok_or_else(|| bad("the folder holds no TIFF file"))?;
     let mut decoder = open(first)?;
-    let (w, h, scalar) = page_shape(&mut decoder)?;
     let text = description_of(&mut decoder);
     let unit = text.as_deref().and_then(description::imagej_unit_mm);
     let [rx, ry] = resolution_mm(&mut decoder, unit);
-    let z = files.len() as u64;
-    let (dims, bytes) = limits::check_dims([u64::from(w), u64::from(h), z], scalar)?;
-    limits::admit(progress, dims, scalar, false)?;
-    let mut samples = reserved(scalar, u64::from(w) * u64::from(h) * z)?;
-    if let Some(p) = progress {
-        p.start(bytes);
-    }
-    append(&mut samples, decoder.read_image().map_err(tiff_error)?)?;
-    if let Some(p) = progress {
-        p.advance(bytes / z.max(1));
-    }
+    let mut stack = Stack::new(&mut decoder, files.len() as u64, progress)?;
+    let name_of = |file: &Path| {
+        file.file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned()
+    };
+    stack.add(&mut decoder, || name_of(first))?;
     for file in &files[1..] {
-        if progress.is_some_and(|p| p.is_cancelled()) {
-            return Err(VolumeError::Cancelled);
-        }
-        let mut decoder = open(file)?;
-        let (pw, ph, ps) = page_shape(&mut decoder)?;
-        if (pw, ph, ps) != (w, h, scalar) {
-            return Err(bad(format!(
-                "{} is {pw} x {ph} {ps}, the first slice {w} x {h} {scalar}",
-                file.file_name().unwrap_or_default().to_string_lossy()
-            )));
-        }
-        append(&mut samples, decoder.read_image().map_err(tiff_error)?)?;
-        if let Some(p) = progress {
-            p.advance(bytes / z.max(1));
-        }
+        stack.add(&mut open(file)?, || name_of(file))?;
     }
     let mut notes = vec![format!(
         "{} slices, one TIFF file each, in natural order",
         files.len()
     )];
     let spacing = spacing([rx, ry, None], &mut notes);
-    finish(name, dims, spacing, samples, notes, None, None)
+    finish(name, stack, spacing, notes, None, None)
 }
 
 fn finish(
     name: String,
-    dims: [u32; 3],
+    stack: Stack,
     spacing: [f64; 3],
-    samples: Samples,
     notes: Vec<String>,
     volumes: Option<VolumeIndex>,
     channels: Option<VolumeIndex>,
 ) -> Result<Volume, VolumeError> {
-    Ok(
-        Volume::new(name, dims, spacing, samples, ValueMapping::IDENTITY)?.with_provenance(
-            Provenance {
-                notes,
-                volumes,
-                channels,
-                ..Provenance::default()
-            },
-        ),
-    )
+    let volume = Volume::new(
+        name,
+        stack.dims,
+        spacing,
+        stack.samples,
+        ValueMapping::IDENTITY,
+    )?;
+    Ok(volume.with_provenance(Provenance {
+        notes,
+        volumes,
+        channels,
+        ..Provenance::default()
+    }))
 }
 
 #[cfg(test)]

@@ -394,7 +394,7 @@ fn geometry(
     let mut origin = [0.0; 3];
     for (out, axis) in [i, j, k].into_iter().enumerate() {
         let unit = match &axes[axis].unit {
-            Some(u) => ngff::millimetres_per(u).ok_or_else(|| {
+            Some(u) => crate::volume::units::millimetres_per(u).ok_or_else(|| {
                 ZarrError::Metadata(format!(
                     "the space axis '{}' has the unit '{u}', which is not a length",
                     axes[axis].name

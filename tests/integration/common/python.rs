@@ -42,3 +42,33 @@ pub fn run_python(script: &str, args: &[&Path]) {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// A Python script's reference samples: little-endian float64, x fastest (`<case>.f64`).
+pub fn f64_file(path: &Path) -> Vec<f64> {
+    std::fs::read(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+        .collect()
+}
+
+/// The `cases.json` a script wrote into `out`.
+pub fn cases_json(out: &Path) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(out.join("cases.json")).expect("the cases"))
+        .expect("JSON")
+}
+
+/// Fails unless `v` holds exactly `reference` (x fastest; NaN where NaN), naming `name` and the
+/// first voxel that differs.
+pub fn assert_values_exactly(name: &str, v: &leapview::volume::Volume, reference: &[f64]) {
+    assert_eq!(reference.len() as u64, v.sample_count(), "{name}");
+    let [nx, ny, _] = v.dims();
+    for (i, &want) in reference.iter().enumerate() {
+        let (x, y, z) = (i as u32 % nx, (i as u32 / nx) % ny, i as u32 / (nx * ny));
+        let got = v.value(x, y, z);
+        assert!(
+            got == want || (got.is_nan() && want.is_nan()),
+            "{name}: voxel ({x}, {y}, {z}) is {got}, the reference holds {want}"
+        );
+    }
+}

@@ -66,11 +66,7 @@ fn nibabels_files_open_with_nibabels_values() {
             count,
         });
         assert_eq!(v.provenance().volumes, expected_index, "{name}");
-        let reference: Vec<f64> = std::fs::read(out.path().join(format!("{name}.f64")))
-            .expect("nibabel's data")
-            .chunks_exact(8)
-            .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
-            .collect();
+        let reference = common::f64_file(&out.path().join(format!("{name}.f64")));
         assert_eq!(reference.len() as u64, v.sample_count(), "{name}");
         let [nx, ny, _] = v.dims();
         for (i, &want) in reference.iter().enumerate() {

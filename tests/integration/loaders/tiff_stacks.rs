@@ -12,9 +12,7 @@ use crate::common::{self, run_python};
 fn stacks_written_by_tifffile_open_with_their_values_and_spacing() {
     let out = common::TempDir::new("tiff");
     run_python("tiff_stacks.py", &[out.path()]);
-    let all: Value =
-        serde_json::from_slice(&std::fs::read(out.path().join("cases.json")).expect("the cases"))
-            .expect("JSON");
+    let all = common::cases_json(out.path());
     let options = |case: &Value| LoadOptions {
         channel: case["channel"]
             .as_u64()
@@ -43,18 +41,8 @@ fn stacks_written_by_tifffile_open_with_their_values_and_spacing() {
             Some(said) => assert!(notes.contains(said), "{name}: notes {notes:?}"),
             None => assert!(notes.is_empty(), "{name}: unexpected notes {notes:?}"),
         }
-        let reference: Vec<f64> = std::fs::read(out.path().join(format!("{name}.f64")))
-            .expect("tifffile's data")
-            .chunks_exact(8)
-            .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
-            .collect();
-        assert_eq!(reference.len() as u64, v.sample_count(), "{name}");
-        let [nx, ny, _] = v.dims();
-        for (i, &want) in reference.iter().enumerate() {
-            let (x, y, z) = (i as u32 % nx, (i as u32 / nx) % ny, i as u32 / (nx * ny));
-            let got = v.value(x, y, z);
-            assert_eq!(got, want, "{name}: voxel ({x}, {y}, {z})");
-        }
+        let reference = common::f64_file(&out.path().join(format!("{name}.f64")));
+        common::assert_values_exactly(name, &v, &reference);
     }
     for bad in all["errors"].as_array().expect("errors") {
         let path = out.path().join(bad["path"].as_str().expect("a path"));

@@ -22,9 +22,7 @@ fn options(case: &Value) -> LoadOptions {
 fn stores_written_by_zarr_python_and_ome_zarr_open_with_their_values() {
     let out = common::TempDir::new("zarr");
     run_python("zarr_stores.py", &[out.path()]);
-    let all: Value =
-        serde_json::from_slice(&std::fs::read(out.path().join("cases.json")).expect("the cases"))
-            .expect("JSON");
+    let all = common::cases_json(out.path());
     let cases = all["cases"].as_array().expect("cases");
     assert!(cases.len() >= 7, "{} cases", cases.len());
     for case in cases {
@@ -63,21 +61,8 @@ fn stores_written_by_zarr_python_and_ome_zarr_open_with_their_values() {
             Some(said) => assert!(notes.contains(said), "{name}: notes {notes:?}"),
             None => assert!(notes.is_empty(), "{name}: unexpected notes {notes:?}"),
         }
-        let reference: Vec<f64> = std::fs::read(out.path().join(format!("{name}.f64")))
-            .expect("the writer's data")
-            .chunks_exact(8)
-            .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
-            .collect();
-        assert_eq!(reference.len() as u64, v.sample_count(), "{name}");
-        let [nx, ny, _] = v.dims();
-        for (i, &want) in reference.iter().enumerate() {
-            let (x, y, z) = (i as u32 % nx, (i as u32 / nx) % ny, i as u32 / (nx * ny));
-            let got = v.value(x, y, z);
-            assert!(
-                got == want || (got.is_nan() && want.is_nan()),
-                "{name}: voxel ({x}, {y}, {z}) is {got}, the store holds {want}"
-            );
-        }
+        let reference = common::f64_file(&out.path().join(format!("{name}.f64")));
+        common::assert_values_exactly(name, &v, &reference);
     }
     for bad in all["errors"].as_array().expect("errors") {
         let path = out.path().join(bad["store"].as_str().expect("a store"));
