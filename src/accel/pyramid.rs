@@ -147,12 +147,16 @@ impl MinMax {
     }
 }
 
-/// Normalised values of every voxel (NaN where not finite), as the shader decodes them.
+/// Normalised values of every voxel (NaN where not finite), as the shader decodes them; none
+/// for a volume read from its store as needed (it holds no whole grid).
 pub fn normalized_values(volume: &Volume) -> Vec<f32> {
     let range = volume.normalization_range();
     let mapping = volume.mapping();
+    let Some(samples) = volume.samples() else {
+        return Vec::new();
+    };
     let mut out = Vec::with_capacity(volume.sample_count() as usize);
-    volume.samples().for_each_f64(|s| {
+    samples.for_each_f64(|s| {
         let v = mapping.apply(s);
         out.push(if v.is_finite() {
             range.normalize(v) as f32

@@ -14,24 +14,25 @@ use crate::cli::OrFail;
 /// The share of voxels whose stored value is below `min + 0.1 * (P99.9 - min)` (the "air"
 /// definition of ../shared/data/README.md), on stored values.
 fn air_fraction(volume: &Volume) -> Option<(f64, f64)> {
-    let samples = volume.samples();
+    let samples = volume.held().0;
     let min = quantile(samples, ValueMapping::IDENTITY, 0.0)?;
     let p999 = quantile(samples, ValueMapping::IDENTITY, 0.999)?;
     let t = min + 0.1 * (p999 - min);
     let mut below = 0u64;
     samples.for_each_f64(|s| below += u64::from(s < t));
-    Some((t, below as f64 / volume.sample_count() as f64))
+    Some((t, below as f64 / samples.len() as f64))
 }
 
 /// Share of voxels to which `tf` gives zero opacity.
 fn transparent_fraction(volume: &Volume, tf: &TransferFunction) -> f64 {
     let range = volume.normalization_range();
     let mut zero = 0u64;
-    volume.samples().for_each_f64(|s| {
+    let samples = volume.held().0;
+    samples.for_each_f64(|s| {
         let v = volume.mapping().apply(s);
         zero += u64::from(!v.is_finite() || tf.opacity_at(v, range) <= 0.0);
     });
-    zero as f64 / volume.sample_count() as f64
+    zero as f64 / samples.len() as f64
 }
 
 /// Volumes of more sample bytes than this are read every few slices for `info`'s statistics:
@@ -99,7 +100,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
         Some(name) => Some(fit::resolve(name, &kind).bad_input()?.tf),
         None => None,
     };
-    let q = |p| quantile(volume.samples(), volume.mapping(), p);
+    let q = |p| quantile(volume.held().0, volume.mapping(), p);
     let range = volume.value_range();
     let dims = header_dims.unwrap_or(volume.dims());
     let spacing = {

@@ -92,12 +92,14 @@ pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
     // Counted from 1 on the command line, from 0 in LoadOptions.
     let volume = raw.volume.map(|n| n - 1);
     let channel = raw.channel.map(|n| n - 1);
+    let ram_budget = raw.ram_budget;
     let Some(dims) = raw.dims else {
         return Ok(LoadOptions {
             orientation,
             series,
             volume,
             channel,
+            ram_budget,
             ..LoadOptions::default()
         });
     };
@@ -119,6 +121,7 @@ pub fn load_options(raw: &args::RawArgs) -> Result<LoadOptions, Failure> {
         series,
         volume,
         channel,
+        ram_budget,
         ..LoadOptions::default()
     })
 }

@@ -92,7 +92,7 @@ pub(crate) fn check_dims(
 }
 
 /// [`check_dims`] with a size cap of `limit_bytes`.
-fn check_dims_within(
+pub(crate) fn check_dims_within(
     dims: [u64; 3],
     scalar_type: ScalarType,
     limit_bytes: u64,

@@ -32,6 +32,7 @@ pub mod progress;
 pub mod raw;
 pub mod samples;
 pub mod stats;
+pub mod streamed;
 pub mod synthetic;
 mod tiff;
 mod units;

@@ -8,6 +8,7 @@ use super::modality::Modality;
 use super::orientation::{Orientation, OrientationSource};
 use super::samples::{Samples, ScalarType, ValueMapping};
 use super::stats::{self, Histogram, ValueRange};
+use super::streamed::Streamed;
 
 /// The facts of a DICOM series that a person reads: shown by `leapview info` and in the window.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -70,17 +71,26 @@ pub struct VolumeIndex {
     pub count: u32,
 }
 
+/// Where a volume's samples are: all in memory, or read from their store as needed.
+#[derive(Clone, Debug)]
+enum Voxels {
+    Whole(Samples),
+    Streamed(Streamed),
+}
+
 /// A scalar volume on a regular grid, with its statistics computed once at construction.
 #[derive(Clone, Debug)]
 pub struct Volume {
     name: String,
     dims: [u32; 3],
     spacing_mm: [f64; 3],
-    samples: Samples,
+    voxels: Voxels,
     mapping: ValueMapping,
     range: Option<ValueRange>,
     histogram: Histogram,
     non_finite_count: u64,
+    /// Whether the statistics count every voxel (not a streamed volume's preview alone).
+    exact_statistics: bool,
     orientation: Option<Orientation>,
     /// What the header said, kept when the user overrides it.
     header_orientation: Option<Orientation>,
@@ -111,6 +121,58 @@ impl Volume {
                 actual: samples.len() as u64,
             });
         }
+        Self::with_voxels(
+            name.into(),
+            dims,
+            spacing_mm,
+            Voxels::Whole(samples),
+            mapping,
+        )
+    }
+
+    /// A volume whose samples are read from their store as the GPU's bricks need them
+    /// ([`Streamed`]); its statistics are those of the preview level (a note says so where the
+    /// loader adds one).
+    pub fn streamed(
+        name: impl Into<String>,
+        dims: [u32; 3],
+        spacing_mm: [f64; 3],
+        streamed: Streamed,
+        mapping: ValueMapping,
+    ) -> Result<Self, VolumeError> {
+        if dims.contains(&0) {
+            return Err(VolumeError::ZeroDimension { dims });
+        }
+        Self::with_voxels(
+            name.into(),
+            dims,
+            spacing_mm,
+            Voxels::Streamed(streamed),
+            mapping,
+        )
+    }
+
+    /// The volume with statistics of every voxel given (a streamed volume's store kept them).
+    pub(crate) fn with_statistics(
+        mut self,
+        range: Option<ValueRange>,
+        histogram: Histogram,
+        non_finite_count: u64,
+    ) -> Self {
+        self.range = range;
+        self.histogram = histogram;
+        self.non_finite_count = non_finite_count;
+        self.exact_statistics = true;
+        self
+    }
+
+    fn with_voxels(
+        name: String,
+        dims: [u32; 3],
+        spacing_mm: [f64; 3],
+        voxels: Voxels,
+        mapping: ValueMapping,
+    ) -> Result<Self, VolumeError> {
         if spacing_mm.iter().any(|s| !s.is_finite() || *s <= 0.0) {
             return Err(VolumeError::BadSpacing { spacing_mm });
         }
@@ -120,16 +182,22 @@ impl Volume {
                 intercept: mapping.intercept,
             });
         }
-        let (range, histogram, non_finite_count) = stats::compute(&samples, mapping);
+        let held = match &voxels {
+            Voxels::Whole(s) => s,
+            Voxels::Streamed(s) => &s.preview().samples,
+        };
+        let (range, histogram, non_finite_count) = stats::compute(held, mapping);
+        let exact_statistics = matches!(voxels, Voxels::Whole(_));
         Ok(Self {
-            name: name.into(),
+            name,
             dims,
             spacing_mm,
-            samples,
+            voxels,
             mapping,
             range,
             histogram,
             non_finite_count,
+            exact_statistics,
             orientation: None,
             header_orientation: None,
             reversed_i: false,
@@ -184,7 +252,13 @@ impl Volume {
     /// image: the world frame of the renderer is the index frame. Anything else is unchanged.
     pub fn unmirrored(mut self) -> Self {
         if let Some(o) = self.orientation.filter(Orientation::is_mirrored) {
-            self.samples.reverse_rows(self.dims[0] as usize);
+            self.voxels = match self.voxels {
+                Voxels::Whole(mut s) => {
+                    s.reverse_rows(self.dims[0] as usize);
+                    Voxels::Whole(s)
+                }
+                Voxels::Streamed(s) => Voxels::Streamed(s.reversed()),
+            };
             if let Some(c) = self.colour.as_mut() {
                 c.reverse_rows(self.dims[0] as usize);
             }
@@ -283,14 +357,57 @@ impl Volume {
         std::array::from_fn(|a| self.dims[a] as f64 * self.spacing_mm[a])
     }
 
-    /// The stored samples, x fastest.
-    pub fn samples(&self) -> &Samples {
-        &self.samples
+    /// The stored samples, x fastest; `None` where they are read from their store as needed
+    /// ([`Self::streamed`]).
+    pub fn samples(&self) -> Option<&Samples> {
+        match &self.voxels {
+            Voxels::Whole(s) => Some(s),
+            Voxels::Streamed(_) => None,
+        }
+    }
+
+    /// The samples, or why what `needs` them cannot have them: the volume is streamed.
+    pub fn whole_samples(&self, needs: &'static str) -> Result<&Samples, VolumeError> {
+        self.samples().ok_or_else(|| VolumeError::Streamed {
+            name: self.label(),
+            needs,
+        })
+    }
+
+    /// Where the samples are read from, for a volume too large to hold whole.
+    pub fn streaming(&self) -> Option<&Streamed> {
+        match &self.voxels {
+            Voxels::Whole(_) => None,
+            Voxels::Streamed(s) => Some(s),
+        }
+    }
+
+    /// The samples held in memory: all of them, or a streamed volume's preview level (its
+    /// dimensions and which level it is, 0 for the whole volume).
+    pub fn held(&self) -> (&Samples, [u32; 3], u32) {
+        match &self.voxels {
+            Voxels::Whole(s) => (s, self.dims, 0),
+            Voxels::Streamed(s) => (&s.preview().samples, s.preview().dims, s.preview_level()),
+        }
+    }
+
+    /// Whether samples may be NaN or infinite: some are, or a streamed float volume's store
+    /// may hold some that its preview does not show.
+    pub fn may_be_non_finite(&self) -> bool {
+        self.non_finite_count > 0
+            || (!self.exact_statistics
+                && matches!(self.scalar_type(), ScalarType::F32 | ScalarType::F64))
+    }
+
+    /// Whether the range, histogram and non-finite count are of every voxel; a streamed
+    /// volume's are its preview's unless its store kept them.
+    pub fn exact_statistics(&self) -> bool {
+        self.exact_statistics
     }
 
     /// The stored type of the samples.
     pub fn scalar_type(&self) -> ScalarType {
-        self.samples.scalar_type()
+        self.held().0.scalar_type()
     }
 
     /// The map from stored values to data units.
@@ -325,10 +442,21 @@ impl Volume {
         x as usize + self.dims[0] as usize * (y as usize + self.dims[1] as usize * z as usize)
     }
 
-    /// The value of voxel `(x, y, z)` in data units (NaN or ±Inf where the sample is not finite).
+    /// The value of voxel `(x, y, z)` in data units (NaN or ±Inf where the sample is not
+    /// finite); of a streamed volume, that of the preview voxel holding it (a mean).
     pub fn value(&self, x: u32, y: u32, z: u32) -> f64 {
-        self.mapping
-            .apply(self.samples.get_f64(self.index(x, y, z)))
+        let stored = match &self.voxels {
+            Voxels::Whole(s) => s.get_f64(self.index(x, y, z)),
+            Voxels::Streamed(s) => {
+                let (p, d) = (s.preview_level(), s.preview().dims);
+                let [i, j, k] = [x, y, z].map(|c| (c >> p) as usize);
+                let index = i.min(d[0] as usize - 1)
+                    + d[0] as usize
+                        * (j.min(d[1] as usize - 1) + d[1] as usize * k.min(d[2] as usize - 1));
+                s.preview().samples.get_f64(index)
+            }
+        };
+        self.mapping.apply(stored)
     }
 }
 

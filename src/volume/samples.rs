@@ -153,6 +153,43 @@ impl Samples {
         }
     }
 
+    /// `parts` (all of one type) one after the other; no samples where there are no parts.
+    pub(crate) fn concat(parts: Vec<Self>) -> Self {
+        let mut parts = parts.into_iter();
+        let Some(mut all) = parts.next() else {
+            return Self::U8(Vec::new());
+        };
+        for part in parts {
+            match (&mut all, part) {
+                (Self::U8(a), Self::U8(b)) => a.extend(b),
+                (Self::I8(a), Self::I8(b)) => a.extend(b),
+                (Self::U16(a), Self::U16(b)) => a.extend(b),
+                (Self::I16(a), Self::I16(b)) => a.extend(b),
+                (Self::U32(a), Self::U32(b)) => a.extend(b),
+                (Self::I32(a), Self::I32(b)) => a.extend(b),
+                (Self::F32(a), Self::F32(b)) => a.extend(b),
+                (Self::F64(a), Self::F64(b)) => a.extend(b),
+                // Parts of one volume share its type.
+                _ => {}
+            }
+        }
+        all
+    }
+
+    /// The samples at `indices`, in their order (each inside the samples).
+    pub(crate) fn gather(&self, indices: &[usize]) -> Self {
+        match self {
+            Self::U8(v) => Self::U8(indices.iter().map(|&i| v[i]).collect()),
+            Self::I8(v) => Self::I8(indices.iter().map(|&i| v[i]).collect()),
+            Self::U16(v) => Self::U16(indices.iter().map(|&i| v[i]).collect()),
+            Self::I16(v) => Self::I16(indices.iter().map(|&i| v[i]).collect()),
+            Self::U32(v) => Self::U32(indices.iter().map(|&i| v[i]).collect()),
+            Self::I32(v) => Self::I32(indices.iter().map(|&i| v[i]).collect()),
+            Self::F32(v) => Self::F32(indices.iter().map(|&i| v[i]).collect()),
+            Self::F64(v) => Self::F64(indices.iter().map(|&i| v[i]).collect()),
+        }
+    }
+
     /// Folds every stored value as f64 on the pool of threads, in chunks of [`FOLD_CHUNK`]
     /// each folded from `init()`, then joins the chunks' results in an order `join` must not
     /// depend on (a minimum, a sum of counts).

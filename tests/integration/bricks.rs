@@ -327,7 +327,7 @@ fn slices_of_a_bricked_volume_equal_one_textures() {
 fn under_a_budget_the_finest_level_that_fits_is_shown_exactly_as_that_level() {
     // Even dimensions: the halved volume's box is the volume's.
     let volume = structured([64, 48, 40], None);
-    let half = Level::half_of(volume.samples(), None, volume.dims());
+    let half = Level::half_of(volume.samples().expect("in memory"), None, volume.dims());
     let spacing = volume.spacing_mm().map(|s| 2.0 * s);
     let halved = Volume::new(
         "halved",

@@ -88,7 +88,7 @@ fn with_corner_block(dense: bool) -> Volume {
         100.0
     };
     let dims = scene.dims();
-    let Samples::F32(mut v) = scene.samples().clone() else {
+    let Samples::F32(mut v) = scene.samples().expect("in memory").clone() else {
         panic!("the scene is f32");
     };
     for z in 16..20 {

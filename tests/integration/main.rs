@@ -40,5 +40,6 @@ mod shaders;
 mod slice;
 mod slice_real;
 mod strategies;
+mod streamed;
 mod ui_snapshots;
 mod window;

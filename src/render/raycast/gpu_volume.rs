@@ -80,7 +80,7 @@ impl GpuVolume {
             dims: volume.dims(),
             spacing_mm: volume.spacing_mm(),
             range: volume.normalization_range(),
-            all_finite: volume.non_finite_count() == 0,
+            all_finite: !volume.may_be_non_finite(),
             colour: volume.colour().is_some(),
             frame_group,
             leap,

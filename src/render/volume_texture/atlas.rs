@@ -6,20 +6,51 @@ use crate::accel::bricks::{APRON, BrickLayout};
 use crate::accel::residency::{CONSTANT, CONSTANT_F16};
 use crate::render::context::GpuContext;
 
+/// The box of a level that a brick's samples were read as: its first voxel and voxels per
+/// axis (the whole level, or the slot's box of it that a streamed volume reads).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct HeldBox {
+    /// The box's first voxel, in the level.
+    pub origin: [u32; 3],
+    /// Its voxels per axis.
+    pub dims: [u32; 3],
+}
+
+impl HeldBox {
+    /// The whole level `layout` holds.
+    pub(super) fn whole(layout: &BrickLayout) -> Self {
+        Self {
+            origin: [0; 3],
+            dims: layout.level_dims(),
+        }
+    }
+
+    /// The voxels of `brick`'s slot (its apron and overhang repeat these): the brick and the
+    /// apron around it, inside the level.
+    pub(super) fn slot(layout: &BrickLayout, brick: [u32; 3]) -> Self {
+        let last = layout.voxel_of(brick, [layout.slot_vox() - 1; 3]);
+        let origin = layout.voxel_of(brick, [0; 3]);
+        Self {
+            origin,
+            dims: std::array::from_fn(|a| last[a] - origin[a] + 1),
+        }
+    }
+}
+
 /// Appends the texels of `brick`'s slot (apron included, x fastest) to `out`, from `source`
-/// (the samples of the level `layout` holds).
+/// (the samples of the box `held` of the level `layout` holds, which covers the slot's voxels).
 pub(super) fn encode_brick(
     source: &TexelSource<'_>,
     encoding: &TexelEncoding,
-    layout: &BrickLayout,
+    (layout, held): (&BrickLayout, HeldBox),
     brick: [u32; 3],
     out: &mut Vec<u8>,
 ) {
     let s = layout.slot_vox();
     let bpt = bytes_per_texel(encoding.format);
-    let dims = layout.level_dims();
-    let row = dims[0] as usize;
-    let plane = row * dims[1] as usize;
+    let [ox, oy, oz] = held.origin.map(|o| o as usize);
+    let row = held.dims[0] as usize;
+    let plane = row * held.dims[1] as usize;
     // The slot's row in x: voxels x0..=x1 of the volume, then the edge voxels repeated.
     let first = layout.voxel_of(brick, [0, 0, 0])[0] as usize;
     let last = layout.voxel_of(brick, [s - 1, 0, 0])[0] as usize;
@@ -29,9 +60,14 @@ pub(super) fn encode_brick(
     for z in 0..s {
         for y in 0..s {
             let v = layout.voxel_of(brick, [0, y, z]);
-            let base = v[2] as usize * plane + v[1] as usize * row;
+            let base = (v[2] as usize - oz) * plane + (v[1] as usize - oy) * row;
             let at = out.len();
-            encode_texels(source, encoding, base + first..base + last + 1, out);
+            encode_texels(
+                source,
+                encoding,
+                base + first - ox..base + last + 1 - ox,
+                out,
+            );
             let edge_lo = out[at..at + bpt].to_vec();
             let edge_hi = out[out.len() - bpt..].to_vec();
             for _ in 0..after {
@@ -129,10 +165,33 @@ mod tests {
             encode_brick(
                 &TexelSource::of(&volume),
                 &encoding,
-                &layout,
+                (&layout, HeldBox::whole(&layout)),
                 brick,
                 &mut out,
             );
+            // From the slot's box alone, as a streamed volume reads it: the same texels.
+            let held = HeldBox::slot(&layout, brick);
+            let boxed: Vec<u8> = (0..held.dims[2])
+                .flat_map(|z| (0..held.dims[1]).map(move |y| (y, z)))
+                .flat_map(|(y, z)| {
+                    (0..held.dims[0]).map(move |x| {
+                        let [i, j, k] = [x, y, z].map(|c| c as usize);
+                        let [ox, oy, oz] = held.origin.map(|o| o as usize);
+                        ((i + ox) + dims[0] as usize * ((j + oy) + dims[1] as usize * (k + oz)))
+                            as u8
+                    })
+                })
+                .collect();
+            let boxed = Samples::U8(boxed);
+            let mut from_box = Vec::new();
+            encode_brick(
+                &TexelSource::of(&volume).with_samples(&boxed),
+                &encoding,
+                (&layout, held),
+                brick,
+                &mut from_box,
+            );
+            assert_eq!(from_box, out, "brick {brick:?} from its slot's box");
             let s = layout.slot_vox();
             assert_eq!(out.len(), (s * s * s) as usize);
             for (t, &byte) in out.iter().enumerate() {

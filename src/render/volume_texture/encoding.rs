@@ -70,7 +70,7 @@ pub(super) fn choose_encoding(
         return encoding_for(volume, wgpu::TextureFormat::Rgba8Unorm);
     }
     let scalar = volume.scalar_type();
-    let options = candidates(scalar, volume.non_finite_count() > 0);
+    let options = candidates(scalar, volume.may_be_non_finite());
     // R16Float is filterable everywhere (WebGPU core), so the last candidate always works.
     let format = options
         .iter()
@@ -194,14 +194,20 @@ pub(super) struct TexelSource<'a> {
 }
 
 impl<'a> TexelSource<'a> {
-    /// `volume`'s samples.
+    /// `volume`'s samples held in memory (a streamed volume's: its preview; its bricks are
+    /// encoded [`Self::with_samples`] read from its store).
     pub(super) fn of(volume: &'a Volume) -> Self {
         Self {
-            samples: volume.samples(),
+            samples: volume.held().0,
             colour: volume.colour(),
             mapping: volume.mapping(),
             norm: volume.normalization_range(),
         }
+    }
+
+    /// `samples` (a box of a level read from the store), encoded as these are.
+    pub(super) fn with_samples(self, samples: &'a Samples) -> Self {
+        Self { samples, ..self }
     }
 
     /// `level`'s samples, encoded as `volume`'s are.

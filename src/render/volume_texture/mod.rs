@@ -5,6 +5,7 @@
 mod admission;
 mod atlas;
 mod encoding;
+mod fetch;
 mod plan;
 mod ranges;
 mod resident;
@@ -300,11 +301,23 @@ impl VolumeTexture {
         // the layout chosen again (fewer slots), until one fits or none is left. A texture that
         // would take more than its texels' share (the driver's tiling) is laid out again smaller.
         let mut lowered = None;
+        // A volume read from its store has no whole grid to send: it is bricked.
+        let bricking = match upload.bricking {
+            Bricking::Off if volume.streaming().is_some() => {
+                return Err(VolumeTextureError::Layout {
+                    name: volume.label(),
+                    why: "it is read from its store brick by brick, so it cannot be one texture \
+                          (--bricks off)"
+                        .into(),
+                });
+            }
+            _ if volume.streaming().is_some() => Bricking::On,
+            b => b,
+        };
         let (plan, texture, taken) = loop {
             let share = texels(budget);
-            let plan =
-                plan(dims, upload.bricking, (max, share), bpt as u64).map_err(layout_error)?;
-            let replan = |lower: u64| match upload.bricking {
+            let plan = plan(dims, bricking, (max, share), bpt as u64).map_err(layout_error)?;
+            let replan = |lower: u64| match bricking {
                 Bricking::Off => None,
                 b => self::plan::plan(dims, b, (max, Some(lower)), bpt as u64).ok(),
             };
@@ -314,7 +327,7 @@ impl VolumeTexture {
             let bytes = plan.bytes(bpt as u64);
             match allocate(ctx, plan.extent(), encoding.format) {
                 Ok((texture, taken)) => break (plan, texture, taken.unwrap_or(bytes)),
-                Err(Allocation::OutOfMemory) if upload.bricking != Bricking::Off && bytes > 1 => {
+                Err(Allocation::OutOfMemory) if bricking != Bricking::Off && bytes > 1 => {
                     log::warn!(
                         "the GPU ran out of memory for a {} volume texture",
                         crate::text::bytes(bytes)
@@ -496,8 +509,12 @@ impl VolumeTexture {
         } else {
             "level"
         };
+        let reading = match s.reading {
+            0 => String::new(),
+            n => format!(", {n} being read from the store"),
+        };
         Some(format!(
-            "bricks: {levels} {} read, {} of {} wanted resident, {}{budget}",
+            "bricks: {levels} {} read, {} of {} wanted resident, {}{budget}{reading}",
             s.levels_read(),
             s.wanted - s.missing,
             s.wanted,
@@ -557,7 +574,7 @@ impl VolumeTexture {
                         ctx.adapter_info.name
                     )));
                 }
-                if format != wgpu::TextureFormat::R32Float && volume.non_finite_count() > 0 {
+                if format != wgpu::TextureFormat::R32Float && volume.may_be_non_finite() {
                     return Err(refuse(format!(
                         "{} NaN or infinite samples need a float format",
                         volume.non_finite_count()

@@ -8,8 +8,9 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use super::atlas::{encode_brick, gpu_page};
+use super::atlas::{HeldBox, encode_brick, gpu_page};
 use super::encoding::{TexelEncoding, TexelSource, bytes_per_texel};
+use super::fetch::Fetcher;
 use super::ranges::{BrickRange, brick_ranges};
 use super::unseen::{REACH, Unseen, brick_box, footprint_levels, in_view};
 use crate::accel::bricks::BrickLayout;
@@ -102,6 +103,8 @@ pub struct ResidencyStatus {
     pub wanted_at_level: usize,
     /// Bricks wanted and not yet resident.
     pub missing: usize,
+    /// Bricks of a streamed volume being read from its store.
+    pub reading: usize,
     /// Whether residency is final: no wanted brick missing, and the bricks' value ranges in
     /// (until they are, every brick counts as needing data).
     pub complete: bool,
@@ -151,6 +154,9 @@ pub struct Resident {
     /// Bytes of bricks an update sends before it waits for the GPU to take them (what wgpu's
     /// staging copies hold at most, besides the batch being written).
     staging_most: u64,
+    /// A streamed volume's readers: under a time budget, bricks are read off the frame's
+    /// thread and sent once read.
+    fetcher: Option<Fetcher>,
 }
 
 impl Resident {
@@ -167,12 +173,15 @@ impl Resident {
         let residency = Residency::new(volume.dims(), brick_vox, slots, capacity);
         let started = Instant::now();
         let mut levels: Vec<Level> = Vec::new();
-        for _ in 1..residency.levels() {
-            let next = match levels.last() {
-                Some(l) => l.halved(),
-                None => Level::half_of(volume.samples(), volume.colour(), volume.dims()),
-            };
-            levels.push(next);
+        // A streamed volume's store holds its levels: they are read brick by brick.
+        if let Some(samples) = volume.samples() {
+            for _ in 1..residency.levels() {
+                let next = match levels.last() {
+                    Some(l) => l.halved(),
+                    None => Level::half_of(samples, volume.colour(), volume.dims()),
+                };
+                levels.push(next);
+            }
         }
         log::debug!(
             "{} coarser levels halved in {:.0} ms",
@@ -182,7 +191,9 @@ impl Resident {
         let pages = residency.grid(0);
         // Ranges only matter where not every brick of level 0 fits.
         let all = residency.page_count() as u64 + u64::from(residency.levels() > 1);
-        let (ranges, ranges_coming) = if all > u64::from(capacity) && volume.colour().is_none() {
+        // A streamed volume's ranges would read the whole store: every brick needs data.
+        let whole = volume.samples().is_some() && volume.colour().is_none();
+        let (ranges, ranges_coming) = if all > u64::from(capacity) && whole {
             match ranges_worker(Arc::clone(&volume), encoding, brick_vox) {
                 Ok(worker) => (None, Some(worker)),
                 Err(e) => {
@@ -194,7 +205,17 @@ impl Resident {
         } else {
             (None, None)
         };
+        let fetcher = volume.streaming().and_then(|_| {
+            let (volume, encoding) = (Arc::clone(&volume), encoding);
+            let encode: super::fetch::Encode =
+                Arc::new(move |key| encode_streamed(&volume, &encoding, brick_vox, key));
+            let threads = crate::parallel::cores();
+            Fetcher::new(threads, encode)
+                .map_err(|e| log::warn!("no threads to read bricks on ({e}): frames read them"))
+                .ok()
+        });
         Self {
+            fetcher,
             rays: page_table(ctx, pages, "volume page table (rays)"),
             slices: page_table(ctx, pages, "volume page table (slices)"),
             written: None,
@@ -283,7 +304,18 @@ impl Resident {
         let Some(wanted) = self.wanted.take() else {
             return Update::default();
         };
-        let queue = self.upload_order(&wanted, unseen.eye, time.is_some());
+        let mut queue = self.upload_order(&wanted, unseen.eye, time.is_some());
+        if let (Some(fetcher), Some(_)) = (&mut self.fetcher, time) {
+            // The coarsest level is read here (a brick or a few: the first picture); the rest
+            // is sent once the readers have it.
+            let coarsest = self.residency.levels() - 1;
+            let asked: Vec<BrickKey> = (queue.iter().take(ORDERED))
+                .filter(|k| k.level != coarsest)
+                .copied()
+                .collect();
+            fetcher.ask(&asked);
+            queue.retain(|k| k.level == coarsest || fetcher.is_ready(k));
+        }
         let sorted = start.elapsed();
         let mut rest = &queue[..];
         let (mut sent, mut encoding) = (0, Duration::ZERO);
@@ -322,6 +354,7 @@ impl Resident {
         let uploaded = start.elapsed();
         let missing = self.residency.missing(&wanted);
         self.status.missing = missing;
+        self.status.reading = self.fetcher.as_ref().map_or(0, Fetcher::in_flight);
         self.status.complete = missing == 0 && self.ranges_coming.is_none() && !self.pages_due;
         let mut bricks = None;
         if arrived {
@@ -502,7 +535,7 @@ impl Resident {
     /// Encodes `given` (on all cores) and writes each into its slot; returns how long the
     /// encoding took, the bytes sent and the submission that sends them.
     fn upload(
-        &self,
+        &mut self,
         ctx: &GpuContext,
         atlas: &wgpu::Texture,
         given: &[(BrickKey, u32)],
@@ -510,15 +543,33 @@ impl Resident {
         let start = Instant::now();
         let s = self.brick_vox + 2;
         let bpt = bytes_per_texel(self.encoding.format) as u32;
+        // What the readers have read already.
+        let read: Vec<Option<Vec<u8>>> = match &mut self.fetcher {
+            Some(f) => given.iter().map(|(k, _)| f.take(k)).collect(),
+            None => vec![None; given.len()],
+        };
         let encoded = parallel(given.len(), &|| false, &|k| {
             let (key, _) = given[k];
+            if let Some(bytes) = &read[k] {
+                return bytes.clone();
+            }
+            if self.volume.streaming().is_some() {
+                return encode_streamed(&self.volume, &self.encoding, self.brick_vox, key);
+            }
             let layout = BrickLayout::geometry(self.volume.dims(), self.brick_vox, key.level);
+            let mut out = Vec::new();
             let source = match key.level {
                 0 => TexelSource::of(&self.volume),
                 l => TexelSource::level(&self.volume, &self.levels[l as usize - 1]),
             };
-            let mut out = Vec::new();
-            encode_brick(&source, &self.encoding, &layout, key.brick, &mut out);
+            let held = HeldBox::whole(&layout);
+            encode_brick(
+                &source,
+                &self.encoding,
+                (&layout, held),
+                key.brick,
+                &mut out,
+            );
             out
         });
         let encoded_in = start.elapsed();
@@ -707,6 +758,44 @@ fn write_runs(looked_at: &[usize]) -> Vec<(usize, usize)> {
         return vec![(first, last)];
     }
     runs
+}
+
+/// The slot of brick `key` of a streamed volume (bricks of `brick_vox`), read from its store
+/// and encoded.
+fn encode_streamed(
+    volume: &Volume,
+    encoding: &TexelEncoding,
+    brick_vox: u32,
+    key: BrickKey,
+) -> Vec<u8> {
+    let mut out = Vec::new();
+    let Some(streamed) = volume.streaming() else {
+        return out;
+    };
+    let layout = BrickLayout::geometry(volume.dims(), brick_vox, key.level);
+    let held = HeldBox::slot(&layout, key.brick);
+    let samples = read_slot(streamed, key.level, held);
+    let source = TexelSource::of(volume).with_samples(&samples);
+    encode_brick(&source, encoding, (&layout, held), key.brick, &mut out);
+    out
+}
+
+/// The samples of box `held` of `level` of a streamed volume, as its store gives them; where
+/// the store fails, the preview's voxels that cover it (said in the log; the store's reader
+/// says which of its chunks failed).
+fn read_slot(
+    streamed: &crate::volume::streamed::Streamed,
+    level: u32,
+    held: HeldBox,
+) -> crate::volume::Samples {
+    let hi = std::array::from_fn(|a| held.origin[a] + held.dims[a]);
+    match streamed.read_box(level, held.origin, hi) {
+        Ok(samples) => samples,
+        Err(e) => {
+            log::warn!("a brick of level {level} could not be read ({e}): its preview shows");
+            streamed.preview_box(level, held.origin, hi)
+        }
+    }
 }
 
 /// Computes the bricks' value ranges on a thread of their own (on half the cores).

@@ -50,7 +50,13 @@ pub fn write_series(
     let out_z = slices.unwrap_or(nz).max(1);
     let [sx, sy, sz] = volume.spacing_mm();
     let dz = sz * f64::from(nz) / f64::from(out_z);
-    let (bits, signed) = match volume.samples() {
+    let samples = volume
+        .whole_samples("writing DICOM")
+        .map_err(|e| WriteError::Io {
+            path: folder.to_path_buf(),
+            reason: e.to_string(),
+        })?;
+    let (bits, signed) = match samples {
         Samples::U8(_) => (8u16, false),
         Samples::I8(_) => (8, true),
         Samples::U16(_) => (16, false),
@@ -77,7 +83,7 @@ pub fn write_series(
         let source = ((k as f64 + 0.5) * f64::from(nz) / f64::from(out_z)) as usize;
         let source = source.min(nz as usize - 1);
         let range = source * plane..(source + 1) * plane;
-        let pixels = match volume.samples() {
+        let pixels = match samples {
             Samples::U8(v) => PrimitiveValue::U8(v[range].to_vec().into()),
             Samples::I8(v) => PrimitiveValue::U8(v[range].iter().map(|x| *x as u8).collect()),
             Samples::U16(v) => PrimitiveValue::U16(v[range].to_vec().into()),

@@ -283,6 +283,18 @@ pub enum VolumeError {
         /// Bytes the system reports as available.
         available: u64,
     },
+    /// Something that needs every sample in memory was asked of a volume read from its store
+    /// brick by brick.
+    #[error(
+        "{needs} needs the whole volume in memory, but {name} is read from its store brick by \
+         brick (it does not fit this machine's memory)"
+    )]
+    Streamed {
+        /// The volume's path (else its name).
+        name: String,
+        /// What needed the samples.
+        needs: &'static str,
+    },
     /// The samples passed every limit but this machine could not provide the memory.
     #[error("not enough memory to hold the volume's samples ({})", fmt_bytes(*.bytes))]
     OutOfMemory {

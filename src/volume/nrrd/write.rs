@@ -16,6 +16,9 @@ use crate::volume::{
 /// detached header and the samples raw, little-endian, in a file of the same name ending in
 /// `.raw` beside it (which also opens as a headerless raw file); any other, one gzip NRRD.
 pub fn write_nrrd(volume: &Volume, path: &Path, comment: &str) -> std::io::Result<()> {
+    let samples = volume
+        .whole_samples("writing NRRD")
+        .map_err(std::io::Error::other)?;
     let detached = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("nhdr"));
@@ -26,7 +29,7 @@ pub fn write_nrrd(volume: &Volume, path: &Path, comment: &str) -> std::io::Resul
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
         let mut out = std::io::BufWriter::new(std::fs::File::create(&raw)?);
-        write_samples(volume.samples(), &mut out)?;
+        write_samples(samples, &mut out)?;
         out.flush()?;
         let text = header(volume, comment, &Encoding::RawIn(&name));
         return std::fs::write(path, text);
@@ -35,7 +38,7 @@ pub fn write_nrrd(volume: &Volume, path: &Path, comment: &str) -> std::io::Resul
     let mut out = std::io::BufWriter::new(file);
     out.write_all(header(volume, comment, &Encoding::Gzip).as_bytes())?;
     let mut gz = GzEncoder::new(out, Compression::new(6));
-    write_samples(volume.samples(), &mut gz)?;
+    write_samples(samples, &mut gz)?;
     gz.finish()?.flush()
 }
 
@@ -206,7 +209,10 @@ mod tests {
             .with_orientation(Some(o))
             .with_modality(Some(Modality::Mr { angio: true }));
         let back = round_trip(&v, "float.nrrd");
-        let (Samples::F32(a), Samples::F32(b)) = (v.samples(), back.samples()) else {
+        let (Samples::F32(a), Samples::F32(b)) = (
+            v.samples().expect("in memory"),
+            back.samples().expect("in memory"),
+        ) else {
             panic!("float samples")
         };
         assert!(a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()));

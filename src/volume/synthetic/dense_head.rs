@@ -215,7 +215,7 @@ mod tests {
     fn tissue_fills_most_of_the_box_and_most_bricks() {
         let n = 64;
         let v = dense_head(n, 1).expect("valid size");
-        let Samples::U8(s) = v.samples() else {
+        let Samples::U8(s) = v.samples().expect("in memory") else {
             panic!("the dense head is stored as u8")
         };
         // The superellipsoid covers about 78 % of the box (Monte Carlo estimate); the air
@@ -245,7 +245,7 @@ mod tests {
         // White matter 150, texture ±6, noise ±9, bias ±8 %: 124…178.
         let centre = v.value(n / 2, n / 2, n / 2);
         assert!((124.0..=178.0).contains(&centre), "centre {centre}");
-        let Samples::U8(s) = v.samples() else {
+        let Samples::U8(s) = v.samples().expect("in memory") else {
             panic!("the dense head is stored as u8")
         };
         let count_in = |lo: u8, hi: u8| s.iter().filter(|x| (lo..=hi).contains(*x)).count();

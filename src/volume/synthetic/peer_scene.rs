@@ -72,7 +72,7 @@ mod tests {
     #[test]
     fn mostly_zero_with_every_part_present() {
         let v = peer_scene(64).expect("scene");
-        let Samples::U8(s) = v.samples() else {
+        let Samples::U8(s) = v.samples().expect("in memory") else {
             panic!("uint8")
         };
         let zero = s.iter().filter(|&&x| x == 0).count() as f64 / s.len() as f64;

@@ -243,7 +243,7 @@ mod tests {
 
     /// Sizes of the 26-connected components of non-zero voxels, largest first.
     fn component_sizes(v: &Volume) -> Vec<usize> {
-        let Samples::U8(s) = v.samples() else {
+        let Samples::U8(s) = v.samples().expect("in memory") else {
             panic!("the vessel tree is stored as u8")
         };
         let n = v.dims()[0] as i64;

@@ -9,6 +9,7 @@
 
 mod ngff;
 mod read;
+mod source;
 pub mod write;
 
 use std::path::Path;
@@ -27,6 +28,7 @@ use super::limits;
 use super::load::LoadOptions;
 use super::model::{Provenance, Volume, VolumeIndex};
 use super::samples::{ScalarType, ValueMapping};
+use super::streamed::{BrickSource, Streamed};
 
 /// The metadata files a Zarr node may have, v3 first.
 const METADATA_FILES: [&str; 4] = ["zarr.json", ".zarray", ".zgroup", ".zattrs"];
@@ -78,23 +80,39 @@ pub(crate) fn load(
         ))
         .into());
     }
-    let selection = select(&axes, arrays[0].shape(), options)?;
-    let (index, scalar, dims) = finest_that_fits(&arrays, &selection)?;
-    let array = &arrays[index];
-    read::check_chunks(array, scalar)?;
+    let shape0 = arrays[0].shape().to_vec();
+    let selection = select(&axes, &shape0, options)?;
+    let scalar = read::scalar_type(&arrays[0])?;
     let progress = options.progress.as_deref();
-    limits::admit(progress, dims, scalar, false)?;
-    let (samples, faults) = read::read(array, &selection, dims, scalar, progress)?;
-    let (spacing, origin) = geometry(&axes, &selection, &image.levels, &arrays, index)?;
+    let full = dims_of(&shape0, &selection);
+    let (dims, bytes) = limits::check_dims_within(full, scalar, u64::MAX)?;
+    let budget = options.ram_budget.unwrap_or_else(default_ram_budget);
+    let available = limits::available_memory_bytes().unwrap_or(u64::MAX);
     let mut notes = Vec::new();
-    if index > 0 {
-        let full = dims_of(arrays[0].shape(), &selection);
+    let (voxels, faults) = if bytes <= budget && bytes <= available {
+        read::check_chunks(&arrays[0], scalar)?;
+        limits::admit(progress, dims, scalar, false)?;
+        let (samples, faults) = read::read(&arrays[0], &selection, dims, scalar, progress)?;
+        (Voxels::Whole(samples), faults)
+    } else {
+        for array in &arrays {
+            read::check_chunks(array, scalar)?;
+        }
+        limits::admit(progress, dims, scalar, false)?;
+        let source = source::ZarrSource::new(arrays, selection.clone(), scalar, budget)?;
+        let (streamed, faults) = preview(source, budget, scalar, progress)?;
+        let [px, py, pz] = streamed.preview().dims;
         notes.push(format!(
-            "shown at level {index} of the store ({}, {} x {} x {} voxels): level 0 ({} x {} x \
-             {}) needs more memory than this machine has",
-            image.levels[index].path, dims[0], dims[1], dims[2], full[0], full[1], full[2]
+            "read from the store brick by brick as the view needs them ({} of samples, more \
+             than the {} memory budget; --ram-budget sets it); statistics and info from level \
+             {} ({px} x {py} x {pz} voxels)",
+            crate::text::bytes(bytes),
+            crate::text::bytes(budget),
+            streamed.preview_level()
         ));
-    }
+        (Voxels::Streamed(streamed), faults)
+    };
+    let (spacing, origin) = geometry(&axes, &selection, &image.levels[0])?;
     if faults.failed > 0 {
         notes.push(format!(
             "{} of {} chunks could not be read and show the fill value ({})",
@@ -112,34 +130,45 @@ pub(crate) fn load(
     }
     let channel = selection_index(&axes, &selection, AxisKind::Channel);
     let window = (image.windows.get(channel.unwrap_or(0) as usize).copied()).flatten();
-    let volumes = chosen_of(&axes, arrays[0].shape(), &selection, AxisKind::Time);
-    let channels = chosen_of(&axes, arrays[0].shape(), &selection, AxisKind::Channel);
+    let volumes = chosen_of(&axes, &shape0, &selection, AxisKind::Time);
+    let channels = chosen_of(&axes, &shape0, &selection, AxisKind::Channel);
     let name = match &image.name {
         Some(n) if !n.is_empty() && n != &name => format!("{name} ({n})"),
         _ => name,
     };
+    let voxel_count = dims.iter().map(|&d| u64::from(d)).product();
     let facts = facts
         .as_ref()
-        .map(ngff::LeapViewFacts::of)
+        .map(|f| ngff::LeapViewFacts::of(f, voxel_count))
         .unwrap_or_default();
-    let volume = Volume::new(
-        name,
-        dims,
-        spacing,
-        samples,
-        facts.mapping.unwrap_or(ValueMapping::IDENTITY),
-    )?
+    let mapping = facts.mapping.unwrap_or(ValueMapping::IDENTITY);
+    let volume = match voxels {
+        Voxels::Whole(samples) => Volume::new(name, dims, spacing, samples, mapping)?,
+        Voxels::Streamed(streamed) => {
+            let volume = Volume::streamed(name, dims, spacing, streamed, mapping)?;
+            match facts.statistics {
+                // The store's own statistics of every voxel, where LeapView wrote them.
+                Some(s) => {
+                    if let Some(note) = notes.last_mut() {
+                        note.push_str("; range and histogram of every voxel, from the store");
+                    }
+                    volume.with_statistics(s.range, s.histogram, s.non_finite)
+                }
+                None => volume,
+            }
+        }
+    }
     .with_orientation(facts.orientation)
     .with_modality(facts.modality)
     .with_provenance(Provenance {
         notes,
         window: window.or(facts.window),
-        // LeapView's own origin is level 0's, in its orientation: a coarser level read
-        // instead has none that can be stated without the shift in that frame.
+        // LeapView's own origin is in its orientation's frame; the NGFF translation is in
+        // the axes' (RAS, assumed) and only stands where LeapView stated no orientation.
         origin_lps: match (facts.origin_lps, facts.orientation) {
-            (Some(o), _) if index == 0 => Some(o),
-            (_, Some(_)) => None,
-            _ => Some(origin),
+            (Some(o), _) => Some(o),
+            (None, Some(_)) => None,
+            (None, None) => Some(origin),
         },
         volumes,
         channels,
@@ -350,45 +379,72 @@ fn dims_of(shape: &[u64], selection: &Selection) -> [u64; 3] {
     [shape[i], shape[j], shape[k]]
 }
 
-/// The finest level whose samples this machine's memory holds: its index, type and dimensions.
-fn finest_that_fits(
-    arrays: &[ZarrArray],
-    selection: &Selection,
-) -> Result<(usize, ScalarType, [u32; 3]), VolumeError> {
-    let available = limits::available_memory_bytes();
-    let mut first_error = None;
-    for (index, array) in arrays.iter().enumerate() {
-        let scalar = read::scalar_type(array)?;
-        let fits = limits::check_dims(dims_of(array.shape(), selection), scalar).and_then(
-            |(dims, bytes)| match available {
-                Some(available) if bytes > available => {
-                    Err(VolumeError::NotEnoughMemory { bytes, available })
-                }
-                _ => Ok(dims),
-            },
-        );
-        match fits {
-            Ok(dims) => return Ok((index, scalar, dims)),
-            Err(e @ (VolumeError::TooLarge { .. } | VolumeError::NotEnoughMemory { .. })) => {
-                first_error.get_or_insert(e);
-            }
-            Err(e) => return Err(e),
-        }
-    }
-    Err(first_error.unwrap_or(VolumeError::Zarr(ZarrError::NoMultiscales)))
+/// Where a store's samples are read to.
+enum Voxels {
+    Whole(super::samples::Samples),
+    Streamed(Streamed),
 }
 
-/// Spacing (mm, x y z) of level `index` and the position of its first voxel's centre (LPS, mm,
-/// the axes taken as RAS): from its scale and translation, or, where the metadata gives no scale,
-/// 1 per voxel of level 0 and the shape ratio for coarser levels.
+/// The memory a store's samples may take by default: half of what the system has available
+/// (a level 0 larger is streamed), else 4 GiB where it does not say.
+fn default_ram_budget() -> u64 {
+    limits::available_memory_bytes().map_or(4 << 30, |a| a / 2)
+}
+
+/// The most voxels a preview level holds (32 MiB of 16-bit samples).
+const PREVIEW_VOXELS: u64 = 1 << 24;
+
+/// The streamed volume of `source`, with its preview read whole: the finest level of at most
+/// [`PREVIEW_VOXELS`] and a quarter of `budget`, read a slab at a time (progress, cancel).
+fn preview(
+    source: source::ZarrSource,
+    budget: u64,
+    scalar: ScalarType,
+    progress: Option<&super::progress::LoadProgress>,
+) -> Result<(Streamed, read::Faults), VolumeError> {
+    use super::downsample::{Level, level_dims};
+    let dims = source.dims();
+    let voxels = |d: [u32; 3]| d.iter().map(|&n| u64::from(n)).product::<u64>();
+    let most = PREVIEW_VOXELS.min(budget / 4 / scalar.size_bytes() as u64);
+    let level = (0..32)
+        .find(|&k| voxels(level_dims(dims, k)) <= most || level_dims(dims, k) == [1; 3])
+        .unwrap_or(0);
+    let d = level_dims(dims, level);
+    if let Some(p) = progress {
+        p.start(voxels(d) * scalar.size_bytes() as u64);
+    }
+    let slab = 16;
+    let mut parts = Vec::new();
+    for z0 in (0..d[2]).step_by(slab as usize) {
+        if progress.is_some_and(super::progress::LoadProgress::is_cancelled) {
+            return Err(VolumeError::Cancelled);
+        }
+        let z1 = (z0 + slab).min(d[2]);
+        parts.push(source.read_box(level, [0, 0, z0], [d[0], d[1], z1])?);
+        if let Some(p) = progress {
+            p.advance(
+                u64::from(d[0]) * u64::from(d[1]) * u64::from(z1 - z0) * scalar.size_bytes() as u64,
+            );
+        }
+    }
+    let samples = super::samples::Samples::concat(parts);
+    let faults = source.faults();
+    let preview = Level {
+        dims: d,
+        samples,
+        colour: None,
+    };
+    let streamed = Streamed::new(std::sync::Arc::new(source), dims, preview, level)?;
+    Ok((streamed, faults))
+}
+
+/// Spacing (mm, x y z) of level 0 and the position of its first voxel's centre (LPS, mm, the
+/// axes taken as RAS): from its scale and translation (1 per voxel where it gives no scale).
 fn geometry(
     axes: &[Axis],
     selection: &Selection,
-    levels: &[Level],
-    arrays: &[ZarrArray],
-    index: usize,
+    level: &Level,
 ) -> Result<([f64; 3], [f64; 3]), ZarrError> {
-    let level = &levels[index];
     let [k, j, i] = selection.space;
     let mut spacing = [0.0; 3];
     let mut origin = [0.0; 3];
@@ -402,10 +458,7 @@ fn geometry(
             })?,
             None => 1.0,
         };
-        let scale = match &level.scale {
-            Some(s) => s[axis],
-            None => arrays[0].shape()[axis] as f64 / arrays[index].shape()[axis].max(1) as f64,
-        };
+        let scale = level.scale.as_ref().map_or(1.0, |s| s[axis]);
         spacing[out] = scale * unit;
         origin[out] = level.translation.get(axis).copied().unwrap_or(0.0) * unit;
     }

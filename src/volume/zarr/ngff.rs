@@ -330,11 +330,56 @@ pub(super) struct LeapViewFacts {
     pub modality: Option<crate::volume::modality::Modality>,
     /// The display window (data units).
     pub window: Option<[f64; 2]>,
+    /// The whole volume's value range, histogram and count of non-finite samples.
+    pub statistics: Option<Statistics>,
+}
+
+/// A volume's statistics as LeapView computed them when it wrote the store.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Statistics {
+    /// The range of finite values (`None`: no value is finite).
+    pub range: Option<crate::volume::stats::ValueRange>,
+    /// The histogram over that range.
+    pub histogram: crate::volume::stats::Histogram,
+    /// NaN or infinite samples.
+    pub non_finite: u64,
+}
+
+impl Statistics {
+    /// The statistics of a `statistics` value, where well formed for `voxels` samples: the
+    /// histogram's counts and the non-finite ones add up to them.
+    fn of(value: &Value, voxels: u64) -> Option<Self> {
+        use crate::volume::stats::{HISTOGRAM_BINS, Histogram, ValueRange};
+        let range = match value.get("range")? {
+            Value::Null => None,
+            r => {
+                let (min, max) = (r.get(0)?.as_f64()?, r.get(1)?.as_f64()?);
+                (min.is_finite() && max.is_finite() && min <= max).then_some(())?;
+                Some(ValueRange { min, max })
+            }
+        };
+        let counts: Vec<u64> = (value.get("histogram")?.as_array()?.iter())
+            .map(Value::as_u64)
+            .collect::<Option<_>>()?;
+        let non_finite = value.get("non_finite")?.as_u64()?;
+        let total = counts
+            .iter()
+            .try_fold(non_finite, |a, &c| a.checked_add(c))?;
+        (counts.len() == HISTOGRAM_BINS && total == voxels).then_some(())?;
+        Some(Self {
+            range,
+            histogram: Histogram {
+                range: range.unwrap_or(ValueRange { min: 0.0, max: 0.0 }),
+                counts,
+            },
+            non_finite,
+        })
+    }
 }
 
 impl LeapViewFacts {
-    /// The facts of a `leapview` attribute.
-    pub(super) fn of(value: &Value) -> Self {
+    /// The facts of a `leapview` attribute of an image of `voxels` samples (level 0).
+    pub(super) fn of(value: &Value, voxels: u64) -> Self {
         use crate::volume::orientation::{Orientation, OrientationSource};
         let triple = |key: &str| -> Option<[f64; 3]> {
             let v: Vec<f64> = value
@@ -370,6 +415,9 @@ impl LeapViewFacts {
                 .and_then(Value::as_str)
                 .and_then(crate::volume::modality::Modality::parse),
             window,
+            statistics: value
+                .get("statistics")
+                .and_then(|s| Statistics::of(s, voxels)),
         }
     }
 }

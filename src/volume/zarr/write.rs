@@ -47,6 +47,9 @@ pub enum WriteError {
         /// What the system said.
         reason: String,
     },
+    /// The volume is read from its store as needed, not held whole.
+    #[error(transparent)]
+    Streamed(crate::volume::error::VolumeError),
     /// zarrs refused an array or its metadata.
     #[error("writing the Zarr array '{path}': {reason}")]
     Zarr {
@@ -77,6 +80,9 @@ pub fn write_ome_zarr(
     if out.exists() {
         return Err(WriteError::Exists(out.to_path_buf()));
     }
+    volume
+        .whole_samples("converting")
+        .map_err(WriteError::Streamed)?;
     let parent = out
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -147,8 +153,11 @@ fn write_all(
         .sum();
     let done = std::sync::atomic::AtomicU64::new(0);
     let mut coarser: Option<Samples> = None;
+    let whole = volume
+        .whole_samples("converting")
+        .map_err(WriteError::Streamed)?;
     for (k, &dims) in levels.iter().enumerate() {
-        let samples = coarser.as_ref().unwrap_or(volume.samples());
+        let samples = coarser.as_ref().unwrap_or(whole);
         let path = format!("/{k}");
         let array = level_array(&store, &path, dims, volume.scalar_type())?;
         array
@@ -313,6 +322,12 @@ fn attributes(
         "origin_lps": volume.provenance().origin_lps,
         "modality": volume.modality().map(|m| m.code()),
         "window": volume.provenance().window,
+    });
+    // The whole volume's statistics: a reader that streams the store sees only a coarse level.
+    leapview["statistics"] = json!({
+        "range": volume.value_range().map(|r| [r.min, r.max]),
+        "non_finite": volume.non_finite_count(),
+        "histogram": volume.histogram().counts,
     });
     if mapping != ValueMapping::IDENTITY {
         leapview["value_mapping"] = json!({"slope": mapping.slope, "intercept": mapping.intercept});

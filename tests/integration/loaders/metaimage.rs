@@ -33,8 +33,8 @@ fn assert_equal(a: &Volume, b: &Volume) {
 fn metaimage_files_of_a_shared_scan_equal_it() {
     let scan = load_ok(&data_dir().join("ct_head_cthead_256x256x113_uint16.nrrd"));
     let dir = common::TempDir::new("metaimage");
-    let little = to_bytes(scan.samples(), false);
-    let big = to_bytes(scan.samples(), true);
+    let little = to_bytes(scan.samples().expect("in memory"), false);
+    let big = to_bytes(scan.samples().expect("in memory"), true);
 
     // .mha, samples inline, little endian.
     let mut mha = header(

@@ -42,7 +42,7 @@ fn every_type_encoding_and_byte_order_round_trips() {
                 assert_eq!(v.name(), name);
                 assert_eq!(v.dims(), DIMS, "{name}");
                 assert_eq!(v.spacing_mm(), [0.5, 0.75, 2.0], "{name}");
-                assert_eq!(v.samples(), &samples, "{name}");
+                assert_eq!(v.samples().expect("in memory"), &samples, "{name}");
                 assert_eq!(v.mapping(), ValueMapping::IDENTITY, "{name}");
             }
         }
@@ -61,7 +61,7 @@ fn gz_is_gzip_and_single_byte_types_need_no_endian() {
         "encoding: gz",
     ];
     let v = load_ok(&dir.write("gz.nrrd", &nrrd_file(&lines, &data)));
-    assert_eq!(v.samples(), &samples);
+    assert_eq!(v.samples().expect("in memory"), &samples);
     assert_eq!(v.spacing_mm(), [1.0; 3], "no spacing given: 1 mm");
 }
 
@@ -79,7 +79,7 @@ fn detached_headers_with_line_and_byte_skips_round_trip() {
     let skips = ["data file: sub/data.bin", "line skip: 2", "byte skip: 7"];
     let lines = lines_with(ScalarType::I16, "raw", true, &skips);
     let v = load_ok(&dir.write("raw.nhdr", &file(&lines, b"")));
-    assert_eq!(v.samples(), &samples);
+    assert_eq!(v.samples().expect("in memory"), &samples);
 
     // Gzip: the line skip counts stored lines, the byte skip decompressed bytes.
     let mut data = b"stored line\n".to_vec();
@@ -89,7 +89,7 @@ fn detached_headers_with_line_and_byte_skips_round_trip() {
     let skips = [absolute.as_str(), "line skip: 1", "byte skip: 5"];
     let lines = lines_with(ScalarType::I16, "gzip", true, &skips);
     let v = load_ok(&dir.write("gz.nhdr", &file(&lines, b"")));
-    assert_eq!(v.samples(), &samples);
+    assert_eq!(v.samples().expect("in memory"), &samples);
 
     // `byte skip: -1`: the samples are the last bytes, after a prefix of any length.
     let mut data = vec![0xee; 123];
@@ -98,7 +98,7 @@ fn detached_headers_with_line_and_byte_skips_round_trip() {
     let skips = ["data file: tail.raw", "byte skip: -1"];
     let lines = lines_with(ScalarType::I16, "raw", true, &skips);
     let v = load_ok(&dir.write("tail.nhdr", &file(&lines, b"")));
-    assert_eq!(v.samples(), &samples);
+    assert_eq!(v.samples().expect("in memory"), &samples);
 
     // An attached header with a byte skip.
     let lines = lines_with(ScalarType::I16, "raw", true, &["byte skip: 3"]);
@@ -106,7 +106,7 @@ fn detached_headers_with_line_and_byte_skips_round_trip() {
         "skip.nrrd",
         &file(&lines, &[&[9, 9, 9], raw.as_slice()].concat()),
     ));
-    assert_eq!(v.samples(), &samples);
+    assert_eq!(v.samples().expect("in memory"), &samples);
 }
 
 #[test]
@@ -141,7 +141,7 @@ fn spacings_and_space_directions_give_the_same_spacing() {
                 v.spacing_mm()
             );
         }
-        assert_eq!(v.samples(), &samples);
+        assert_eq!(v.samples().expect("in memory"), &samples);
     }
 
     // A 4-D file whose first axis has one sample is a volume.
@@ -156,7 +156,7 @@ fn spacings_and_space_directions_give_the_same_spacing() {
     ];
     let v = load_ok(&dir.write("4d.nrrd", &nrrd_file(&lines, &data)));
     assert_eq!((v.dims(), v.spacing_mm()), (DIMS, [0.5, 0.75, 2.0]));
-    assert_eq!(v.samples(), &samples);
+    assert_eq!(v.samples().expect("in memory"), &samples);
 }
 
 #[test]
@@ -189,7 +189,7 @@ fn value_scaling_keys_give_data_units() {
         let lines = lines_with(ScalarType::U8, "raw", false, extra);
         let v = load_ok(&dir.write(&format!("{i}.nrrd"), &file(&lines, &data)));
         assert_eq!(v.mapping(), *mapping, "{extra:?}");
-        let stored = v.samples().get_f64(v.index(1, 2, 0));
+        let stored = v.samples().expect("in memory").get_f64(v.index(1, 2, 0));
         assert_eq!(v.value(1, 2, 0), stored * mapping.slope + mapping.intercept);
         let range = v.value_range().expect("finite");
         // samples_of puts 0 and 255 first: the stored range is the whole of u8.
@@ -222,7 +222,7 @@ fn raw_files_round_trip_in_every_type_and_byte_order() {
                 (v.name(), v.dims(), v.spacing_mm()),
                 (name.as_str(), DIMS, [0.25, 0.5, 3.0])
             );
-            assert_eq!(v.samples(), &samples, "{name}");
+            assert_eq!(v.samples().expect("in memory"), &samples, "{name}");
         }
     }
 }

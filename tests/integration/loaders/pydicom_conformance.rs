@@ -69,7 +69,7 @@ fn frame_difference(v: &Volume, k: u32, reference: &[f64], f: usize) -> f64 {
             for c in 0..channels {
                 let ours = match v.colour() {
                     Some(colour) => colour.channels()[c].get_f64(index),
-                    None => v.samples().get_f64(index),
+                    None => v.samples().expect("in memory").get_f64(index),
                 };
                 worst = worst.max((ours - reference[at + c]).abs());
             }

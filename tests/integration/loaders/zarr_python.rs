@@ -63,6 +63,32 @@ fn stores_written_by_zarr_python_and_ome_zarr_open_with_their_values() {
         }
         let reference = common::f64_file(&out.path().join(format!("{name}.f64")));
         common::assert_values_exactly(name, &v, &reference);
+        // Streamed (a memory budget of one byte): the same voxels, box by box, and every
+        // coarser level of LeapView's shape, whatever levels the store holds.
+        let budget = LoadOptions {
+            ram_budget: Some(1),
+            ..options(case)
+        };
+        let s = load_volume(&path, &budget).unwrap_or_else(|e| panic!("{name} streamed: {e}"));
+        let source = s.streaming().expect("streamed");
+        let whole = source.read_box(0, [0; 3], v.dims()).expect("level 0");
+        let held = v.samples().expect("in memory");
+        assert_eq!(whole.len(), held.len(), "{name}");
+        for i in 0..held.len() {
+            let (a, b) = (whole.get_f64(i), held.get_f64(i));
+            assert!(
+                a == b || (a.is_nan() && b.is_nan()),
+                "{name}: voxel {i}: {a} {b}"
+            );
+        }
+        for k in 1..4 {
+            let d = leapview::volume::downsample::level_dims(v.dims(), k);
+            let level = source.read_box(k, [0; 3], d).expect("a level");
+            assert_eq!(
+                level.len() as u64,
+                d.iter().map(|&n| u64::from(n)).product::<u64>()
+            );
+        }
     }
     for bad in all["errors"].as_array().expect("errors") {
         let path = out.path().join(bad["store"].as_str().expect("a store"));

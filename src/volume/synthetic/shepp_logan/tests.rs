@@ -120,7 +120,7 @@ fn values_stay_in_range_and_air_is_exact() {
         range.max
     );
     // The head is about 0.69·0.92·0.81·π/6 ≈ 27 % of the box; the rest is exact air.
-    let Samples::I16(s) = v.samples() else {
+    let Samples::I16(s) = v.samples().expect("in memory") else {
         panic!("the phantom is stored as i16")
     };
     let air = s.iter().filter(|&&x| x == -1000).count() as f64 / s.len() as f64;
@@ -174,7 +174,7 @@ fn edges_are_anti_aliased_not_staircased() {
     }
     // And over the whole surface: at n = 64 the head's surface is roughly 8000 voxels.
     let mut between = 0;
-    v.samples().for_each_f64(|x| {
+    v.samples().expect("in memory").for_each_f64(|x| {
         if x > AIR_HU + 50.0 && x < BRAIN_HU - 50.0 {
             between += 1;
         }
@@ -187,7 +187,10 @@ fn noise_is_mild_bounded_and_absent_in_air() {
     let n = 64;
     let clean = generate(n, 0.0).expect("valid size");
     let noisy = shepp_logan(n).expect("valid size");
-    let (Samples::I16(a), Samples::I16(b)) = (clean.samples(), noisy.samples()) else {
+    let (Samples::I16(a), Samples::I16(b)) = (
+        clean.samples().expect("in memory"),
+        noisy.samples().expect("in memory"),
+    ) else {
         panic!("the phantom is stored as i16")
     };
     let (mut n_brain, mut sum, mut sum_sq) = (0u32, 0.0, 0.0);

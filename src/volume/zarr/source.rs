@@ -1,0 +1,438 @@
+//! An OME-Zarr image read box by box as the GPU's bricks ask ([`BrickSource`]): a box of
+//! LeapView's level `k` comes from the coarsest store level that is no coarser along any axis,
+//! halved along each axis as often as that level is finer (a store written by `leapview
+//! convert` holds every level as LeapView halves it, so nothing is halved). Decoded tiles (a
+//! shard's inner chunks, else chunks) are kept in a cache of bounded bytes, least recently used
+//! first out: a brick and its apron straddle up to eight tiles, each read by its neighbours too.
+
+use std::collections::{BTreeMap, HashMap};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use zarrs::array::{ArrayShardedReadableExt, ArrayShardedReadableExtCache, CodecOptions};
+
+use super::read::{Selection, ZarrArray, tile_shape};
+use crate::volume::downsample::{halve_axes, halved_dims, level_dims};
+use crate::volume::error::VolumeError;
+use crate::volume::error::zarr::ZarrError;
+use crate::volume::samples::{Samples, ScalarType};
+use crate::volume::streamed::BrickSource;
+
+/// One level of the store as the source reads it.
+struct StoreLevel {
+    array: ZarrArray,
+    /// Its voxels along x, y, z.
+    dims: [u32; 3],
+    /// How many times each axis (x, y, z) of level 0 was halved to make it.
+    halvings: [u32; 3],
+    /// Its tiles' voxels along x, y, z.
+    tile: [u32; 3],
+    /// zarrs' shard indexes, read once a shard (emptied past [`MOST_SHARD_INDEXES`]).
+    shards: ArrayShardedReadableExtCache,
+}
+
+/// Shard indexes kept per level at most: a 256³ shard of 32³ chunks has an index of 8 KiB, so
+/// 32 MiB at most.
+const MOST_SHARD_INDEXES: usize = 4096;
+
+/// A decoded tile: its samples (x fastest) and voxels per axis.
+struct Tile {
+    samples: Samples,
+    dims: [u32; 3],
+}
+
+/// Which tile: the store level and its index along x, y, z.
+type TileKey = (usize, [u32; 3]);
+
+/// The decoded tiles held, least recently used first out under a byte budget.
+#[derive(Default)]
+struct Cache {
+    tiles: HashMap<TileKey, (std::sync::Arc<Tile>, u64)>,
+    by_use: BTreeMap<u64, TileKey>,
+    bytes: u64,
+    clock: u64,
+}
+
+impl Cache {
+    fn get(&mut self, key: &TileKey) -> Option<std::sync::Arc<Tile>> {
+        self.clock += 1;
+        let clock = self.clock;
+        let (tile, used) = self.tiles.get_mut(key)?;
+        self.by_use.remove(used);
+        *used = clock;
+        self.by_use.insert(clock, *key);
+        Some(std::sync::Arc::clone(tile))
+    }
+
+    fn put(&mut self, key: TileKey, tile: std::sync::Arc<Tile>, budget: u64) {
+        let bytes = tile_bytes(&tile);
+        if self.tiles.contains_key(&key) || bytes > budget {
+            return;
+        }
+        while self.bytes + bytes > budget {
+            let Some((_, oldest)) = self.by_use.pop_first() else {
+                break;
+            };
+            if let Some((gone, _)) = self.tiles.remove(&oldest) {
+                self.bytes -= tile_bytes(&gone);
+            }
+        }
+        self.clock += 1;
+        self.by_use.insert(self.clock, key);
+        self.tiles.insert(key, (tile, self.clock));
+        self.bytes += bytes;
+    }
+}
+
+fn tile_bytes(tile: &Tile) -> u64 {
+    (tile.samples.len() * tile.samples.scalar_type().size_bytes()) as u64
+}
+
+/// An OME-Zarr image's time point and channel, read a box at a time.
+pub(super) struct ZarrSource {
+    levels: Vec<StoreLevel>,
+    selection: Selection,
+    dims: [u32; 3],
+    scalar: ScalarType,
+    budget: u64,
+    cache: Mutex<Cache>,
+    /// Tiles decoded, those that failed to read (left at the fill value), and the first
+    /// failure in words.
+    decoded: AtomicU64,
+    failed: AtomicU64,
+    first_failure: Mutex<Option<String>>,
+}
+
+impl ZarrSource {
+    /// The source over `arrays` (the store's levels, finest first) of which `selection` is the
+    /// volume, of `dims` voxels (level 0) of `scalar`, caching up to `budget` bytes of tiles.
+    /// Levels whose shape is not level 0's halved along each axis some number of times are
+    /// left out.
+    pub(super) fn new(
+        arrays: Vec<ZarrArray>,
+        selection: Selection,
+        scalar: ScalarType,
+        budget: u64,
+    ) -> Result<Self, ZarrError> {
+        let dims_of = |a: &ZarrArray| {
+            let shape = a.shape();
+            let [k, j, i] = selection.space;
+            [shape[i], shape[j], shape[k]].map(|n| u32::try_from(n).unwrap_or(u32::MAX))
+        };
+        let mut levels = Vec::new();
+        let dims = arrays.first().map(dims_of).unwrap_or([1; 3]);
+        for array in arrays {
+            let d = dims_of(&array);
+            let Some(halvings) = halvings_of(dims, d) else {
+                log::debug!(
+                    "store level {} left out: {d:?} is no halving of {dims:?}",
+                    array.path()
+                );
+                continue;
+            };
+            let shape = tile_shape(&array)?;
+            let [k, j, i] = selection.space;
+            let tile = [shape[i], shape[j], shape[k]].map(|n| u32::try_from(n).unwrap_or(u32::MAX));
+            let shards = ArrayShardedReadableExtCache::new(&array);
+            levels.push(StoreLevel {
+                array,
+                dims: d,
+                halvings,
+                tile,
+                shards,
+            });
+        }
+        Ok(Self {
+            levels,
+            selection,
+            dims,
+            scalar,
+            budget,
+            cache: Mutex::new(Cache::default()),
+            decoded: AtomicU64::new(0),
+            failed: AtomicU64::new(0),
+            first_failure: Mutex::new(None),
+        })
+    }
+
+    /// Voxels of level 0 along x, y, z.
+    pub(super) fn dims(&self) -> [u32; 3] {
+        self.dims
+    }
+
+    /// The tiles that failed to read so far.
+    pub(super) fn faults(&self) -> super::read::Faults {
+        let failed = self.failed.load(Ordering::Relaxed);
+        super::read::Faults {
+            failed,
+            total: self.decoded.load(Ordering::Relaxed),
+            first: self.first_failure.lock().ok().and_then(|f| f.clone()),
+        }
+    }
+
+    /// The store level a box of LeapView's `level` is read from: the coarsest no coarser along
+    /// any axis (level 0 always qualifies).
+    fn level_for(&self, level: u32) -> usize {
+        (0..self.levels.len())
+            .filter(|&j| self.levels[j].halvings.iter().all(|&h| h <= level))
+            .max_by_key(|&j| self.levels[j].halvings.iter().sum::<u32>())
+            .unwrap_or(0)
+    }
+
+    /// Tile `at` of store level `j`, from the cache or decoded.
+    fn tile(&self, j: usize, at: [u32; 3]) -> Result<std::sync::Arc<Tile>, VolumeError> {
+        let key = (j, at);
+        if let Some(tile) = self.lock().get(&key) {
+            return Ok(tile);
+        }
+        let level = &self.levels[j];
+        let lo: [u32; 3] = std::array::from_fn(|a| at[a] * level.tile[a]);
+        let hi: [u32; 3] = std::array::from_fn(|a| (lo[a] + level.tile[a]).min(level.dims[a]));
+        let dims = std::array::from_fn(|a| hi[a] - lo[a]);
+        let samples = self.decode(level, lo, hi)?;
+        let tile = std::sync::Arc::new(Tile { samples, dims });
+        self.lock()
+            .put(key, std::sync::Arc::clone(&tile), self.budget);
+        Ok(tile)
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Cache> {
+        self.cache.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Decodes the box `lo..hi` (x, y, z) of `level` from the store; a tile that fails to read
+    /// is the fill value (logged once: the rest still renders).
+    fn decode(
+        &self,
+        level: &StoreLevel,
+        lo: [u32; 3],
+        hi: [u32; 3],
+    ) -> Result<Samples, VolumeError> {
+        let mut subset = vec![0..1; level.array.dimensionality()];
+        for &(axis, index) in &self.selection.fixed {
+            subset[axis] = index..index + 1;
+        }
+        let [k, j, i] = self.selection.space;
+        for (axis, a) in [(k, 2), (j, 1), (i, 0)] {
+            subset[axis] = u64::from(lo[a])..u64::from(hi[a]);
+        }
+        if level.shards.len() > MOST_SHARD_INDEXES {
+            level.shards.clear();
+        }
+        let cache = &level.shards;
+        // Bricks are read on every core at once: no threads inside a read.
+        let options = CodecOptions::default().with_concurrent_target(1);
+        macro_rules! typed {
+            ($t:ty, $variant:ident) => {{
+                self.decoded.fetch_add(1, Ordering::Relaxed);
+                match level
+                    .array
+                    .retrieve_array_subset_sharded_opt::<Vec<$t>>(cache, &subset, &options)
+                {
+                    Ok(v) => Samples::$variant(v),
+                    Err(e) => {
+                        if self.failed.fetch_add(1, Ordering::Relaxed) == 0 {
+                            if let Ok(mut first) = self.first_failure.lock() {
+                                *first = Some(format!(
+                                    "the chunk at {:?}..{:?} of '{}': {e}",
+                                    lo,
+                                    hi,
+                                    level.array.path()
+                                ));
+                            }
+                            log::warn!(
+                                "a chunk of the Zarr array '{}' could not be read and shows \
+                                 the fill value ({e}); the rest still renders",
+                                level.array.path()
+                            );
+                        }
+                        let n = (0..3).map(|a| (hi[a] - lo[a]) as usize).product::<usize>();
+                        let fill: $t = bytemuck::try_pod_read_unaligned(
+                            level.array.fill_value().as_ne_bytes(),
+                        )
+                        .unwrap_or_default();
+                        Samples::$variant(vec![fill; n])
+                    }
+                }
+            }};
+        }
+        Ok(match self.scalar {
+            ScalarType::U8 => typed!(u8, U8),
+            ScalarType::I8 => typed!(i8, I8),
+            ScalarType::U16 => typed!(u16, U16),
+            ScalarType::I16 => typed!(i16, I16),
+            ScalarType::U32 => typed!(u32, U32),
+            ScalarType::I32 => typed!(i32, I32),
+            ScalarType::F32 => typed!(f32, F32),
+            ScalarType::F64 => typed!(f64, F64),
+        })
+    }
+
+    /// The box `lo..hi` (x, y, z) of store level `j`, assembled from its tiles.
+    fn read_store_box(&self, j: usize, lo: [u32; 3], hi: [u32; 3]) -> Result<Samples, VolumeError> {
+        let level = &self.levels[j];
+        let dims: [u32; 3] = std::array::from_fn(|a| hi[a] - lo[a]);
+        let mut out = empty(self.scalar, dims.iter().map(|&d| d as usize).product());
+        let first: [u32; 3] = std::array::from_fn(|a| lo[a] / level.tile[a]);
+        let last: [u32; 3] = std::array::from_fn(|a| (hi[a] - 1) / level.tile[a]);
+        for tz in first[2]..=last[2] {
+            for ty in first[1]..=last[1] {
+                for tx in first[0]..=last[0] {
+                    let at = [tx, ty, tz];
+                    let tile = self.tile(j, at)?;
+                    let origin: [u32; 3] = std::array::from_fn(|a| at[a] * level.tile[a]);
+                    copy_overlap(&tile, origin, &mut out, (lo, dims));
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+impl BrickSource for ZarrSource {
+    fn read_box(&self, level: u32, lo: [u32; 3], hi: [u32; 3]) -> Result<Samples, VolumeError> {
+        let j = self.level_for(level);
+        let store = &self.levels[j];
+        // Halvings still to make along each axis, and the store's box that covers the box.
+        let rounds: [u32; 3] = std::array::from_fn(|a| level - store.halvings[a]);
+        let from: [u32; 3] = std::array::from_fn(|a| lo[a] << rounds[a]);
+        let to: [u32; 3] = std::array::from_fn(|a| {
+            (u64::from(hi[a]) << rounds[a]).min(u64::from(store.dims[a])) as u32
+        });
+        if (0..3).any(|a| from[a] >= to[a]) {
+            return Err(ZarrError::Metadata(format!(
+                "a box of level {level} past the store level's {:?} voxels",
+                store.dims
+            ))
+            .into());
+        }
+        let mut samples = self.read_store_box(j, from, to)?;
+        let mut dims: [u32; 3] = std::array::from_fn(|a| to[a] - from[a]);
+        for round in 0..rounds.iter().copied().max().unwrap_or(0) {
+            let axes = rounds.map(|r| r > round);
+            samples = halve_axes(&samples, dims, axes);
+            dims = halved_dims(dims, axes);
+        }
+        let want: [u32; 3] = std::array::from_fn(|a| hi[a] - lo[a]);
+        if dims != want {
+            return Err(ZarrError::Metadata(format!(
+                "a box of level {level} came out {dims:?} voxels for {want:?}"
+            ))
+            .into());
+        }
+        Ok(samples)
+    }
+
+    fn held_bytes(&self) -> u64 {
+        self.lock().bytes
+    }
+
+    fn budget_bytes(&self) -> u64 {
+        self.budget
+    }
+}
+
+/// How many times each axis of `dims` (level 0) was halved (`ceil(n / 2)`) to give `level`;
+/// `None` where an axis is no such halving.
+fn halvings_of(dims: [u32; 3], level: [u32; 3]) -> Option<[u32; 3]> {
+    let mut out = [0; 3];
+    for a in 0..3 {
+        out[a] = (0..32).find(|&h| level_dims([dims[a], 1, 1], h)[0] == level[a])?;
+        // An axis of one voxel halves to itself: count no halving.
+    }
+    Some(out)
+}
+
+/// `n` samples of `scalar`, zero.
+fn empty(scalar: ScalarType, n: usize) -> Samples {
+    match scalar {
+        ScalarType::U8 => Samples::U8(vec![0; n]),
+        ScalarType::I8 => Samples::I8(vec![0; n]),
+        ScalarType::U16 => Samples::U16(vec![0; n]),
+        ScalarType::I16 => Samples::I16(vec![0; n]),
+        ScalarType::U32 => Samples::U32(vec![0; n]),
+        ScalarType::I32 => Samples::I32(vec![0; n]),
+        ScalarType::F32 => Samples::F32(vec![0.0; n]),
+        ScalarType::F64 => Samples::F64(vec![0.0; n]),
+    }
+}
+
+/// Copies the part of `tile` (whose first voxel is `origin` of its level) inside the box
+/// `(lo, dims)` into `out`, the box's samples (x fastest).
+fn copy_overlap(
+    tile: &Tile,
+    origin: [u32; 3],
+    out: &mut Samples,
+    (lo, dims): ([u32; 3], [u32; 3]),
+) {
+    let start: [u32; 3] = std::array::from_fn(|a| origin[a].max(lo[a]));
+    let end: [u32; 3] = std::array::from_fn(|a| (origin[a] + tile.dims[a]).min(lo[a] + dims[a]));
+    if (0..3).any(|a| start[a] >= end[a]) {
+        return;
+    }
+    let width = (end[0] - start[0]) as usize;
+    macro_rules! copy {
+        ($src:expr, $dst:expr) => {
+            for z in start[2]..end[2] {
+                for y in start[1]..end[1] {
+                    let s = ((z - origin[2]) * tile.dims[1] + (y - origin[1])) as usize
+                        * tile.dims[0] as usize
+                        + (start[0] - origin[0]) as usize;
+                    let d = ((z - lo[2]) * dims[1] + (y - lo[1])) as usize * dims[0] as usize
+                        + (start[0] - lo[0]) as usize;
+                    $dst[d..d + width].copy_from_slice(&$src[s..s + width]);
+                }
+            }
+        };
+    }
+    match (&tile.samples, out) {
+        (Samples::U8(s), Samples::U8(d)) => copy!(s, d),
+        (Samples::I8(s), Samples::I8(d)) => copy!(s, d),
+        (Samples::U16(s), Samples::U16(d)) => copy!(s, d),
+        (Samples::I16(s), Samples::I16(d)) => copy!(s, d),
+        (Samples::U32(s), Samples::U32(d)) => copy!(s, d),
+        (Samples::I32(s), Samples::I32(d)) => copy!(s, d),
+        (Samples::F32(s), Samples::F32(d)) => copy!(s, d),
+        (Samples::F64(s), Samples::F64(d)) => copy!(s, d),
+        // Tiles are decoded in the source's one type.
+        _ => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_level_is_matched_to_the_halvings_of_each_axis() {
+        assert_eq!(halvings_of([100, 64, 7], [50, 32, 4]), Some([1, 1, 1]));
+        // ome-zarr-py keeps z whole by default.
+        assert_eq!(halvings_of([100, 64, 7], [25, 16, 7]), Some([2, 2, 0]));
+        // Floor instead of ceil is no LeapView halving.
+        assert_eq!(halvings_of([101, 64, 8], [50, 32, 4]), None);
+        assert_eq!(halvings_of([1, 64, 8], [1, 32, 4]), Some([0, 1, 1]));
+    }
+
+    #[test]
+    fn the_cache_lets_the_least_recently_used_tile_go_first() {
+        let tile = |n: usize| {
+            std::sync::Arc::new(Tile {
+                samples: Samples::U8(vec![0; n]),
+                dims: [n as u32, 1, 1],
+            })
+        };
+        let mut cache = Cache::default();
+        cache.put((0, [0; 3]), tile(40), 100);
+        cache.put((0, [1, 0, 0]), tile(40), 100);
+        assert!(cache.get(&(0, [0; 3])).is_some());
+        // Room for one more 40 only if [1, 0, 0], used least recently, goes.
+        cache.put((0, [2, 0, 0]), tile(40), 100);
+        assert!(cache.get(&(0, [1, 0, 0])).is_none());
+        assert!(cache.get(&(0, [0; 3])).is_some());
+        assert!(cache.get(&(0, [2, 0, 0])).is_some());
+        assert_eq!(cache.bytes, 80);
+        // A tile larger than the budget is not kept.
+        cache.put((1, [0; 3]), tile(200), 100);
+        assert!(cache.get(&(1, [0; 3])).is_none());
+    }
+}
