@@ -31,12 +31,21 @@ pub fn run(args: &ConvertArgs, raw: &RawArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Writes `volume` to `out` with a progress report on standard error: one rewritten line at a
-/// terminal, else a line per tenth.
+/// Writes `volume` to `out` with a progress report on standard error.
 pub fn write(
     volume: &leapview::volume::Volume,
     out: &Path,
     source: &Path,
+) -> Result<leapview::volume::zarr::write::Written, Failure> {
+    with_progress(|progress| write_ome_zarr(volume, out, &source.display().to_string(), progress))
+}
+
+/// Runs `write` with a progress report on standard error (one rewritten line at a terminal,
+/// else a line per tenth) and turns its error into a failure.
+pub fn with_progress(
+    write: impl FnOnce(
+        &(dyn Fn(f64) + Sync),
+    ) -> Result<leapview::volume::zarr::write::Written, WriteError>,
 ) -> Result<leapview::volume::zarr::write::Written, Failure> {
     let terminal = std::io::stderr().is_terminal();
     let shown = AtomicU32::new(0);
@@ -56,7 +65,7 @@ pub fn write(
             }
         }
     };
-    let written = write_ome_zarr(volume, out, &source.display().to_string(), &progress);
+    let written = write(&progress);
     if terminal && shown.load(Ordering::Relaxed) > 0 {
         eprintln!();
     }

@@ -7,13 +7,16 @@ use leapview::volume::nrrd::write::write_nrrd;
 use leapview::volume::synthetic::{dense_head, peer_scene, shepp_logan, vessel_tree};
 
 use super::Failure;
-use super::args::{GenerateArgs, Generated};
+use super::args::{GenerateArgs, Generated, RawArgs};
 use crate::cli::OrFail;
 
 /// Runs the command.
-pub fn run(args: &GenerateArgs) -> Result<(), Failure> {
+pub fn run(args: &GenerateArgs, raw: &RawArgs) -> Result<(), Failure> {
     let extension = args.out.extension().and_then(|e| e.to_str());
     let zarr = extension == Some("zarr");
+    if let Some(dims) = raw.dims {
+        return large_head(args, raw, dims, zarr);
+    }
     let dicom = !zarr && (extension.is_none() || args.out.is_dir());
     if !dicom && !zarr && !matches!(extension, Some("nrrd" | "nhdr")) {
         return Err(Failure::BadInput(anyhow::anyhow!(
@@ -85,5 +88,71 @@ pub fn run(args: &GenerateArgs) -> Result<(), Failure> {
         .with_context(|| format!("writing {}", args.out.display()))
         .map_err(Failure::Other)?;
     eprintln!("wrote {} ({what})", args.out.display());
+    Ok(())
+}
+
+/// `generate dense-head --dims X,Y,Z [--type uint16] --out NAME.zarr`: the dense head of any
+/// shape written slab by slab, never whole in memory.
+fn large_head(
+    args: &GenerateArgs,
+    raw: &RawArgs,
+    dims: [u32; 3],
+    zarr: bool,
+) -> Result<(), Failure> {
+    use leapview::volume::ScalarType;
+    use leapview::volume::synthetic::dense_head::{DenseHead, DenseHeadSlabs};
+    use leapview::volume::zarr::write::{Facts, write_store};
+    if !zarr || args.what != Generated::DenseHead {
+        return Err(Failure::BadInput(anyhow::anyhow!(
+            "--dims gives the shape of dense-head written as a .zarr store (slab by slab, any \
+             size); other volumes take --size"
+        )));
+    }
+    let scalar_type = match raw.scalar_type.as_deref().map(ScalarType::from_name) {
+        None => ScalarType::U8,
+        Some(Some(t @ (ScalarType::U8 | ScalarType::U16))) => t,
+        Some(_) => {
+            return Err(Failure::BadInput(anyhow::anyhow!(
+                "dense-head is written as uint8 or uint16 (--type)"
+            )));
+        }
+    };
+    if dims
+        .iter()
+        .any(|&d| d == 0 || d > leapview::volume::limits::MAX_DIMENSION)
+    {
+        return Err(Failure::BadInput(anyhow::anyhow!(
+            "--dims: each axis from 1 to {}",
+            leapview::volume::limits::MAX_DIMENSION
+        )));
+    }
+    let head = DenseHead::new(dims, args.seed);
+    let [x, y, z] = dims;
+    let name = format!("dense-head-{x}x{y}x{z}-seed-{}", args.seed);
+    let facts = Facts {
+        name: name.clone(),
+        spacing_mm: head.spacing_mm(),
+        mapping: leapview::volume::ValueMapping::IDENTITY,
+        orientation: None,
+        origin_lps: None,
+        modality: None,
+        window: None,
+        statistics: None,
+    };
+    let what = format!(
+        "dense head {x} x {y} x {z} {}, seed {}",
+        scalar_type.name(),
+        args.seed
+    );
+    let slabs = DenseHeadSlabs { head, scalar_type };
+    let written = super::convert::with_progress(|progress| {
+        write_store(&slabs, &facts, &args.out, &what, progress)
+    })?;
+    eprintln!(
+        "wrote {} ({what}; OME-Zarr, {} levels, {})",
+        args.out.display(),
+        written.levels.len(),
+        leapview::text::bytes(written.bytes)
+    );
     Ok(())
 }

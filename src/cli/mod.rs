@@ -69,7 +69,7 @@ pub fn run(command: Command, raw: &args::RawArgs) -> Result<(), Failure> {
         Command::Info(args) => info::run(args, raw),
         Command::Bench(args) => bench::run(*args),
         Command::Accuracy(args) => accuracy::run(*args),
-        Command::Generate(args) => generate::run(&args),
+        Command::Generate(args) => generate::run(&args, raw),
         Command::Convert(args) => convert::run(&args, raw),
         Command::Slice(args) => slice::run(&args, raw),
         Command::Shaders(args) => shaders::run(&args),

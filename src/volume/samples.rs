@@ -176,6 +176,20 @@ impl Samples {
         all
     }
 
+    /// A copy of the samples in `range`.
+    pub(crate) fn slice(&self, range: std::ops::Range<usize>) -> Self {
+        match self {
+            Self::U8(v) => Self::U8(v[range].to_vec()),
+            Self::I8(v) => Self::I8(v[range].to_vec()),
+            Self::U16(v) => Self::U16(v[range].to_vec()),
+            Self::I16(v) => Self::I16(v[range].to_vec()),
+            Self::U32(v) => Self::U32(v[range].to_vec()),
+            Self::I32(v) => Self::I32(v[range].to_vec()),
+            Self::F32(v) => Self::F32(v[range].to_vec()),
+            Self::F64(v) => Self::F64(v[range].to_vec()),
+        }
+    }
+
     /// The samples at `indices`, in their order (each inside the samples).
     pub(crate) fn gather(&self, indices: &[usize]) -> Self {
         match self {

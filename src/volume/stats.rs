@@ -56,7 +56,7 @@ pub struct Histogram {
 
 impl Histogram {
     /// The bin a value falls into, clamped to the first and last bin.
-    fn bin_of(&self, value: f64) -> usize {
+    pub(crate) fn bin_of(&self, value: f64) -> usize {
         let n = self.counts.len();
         if n == 0 || self.range.width() <= 0.0 {
             return 0;

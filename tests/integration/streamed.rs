@@ -200,7 +200,7 @@ fn a_streamed_store_renders_as_the_volume_in_memory_at_once_and_frame_by_frame()
 }
 
 #[test]
-fn a_streamed_store_is_never_one_texture_nor_written_as_if_whole() {
+fn a_streamed_store_is_never_one_texture_nor_written_as_if_whole_but_converts_slab_by_slab() {
     let volume = structured();
     let dir = common::TempDir::new("streamed-refusals");
     let streamed = streamed_copy(&volume, &dir);
@@ -214,12 +214,70 @@ fn a_streamed_store_is_never_one_texture_nor_written_as_if_whole() {
         .expect_err("one texture")
         .to_string();
     assert!(e.contains("brick by brick"), "{e}");
-    let e = write_ome_zarr(&streamed, &dir.path().join("again.zarr"), "", &|_| {})
-        .expect_err("not whole")
-        .to_string();
-    assert!(e.contains("needs the whole volume in memory"), "{e}");
     let e = leapview::volume::nrrd::write::write_nrrd(&streamed, &dir.path().join("a.nrrd"), "")
         .expect_err("not whole")
         .to_string();
     assert!(e.contains("needs the whole volume in memory"), "{e}");
+    // Written again as a store from its store, a slab at a time: the same voxels, levels and
+    // statistics.
+    let again = dir.path().join("again.ome.zarr");
+    let written = write_ome_zarr(&streamed, &again, "the store", &|_| {}).expect("written");
+    assert_eq!(written.levels[0], volume.dims());
+    let back = load_volume(&again, &LoadOptions::default()).expect("opened");
+    assert!(back.samples() == volume.samples(), "the voxels differ");
+    assert_eq!(back.histogram(), volume.histogram());
+}
+
+#[test]
+fn a_generated_head_of_any_shape_is_written_slab_by_slab_and_read_by_zarr_python() {
+    use leapview::volume::synthetic::dense_head::DenseHead;
+    let dir = common::TempDir::new("generated-store");
+    let store = dir.path().join("head.ome.zarr");
+    let out = common::leapview(&[
+        "generate",
+        "dense-head",
+        "--dims",
+        "70,40,300",
+        "--type",
+        "uint16",
+        "--seed",
+        "3",
+        "--out",
+        &store.display().to_string(),
+    ]);
+    assert!(out.status.success(), "{}", common::stderr(&out));
+    let v = load_volume(&store, &LoadOptions::default()).expect("opened");
+    assert_eq!(v.dims(), [70, 40, 300]);
+    let want = DenseHead::new([70, 40, 300], 3).slab_u16(0, 300);
+    assert!(
+        v.samples() == Some(&Samples::U16(want.clone())),
+        "the voxels differ"
+    );
+    // The statistics counted while writing are every voxel's.
+    let counted = Volume::new(
+        "c",
+        v.dims(),
+        v.spacing_mm(),
+        Samples::U16(want),
+        ValueMapping::IDENTITY,
+    )
+    .expect("valid");
+    assert_eq!(v.value_range(), counted.value_range());
+    assert_eq!(v.histogram(), counted.histogram());
+    let values: Vec<u8> = (0..v.sample_count() as usize)
+        .flat_map(|i| v.samples().expect("in memory").get_f64(i).to_le_bytes())
+        .collect();
+    let values_path = dir.write("values.f64", &values);
+    common::run_python("zarr_check.py", &[&store, &values_path]);
+    // Other volumes, or other outputs, take --size.
+    let out = common::leapview(&[
+        "generate",
+        "vessels",
+        "--dims",
+        "8,8,8",
+        "--out",
+        "x.ome.zarr",
+    ]);
+    assert!(!out.status.success());
+    assert!(common::stderr(&out).contains("--dims gives the shape of dense-head"));
 }

@@ -18,6 +18,7 @@ use glam::{DMat3, DVec3};
 use super::rng::{SplitMix64, unit_noise};
 use super::{coverage, cube_len};
 use crate::parallel::fill_slabs;
+use crate::volume::zarr::write::Slabs;
 use crate::volume::{error::VolumeError, model::Volume, samples::Samples, samples::ValueMapping};
 
 /// Edge of the cubic field of view, millimetres (0.78 mm voxels at `n = 256`).
@@ -127,70 +128,162 @@ fn ventricle(u: [f64; 3], h: f64) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The dense head on a grid of any shape: each voxel's value (before rounding) found from its
+/// position alone, so any slab of it is made without the rest (`leapview generate --dims`
+/// writes ones larger than memory). The head fills the box along each axis; voxels are
+/// [`FIELD_OF_VIEW_MM`] over the axis's voxels.
+pub struct DenseHead {
+    dims: [u32; 3],
+    seed: u64,
+    /// A voxel's size in normalised units (2 over the longest axis).
+    h: f64,
+    sulci: ValueNoise,
+    sulci_fine: ValueNoise,
+    texture: ValueNoise,
+    bias: ValueNoise,
+}
+
+impl DenseHead {
+    /// The head on a grid of `dims` (each at least 1); `seed` decides the texture, the bias
+    /// field and the noise.
+    pub fn new(dims: [u32; 3], seed: u64) -> Self {
+        let mut rng = SplitMix64::new(seed);
+        let sulci = ValueNoise::new(&mut rng, SULCUS_CELLS);
+        let sulci_fine = ValueNoise::new(&mut rng, SULCUS_CELLS * 3 / 2);
+        let texture = ValueNoise::new(&mut rng, 8);
+        let bias = ValueNoise::new(&mut rng, 2);
+        let dims = dims.map(|d| d.max(1));
+        Self {
+            dims,
+            seed,
+            h: 2.0 / f64::from(dims.into_iter().max().unwrap_or(1)),
+            sulci,
+            sulci_fine,
+            texture,
+            bias,
+        }
+    }
+
+    /// Spacing along x, y, z: the field of view over each axis's voxels.
+    pub fn spacing_mm(&self) -> [f64; 3] {
+        self.dims.map(|d| FIELD_OF_VIEW_MM / f64::from(d))
+    }
+
+    /// The value of voxel `(x, y, z)` before rounding (0 to 255 but for rare noise).
+    fn value(&self, [x, y, z]: [usize; 3]) -> f64 {
+        let [nx, ny, _] = self.dims.map(|d| d as usize);
+        let h = self.h;
+        let unit: [f64; 3] =
+            std::array::from_fn(|a| ([x, y, z][a] as f64 + 0.5) / f64::from(self.dims[a]));
+        let u = unit.map(|c| 2.0 * c - 1.0);
+        let index = (x + nx * (y + ny * z)) as u64;
+        let rho = outline_radius(u);
+        if rho >= 1.0 + 0.5 * h {
+            // Magnitude noise floor in air: |noise| · 2, at most 6.
+            return 2.0 * unit_noise(self.seed, index).abs();
+        }
+        // Near the surface the outline's radius is close to a normalised distance, so the
+        // layers get one-voxel partial-volume edges; each layer covers the one outside it.
+        let mut value = 0.0;
+        for (boundary, intensity) in LAYERS {
+            value += (intensity - value) * coverage(rho - boundary, h);
+        }
+        let depth = BRAIN_SURFACE - rho;
+        if depth > SULCUS_DEPTH + CORTEX + h {
+            // Deep white matter: no sulcus reaches here, and none is within a cortex.
+            value = WHITE_MATTER;
+            value += (CSF - value) * ventricle(u, h);
+        } else if depth > -h {
+            // Sulci: sheets where the field is near zero, narrowing to their fundus 16 mm
+            // below the surface. The field changes by about one per half cell, which turns
+            // it into a distance; below the fundus the distance is at least the depth past it.
+            let width = SULCUS_HALF_WIDTH * (1.0 - depth / SULCUS_DEPTH).max(0.0);
+            let field = 0.6 * self.sulci.at(unit) + 0.4 * self.sulci_fine.at(unit);
+            let to_sulcus = ((field.abs() - width) / SULCUS_CELLS as f64).max(depth - SULCUS_DEPTH);
+            let in_brain = coverage(-depth, h);
+            value += (CSF - value) * coverage(to_sulcus, h) * in_brain;
+            // White matter lies deeper than one cortical thickness from any CSF.
+            let to_csf = depth.min(to_sulcus);
+            value += (WHITE_MATTER - value) * coverage(CORTEX - to_csf, h) * in_brain;
+            value += (CSF - value) * ventricle(u, h);
+        }
+        let tissue = coverage(rho - 1.0, h);
+        value +=
+            tissue * (6.0 * self.texture.at(unit) + TISSUE_NOISE * unit_noise(self.seed, index));
+        value * (1.0 + 0.08 * self.bias.at(unit))
+    }
+
+    /// Slices `z0..z1` (x fastest), each value `scale` times the 8-bit one, rounded.
+    fn slab<T: Copy + Default + Send>(
+        &self,
+        z0: u32,
+        z1: u32,
+        convert: impl Fn(f64) -> T + Sync,
+    ) -> Vec<T> {
+        let [nx, ny, _] = self.dims.map(|d| d as usize);
+        let plane = nx * ny;
+        let mut out = vec![T::default(); plane * (z1 - z0) as usize];
+        fill_slabs(&mut out, plane, |z_first, slab| {
+            for (i, v) in slab.iter_mut().enumerate() {
+                let z = z0 as usize + z_first + i / plane;
+                *v = convert(self.value([i % nx, (i / nx) % ny, z]));
+            }
+        });
+        out
+    }
+
+    /// Slices `z0..z1` as 8-bit samples (0–255).
+    pub fn slab_u8(&self, z0: u32, z1: u32) -> Vec<u8> {
+        // Adding ½ and truncating rounds the non-negative values like `round`, but cheaply.
+        self.slab(z0, z1, |v| (v.clamp(0.0, 255.0) + 0.5) as u8)
+    }
+
+    /// Slices `z0..z1` as 16-bit samples: the 8-bit scale times 257 (0–65535), rounded.
+    pub fn slab_u16(&self, z0: u32, z1: u32) -> Vec<u16> {
+        self.slab(z0, z1, |v| (v.clamp(0.0, 255.0) * 257.0 + 0.5) as u16)
+    }
+}
+
+/// The head's slices as a store is written from them ([`Slabs`]), 8- or 16-bit.
+pub struct DenseHeadSlabs {
+    /// The head.
+    pub head: DenseHead,
+    /// `U8` or `U16` (any other type is written as `U16`).
+    pub scalar_type: crate::volume::samples::ScalarType,
+}
+
+impl Slabs for DenseHeadSlabs {
+    fn dims(&self) -> [u32; 3] {
+        self.head.dims
+    }
+
+    fn scalar_type(&self) -> crate::volume::samples::ScalarType {
+        match self.scalar_type {
+            crate::volume::samples::ScalarType::U8 => crate::volume::samples::ScalarType::U8,
+            _ => crate::volume::samples::ScalarType::U16,
+        }
+    }
+
+    fn read(&self, z0: u32, z1: u32) -> Result<Samples, VolumeError> {
+        Ok(match self.scalar_type() {
+            crate::volume::samples::ScalarType::U8 => Samples::U8(self.head.slab_u8(z0, z1)),
+            _ => Samples::U16(self.head.slab_u16(z0, z1)),
+        })
+    }
+}
+
 /// A dense MR-like head on an `n³` grid (`u8`), spacing [`FIELD_OF_VIEW_MM`]` / n`; `seed`
 /// decides the texture, the bias field and the noise.
 ///
 /// Fails with [`VolumeError::ZeroDimension`] when `n` is zero.
 pub fn dense_head(n: u32, seed: u64) -> Result<Volume, VolumeError> {
-    let len = cube_len(n, crate::volume::samples::ScalarType::U8)?;
-    let nu = n as usize;
-    let h = 2.0 / n as f64;
-    let mut rng = SplitMix64::new(seed);
-    let sulci = ValueNoise::new(&mut rng, SULCUS_CELLS);
-    let sulci_fine = ValueNoise::new(&mut rng, SULCUS_CELLS * 3 / 2);
-    let texture = ValueNoise::new(&mut rng, 8);
-    let bias = ValueNoise::new(&mut rng, 2);
-    let mut samples = vec![0u8; len];
-    fill_slabs(&mut samples, nu * nu, |z_first, slab| {
-        for (i, out) in slab.iter_mut().enumerate() {
-            let (x, y, z) = (i % nu, (i / nu) % nu, z_first + i / (nu * nu));
-            let unit = [x, y, z].map(|c| (c as f64 + 0.5) / n as f64);
-            let u = unit.map(|c| 2.0 * c - 1.0);
-            let index = (i + z_first * nu * nu) as u64;
-            let rho = outline_radius(u);
-            if rho >= 1.0 + 0.5 * h {
-                // Magnitude noise floor in air: |noise| · 2, at most 6.
-                *out = (2.0 * unit_noise(seed, index).abs()).round() as u8;
-                continue;
-            }
-            // Near the surface the outline's radius is close to a normalised distance, so the
-            // layers get one-voxel partial-volume edges; each layer covers the one outside it.
-            let mut value = 0.0;
-            for (boundary, intensity) in LAYERS {
-                value += (intensity - value) * coverage(rho - boundary, h);
-            }
-            let depth = BRAIN_SURFACE - rho;
-            if depth > SULCUS_DEPTH + CORTEX + h {
-                // Deep white matter: no sulcus reaches here, and none is within a cortex.
-                value = WHITE_MATTER;
-                value += (CSF - value) * ventricle(u, h);
-            } else if depth > -h {
-                // Sulci: sheets where the field is near zero, narrowing to their fundus 16 mm
-                // below the surface. The field changes by about one per half cell, which turns
-                // it into a distance; below the fundus the distance is at least the depth past it.
-                let width = SULCUS_HALF_WIDTH * (1.0 - depth / SULCUS_DEPTH).max(0.0);
-                let field = 0.6 * sulci.at(unit) + 0.4 * sulci_fine.at(unit);
-                let to_sulcus =
-                    ((field.abs() - width) / SULCUS_CELLS as f64).max(depth - SULCUS_DEPTH);
-                let in_brain = coverage(-depth, h);
-                value += (CSF - value) * coverage(to_sulcus, h) * in_brain;
-                // White matter lies deeper than one cortical thickness from any CSF.
-                let to_csf = depth.min(to_sulcus);
-                value += (WHITE_MATTER - value) * coverage(CORTEX - to_csf, h) * in_brain;
-                value += (CSF - value) * ventricle(u, h);
-            }
-            let tissue = coverage(rho - 1.0, h);
-            value += tissue * (6.0 * texture.at(unit) + TISSUE_NOISE * unit_noise(seed, index));
-            value *= 1.0 + 0.08 * bias.at(unit);
-            // Adding ½ and truncating rounds the non-negative values like `round`, but cheaply.
-            *out = (value.clamp(0.0, 255.0) + 0.5) as u8;
-        }
-    });
+    cube_len(n, crate::volume::samples::ScalarType::U8)?;
+    let head = DenseHead::new([n; 3], seed);
     Volume::new(
         format!("dense-head-{n}-seed-{seed}"),
         [n; 3],
         [FIELD_OF_VIEW_MM / n as f64; 3],
-        Samples::U8(samples),
+        Samples::U8(head.slab_u8(0, n)),
         ValueMapping::IDENTITY,
     )
 }

@@ -7,6 +7,7 @@
 //! orientation (NGFF has none), so the volume opens as RAS, assumed. Chunks absent from the store
 //! read as the array's fill value; a chunk that fails to decode is left at it, said once.
 
+mod levels;
 mod ngff;
 mod read;
 mod source;
