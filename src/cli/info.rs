@@ -89,6 +89,11 @@ fn load_sampled(
         LoadProgress::default().with_slice_stride(stride),
     ));
     let volume = leapview::volume::load_volume(path, &options).bad_input()?;
+    // A reader that reads every slice anyway (an OME-Zarr store: whole, or a preview level of
+    // it where it is streamed) leaves the volume as the header said.
+    if shape.is_some_and(|s| s.dims == volume.dims()) {
+        return Ok((volume, 1, None));
+    }
     Ok((volume, stride, shape.map(|s| s.dims)))
 }
 

@@ -67,7 +67,7 @@ pub fn run(command: Command, raw: &args::RawArgs) -> Result<(), Failure> {
     match command {
         Command::Render(args) => render::run(*args, raw),
         Command::Info(args) => info::run(args, raw),
-        Command::Bench(args) => bench::run(*args),
+        Command::Bench(args) => bench::run(*args, raw),
         Command::Accuracy(args) => accuracy::run(*args),
         Command::Generate(args) => generate::run(&args, raw),
         Command::Convert(args) => convert::run(&args, raw),

@@ -164,4 +164,7 @@ pub enum Action {
     SetLayout(layout::Layout),
     /// Keep the volume within this much GPU memory (`None`: the default) and load it again.
     SetGpuBudget(Option<u64>),
+    /// Keep an OME-Zarr store's samples within this much memory (`None`: the default) and load
+    /// the volume again.
+    SetRamBudget(Option<u64>),
 }

@@ -75,6 +75,9 @@ pub struct ViewerState {
     /// past it the volume is shown from bricks of a coarser level. `--gpu-budget` sets it for a
     /// run.
     pub gpu_budget: Option<u64>,
+    /// The most memory an OME-Zarr store's samples may take, in bytes (`None`: half the memory
+    /// available); a store larger is read brick by brick. `--ram-budget` sets it for a run.
+    pub ram_budget: Option<u64>,
     /// Frames averaged, at shifted sample grids, once the view is still (1: no refinement).
     pub refine_frames: u32,
     /// Whether the orientation marker (R/A/S axes) is drawn in the view's corner.
@@ -113,6 +116,7 @@ impl Default for ViewerState {
             show_readout: true,
             developer_readout: false,
             gpu_budget: None,
+            ram_budget: None,
             show_orientation_marker: true,
             refine_frames: DEFAULT_REFINE_FRAMES,
             recent: Vec::new(),

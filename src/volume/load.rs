@@ -76,6 +76,10 @@ fn load(path: &Path, options: &LoadOptions) -> Result<Volume, VolumeError> {
         |n| n.to_string_lossy().into_owned(),
     );
     let progress = options.progress.as_deref();
+    // An http(s):// or s3:// address is a remote OME-Zarr store.
+    if zarr::is_remote(path) {
+        return zarr::load(path, name, options);
+    }
     // A folder is an OME-Zarr store, a stack of TIFF slices, else a DICOM series (or several).
     if options.raw.is_none() && std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
         if zarr::is_store(path) {

@@ -21,6 +21,11 @@ pub trait BrickSource: Send + Sync {
 
     /// The most bytes its cache may hold.
     fn budget_bytes(&self) -> u64;
+
+    /// How many boxes are best read at once (the cores; more where reads wait on a network).
+    fn readers(&self) -> usize {
+        crate::parallel::cores()
+    }
 }
 
 /// A volume's samples read from a [`BrickSource`], with the preview held whole.
@@ -111,6 +116,11 @@ impl Streamed {
     /// Which level the preview is.
     pub fn preview_level(&self) -> u32 {
         self.preview_level
+    }
+
+    /// How many boxes are best read at once.
+    pub fn readers(&self) -> usize {
+        self.source.readers()
     }
 
     /// Bytes the source's cache holds now, and the most it may.
@@ -208,6 +218,22 @@ pub(crate) mod tests {
             let l = MemorySource::new(Samples::U16((0..30).collect()), dims, 2);
             l.level(1).samples.get_f64(2)
         });
+    }
+
+    #[test]
+    fn a_box_from_the_preview_takes_the_preview_voxel_holding_each() {
+        let dims = [8, 4, 4];
+        let source = Arc::new(MemorySource::new(Samples::U16((0..128).collect()), dims, 3));
+        let preview = source.level(1).clone();
+        let streamed = Streamed::new(source.clone(), dims, preview.clone(), 1).expect("streamed");
+        // Level 0: each voxel that of the level-1 voxel holding it.
+        let fine = streamed.preview_box(0, [2, 1, 0], [6, 2, 1]);
+        let at = |x: u32| preview.samples.get_f64(x as usize) as u16;
+        assert_eq!(fine, Samples::U16(vec![at(1), at(1), at(2), at(2)]));
+        // Level 1: the preview itself; level 2: every other preview voxel.
+        assert_eq!(streamed.preview_box(1, [0; 3], [4, 2, 2]), preview.samples);
+        let coarse = streamed.preview_box(2, [0, 0, 0], [2, 1, 1]);
+        assert_eq!(coarse, Samples::U16(vec![at(0), at(2)]));
     }
 
     #[test]

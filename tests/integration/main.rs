@@ -36,6 +36,7 @@ mod readme;
 mod recompute;
 mod reference_match;
 mod refine;
+mod remote;
 mod shaders;
 mod slice;
 mod slice_real;

@@ -324,6 +324,16 @@ fn side_panel_edits_the_viewer_state() {
         Some(&Action::SetGpuBudget(Some(1_000_000_000)))
     );
     h.state_mut().actions.clear();
+    // The memory an OME-Zarr store may take: likewise.
+    h.get_by_label("Store memory").click();
+    h.run();
+    h.get_by_label("8.0 GB").click();
+    h.run();
+    assert_eq!(
+        h.state().actions.last(),
+        Some(&Action::SetRamBudget(Some(8_000_000_000)))
+    );
+    h.state_mut().actions.clear();
 
     // Projection and views need the camera: the panel hands them to the app.
     h.get_by_label("Orthographic").click();

@@ -30,7 +30,7 @@ use progress::Progress;
 const SETTLE_FRAMES: u32 = 30;
 
 /// Runs the command.
-pub fn run(args: BenchArgs) -> Result<(), Failure> {
+pub fn run(args: BenchArgs, raw: &crate::cli::args::RawArgs) -> Result<(), Failure> {
     if let Some(dirs) = &args.merge {
         let out = args
             .out
@@ -41,7 +41,7 @@ pub fn run(args: BenchArgs) -> Result<(), Failure> {
         return finish(&out, &summary);
     }
     if let Some(file) = &args.stream {
-        return stream::run(&args, file);
+        return stream::run(&args, file, raw);
     }
     let mut config = BenchConfig::load(&args.config).bad_input()?;
     if args.quick {

@@ -49,10 +49,24 @@ struct Row {
     /// What the GPU memory allocator held after the frame in its memory blocks, and of that
     /// what was allocated (bytes), where the backend reports it.
     held: Option<(u64, u64)>,
+    /// The process's resident memory after the frame (bytes), where the system says.
+    rss: Option<u64>,
+}
+
+/// The process's resident memory now and at its peak (`VmRSS`, `VmHWM` of /proc/self/status),
+/// bytes.
+fn resident_memory() -> Option<(u64, u64)> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let field = |name: &str| -> Option<u64> {
+        let line = status.lines().find(|l| l.starts_with(name))?;
+        let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+        Some(kib * 1024)
+    };
+    Some((field("VmRSS:")?, field("VmHWM:")?))
 }
 
 /// Runs the streaming measurement on `file`.
-pub fn run(args: &BenchArgs, file: &Path) -> Result<(), Failure> {
+pub fn run(args: &BenchArgs, file: &Path, raw: &RawArgs) -> Result<(), Failure> {
     let out = args
         .out
         .clone()
@@ -60,11 +74,8 @@ pub fn run(args: &BenchArgs, file: &Path) -> Result<(), Failure> {
     let ctx = GpuContext::headless().failed()?;
     let adapter = ctx.adapter_summary();
     let load_start = Instant::now();
-    let volume = Arc::new(load_for_gpu(
-        file,
-        &RawArgs::default(),
-        (&ctx, args.gpu.gpu_budget),
-    )?);
+    // The input options (--ram-budget, --orientation, …) as any command takes them.
+    let volume = Arc::new(load_for_gpu(file, raw, (&ctx, args.gpu.gpu_budget))?);
     let load_s = load_start.elapsed().as_secs_f64();
     let mode = args
         .modes
@@ -144,6 +155,7 @@ pub fn run(args: &BenchArgs, file: &Path) -> Result<(), Failure> {
                 .device
                 .generate_allocator_report()
                 .map(|r| (r.total_reserved_bytes, r.total_allocated_bytes)),
+            rss: resident_memory().map(|m| m.0),
         });
         frame += 1;
         Ok::<_, Failure>(renderer.residency_complete())
@@ -177,6 +189,7 @@ pub fn run(args: &BenchArgs, file: &Path) -> Result<(), Failure> {
         budget: args.gpu.gpu_budget,
         load_s,
         texture: texture.as_deref().unwrap_or("no volume"),
+        cache: volume.streaming().map(|s| s.cache_bytes()),
         allocated: Allocated {
             texture: renderer.volume_texture().map_or(0, |t| t.texture_bytes()),
             leap: renderer.leap_bytes().unwrap_or(0),
@@ -201,15 +214,16 @@ fn write(path: &Path, text: &str) -> Result<(), Failure> {
 fn csv(rows: &[Row]) -> String {
     let mut s = String::from(
         "phase,frame,azimuth_deg,wall_ms,gpu_ms,rebuild_ms,residency_ms,since_upload_ms,levels,\
-         resident,wanted,missing,bytes,allocator_bytes\n",
+         resident,wanted,missing,bytes,allocator_bytes,rss_bytes\n",
     );
     for r in rows {
         let gpu = r.gpu_ms.map(|g| format!("{g:.3}")).unwrap_or_default();
         let rebuild = r.rebuild_ms.map(|g| format!("{g:.3}")).unwrap_or_default();
         let held = r.held.map(|h| h.0.to_string()).unwrap_or_default();
+        let rss = r.rss.map(|m| m.to_string()).unwrap_or_default();
         let _ = writeln!(
             s,
-            "{},{},{:.1},{:.3},{gpu},{rebuild},{:.3},{:.1},\"{}\",{},{},{},{},{held}",
+            "{},{},{:.1},{:.3},{gpu},{rebuild},{:.3},{:.1},\"{}\",{},{},{},{},{held},{rss}",
             r.phase,
             r.frame,
             r.azimuth,
@@ -237,6 +251,8 @@ struct Summary<'a> {
     budget: Option<u64>,
     load_s: f64,
     texture: &'a str,
+    /// A streamed store's cache of decoded chunks at the end, and its budget (bytes).
+    cache: Option<(u64, u64)>,
     allocated: Allocated,
     rows: &'a [Row],
 }
@@ -302,6 +318,25 @@ fn summary(s: &Summary) -> String {
         format!("{:.1} MB", b as f64 / 1e6)
     });
     let _ = writeln!(t, "- GPU budget: {budget}; at the end: {}", s.texture);
+    if let Some((held, most)) = s.cache {
+        let _ = writeln!(
+            t,
+            "- read from its store brick by brick: decoded chunks cached {} of {}",
+            leapview::text::bytes(held),
+            leapview::text::bytes(most)
+        );
+    }
+    if let Some((now, peak)) = resident_memory() {
+        let most = s.rows.iter().filter_map(|r| r.rss).max().unwrap_or(0);
+        let _ = writeln!(
+            t,
+            "- process memory (resident): peak {} (VmHWM, loading included), largest after a \
+             frame {}, at the end {}",
+            leapview::text::bytes(peak),
+            leapview::text::bytes(most),
+            leapview::text::bytes(now)
+        );
+    }
     if let Some(first) = s.rows.first() {
         let _ = writeln!(
             t,

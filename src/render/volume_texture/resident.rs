@@ -205,11 +205,11 @@ impl Resident {
         } else {
             (None, None)
         };
-        let fetcher = volume.streaming().and_then(|_| {
+        let fetcher = volume.streaming().and_then(|streamed| {
+            let threads = streamed.readers();
             let (volume, encoding) = (Arc::clone(&volume), encoding);
             let encode: super::fetch::Encode =
                 Arc::new(move |key| encode_streamed(&volume, &encoding, brick_vox, key));
-            let threads = crate::parallel::cores();
             Fetcher::new(threads, encode)
                 .map_err(|e| log::warn!("no threads to read bricks on ({e}): frames read them"))
                 .ok()

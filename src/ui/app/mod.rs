@@ -151,6 +151,9 @@ impl LeapViewApp {
         if gpu_budget.is_some() {
             state.gpu_budget = gpu_budget;
         }
+        if load_options.ram_budget.is_some() {
+            state.ram_budget = load_options.ram_budget;
+        }
         let mut loader = Loader::default();
         loader.check_against(crate::render::GpuContext::new(
             &rs.adapter,
@@ -192,6 +195,15 @@ impl LeapViewApp {
     }
 
     fn start_loading(&mut self, source: VolumeSource, ctx: &egui::Context) {
+        // The memory budget as the window sets it now, whatever it was when the file was first
+        // opened.
+        let source = match source {
+            VolumeSource::File { path, mut options } => {
+                options.ram_budget = self.state.ram_budget;
+                VolumeSource::File { path, options }
+            }
+            other => other,
+        };
         if let Err(e) = self.loader.start(source, ctx, self.state.gpu_budget) {
             self.dialogs.show_error(e.to_string());
         }
@@ -323,6 +335,12 @@ impl LeapViewApp {
             Action::Reorient(orientation) => self.reorient(orientation, ctx),
             Action::SetGpuBudget(budget) => {
                 self.state.gpu_budget = budget;
+                if let Some(source) = self.shown_source.clone() {
+                    self.start_loading(source, ctx);
+                }
+            }
+            Action::SetRamBudget(budget) => {
+                self.state.ram_budget = budget;
                 if let Some(source) = self.shown_source.clone() {
                     self.start_loading(source, ctx);
                 }

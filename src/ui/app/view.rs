@@ -297,7 +297,14 @@ fn draw_probe(
     match probe.value {
         Some(v) => {
             use crate::transfer::fit::DataKind;
-            text.push_str(&format!("   value {}", crate::text::number_to(v, 5)));
+            match probe.preview_level {
+                // A streamed volume's value is its preview's: the mean of 2^level voxels a side.
+                Some(level) => text.push_str(&format!(
+                    "   value ≈ {} (level {level})",
+                    crate::text::number_to(v, 5)
+                )),
+                None => text.push_str(&format!("   value {}", crate::text::number_to(v, 5))),
+            }
             // CT: in Hounsfield units, or the calibration's HU beside scanner units.
             match kind {
                 Some(DataKind::CtHounsfield { .. }) => text.push_str(" HU"),

@@ -131,6 +131,9 @@ pub fn controls_ui(
                     if let Some(budget) = gpu_budget_row(ui, state.gpu_budget) {
                         action = Some(Action::SetGpuBudget(budget));
                     }
+                    if let Some(budget) = ram_budget_row(ui, state.ram_budget) {
+                        action = Some(Action::SetRamBudget(budget));
+                    }
                 });
         });
     action
@@ -151,16 +154,57 @@ const GPU_BUDGETS: [u64; 8] = [
 /// The GPU memory a volume may take (the default: a share of what the driver reports free);
 /// a new choice, where one was made.
 fn gpu_budget_row(ui: &mut egui::Ui, budget: Option<u64>) -> Option<Option<u64>> {
-    let name = |b: Option<u64>| b.map_or_else(|| "default".to_string(), crate::text::bytes);
-    let label = ui.label("GPU memory").on_hover_text(
+    budget_row(
+        ui,
+        ("GPU memory", "gpu budget"),
         "The most GPU memory the volume may take; past it the volume is shown from bricks of a \
          coarser level (the overlay says so). Changing it loads the volume again.",
-    );
+        &GPU_BUDGETS,
+        budget,
+    )
+}
+
+/// Budgets the store-memory list offers, in bytes.
+const RAM_BUDGETS: [u64; 7] = [
+    1_000_000_000,
+    2_000_000_000,
+    4_000_000_000,
+    8_000_000_000,
+    16_000_000_000,
+    32_000_000_000,
+    64_000_000_000,
+];
+
+/// The memory an OME-Zarr store's samples may take (the default: half the memory available);
+/// a new choice, where one was made.
+fn ram_budget_row(ui: &mut egui::Ui, budget: Option<u64>) -> Option<Option<u64>> {
+    budget_row(
+        ui,
+        ("Store memory", "ram budget"),
+        "The most memory an OME-Zarr store's samples may take; a larger store is read brick by \
+         brick as the view needs them, its decoded chunks cached within this. Changing it loads \
+         the volume again.",
+        &RAM_BUDGETS,
+        budget,
+    )
+}
+
+/// A row choosing a budget among `options` (or the default) under `label`; a new choice,
+/// where one was made.
+fn budget_row(
+    ui: &mut egui::Ui,
+    (label, id): (&str, &str),
+    hover: &str,
+    options: &[u64],
+    budget: Option<u64>,
+) -> Option<Option<u64>> {
+    let name = |b: Option<u64>| b.map_or_else(|| "default".to_string(), crate::text::bytes);
+    let label = ui.label(label).on_hover_text(hover);
     let mut chosen = None;
-    ComboBox::from_id_salt("gpu budget")
+    ComboBox::from_id_salt(id)
         .selected_text(name(budget))
         .show_ui(ui, |ui| {
-            for option in std::iter::once(None).chain(GPU_BUDGETS.map(Some)) {
+            for option in std::iter::once(None).chain(options.iter().copied().map(Some)) {
                 if ui
                     .selectable_label(budget == option, name(option))
                     .clicked()

@@ -58,6 +58,9 @@ pub struct Probe {
     pub voxel: Option<[u32; 3]>,
     /// Its value in data units (the nearest voxel's), `None` outside or where it is missing.
     pub value: Option<f64>,
+    /// Of a volume read from its store brick by brick, the preview level the value is the
+    /// mean of (`None`: the voxel's own).
+    pub preview_level: Option<u32>,
 }
 
 /// What a pane's gestures asked for this pass.
@@ -278,6 +281,7 @@ impl SlicePane {
                     patient,
                     voxel,
                     value,
+                    preview_level: source.volume.streaming().map(|s| s.preview_level()),
                 });
             }
         }

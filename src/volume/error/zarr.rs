@@ -3,12 +3,20 @@
 /// What is wrong with an OME-Zarr store, in words a user can act on.
 #[derive(Debug, thiserror::Error)]
 pub enum ZarrError {
-    /// The folder holds no Zarr metadata at all.
+    /// The folder (or address) holds no Zarr metadata at all.
     #[error(
-        "this folder is not a Zarr store: it holds no zarr.json (Zarr v3) and no .zgroup, \
-         .zattrs or .zarray (Zarr v2)"
+        "this is not a Zarr store: it holds no zarr.json (Zarr v3) and no .zgroup, .zattrs or \
+         .zarray (Zarr v2)"
     )]
     NotAStore,
+    /// A remote store could not be reached or set up.
+    #[error("the store at {address} cannot be read: {reason}")]
+    Remote {
+        /// The address.
+        address: String,
+        /// What the client said.
+        reason: String,
+    },
     /// The store's root is a group without OME multiscales.
     #[error(
         "the Zarr group holds no OME-Zarr image: its attributes have no 'multiscales' (open the \

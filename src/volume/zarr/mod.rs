@@ -10,6 +10,8 @@
 mod levels;
 mod ngff;
 mod read;
+#[cfg(feature = "remote")]
+mod remote;
 mod source;
 pub mod write;
 
@@ -42,26 +44,39 @@ pub(crate) fn is_store(path: &Path) -> bool {
     METADATA_FILES.iter().any(|f| path.join(f).is_file())
 }
 
-/// Opens the OME-Zarr image (or plain Zarr array) in the folder `path`.
+/// Whether `path` is the address of a remote store (`http://`, `https://`, `s3://`).
+pub(crate) fn is_remote(path: &Path) -> bool {
+    let text = path.to_string_lossy().to_ascii_lowercase();
+    ["http://", "https://", "s3://"]
+        .iter()
+        .any(|scheme| text.starts_with(scheme))
+}
+
+/// Opens the OME-Zarr image (or plain Zarr array) in the folder `path`, or at the address
+/// `path` names (see [`is_remote`]).
 pub(crate) fn load(
     path: &Path,
     name: String,
     options: &LoadOptions,
 ) -> Result<Volume, VolumeError> {
-    if !is_store(path) {
-        return Err(ZarrError::NotAStore.into());
-    }
-    let store: Arc<dyn ReadableStorageTraits> =
+    let store: Store = if is_remote(path) {
+        remote_store(path)?
+    } else {
+        if !is_store(path) {
+            return Err(ZarrError::NotAStore.into());
+        }
         Arc::new(FilesystemStore::new(path).map_err(|e| ZarrError::Open {
             what: "group",
             path: "/".into(),
             reason: e.to_string(),
-        })?);
-    let (root, image, facts) = image_of(path, &store)?;
+        })?)
+    };
+    let remote = is_remote(path);
+    let (root, image, facts) = image_of(&store)?;
     let arrays = image
         .levels
         .iter()
-        .map(|level| open_array(path, &store, &join(&root, &level.path)))
+        .map(|level| open_array(&store, &join(&root, &level.path)))
         .collect::<Result<Vec<_>, _>>()?;
     let ndim = arrays[0].dimensionality();
     let axes = match &image.axes {
@@ -100,8 +115,13 @@ pub(crate) fn load(
             read::check_chunks(array, scalar)?;
         }
         limits::admit(progress, dims, scalar, false)?;
-        let source = source::ZarrSource::new(arrays, selection.clone(), scalar, budget)?;
-        let (streamed, faults) = preview(source, budget, scalar, progress)?;
+        // The budget holds the preview and the cache of decoded chunks.
+        let level = preview_level(dims, budget, scalar);
+        let held = voxels(super::downsample::level_dims(dims, level)) * scalar.size_bytes() as u64;
+        let cache = budget.saturating_sub(held);
+        let source =
+            source::ZarrSource::new(arrays, selection.clone(), scalar, cache)?.remote(remote);
+        let (streamed, faults) = preview(source, level, scalar, progress)?;
         let [px, py, pz] = streamed.preview().dims;
         notes.push(format!(
             "read from the store brick by brick as the view needs them ({} of samples, more \
@@ -187,12 +207,51 @@ fn join(root: &str, child: &str) -> String {
     }
 }
 
+/// A store as this reader takes it: a folder, or a remote store read synchronously.
+type Store = Arc<dyn ReadableStorageTraits>;
+
+/// The remote store at `path` (an `http(s)://` or `s3://` address).
+#[cfg(feature = "remote")]
+fn remote_store(path: &Path) -> Result<Store, ZarrError> {
+    remote::open(&path.to_string_lossy())
+}
+
+/// Without the `remote` feature: refused, saying so.
+#[cfg(not(feature = "remote"))]
+fn remote_store(_: &Path) -> Result<Store, ZarrError> {
+    Err(ZarrError::Metadata(
+        "this LeapView was built without remote stores (cargo feature 'remote')".into(),
+    ))
+}
+
+/// The key of `file` in the node at `node` (`/` or `/0`).
+fn key(node: &str, file: &str) -> Result<zarrs::storage::StoreKey, ZarrError> {
+    let node = node.trim_matches('/');
+    let text = if node.is_empty() {
+        file.to_string()
+    } else {
+        format!("{node}/{file}")
+    };
+    zarrs::storage::StoreKey::new(text).map_err(|e| ZarrError::Metadata(e.to_string()))
+}
+
+/// The size of `file` in the node `node`, where it exists (`None` also where the store cannot
+/// say: zarrs' own error then names the failure).
+fn size_of(store: &Store, node: &str, file: &str) -> Result<Option<u64>, ZarrError> {
+    store
+        .size_key(&key(node, file)?)
+        .map_err(|e| ZarrError::Open {
+            what: "group",
+            path: node.into(),
+            reason: e.to_string(),
+        })
+}
+
 /// Refuses a node whose metadata files are larger than [`MAX_METADATA_BYTES`], before zarrs
 /// reads one whole.
-fn check_metadata(dir: &Path, node: &str) -> Result<(), ZarrError> {
-    let folder = dir.join(node.trim_start_matches('/'));
+fn check_metadata(store: &Store, node: &str) -> Result<(), ZarrError> {
     for file in METADATA_FILES {
-        let len = std::fs::metadata(folder.join(file)).map_or(0, |m| m.len());
+        let len = size_of(store, node, file)?.unwrap_or(0);
         if len > MAX_METADATA_BYTES {
             return Err(ZarrError::Metadata(format!(
                 "{node}/{file} takes {}, more than the {} a metadata file may",
@@ -206,16 +265,20 @@ fn check_metadata(dir: &Path, node: &str) -> Result<(), ZarrError> {
 
 /// The group path and image of the store, and its `leapview` attribute: its root's multiscales, those of `0/` under a
 /// bioformats2raw root, or the root array itself as a one-level image without metadata.
-fn image_of(
-    dir: &Path,
-    store: &Arc<dyn ReadableStorageTraits>,
-) -> Result<(String, Image, Option<serde_json::Value>), ZarrError> {
-    check_metadata(dir, "/")?;
-    if is_array(dir) {
+fn image_of(store: &Store) -> Result<(String, Image, Option<serde_json::Value>), ZarrError> {
+    check_metadata(store, "/")?;
+    let mut any = false;
+    for file in METADATA_FILES {
+        any |= size_of(store, "/", file)?.is_some();
+    }
+    if !any {
+        return Err(ZarrError::NotAStore);
+    }
+    if is_array(store)? {
         return Ok(("/".into(), bare_image(), None));
     }
     let attributes = |node: &str| -> Result<serde_json::Map<String, serde_json::Value>, ZarrError> {
-        check_metadata(dir, node)?;
+        check_metadata(store, node)?;
         Group::open(Arc::clone(store), node)
             .map(|g| g.attributes().clone())
             .map_err(|e| ZarrError::Open {
@@ -238,15 +301,21 @@ fn image_of(
     Err(ZarrError::NoMultiscales)
 }
 
-/// Whether the folder's root node is an array (v2 `.zarray`, or v3 `node_type: array`).
-fn is_array(dir: &Path) -> bool {
-    if dir.join(".zarray").is_file() {
-        return true;
+/// Whether the store's root node is an array (v2 `.zarray`, or v3 `node_type: array`).
+fn is_array(store: &Store) -> Result<bool, ZarrError> {
+    if size_of(store, "/", ".zarray")?.is_some() {
+        return Ok(true);
     }
-    std::fs::read(dir.join("zarr.json"))
-        .ok()
-        .and_then(|bytes| serde_json::from_slice::<serde_json::Value>(&bytes).ok())
-        .is_some_and(|v| v.get("node_type").and_then(|t| t.as_str()) == Some("array"))
+    let bytes = store
+        .get(&key("/", "zarr.json")?)
+        .map_err(|e| ZarrError::Open {
+            what: "group",
+            path: "/".into(),
+            reason: e.to_string(),
+        })?;
+    Ok(bytes
+        .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+        .is_some_and(|v| v.get("node_type").and_then(|t| t.as_str()) == Some("array")))
 }
 
 /// A plain array read as an image: one level, no axes or transformations.
@@ -264,12 +333,8 @@ fn bare_image() -> Image {
     }
 }
 
-fn open_array(
-    dir: &Path,
-    store: &Arc<dyn ReadableStorageTraits>,
-    node: &str,
-) -> Result<ZarrArray, ZarrError> {
-    check_metadata(dir, node)?;
+fn open_array(store: &Store, node: &str) -> Result<ZarrArray, ZarrError> {
+    check_metadata(store, node)?;
     Array::open(Arc::clone(store), node).map_err(|e| ZarrError::Open {
         what: "array",
         path: node.into(),
@@ -395,21 +460,30 @@ fn default_ram_budget() -> u64 {
 /// The most voxels a preview level holds (32 MiB of 16-bit samples).
 const PREVIEW_VOXELS: u64 = 1 << 24;
 
-/// The streamed volume of `source`, with its preview read whole: the finest level of at most
-/// [`PREVIEW_VOXELS`] and a quarter of `budget`, read a slab at a time (progress, cancel).
+fn voxels(d: [u32; 3]) -> u64 {
+    d.iter().map(|&n| u64::from(n)).product()
+}
+
+/// The preview level of a volume of `dims` streamed under `budget`: the finest of at most
+/// [`PREVIEW_VOXELS`] and a quarter of the budget (at most one voxel).
+fn preview_level(dims: [u32; 3], budget: u64, scalar: ScalarType) -> u32 {
+    use super::downsample::level_dims;
+    let most = PREVIEW_VOXELS.min(budget / 4 / scalar.size_bytes() as u64);
+    (0..32)
+        .find(|&k| voxels(level_dims(dims, k)) <= most || level_dims(dims, k) == [1; 3])
+        .unwrap_or(0)
+}
+
+/// The streamed volume of `source`, with its preview, `level`, read whole a slab at a time
+/// (progress, cancel).
 fn preview(
     source: source::ZarrSource,
-    budget: u64,
+    level: u32,
     scalar: ScalarType,
     progress: Option<&super::progress::LoadProgress>,
 ) -> Result<(Streamed, read::Faults), VolumeError> {
     use super::downsample::{Level, level_dims};
     let dims = source.dims();
-    let voxels = |d: [u32; 3]| d.iter().map(|&n| u64::from(n)).product::<u64>();
-    let most = PREVIEW_VOXELS.min(budget / 4 / scalar.size_bytes() as u64);
-    let level = (0..32)
-        .find(|&k| voxels(level_dims(dims, k)) <= most || level_dims(dims, k) == [1; 3])
-        .unwrap_or(0);
     let d = level_dims(dims, level);
     if let Some(p) = progress {
         p.start(voxels(d) * scalar.size_bytes() as u64);

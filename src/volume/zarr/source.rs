@@ -101,6 +101,8 @@ pub(super) struct ZarrSource {
     decoded: AtomicU64,
     failed: AtomicU64,
     first_failure: Mutex<Option<String>>,
+    /// Whether the store is remote (reads wait on the network, not the cores).
+    remote: bool,
 }
 
 impl ZarrSource {
@@ -152,7 +154,14 @@ impl ZarrSource {
             decoded: AtomicU64::new(0),
             failed: AtomicU64::new(0),
             first_failure: Mutex::new(None),
+            remote: false,
         })
+    }
+
+    /// The source, said to read from a remote store (`remote`): more readers at once.
+    pub(super) fn remote(mut self, remote: bool) -> Self {
+        self.remote = remote;
+        self
     }
 
     /// Voxels of level 0 along x, y, z.
@@ -330,7 +339,20 @@ impl BrickSource for ZarrSource {
     fn budget_bytes(&self) -> u64 {
         self.budget
     }
+
+    fn readers(&self) -> usize {
+        let cores = crate::parallel::cores();
+        // A remote store's reads wait on round trips: many at once hide them.
+        if self.remote {
+            cores.max(REMOTE_READERS)
+        } else {
+            cores
+        }
+    }
 }
+
+/// Readers of a remote store at once, at least.
+const REMOTE_READERS: usize = 16;
 
 /// How many times each axis of `dims` (level 0) was halved (`ceil(n / 2)`) to give `level`;
 /// `None` where an axis is no such halving.

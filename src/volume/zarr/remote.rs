@@ -1,0 +1,86 @@
+//! Stores at an address: `http://` and `https://` (any server that answers range requests with
+//! 206, as object stores and most file servers do) and `s3://bucket/path` (AWS or any
+//! S3-compatible server, configured by the usual `AWS_*` environment variables: credentials,
+//! `AWS_REGION`, `AWS_ENDPOINT_URL`, `AWS_ALLOW_HTTP`, `AWS_SKIP_SIGNATURE` for public
+//! buckets), through `object_store`, read synchronously on a tokio runtime of LeapView's own.
+
+use std::sync::{Arc, OnceLock};
+
+use zarrs::storage::ReadableStorageTraits;
+use zarrs_object_store::AsyncObjectStore;
+use zarrs_object_store::object_store::aws::AmazonS3Builder;
+use zarrs_object_store::object_store::http::HttpBuilder;
+use zarrs_object_store::object_store::prefix::PrefixStore;
+use zarrs_object_store::object_store::{ClientOptions, ObjectStore};
+use zarrs_storage::storage_adapter::async_to_sync::{
+    AsyncToSyncBlockOn, AsyncToSyncStorageAdapter,
+};
+
+use crate::volume::error::zarr::ZarrError;
+
+/// The runtime the stores' requests run on: one for the process, started on first use.
+fn runtime() -> Result<&'static tokio::runtime::Runtime, ZarrError> {
+    static RUNTIME: OnceLock<Result<tokio::runtime::Runtime, String>> = OnceLock::new();
+    RUNTIME
+        .get_or_init(|| {
+            tokio::runtime::Builder::new_multi_thread()
+                .worker_threads(2)
+                .thread_name("store requests")
+                .enable_all()
+                .build()
+                .map_err(|e| e.to_string())
+        })
+        .as_ref()
+        .map_err(|e| ZarrError::Remote {
+            address: String::new(),
+            reason: format!("no runtime for network requests: {e}"),
+        })
+}
+
+/// Runs a store's futures to completion on [`runtime`] (from any thread but the runtime's own).
+struct BlockOn(tokio::runtime::Handle);
+
+impl AsyncToSyncBlockOn for BlockOn {
+    fn block_on<F: core::future::Future>(&self, future: F) -> F::Output {
+        self.0.block_on(future)
+    }
+}
+
+/// The store at `address`.
+pub(super) fn open(address: &str) -> Result<Arc<dyn ReadableStorageTraits>, ZarrError> {
+    let refused = |reason: String| ZarrError::Remote {
+        address: address.to_string(),
+        reason,
+    };
+    let lower = address.to_ascii_lowercase();
+    let store: Arc<dyn ObjectStore> = if lower.starts_with("s3://") {
+        let rest = &address["s3://".len()..];
+        let (bucket, prefix) = rest.split_once('/').unwrap_or((rest, ""));
+        if bucket.is_empty() {
+            return Err(refused(
+                "an s3:// address names a bucket: s3://BUCKET/PATH".into(),
+            ));
+        }
+        let s3 = AmazonS3Builder::from_env()
+            .with_bucket_name(bucket)
+            .build()
+            .map_err(|e| refused(e.to_string()))?;
+        match prefix.trim_matches('/') {
+            "" => Arc::new(s3),
+            p => Arc::new(PrefixStore::new(s3, p)),
+        }
+    } else {
+        let http = HttpBuilder::new()
+            .with_url(address.trim_end_matches('/'))
+            .with_client_options(ClientOptions::new().with_allow_http(true))
+            .build()
+            .map_err(|e| refused(e.to_string()))?;
+        Arc::new(http)
+    };
+    let handle = runtime()?.handle().clone();
+    let asynchronous = Arc::new(AsyncObjectStore::new(store));
+    Ok(Arc::new(AsyncToSyncStorageAdapter::new(
+        asynchronous,
+        BlockOn(handle),
+    )))
+}
