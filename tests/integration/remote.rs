@@ -1,7 +1,8 @@
 //! OME-Zarr stores at an address (`volume::zarr::remote`), served on loopback by an
 //! S3-compatible server (moto, `scripts/python/s3_server.py`) that answers both S3 requests and
-//! plain HTTP range requests: read over `s3://` and `http://` they give the voxels, facts and
-//! pictures of the same store in a folder, whole or brick by brick; a chunk that fails to decode
+//! path-style HTTP range requests, and by a plain HTTP file server with ranges
+//! (`scripts/python/http_server.py`): read over `s3://` and `http://` they give the voxels, facts
+//! and pictures of the same store in a folder, whole or brick by brick; a chunk that fails to decode
 //! is said once and the rest renders; missing stores, buckets and servers are refused with the
 //! reason.
 
@@ -20,11 +21,26 @@ struct Server {
 }
 
 impl Server {
+    /// The S3 server, serving `folders` in bucket `bkt`.
     fn start(folders: &[&Path]) -> Self {
+        let mut args = vec![Path::new("bkt")];
+        args.extend_from_slice(folders);
+        Self::run("s3_server.py", &args)
+    }
+
+    /// A plain HTTP file server of `folder`.
+    fn files(folder: &Path) -> Self {
+        Self::run("http_server.py", &[folder])
+    }
+
+    fn run(script: &str, args: &[&Path]) -> Self {
         let mut child = Command::new(common::python())
-            .arg(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scripts/python/s3_server.py"))
-            .arg("bkt")
-            .args(folders)
+            .arg(
+                PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                    .join("scripts/python")
+                    .join(script),
+            )
+            .args(args)
             .stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::null())

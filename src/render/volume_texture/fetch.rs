@@ -15,6 +15,9 @@ const IN_FLIGHT: usize = 64;
 /// Bricks come and not yet sent that are kept, at most (those no frame wanted lately go).
 const READY_MOST: usize = 256;
 
+/// How long [`Fetcher::wait_for`] waits for any brick to come before it gives up.
+const PATIENCE: std::time::Duration = std::time::Duration::from_secs(60);
+
 /// Encodes one brick's slot, reading it from the store.
 pub(super) type Encode = Arc<dyn Fn(BrickKey) -> Vec<u8> + Send + Sync>;
 
@@ -70,6 +73,24 @@ impl Fetcher {
                 // The frame may have gone (the volume was closed): nothing to send to.
                 let _ = sent.send((key, encode(key)));
             });
+        }
+    }
+
+    /// Waits until every one of `keys` has been read (asking for them, and for those of
+    /// `ahead` after them, as readers come free), or until no brick has come for
+    /// [`PATIENCE`]: what has not come by then is read by the caller.
+    pub(super) fn wait_for(&mut self, keys: &[BrickKey], ahead: &[BrickKey]) {
+        let wanted: Vec<BrickKey> = keys.iter().chain(ahead).copied().collect();
+        self.ask(&wanted);
+        while !keys.iter().all(|k| self.ready.contains_key(k)) {
+            match self.came.recv_timeout(PATIENCE) {
+                Ok((key, bytes)) => {
+                    self.asked.remove(&key);
+                    self.ready.insert(key, bytes);
+                    self.ask(&wanted);
+                }
+                Err(_) => return,
+            }
         }
     }
 

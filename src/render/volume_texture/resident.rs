@@ -330,6 +330,14 @@ impl Resident {
                 break;
             }
             covered += given.iter().map(|(k, _)| covers(grid, k)).sum::<usize>();
+            if let (Some(fetcher), None) = (&mut self.fetcher, time) {
+                // Without a time budget the frame waits for its bricks: read by all readers
+                // at once (a remote store's round trips overlap), those after them asked for
+                // meanwhile.
+                let keys: Vec<BrickKey> = given.iter().map(|(k, _)| *k).collect();
+                let ahead = &rest[given.len()..rest.len().min(given.len() + 64)];
+                fetcher.wait_for(&keys, ahead);
+            }
             rest = &rest[given.len()..];
             sent += given.len();
             let (took, bytes, submitted) = self.upload(ctx, atlas, &given);
