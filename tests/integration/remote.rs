@@ -173,6 +173,22 @@ fn a_store_over_s3_and_http_reads_and_renders_as_the_folder_does() {
         render(&http, "http.png") == want,
         "the http:// picture differs"
     );
+    // A plain file server that answers ranges: the same.
+    let files = Server::files(dir.path());
+    let plain = format!("http://127.0.0.1:{}/head.ome.zarr", files.port);
+    let v = load_volume(Path::new(&plain), &streamed).expect("from the file server");
+    let level0 = v
+        .streaming()
+        .expect("streamed")
+        .read_box(0, [0; 3], folder.dims());
+    assert!(
+        Some(&level0.expect("read")) == folder.samples(),
+        "the file server's voxels differ"
+    );
+    assert!(
+        render(&plain, "files.png") == want,
+        "the file server's picture differs"
+    );
 }
 
 #[test]
