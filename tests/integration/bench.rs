@@ -245,12 +245,22 @@ fn stream_rows(dir: &common::TempDir, size: &str) -> (Vec<Vec<String>>, String, 
 fn stream_measures_an_orbit_while_bricks_arrive() {
     let dir = common::TempDir::new("bench-stream");
     let (rows, summary, budget) = stream_rows(&dir, "320x320");
-    // Counted from the end: the levels column holds commas. The last is what wgpu's allocator
-    // held (lavapipe's Vulkan reports it), then bytes resident, missing, wanted.
+    // Counted from the end: the levels column holds commas. The last is the process's resident
+    // memory, then what wgpu's allocator held (lavapipe's Vulkan reports it), bytes resident,
+    // missing, wanted.
     let column = |row: &Vec<String>, from_end: usize| -> u64 {
         row[row.len() - from_end].parse().expect("number")
     };
-    let (missing, bytes, held) = (3, 2, 1);
+    let (missing, bytes, held, rss) = (4, 3, 2, 1);
+    // The process holds at least what lavapipe's allocator holds for it (its memory is ours).
+    assert!(
+        rows.iter().all(|r| column(r, rss) >= column(r, held)),
+        "{rows:?}"
+    );
+    assert!(
+        summary.contains("- process memory (resident): peak"),
+        "{summary}"
+    );
     assert_eq!(
         rows.iter().filter(|r| r[0] == "orbit").count(),
         3,
@@ -285,7 +295,7 @@ fn stream_measures_an_orbit_while_bricks_arrive() {
         "{summary}"
     );
     // Its levels column ends in the levels read: level 0 among them.
-    let levels = |r: &Vec<String>| r[8..r.len() - 5].join(",");
+    let levels = |r: &Vec<String>| r[8..r.len() - 6].join(",");
     assert!(
         levels(last).trim_matches('"').split(", ").any(|l| l == "0"),
         "{rows:?}"
