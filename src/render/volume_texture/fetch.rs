@@ -10,7 +10,7 @@ use crate::accel::residency::BrickKey;
 
 /// Bricks asked for and not yet come, at most: enough to keep every reader busy, few enough
 /// that what a frame asks for next (the view moved) is read soon.
-const IN_FLIGHT: usize = 64;
+pub(super) const IN_FLIGHT: usize = 64;
 
 /// Bricks come and not yet sent that are kept, at most (those no frame wanted lately go).
 const READY_MOST: usize = 256;

@@ -335,7 +335,8 @@ impl Resident {
                 // at once (a remote store's round trips overlap), those after them asked for
                 // meanwhile.
                 let keys: Vec<BrickKey> = given.iter().map(|(k, _)| *k).collect();
-                let ahead = &rest[given.len()..rest.len().min(given.len() + 64)];
+                let ahead =
+                    &rest[given.len()..rest.len().min(given.len() + super::fetch::IN_FLIGHT)];
                 fetcher.wait_for(&keys, ahead);
             }
             rest = &rest[given.len()..];

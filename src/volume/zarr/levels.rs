@@ -1,8 +1,10 @@
 //! A store's levels written from level-0 slabs, a shard row at a time, so that no level is ever
 //! whole in memory: each row of shards of a level is written once its slices have come, then
 //! halved into the next level's pending row (a row's depth is even but for a level's last, so
-//! pairs of slices never straddle two rows). Memory is about 1.33 rows of level 0 (2048 × 2048
-//! × 256 16-bit voxels: 2.7 GiB).
+//! pairs of slices never straddle two rows). Memory is about 1.33 rows of level 0 plus the
+//! shards being compressed: writing 2048 × 2048 × 4096 uint16 peaked at 3.1 GB resident on 2
+//! cores and 3.9 GB on 16 (`/usr/bin/time -v leapview generate dense-head --dims 2048,2048,4096
+//! --type uint16`, docs/benchmarks/out-of-core).
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -12,7 +14,7 @@ use zarrs::array::codec::ZstdCodec;
 use zarrs::array::{Array, ArrayBuilder, Element, FillValue, data_type};
 use zarrs::storage::{ReadableWritableListableStorage, ReadableWritableListableStorageTraits};
 
-use super::write::{CHUNK_EDGE, SHARD_EDGE, WriteError};
+use super::write::{CHUNK_EDGE, SHARD_EDGE, WriteError, zarr_error};
 use crate::volume::downsample::{halve, level_dims};
 use crate::volume::error::VolumeError;
 use crate::volume::samples::{Samples, ScalarType, ValueMapping};
@@ -67,41 +69,12 @@ impl Counts {
     }
 
     fn add(&mut self, samples: &Samples) {
-        let offset = self.offset;
-        let count = |values: Box<dyn Iterator<Item = i64> + '_>, per_value: &mut [u64]| {
-            for v in values {
-                per_value[(v + offset) as usize] += 1;
-            }
-        };
         match samples {
-            Samples::U8(v) => count(
-                Box::new(v.iter().map(|&x| i64::from(x))),
-                &mut self.per_value,
-            ),
-            Samples::I8(v) => count(
-                Box::new(v.iter().map(|&x| i64::from(x))),
-                &mut self.per_value,
-            ),
-            Samples::U16(v) => {
-                let parts: Vec<Vec<u64>> = v
-                    .par_chunks(1 << 20)
-                    .map(|c| {
-                        let mut n = vec![0u64; 65536];
-                        c.iter().for_each(|&x| n[usize::from(x)] += 1);
-                        n
-                    })
-                    .collect();
-                for part in parts {
-                    self.per_value
-                        .iter_mut()
-                        .zip(part)
-                        .for_each(|(a, b)| *a += b);
-                }
-            }
-            Samples::I16(v) => count(
-                Box::new(v.iter().map(|&x| i64::from(x))),
-                &mut self.per_value,
-            ),
+            Samples::U8(v) => count_into(v, self.offset, &mut self.per_value),
+            Samples::I8(v) => count_into(v, self.offset, &mut self.per_value),
+            Samples::U16(v) => count_into(v, self.offset, &mut self.per_value),
+            Samples::I16(v) => count_into(v, self.offset, &mut self.per_value),
+            // Only these four are counted (`for_type`).
             _ => {}
         }
     }
@@ -136,8 +109,26 @@ impl Counts {
     }
 }
 
+/// Adds the count of each value of `values` (plus `offset`) to `per_value`, on all cores.
+fn count_into<T: Copy + Into<i64> + Sync>(values: &[T], offset: i64, per_value: &mut [u64]) {
+    let n = per_value.len();
+    let parts: Vec<Vec<u64>> = values
+        .par_chunks(1 << 20)
+        .map(|chunk| {
+            let mut counts = vec![0u64; n];
+            for &v in chunk {
+                counts[(v.into() + offset) as usize] += 1;
+            }
+            counts
+        })
+        .collect();
+    for part in parts {
+        per_value.iter_mut().zip(part).for_each(|(a, b)| *a += b);
+    }
+}
+
 /// The levels of a volume of `dims`: halved until every axis fits one chunk.
-pub fn level_count(dims: [u32; 3]) -> u32 {
+fn level_count(dims: [u32; 3]) -> u32 {
     let mut n = 1;
     while level_dims(dims, n - 1).iter().any(|&d| d > CHUNK_EDGE) {
         n += 1;
@@ -175,10 +166,10 @@ pub(super) fn write_levels(
         let array = level_array(store, &path, dims, scalar)?;
         array
             .store_metadata()
-            .map_err(|e| zarr_error(&path, e.to_string()))?;
+            .map_err(|e| zarr_error(&path)(e.to_string()))?;
         let depth = array
             .chunk_shape(&[0, 0, 0])
-            .map_err(|e| zarr_error(&path, e.to_string()))?[0]
+            .map_err(|e| zarr_error(&path)(e.to_string()))?[0]
             .get() as u32;
         pending.push(Pending {
             array,
@@ -223,7 +214,7 @@ fn push(
     }
     let row = Samples::concat(std::mem::take(&mut level.slices));
     let row_dims = [level.dims[0], level.dims[1], held as u32];
-    write_row(level, &row, row_dims, report).map_err(|reason| zarr_error(&level.path, reason))?;
+    write_row(level, &row, row_dims, report).map_err(zarr_error(&level.path))?;
     level.first = end;
     if k + 1 < pending.len() {
         push(pending, k + 1, halve(&row, row_dims), report)?;
@@ -265,14 +256,7 @@ fn level_array(
     .bytes_to_bytes_codecs(vec![Arc::new(ZstdCodec::new(ZSTD_LEVEL, false))])
     .dimension_names(["z", "y", "x"].into())
     .build(store.clone(), path)
-    .map_err(|e| zarr_error(path, e.to_string()))
-}
-
-fn zarr_error(path: &str, reason: String) -> WriteError {
-    WriteError::Zarr {
-        path: path.to_string(),
-        reason,
-    }
+    .map_err(|e| zarr_error(path)(e.to_string()))
 }
 
 /// Writes `row` (`dims`: the level's x and y, the row's slices) as the level's row of shards

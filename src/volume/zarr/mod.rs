@@ -62,9 +62,7 @@ pub(crate) fn load(
     let store: Store = if is_remote(path) {
         remote_store(path)?
     } else {
-        if !is_store(path) {
-            return Err(ZarrError::NotAStore.into());
-        }
+        // A folder without Zarr metadata is refused by `image_of`, as an address is.
         Arc::new(FilesystemStore::new(path).map_err(|e| ZarrError::Open {
             what: "group",
             path: "/".into(),

@@ -140,8 +140,7 @@ where
     T: ElementOwned + bytemuck::Pod + Send + Sync,
 {
     let [nx, ny, nz] = dims.map(|d| d as usize);
-    let fill: T = bytemuck::try_pod_read_unaligned(array.fill_value().as_ne_bytes())
-        .unwrap_or_else(|_| T::zeroed());
+    let fill: T = fill_value(array);
     let count = nx * ny * nz;
     let mut values: Vec<T> = Vec::new();
     values
@@ -209,8 +208,18 @@ where
     Ok((values, faults))
 }
 
+/// The array's fill value as `T` (zero where it is no `T`).
+pub(super) fn fill_value<T: bytemuck::Pod>(array: &ZarrArray) -> T {
+    bytemuck::try_pod_read_unaligned(array.fill_value().as_ne_bytes())
+        .unwrap_or_else(|_| T::zeroed())
+}
+
 /// The array subset of a box of k, j, i ranges, every other axis at its fixed index.
-fn subset_of(ndim: usize, selection: &Selection, box_: &[Range<usize>; 3]) -> Vec<Range<u64>> {
+pub(super) fn subset_of(
+    ndim: usize,
+    selection: &Selection,
+    box_: &[Range<usize>; 3],
+) -> Vec<Range<u64>> {
     let mut subset = vec![0..1; ndim];
     for &(axis, index) in &selection.fixed {
         subset[axis] = index..index + 1;

@@ -18,8 +18,9 @@ use zarrs_storage::storage_adapter::async_to_sync::{
 
 use crate::volume::error::zarr::ZarrError;
 
-/// The runtime the stores' requests run on: one for the process, started on first use.
-fn runtime() -> Result<&'static tokio::runtime::Runtime, ZarrError> {
+/// The runtime the stores' requests run on: one for the process, started on first use (why
+/// there is none, where it could not start).
+fn runtime() -> Result<&'static tokio::runtime::Runtime, &'static str> {
     static RUNTIME: OnceLock<Result<tokio::runtime::Runtime, String>> = OnceLock::new();
     RUNTIME
         .get_or_init(|| {
@@ -31,10 +32,7 @@ fn runtime() -> Result<&'static tokio::runtime::Runtime, ZarrError> {
                 .map_err(|e| e.to_string())
         })
         .as_ref()
-        .map_err(|e| ZarrError::Remote {
-            address: String::new(),
-            reason: format!("no runtime for network requests: {e}"),
-        })
+        .map_err(String::as_str)
 }
 
 /// Runs a store's futures to completion on [`runtime`] (from any thread but the runtime's own).
@@ -77,7 +75,10 @@ pub(super) fn open(address: &str) -> Result<Arc<dyn ReadableStorageTraits>, Zarr
             .map_err(|e| refused(e.to_string()))?;
         Arc::new(http)
     };
-    let handle = runtime()?.handle().clone();
+    let handle = runtime()
+        .map_err(|e| refused(format!("no runtime for network requests: {e}")))?
+        .handle()
+        .clone();
     let asynchronous = Arc::new(AsyncObjectStore::new(store));
     Ok(Arc::new(AsyncToSyncStorageAdapter::new(
         asynchronous,

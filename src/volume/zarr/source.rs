@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use zarrs::array::{ArrayShardedReadableExt, ArrayShardedReadableExtCache, CodecOptions};
 
-use super::read::{Selection, ZarrArray, tile_shape};
+use super::read::{Selection, ZarrArray, fill_value, subset_of, tile_shape};
 use crate::volume::downsample::{halve_axes, halved_dims, level_dims};
 use crate::volume::error::VolumeError;
 use crate::volume::error::zarr::ZarrError;
@@ -217,14 +217,8 @@ impl ZarrSource {
         lo: [u32; 3],
         hi: [u32; 3],
     ) -> Result<Samples, VolumeError> {
-        let mut subset = vec![0..1; level.array.dimensionality()];
-        for &(axis, index) in &self.selection.fixed {
-            subset[axis] = index..index + 1;
-        }
-        let [k, j, i] = self.selection.space;
-        for (axis, a) in [(k, 2), (j, 1), (i, 0)] {
-            subset[axis] = u64::from(lo[a])..u64::from(hi[a]);
-        }
+        let box_ = [2, 1, 0].map(|a| lo[a] as usize..hi[a] as usize);
+        let subset = subset_of(level.array.dimensionality(), &self.selection, &box_);
         if level.shards.len() > MOST_SHARD_INDEXES {
             level.shards.clear();
         }
@@ -256,11 +250,7 @@ impl ZarrSource {
                             );
                         }
                         let n = (0..3).map(|a| (hi[a] - lo[a]) as usize).product::<usize>();
-                        let fill: $t = bytemuck::try_pod_read_unaligned(
-                            level.array.fill_value().as_ne_bytes(),
-                        )
-                        .unwrap_or_default();
-                        Samples::$variant(vec![fill; n])
+                        Samples::$variant(vec![fill_value::<$t>(&level.array); n])
                     }
                 }
             }};

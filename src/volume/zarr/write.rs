@@ -14,7 +14,7 @@ use zarrs::filesystem::FilesystemStore;
 use zarrs::group::GroupBuilder;
 use zarrs::storage::ReadableWritableListableStorage;
 
-pub use super::levels::{Slabs, level_count};
+pub use super::levels::Slabs;
 use crate::volume::error::VolumeError;
 use crate::volume::modality::Modality;
 use crate::volume::model::Volume;
@@ -197,7 +197,8 @@ fn io(path: &Path) -> impl Fn(std::io::Error) -> WriteError + '_ {
     }
 }
 
-fn zarr_error(path: &str) -> impl Fn(String) -> WriteError + '_ {
+/// The error of zarrs refusing the array (or group) at `path`, from what it said.
+pub(super) fn zarr_error(path: &str) -> impl Fn(String) -> WriteError + '_ {
     move |reason| WriteError::Zarr {
         path: path.to_string(),
         reason,
