@@ -73,6 +73,19 @@ def main(out):
     tifffile.imwrite(os.path.join(out, "big.tif"), data, bigtiff=True, photometric="minisblack")
     case("big", "big.tif", data, (1.0, 1.0, 1.0), note="no pixel size")
 
+    # 6. Strips of 5 rows, deflate, on pages of odd sizes: strips, and the halvings of the
+    # stack, end part way.
+    data = volume((19, 33, 41), np.uint16, 7)
+    tifffile.imwrite(os.path.join(out, "strips.tif"), data, photometric="minisblack",
+                     compression="zlib", rowsperstrip=5)
+    case("strips", "strips.tif", data, (1.0, 1.0, 1.0), note="no pixel size")
+
+    # 7. Tiles of 16 x 16 on 41 x 33 pages: the edge tiles padded.
+    data = volume((9, 33, 41), np.int16, 8)
+    tifffile.imwrite(os.path.join(out, "tiles.tif"), data, photometric="minisblack",
+                     tile=(16, 16))
+    case("tiles", "tiles.tif", data, (1.0, 1.0, 1.0), note="no pixel size")
+
     def error(path, said, channel=0):
         errors.append({"path": path, "said": said, "channel": channel})
 

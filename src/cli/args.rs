@@ -315,9 +315,9 @@ pub struct RawArgs {
     /// (default: the first).
     #[arg(long, global = true, help_heading = "Input file", value_name = "N", value_parser = clap::value_parser!(u32).range(1..), hide_short_help = true)]
     pub channel: Option<u32>,
-    /// Memory an OME-Zarr store's samples may take: 8GiB, 512MiB… A store larger is read brick
-    /// by brick as the view needs them, its decoded chunks cached within this (default: half
-    /// the memory available).
+    /// Memory an OME-Zarr store's or a TIFF stack's samples may take: 8GiB, 512MiB… One larger
+    /// is read brick by brick as the view needs them, its decoded chunks cached within this
+    /// (default: half the memory available).
     #[arg(long, global = true, help_heading = "Input file", value_name = "SIZE", value_parser = parse_gpu_budget, hide_short_help = true)]
     pub ram_budget: Option<u64>,
 }

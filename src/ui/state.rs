@@ -75,8 +75,9 @@ pub struct ViewerState {
     /// past it the volume is shown from bricks of a coarser level. `--gpu-budget` sets it for a
     /// run.
     pub gpu_budget: Option<u64>,
-    /// The most memory an OME-Zarr store's samples may take, in bytes (`None`: half the memory
-    /// available); a store larger is read brick by brick. `--ram-budget` sets it for a run.
+    /// The most memory an OME-Zarr store's or a TIFF stack's samples may take, in bytes
+    /// (`None`: half the memory available); one larger is read brick by brick. `--ram-budget`
+    /// sets it for a run.
     pub ram_budget: Option<u64>,
     /// Frames averaged, at shifted sample grids, once the view is still (1: no refinement).
     pub refine_frames: u32,

@@ -50,6 +50,12 @@ pub(crate) fn admit(
     }
 }
 
+/// The memory a volume's samples may take by default (`--ram-budget`): half of what the system
+/// has available (a volume larger is streamed), else 4 GiB where it does not say.
+pub(crate) fn default_ram_budget() -> u64 {
+    available_memory_bytes().map_or(4 << 30, |a| a / 2)
+}
+
 /// The memory the system can give without swapping (Linux `MemAvailable`), or `None` where it
 /// does not say. A loader refuses samples larger than this before reading any.
 pub(crate) fn available_memory_bytes() -> Option<u64> {

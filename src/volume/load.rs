@@ -24,9 +24,9 @@ pub struct LoadOptions {
     /// Which channel of an image holding several (an OME-Zarr `c` axis), counted from 0; the
     /// first by default.
     pub channel: Option<u32>,
-    /// The memory an OME-Zarr store's samples may take (`--ram-budget`): a store larger is
-    /// read brick by brick as the view needs them, its cache of decoded chunks within this.
-    /// Half the available memory by default.
+    /// The memory an OME-Zarr store's or a TIFF stack's samples may take (`--ram-budget`): one
+    /// larger is read brick by brick as the view needs them, its cache of decoded chunks within
+    /// this. Half the available memory by default.
     pub ram_budget: Option<u64>,
 }
 

@@ -35,6 +35,7 @@ pub mod stats;
 pub mod streamed;
 pub mod synthetic;
 mod tiff;
+mod tiles;
 mod units;
 pub mod zarr;
 

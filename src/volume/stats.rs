@@ -1,6 +1,8 @@
 //! Value statistics of a volume in data units: range, histogram, percentiles, empty fraction.
 
-use super::{samples::Samples, samples::ValueMapping};
+use rayon::prelude::*;
+
+use super::samples::{Samples, ScalarType, ValueMapping};
 
 /// Number of histogram bins kept with every volume.
 pub const HISTOGRAM_BINS: usize = 256;
@@ -216,6 +218,90 @@ fn quantile_by_counting(
     below
 }
 
+/// Every voxel's statistics as counted a slab at a time (while writing a store, while reading a
+/// stack too large to hold): exact for 8- and 16-bit integers (a count per stored value), none
+/// for wider types (their histogram needs the range first).
+pub(crate) struct Counts {
+    offset: i64,
+    per_value: Vec<u64>,
+}
+
+impl Counts {
+    /// Counts for `scalar`, where it is 8- or 16-bit.
+    pub(crate) fn for_type(scalar: ScalarType) -> Option<Self> {
+        let (offset, n) = match scalar {
+            ScalarType::U8 => (0, 256),
+            ScalarType::I8 => (128, 256),
+            ScalarType::U16 => (0, 65536),
+            ScalarType::I16 => (32768, 65536),
+            _ => return None,
+        };
+        Some(Self {
+            offset,
+            per_value: vec![0; n],
+        })
+    }
+
+    /// Counts `samples` (of the counted type) in.
+    pub(crate) fn add(&mut self, samples: &Samples) {
+        match samples {
+            Samples::U8(v) => count_into(v, self.offset, &mut self.per_value),
+            Samples::I8(v) => count_into(v, self.offset, &mut self.per_value),
+            Samples::U16(v) => count_into(v, self.offset, &mut self.per_value),
+            Samples::I16(v) => count_into(v, self.offset, &mut self.per_value),
+            // Only these four are counted (`for_type`).
+            _ => {}
+        }
+    }
+
+    /// The range, histogram and non-finite count (none: integers) in data units.
+    pub(crate) fn statistics(&self, mapping: ValueMapping) -> (Option<ValueRange>, Histogram, u64) {
+        let value = |i: usize| mapping.apply((i as i64 - self.offset) as f64);
+        let held: Vec<usize> = (0..self.per_value.len())
+            .filter(|&i| self.per_value[i] > 0)
+            .collect();
+        let range = match (held.first(), held.last()) {
+            (Some(&a), Some(&b)) => {
+                let (x, y) = (value(a), value(b));
+                Some(ValueRange {
+                    min: x.min(y),
+                    max: x.max(y),
+                })
+            }
+            _ => None,
+        };
+        let mut histogram = Histogram {
+            range: range.unwrap_or(ValueRange { min: 0.0, max: 0.0 }),
+            counts: vec![0; HISTOGRAM_BINS],
+        };
+        if range.is_some() {
+            for i in held {
+                let bin = histogram.bin_of(value(i));
+                histogram.counts[bin] += self.per_value[i];
+            }
+        }
+        (range, histogram, 0)
+    }
+}
+
+/// Adds the count of each value of `values` (plus `offset`) to `per_value`, on all cores.
+fn count_into<T: Copy + Into<i64> + Sync>(values: &[T], offset: i64, per_value: &mut [u64]) {
+    let n = per_value.len();
+    let parts: Vec<Vec<u64>> = values
+        .par_chunks(1 << 20)
+        .map(|chunk| {
+            let mut counts = vec![0u64; n];
+            for &v in chunk {
+                counts[(v.into() + offset) as usize] += 1;
+            }
+            counts
+        })
+        .collect();
+    for part in parts {
+        per_value.iter_mut().zip(part).for_each(|(a, b)| *a += b);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -292,5 +378,22 @@ mod tests {
             quantile(&Samples::I16(values), ValueMapping::IDENTITY, 0.0),
             Some(-300.0)
         );
+    }
+
+    #[test]
+    fn counted_statistics_equal_those_of_the_samples() {
+        let samples = Samples::I16((0..5000).map(|i| ((i * 37) % 3001) as i16 - 1000).collect());
+        let mapping = ValueMapping {
+            slope: -0.5,
+            intercept: 10.0,
+        };
+        let mut counts = Counts::for_type(ScalarType::I16).expect("16-bit");
+        counts.add(&samples);
+        let (range, histogram, non_finite) = counts.statistics(mapping);
+        let (want_range, want_histogram, want_non_finite) = compute(&samples, mapping);
+        assert_eq!(range, want_range);
+        assert_eq!(histogram, want_histogram);
+        assert_eq!(non_finite, want_non_finite);
+        assert!(Counts::for_type(ScalarType::F32).is_none());
     }
 }

@@ -1,13 +1,13 @@
 //! Volumes read where they live: the samples of a volume too large to hold whole stay in their
-//! store (an OME-Zarr folder) and are read a box of one level at a time, as the GPU's bricks ask
-//! for them. A coarse level, the preview, is held whole for what needs every voxel at once: the
-//! statistics, `info`, a hovered voxel's value.
+//! store (an OME-Zarr store, a TIFF stack) and are read a box of one level at a time, as the
+//! GPU's bricks ask for them. A coarse level, the preview, is held whole for what needs every
+//! voxel at once: the statistics, `info`, a hovered voxel's value.
 
 use std::sync::Arc;
 
 use super::downsample::{Level, level_dims};
 use super::error::VolumeError;
-use super::samples::Samples;
+use super::samples::{Samples, ScalarType};
 
 /// Where a streamed volume's samples are read from.
 pub trait BrickSource: Send + Sync {
@@ -108,6 +108,11 @@ impl Streamed {
         self.preview.samples.gather(&indices)
     }
 
+    /// Voxels of level 0 along x, y, z.
+    pub fn dims(&self) -> [u32; 3] {
+        self.dims
+    }
+
     /// The level held whole.
     pub fn preview(&self) -> &Level {
         &self.preview
@@ -138,8 +143,21 @@ impl Streamed {
     }
 }
 
-fn voxels(dims: [u32; 3]) -> u64 {
+/// Voxels of a box of `dims`.
+pub(crate) fn voxels(dims: [u32; 3]) -> u64 {
     dims.iter().map(|&d| u64::from(d)).product()
+}
+
+/// The most voxels a preview level holds (32 MiB of 16-bit samples).
+const PREVIEW_VOXELS: u64 = 1 << 24;
+
+/// The preview level of a volume of `dims` streamed under `budget`: the finest of at most
+/// [`PREVIEW_VOXELS`] and a quarter of the budget (at most one voxel).
+pub(crate) fn preview_level(dims: [u32; 3], budget: u64, scalar: ScalarType) -> u32 {
+    let most = PREVIEW_VOXELS.min(budget / 4 / scalar.size_bytes() as u64);
+    (0..32)
+        .find(|&k| voxels(level_dims(dims, k)) <= most || level_dims(dims, k) == [1; 3])
+        .unwrap_or(0)
 }
 
 #[cfg(test)]

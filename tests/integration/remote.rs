@@ -3,8 +3,8 @@
 //! path-style HTTP range requests, and by a plain HTTP file server with ranges
 //! (`scripts/python/http_server.py`): read over `s3://` and `http://` they give the voxels, facts
 //! and pictures of the same store in a folder, whole or brick by brick; a chunk that fails to decode
-//! is said once and the rest renders; missing stores, buckets and servers are refused with the
-//! reason.
+//! is said once and the rest renders; missing stores, buckets and servers, and credentials the
+//! server refuses, are refused with the reason.
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -18,12 +18,21 @@ use crate::common;
 struct Server {
     child: Child,
     port: u16,
+    /// The access key and secret the server takes (`testing` where it checks none).
+    key: (String, String),
 }
 
 impl Server {
     /// The S3 server, serving `folders` in bucket `bkt`.
     fn start(folders: &[&Path]) -> Self {
         let mut args = vec![Path::new("bkt")];
+        args.extend_from_slice(folders);
+        Self::run("s3_server.py", &args)
+    }
+
+    /// The S3 server checking credentials: only its own user's key is taken.
+    fn checking(folders: &[&Path]) -> Self {
+        let mut args = vec![Path::new("--auth"), Path::new("bkt")];
         args.extend_from_slice(folders);
         Self::run("s3_server.py", &args)
     }
@@ -54,15 +63,25 @@ impl Server {
         let said: serde_json::Value =
             serde_json::from_str(&line).unwrap_or_else(|e| panic!("{line:?}: {e}"));
         let port = said["port"].as_u64().expect("a port") as u16;
-        Self { child, port }
+        let text = |k: &str| said[k].as_str().unwrap_or("testing").to_string();
+        Self {
+            child,
+            port,
+            key: (text("key"), text("secret")),
+        }
     }
 
     fn http(&self, name: &str) -> String {
         format!("http://127.0.0.1:{}/bkt/{name}", self.port)
     }
 
-    /// `leapview ARGS` with the server as its S3 endpoint.
+    /// `leapview ARGS` with the server as its S3 endpoint and its key.
     fn leapview(&self, args: &[&str]) -> std::process::Output {
+        self.leapview_as(args, &self.key)
+    }
+
+    /// `leapview ARGS` with the server as its S3 endpoint and the access key and secret `key`.
+    fn leapview_as(&self, args: &[&str], key: &(String, String)) -> std::process::Output {
         Command::new(env!("CARGO_BIN_EXE_leapview"))
             .args(args)
             .env("XDG_RUNTIME_DIR", std::env::temp_dir())
@@ -71,8 +90,8 @@ impl Server {
                 format!("http://127.0.0.1:{}", self.port),
             )
             .env("AWS_ALLOW_HTTP", "true")
-            .env("AWS_ACCESS_KEY_ID", "testing")
-            .env("AWS_SECRET_ACCESS_KEY", "testing")
+            .env("AWS_ACCESS_KEY_ID", &key.0)
+            .env("AWS_SECRET_ACCESS_KEY", &key.1)
             .env("AWS_REGION", "us-east-1")
             .output()
             .expect("run the binary")
@@ -232,4 +251,26 @@ fn remote_failures_say_what_failed_and_a_bad_chunk_is_said_once() {
     let said = common::stderr(&out);
     assert!(said.contains("s3://no-such-bucket/x.zarr"), "{said}");
     assert!(said.lines().count() <= 2, "{said}");
+}
+
+#[test]
+fn credentials_the_server_refuses_are_said_and_its_own_key_reads() {
+    let dir = common::TempDir::new("remote-credentials");
+    let local = store(&dir, "head.ome.zarr");
+    let server = Server::checking(&[&local]);
+    let address = "s3://bkt/head.ome.zarr";
+    let out = server.leapview(&["info", address]);
+    assert!(out.status.success(), "{}", common::stderr(&out));
+    for key in [
+        // A key the server does not know, and its own key with another secret.
+        ("AKIAUNKNOWNKEY000000".to_string(), server.key.1.clone()),
+        (server.key.0.clone(), "not-the-secret".to_string()),
+    ] {
+        let out = server.leapview_as(&["info", address], &key);
+        assert!(!out.status.success(), "{key:?} was taken");
+        let said = common::stderr(&out);
+        assert!(said.contains("credentials"), "{key:?}: {said}");
+        assert!(said.contains(address), "{key:?}: {said}");
+        assert!(said.lines().count() <= 2, "{said}");
+    }
 }

@@ -175,15 +175,15 @@ const RAM_BUDGETS: [u64; 7] = [
     64_000_000_000,
 ];
 
-/// The memory an OME-Zarr store's samples may take (the default: half the memory available);
-/// a new choice, where one was made.
+/// The memory an OME-Zarr store's or a TIFF stack's samples may take (the default: half the
+/// memory available); a new choice, where one was made.
 fn ram_budget_row(ui: &mut egui::Ui, budget: Option<u64>) -> Option<Option<u64>> {
     budget_row(
         ui,
         ("Store memory", "ram budget"),
-        "The most memory an OME-Zarr store's samples may take; a larger store is read brick by \
-         brick as the view needs them, its decoded chunks cached within this. Changing it loads \
-         the volume again.",
+        "The most memory an OME-Zarr store's or a TIFF stack's samples may take; a larger one is \
+         read brick by brick as the view needs them, its decoded chunks cached within this. \
+         Changing it loads the volume again.",
         &RAM_BUDGETS,
         budget,
     )

@@ -17,6 +17,15 @@ pub enum ZarrError {
         /// What the client said.
         reason: String,
     },
+    /// A remote store refused the request's credentials (or their absence).
+    #[error(
+        "the store refused the request's credentials (for s3://, AWS_ACCESS_KEY_ID and \
+         AWS_SECRET_ACCESS_KEY; AWS_SKIP_SIGNATURE=true for a public bucket): {reason}"
+    )]
+    Credentials {
+        /// What the server said.
+        reason: String,
+    },
     /// The store's root is a group without OME multiscales.
     #[error(
         "the Zarr group holds no OME-Zarr image: its attributes have no 'multiscales' (open the \

@@ -7,6 +7,7 @@
 //! orientation: the views assume RAS.
 
 mod description;
+mod stream;
 
 use std::fs::File;
 use std::io::BufReader;
@@ -21,6 +22,7 @@ use super::limits;
 use super::load::LoadOptions;
 use super::model::{Provenance, Volume, VolumeIndex};
 use super::samples::{Samples, ScalarType, ValueMapping};
+use stream::{Opened, Pages};
 
 type TiffDecoder = Decoder<BufReader<File>>;
 
@@ -115,7 +117,7 @@ fn open(path: &Path) -> Result<TiffDecoder, VolumeError> {
 }
 
 /// The width, height and sample type of the decoder's current page.
-fn page_shape(decoder: &mut TiffDecoder) -> Result<(u32, u32, ScalarType), VolumeError> {
+fn page_shape(decoder: &mut TiffDecoder) -> Result<PageShape, VolumeError> {
     let (w, h) = decoder.dimensions().map_err(tiff_error)?;
     let bits = match decoder.colortype().map_err(tiff_error)? {
         ColorType::Gray(bits) => bits,
@@ -346,21 +348,67 @@ pub(crate) fn load_file(
             ((0..count).collect(), None, None)
         }
     };
-    let mut stack = Stack::new(&mut decoder, pages.len() as u64, progress)?;
     let unit = text.as_deref().and_then(description::imagej_unit_mm);
     let [rx, ry] = resolution_mm(&mut decoder, unit);
-    for &page in &pages {
-        let index = usize::try_from(page).map_err(|_| bad("too many pages"))?;
-        decoder.seek_to_image(index).map_err(tiff_error)?;
-        stack.add(&mut decoder, || format!("page {}", page + 1))?;
-    }
     let said = match &layout {
         Some(l) if l.kind == "OME-XML" => l.spacing_mm,
         Some(l) => [rx, ry, l.spacing_mm[2]],
         None => [rx, ry, None],
     };
     let spacing = spacing(said, &mut notes);
-    finish(name, stack, spacing, notes, volumes, channels)
+    let read = match streams(&mut decoder, pages.len(), options)? {
+        Some((shape, budget)) => {
+            let pages = Pages::File {
+                path: path.to_path_buf(),
+                pages,
+            };
+            Read::Streamed(
+                Box::new(stream::open_streamed(pages, shape, budget, progress)?),
+                budget,
+            )
+        }
+        None => {
+            let mut stack = Stack::new(&mut decoder, pages.len() as u64, progress)?;
+            for &page in &pages {
+                let index = usize::try_from(page).map_err(|_| bad("too many pages"))?;
+                decoder.seek_to_image(index).map_err(tiff_error)?;
+                stack.add(&mut decoder, || format!("page {}", page + 1))?;
+            }
+            Read::Whole(stack)
+        }
+    };
+    finish(name, read, spacing, notes, volumes, channels)
+}
+
+/// How a stack's samples were read.
+enum Read<'a> {
+    Whole(Stack<'a>),
+    /// Streamed under a memory budget of so many bytes.
+    Streamed(Box<Opened>, u64),
+}
+
+/// A page's width, height and sample type.
+type PageShape = (u32, u32, ScalarType);
+
+/// The shape of the decoder's page and the memory budget, where a stack of `count` such pages
+/// is larger than the budget (`--ram-budget`) or the memory available: it is streamed.
+fn streams(
+    decoder: &mut TiffDecoder,
+    count: usize,
+    options: &LoadOptions,
+) -> Result<Option<(PageShape, u64)>, VolumeError> {
+    let shape @ (w, h, scalar) = page_shape(decoder)?;
+    let (dims, bytes) =
+        limits::check_dims_within([u64::from(w), u64::from(h), count as u64], scalar, u64::MAX)?;
+    let budget = options
+        .ram_budget
+        .unwrap_or_else(limits::default_ram_budget);
+    let available = limits::available_memory_bytes().unwrap_or(u64::MAX);
+    if bytes <= budget && bytes <= available {
+        return Ok(None);
+    }
+    limits::admit(options.progress.as_deref(), dims, scalar, false)?;
+    Ok(Some((shape, budget)))
 }
 
 /// Opens a folder of 2-D TIFF slices (`files`, in order: [`stack_files`]).
@@ -377,40 +425,84 @@ pub(crate) fn load_folder(
     let text = description_of(&mut decoder);
     let unit = text.as_deref().and_then(description::imagej_unit_mm);
     let [rx, ry] = resolution_mm(&mut decoder, unit);
-    let mut stack = Stack::new(&mut decoder, files.len() as u64, progress)?;
-    let name_of = |file: &Path| {
-        file.file_name()
-            .unwrap_or_default()
-            .to_string_lossy()
-            .into_owned()
-    };
-    stack.add(&mut decoder, || name_of(first))?;
-    for file in &files[1..] {
-        stack.add(&mut open(file)?, || name_of(file))?;
-    }
     let mut notes = vec![format!(
         "{} slices, one TIFF file each, in natural order",
         files.len()
     )];
     let spacing = spacing([rx, ry, None], &mut notes);
-    finish(name, stack, spacing, notes, None, None)
+    let read = match streams(&mut decoder, files.len(), options)? {
+        Some((shape, budget)) => {
+            let pages = Pages::Folder(files.to_vec());
+            Read::Streamed(
+                Box::new(stream::open_streamed(pages, shape, budget, progress)?),
+                budget,
+            )
+        }
+        None => {
+            let mut stack = Stack::new(&mut decoder, files.len() as u64, progress)?;
+            let name_of = |file: &Path| {
+                file.file_name()
+                    .unwrap_or_default()
+                    .to_string_lossy()
+                    .into_owned()
+            };
+            stack.add(&mut decoder, || name_of(first))?;
+            for file in &files[1..] {
+                stack.add(&mut open(file)?, || name_of(file))?;
+            }
+            Read::Whole(stack)
+        }
+    };
+    finish(name, read, spacing, notes, None, None)
 }
 
 fn finish(
     name: String,
-    stack: Stack,
+    read: Read,
     spacing: [f64; 3],
-    notes: Vec<String>,
+    mut notes: Vec<String>,
     volumes: Option<VolumeIndex>,
     channels: Option<VolumeIndex>,
 ) -> Result<Volume, VolumeError> {
-    let volume = Volume::new(
-        name,
-        stack.dims,
-        spacing,
-        stack.samples,
-        ValueMapping::IDENTITY,
-    )?;
+    let volume = match read {
+        Read::Whole(stack) => Volume::new(
+            name,
+            stack.dims,
+            spacing,
+            stack.samples,
+            ValueMapping::IDENTITY,
+        )?,
+        Read::Streamed(opened, budget) => {
+            let dims = opened.streamed.dims();
+            let scalar = opened.streamed.preview().samples.scalar_type();
+            let bytes = super::streamed::voxels(dims) * scalar.size_bytes() as u64;
+            let (level, [hx, hy, hz]) = opened.first_held;
+            let [px, py, pz] = opened.streamed.preview().dims;
+            let statistics = match &opened.statistics {
+                Some(_) => "range and histogram of every voxel, counted in that pass".to_string(),
+                None => format!(
+                    "statistics and info from level {} ({px} x {py} x {pz} voxels)",
+                    opened.streamed.preview_level()
+                ),
+            };
+            notes.push(format!(
+                "read from the stack brick by brick as the view needs them ({} of samples, more \
+                 than the {} memory budget; --ram-budget sets it); level {level} ({hx} x {hy} x \
+                 {hz} voxels) and coarser held, halved from every slice in one pass at opening; \
+                 {statistics}",
+                crate::text::bytes(bytes),
+                crate::text::bytes(budget),
+            ));
+            let volume =
+                Volume::streamed(name, dims, spacing, opened.streamed, ValueMapping::IDENTITY)?;
+            match opened.statistics {
+                Some((range, histogram, non_finite)) => {
+                    volume.with_statistics(range, histogram, non_finite)
+                }
+                None => volume,
+            }
+        }
+    };
     Ok(volume.with_provenance(Provenance {
         notes,
         volumes,

@@ -18,7 +18,7 @@ use super::write::{CHUNK_EDGE, SHARD_EDGE, WriteError, zarr_error};
 use crate::volume::downsample::{halve, level_dims};
 use crate::volume::error::VolumeError;
 use crate::volume::samples::{Samples, ScalarType, ValueMapping};
-use crate::volume::stats::{HISTOGRAM_BINS, Histogram, ValueRange};
+use crate::volume::stats::{Counts, Histogram, ValueRange};
 
 /// The zstd level: 3 is zstd's default, a third of the raw size for CT at about 300 MB/s a core.
 const ZSTD_LEVEL: i32 = 3;
@@ -44,87 +44,6 @@ struct Pending {
     depth: u32,
     first: u32,
     slices: Vec<Samples>,
-}
-
-/// Every voxel's statistics as counted while writing: exact for 8- and 16-bit integers (a
-/// count per stored value), none for wider types (their histogram needs the range first).
-struct Counts {
-    offset: i64,
-    per_value: Vec<u64>,
-}
-
-impl Counts {
-    fn for_type(scalar: ScalarType) -> Option<Self> {
-        let (offset, n) = match scalar {
-            ScalarType::U8 => (0, 256),
-            ScalarType::I8 => (128, 256),
-            ScalarType::U16 => (0, 65536),
-            ScalarType::I16 => (32768, 65536),
-            _ => return None,
-        };
-        Some(Self {
-            offset,
-            per_value: vec![0; n],
-        })
-    }
-
-    fn add(&mut self, samples: &Samples) {
-        match samples {
-            Samples::U8(v) => count_into(v, self.offset, &mut self.per_value),
-            Samples::I8(v) => count_into(v, self.offset, &mut self.per_value),
-            Samples::U16(v) => count_into(v, self.offset, &mut self.per_value),
-            Samples::I16(v) => count_into(v, self.offset, &mut self.per_value),
-            // Only these four are counted (`for_type`).
-            _ => {}
-        }
-    }
-
-    /// The range, histogram and non-finite count (none: integers) in data units.
-    fn statistics(&self, mapping: ValueMapping) -> (Option<ValueRange>, Histogram, u64) {
-        let value = |i: usize| mapping.apply((i as i64 - self.offset) as f64);
-        let held: Vec<usize> = (0..self.per_value.len())
-            .filter(|&i| self.per_value[i] > 0)
-            .collect();
-        let range = match (held.first(), held.last()) {
-            (Some(&a), Some(&b)) => {
-                let (x, y) = (value(a), value(b));
-                Some(ValueRange {
-                    min: x.min(y),
-                    max: x.max(y),
-                })
-            }
-            _ => None,
-        };
-        let mut histogram = Histogram {
-            range: range.unwrap_or(ValueRange { min: 0.0, max: 0.0 }),
-            counts: vec![0; HISTOGRAM_BINS],
-        };
-        if range.is_some() {
-            for i in held {
-                let bin = histogram.bin_of(value(i));
-                histogram.counts[bin] += self.per_value[i];
-            }
-        }
-        (range, histogram, 0)
-    }
-}
-
-/// Adds the count of each value of `values` (plus `offset`) to `per_value`, on all cores.
-fn count_into<T: Copy + Into<i64> + Sync>(values: &[T], offset: i64, per_value: &mut [u64]) {
-    let n = per_value.len();
-    let parts: Vec<Vec<u64>> = values
-        .par_chunks(1 << 20)
-        .map(|chunk| {
-            let mut counts = vec![0u64; n];
-            for &v in chunk {
-                counts[(v.into() + offset) as usize] += 1;
-            }
-            counts
-        })
-        .collect();
-    for part in parts {
-        per_value.iter_mut().zip(part).for_each(|(a, b)| *a += b);
-    }
 }
 
 /// The levels of a volume of `dims`: halved until every axis fits one chunk.
@@ -320,27 +239,4 @@ fn write_typed<T: Element + Copy + Default + Send + Sync>(
         report(voxels);
         Ok(())
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn counted_statistics_equal_those_of_the_samples() {
-        let samples = Samples::I16((0..5000).map(|i| ((i * 37) % 3001) as i16 - 1000).collect());
-        let mapping = ValueMapping {
-            slope: -0.5,
-            intercept: 10.0,
-        };
-        let mut counts = Counts::for_type(ScalarType::I16).expect("16-bit");
-        counts.add(&samples);
-        let (range, histogram, non_finite) = counts.statistics(mapping);
-        let (want_range, want_histogram, want_non_finite) =
-            crate::volume::stats::compute(&samples, mapping);
-        assert_eq!(range, want_range);
-        assert_eq!(histogram, want_histogram);
-        assert_eq!(non_finite, want_non_finite);
-        assert!(Counts::for_type(ScalarType::F32).is_none());
-    }
 }

@@ -59,6 +59,34 @@ pub(crate) fn load(
     name: String,
     options: &LoadOptions,
 ) -> Result<Volume, VolumeError> {
+    let remote = is_remote(path);
+    load_store(path, name, options).map_err(|e| match e {
+        VolumeError::Zarr(e) if remote => refusal(e).into(),
+        e => e,
+    })
+}
+
+/// `e`, said as a refusal of the credentials where the server answered 401 or 403.
+fn refusal(e: ZarrError) -> ZarrError {
+    let text = e.to_string();
+    // object_store's words for 403 and 401, and the statuses themselves.
+    let refused = [
+        "lacked the necessary privileges",
+        "lacked valid authentication credentials",
+        "403 Forbidden",
+        "401 Unauthorized",
+    ];
+    match e {
+        ZarrError::Open { reason, .. } | ZarrError::Remote { reason, .. }
+            if refused.iter().any(|r| text.contains(r)) =>
+        {
+            ZarrError::Credentials { reason }
+        }
+        e => e,
+    }
+}
+
+fn load_store(path: &Path, name: String, options: &LoadOptions) -> Result<Volume, VolumeError> {
     let store: Store = if is_remote(path) {
         remote_store(path)?
     } else {
@@ -100,7 +128,9 @@ pub(crate) fn load(
     let progress = options.progress.as_deref();
     let full = dims_of(&shape0, &selection);
     let (dims, bytes) = limits::check_dims_within(full, scalar, u64::MAX)?;
-    let budget = options.ram_budget.unwrap_or_else(default_ram_budget);
+    let budget = options
+        .ram_budget
+        .unwrap_or_else(limits::default_ram_budget);
     let available = limits::available_memory_bytes().unwrap_or(u64::MAX);
     let mut notes = Vec::new();
     let (voxels, faults) = if bytes <= budget && bytes <= available {
@@ -114,8 +144,9 @@ pub(crate) fn load(
         }
         limits::admit(progress, dims, scalar, false)?;
         // The budget holds the preview and the cache of decoded chunks.
-        let level = preview_level(dims, budget, scalar);
-        let held = voxels(super::downsample::level_dims(dims, level)) * scalar.size_bytes() as u64;
+        let level = super::streamed::preview_level(dims, budget, scalar);
+        let held = super::streamed::voxels(super::downsample::level_dims(dims, level))
+            * scalar.size_bytes() as u64;
         let cache = budget.saturating_sub(held);
         let source =
             source::ZarrSource::new(arrays, selection.clone(), scalar, cache)?.remote(remote);
@@ -449,29 +480,6 @@ enum Voxels {
     Streamed(Streamed),
 }
 
-/// The memory a store's samples may take by default: half of what the system has available
-/// (a level 0 larger is streamed), else 4 GiB where it does not say.
-fn default_ram_budget() -> u64 {
-    limits::available_memory_bytes().map_or(4 << 30, |a| a / 2)
-}
-
-/// The most voxels a preview level holds (32 MiB of 16-bit samples).
-const PREVIEW_VOXELS: u64 = 1 << 24;
-
-fn voxels(d: [u32; 3]) -> u64 {
-    d.iter().map(|&n| u64::from(n)).product()
-}
-
-/// The preview level of a volume of `dims` streamed under `budget`: the finest of at most
-/// [`PREVIEW_VOXELS`] and a quarter of the budget (at most one voxel).
-fn preview_level(dims: [u32; 3], budget: u64, scalar: ScalarType) -> u32 {
-    use super::downsample::level_dims;
-    let most = PREVIEW_VOXELS.min(budget / 4 / scalar.size_bytes() as u64);
-    (0..32)
-        .find(|&k| voxels(level_dims(dims, k)) <= most || level_dims(dims, k) == [1; 3])
-        .unwrap_or(0)
-}
-
 /// The streamed volume of `source`, with its preview, `level`, read whole a slab at a time
 /// (progress, cancel).
 fn preview(
@@ -484,7 +492,7 @@ fn preview(
     let dims = source.dims();
     let d = level_dims(dims, level);
     if let Some(p) = progress {
-        p.start(voxels(d) * scalar.size_bytes() as u64);
+        p.start(super::streamed::voxels(d) * scalar.size_bytes() as u64);
     }
     let slab = 16;
     let mut parts = Vec::new();

@@ -2,12 +2,10 @@
 //! LeapView's level `k` comes from the coarsest store level that is no coarser along any axis,
 //! halved along each axis as often as that level is finer (a store written by `leapview
 //! convert` holds every level as LeapView halves it, so nothing is halved). Decoded tiles (a
-//! shard's inner chunks, else chunks) are kept in a cache of bounded bytes, least recently used
-//! first out: a brick and its apron straddle up to eight tiles, each read by its neighbours too.
+//! shard's inner chunks, else chunks) are kept in a [`Cache`] of bounded bytes.
 
-use std::collections::{BTreeMap, HashMap};
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 
 use zarrs::array::{ArrayShardedReadableExt, ArrayShardedReadableExtCache, CodecOptions};
 
@@ -17,6 +15,7 @@ use crate::volume::error::VolumeError;
 use crate::volume::error::zarr::ZarrError;
 use crate::volume::samples::{Samples, ScalarType};
 use crate::volume::streamed::BrickSource;
+use crate::volume::tiles::{Cache, Tile, copy_overlap, empty};
 
 /// One level of the store as the source reads it.
 struct StoreLevel {
@@ -35,58 +34,8 @@ struct StoreLevel {
 /// 32 MiB at most.
 const MOST_SHARD_INDEXES: usize = 4096;
 
-/// A decoded tile: its samples (x fastest) and voxels per axis.
-struct Tile {
-    samples: Samples,
-    dims: [u32; 3],
-}
-
 /// Which tile: the store level and its index along x, y, z.
 type TileKey = (usize, [u32; 3]);
-
-/// The decoded tiles held, least recently used first out under a byte budget.
-#[derive(Default)]
-struct Cache {
-    tiles: HashMap<TileKey, (std::sync::Arc<Tile>, u64)>,
-    by_use: BTreeMap<u64, TileKey>,
-    bytes: u64,
-    clock: u64,
-}
-
-impl Cache {
-    fn get(&mut self, key: &TileKey) -> Option<std::sync::Arc<Tile>> {
-        self.clock += 1;
-        let clock = self.clock;
-        let (tile, used) = self.tiles.get_mut(key)?;
-        self.by_use.remove(used);
-        *used = clock;
-        self.by_use.insert(clock, *key);
-        Some(std::sync::Arc::clone(tile))
-    }
-
-    fn put(&mut self, key: TileKey, tile: std::sync::Arc<Tile>, budget: u64) {
-        let bytes = tile_bytes(&tile);
-        if self.tiles.contains_key(&key) || bytes > budget {
-            return;
-        }
-        while self.bytes + bytes > budget {
-            let Some((_, oldest)) = self.by_use.pop_first() else {
-                break;
-            };
-            if let Some((gone, _)) = self.tiles.remove(&oldest) {
-                self.bytes -= tile_bytes(&gone);
-            }
-        }
-        self.clock += 1;
-        self.by_use.insert(self.clock, key);
-        self.tiles.insert(key, (tile, self.clock));
-        self.bytes += bytes;
-    }
-}
-
-fn tile_bytes(tile: &Tile) -> u64 {
-    (tile.samples.len() * tile.samples.scalar_type().size_bytes()) as u64
-}
 
 /// An OME-Zarr image's time point and channel, read a box at a time.
 pub(super) struct ZarrSource {
@@ -95,7 +44,7 @@ pub(super) struct ZarrSource {
     dims: [u32; 3],
     scalar: ScalarType,
     budget: u64,
-    cache: Mutex<Cache>,
+    cache: Mutex<Cache<TileKey>>,
     /// Tiles decoded, those that failed to read (left at the fill value), and the first
     /// failure in words.
     decoded: AtomicU64,
@@ -189,7 +138,7 @@ impl ZarrSource {
     }
 
     /// Tile `at` of store level `j`, from the cache or decoded.
-    fn tile(&self, j: usize, at: [u32; 3]) -> Result<std::sync::Arc<Tile>, VolumeError> {
+    fn tile(&self, j: usize, at: [u32; 3]) -> Result<Arc<Tile>, VolumeError> {
         let key = (j, at);
         if let Some(tile) = self.lock().get(&key) {
             return Ok(tile);
@@ -199,13 +148,12 @@ impl ZarrSource {
         let hi: [u32; 3] = std::array::from_fn(|a| (lo[a] + level.tile[a]).min(level.dims[a]));
         let dims = std::array::from_fn(|a| hi[a] - lo[a]);
         let samples = self.decode(level, lo, hi)?;
-        let tile = std::sync::Arc::new(Tile { samples, dims });
-        self.lock()
-            .put(key, std::sync::Arc::clone(&tile), self.budget);
+        let tile = Arc::new(Tile { samples, dims });
+        self.lock().put(key, Arc::clone(&tile), self.budget);
         Ok(tile)
     }
 
-    fn lock(&self) -> std::sync::MutexGuard<'_, Cache> {
+    fn lock(&self) -> std::sync::MutexGuard<'_, Cache<TileKey>> {
         self.cache.lock().unwrap_or_else(|e| e.into_inner())
     }
 
@@ -323,7 +271,7 @@ impl BrickSource for ZarrSource {
     }
 
     fn held_bytes(&self) -> u64 {
-        self.lock().bytes
+        self.lock().bytes()
     }
 
     fn budget_bytes(&self) -> u64 {
@@ -355,62 +303,6 @@ fn halvings_of(dims: [u32; 3], level: [u32; 3]) -> Option<[u32; 3]> {
     Some(out)
 }
 
-/// `n` samples of `scalar`, zero.
-fn empty(scalar: ScalarType, n: usize) -> Samples {
-    match scalar {
-        ScalarType::U8 => Samples::U8(vec![0; n]),
-        ScalarType::I8 => Samples::I8(vec![0; n]),
-        ScalarType::U16 => Samples::U16(vec![0; n]),
-        ScalarType::I16 => Samples::I16(vec![0; n]),
-        ScalarType::U32 => Samples::U32(vec![0; n]),
-        ScalarType::I32 => Samples::I32(vec![0; n]),
-        ScalarType::F32 => Samples::F32(vec![0.0; n]),
-        ScalarType::F64 => Samples::F64(vec![0.0; n]),
-    }
-}
-
-/// Copies the part of `tile` (whose first voxel is `origin` of its level) inside the box
-/// `(lo, dims)` into `out`, the box's samples (x fastest).
-fn copy_overlap(
-    tile: &Tile,
-    origin: [u32; 3],
-    out: &mut Samples,
-    (lo, dims): ([u32; 3], [u32; 3]),
-) {
-    let start: [u32; 3] = std::array::from_fn(|a| origin[a].max(lo[a]));
-    let end: [u32; 3] = std::array::from_fn(|a| (origin[a] + tile.dims[a]).min(lo[a] + dims[a]));
-    if (0..3).any(|a| start[a] >= end[a]) {
-        return;
-    }
-    let width = (end[0] - start[0]) as usize;
-    macro_rules! copy {
-        ($src:expr, $dst:expr) => {
-            for z in start[2]..end[2] {
-                for y in start[1]..end[1] {
-                    let s = ((z - origin[2]) * tile.dims[1] + (y - origin[1])) as usize
-                        * tile.dims[0] as usize
-                        + (start[0] - origin[0]) as usize;
-                    let d = ((z - lo[2]) * dims[1] + (y - lo[1])) as usize * dims[0] as usize
-                        + (start[0] - lo[0]) as usize;
-                    $dst[d..d + width].copy_from_slice(&$src[s..s + width]);
-                }
-            }
-        };
-    }
-    match (&tile.samples, out) {
-        (Samples::U8(s), Samples::U8(d)) => copy!(s, d),
-        (Samples::I8(s), Samples::I8(d)) => copy!(s, d),
-        (Samples::U16(s), Samples::U16(d)) => copy!(s, d),
-        (Samples::I16(s), Samples::I16(d)) => copy!(s, d),
-        (Samples::U32(s), Samples::U32(d)) => copy!(s, d),
-        (Samples::I32(s), Samples::I32(d)) => copy!(s, d),
-        (Samples::F32(s), Samples::F32(d)) => copy!(s, d),
-        (Samples::F64(s), Samples::F64(d)) => copy!(s, d),
-        // Tiles are decoded in the source's one type.
-        _ => {}
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -423,28 +315,5 @@ mod tests {
         // Floor instead of ceil is no LeapView halving.
         assert_eq!(halvings_of([101, 64, 8], [50, 32, 4]), None);
         assert_eq!(halvings_of([1, 64, 8], [1, 32, 4]), Some([0, 1, 1]));
-    }
-
-    #[test]
-    fn the_cache_lets_the_least_recently_used_tile_go_first() {
-        let tile = |n: usize| {
-            std::sync::Arc::new(Tile {
-                samples: Samples::U8(vec![0; n]),
-                dims: [n as u32, 1, 1],
-            })
-        };
-        let mut cache = Cache::default();
-        cache.put((0, [0; 3]), tile(40), 100);
-        cache.put((0, [1, 0, 0]), tile(40), 100);
-        assert!(cache.get(&(0, [0; 3])).is_some());
-        // Room for one more 40 only if [1, 0, 0], used least recently, goes.
-        cache.put((0, [2, 0, 0]), tile(40), 100);
-        assert!(cache.get(&(0, [1, 0, 0])).is_none());
-        assert!(cache.get(&(0, [0; 3])).is_some());
-        assert!(cache.get(&(0, [2, 0, 0])).is_some());
-        assert_eq!(cache.bytes, 80);
-        // A tile larger than the budget is not kept.
-        cache.put((1, [0; 3]), tile(200), 100);
-        assert!(cache.get(&(1, [0; 3])).is_none());
     }
 }

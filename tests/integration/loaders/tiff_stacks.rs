@@ -54,3 +54,101 @@ fn stacks_written_by_tifffile_open_with_their_values_and_spacing() {
         assert!(e.contains(said), "{}: {e}", path.display());
     }
 }
+
+/// Each stack of `stacks_written_by_tifffile_…` opened under a memory budget it exceeds: read
+/// brick by brick (`volume::tiff::stream`), every level's boxes equal the stack read whole and
+/// halved as LeapView halves it, with no level held (a budget of one byte) and with the coarse
+/// levels held (a budget of half the samples); 8- and 16-bit statistics are every voxel's; and
+/// a streamed stack converts to an OME-Zarr store slab by slab, voxel for voxel.
+#[test]
+fn stacks_larger_than_the_memory_budget_are_read_brick_by_brick_with_the_same_values() {
+    use leapview::volume::ScalarType;
+    use leapview::volume::downsample::{Level, level_dims};
+    let out = common::TempDir::new("tiff-streamed");
+    run_python("tiff_stacks.py", &[out.path()]);
+    let all = common::cases_json(out.path());
+    for case in all["cases"].as_array().expect("cases") {
+        let name = case["name"].as_str().expect("a name");
+        let path = out.path().join(case["path"].as_str().expect("a path"));
+        let channel = case["channel"]
+            .as_u64()
+            .map(|c| c as u32)
+            .filter(|&c| c > 0);
+        let whole = load_volume(
+            &path,
+            &LoadOptions {
+                channel,
+                ..LoadOptions::default()
+            },
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let bytes = whole.sample_count() * whole.scalar_type().size_bytes() as u64;
+        for budget in [1, bytes / 2] {
+            let options = LoadOptions {
+                channel,
+                ram_budget: Some(budget),
+                ..LoadOptions::default()
+            };
+            let v = load_volume(&path, &options).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let what = format!("{name} under {budget} bytes");
+            let streamed = v
+                .streaming()
+                .unwrap_or_else(|| panic!("{what}: not streamed"));
+            assert_eq!(v.dims(), whole.dims(), "{what}");
+            assert_eq!(v.spacing_mm(), whole.spacing_mm(), "{what}");
+            let notes = v.provenance().notes.join(" | ");
+            assert!(notes.contains("brick by brick"), "{what}: {notes}");
+            let counted = matches!(
+                v.scalar_type(),
+                ScalarType::U8 | ScalarType::I8 | ScalarType::U16 | ScalarType::I16
+            );
+            assert_eq!(v.exact_statistics(), counted, "{what}");
+            if counted {
+                assert_eq!(v.value_range(), whole.value_range(), "{what}");
+                assert_eq!(v.histogram(), whole.histogram(), "{what}");
+            }
+            let mut level = Level {
+                dims: whole.dims(),
+                samples: whole.samples().expect("in memory").clone(),
+                colour: None,
+            };
+            for k in 0..6u32 {
+                let d = level_dims(whole.dims(), k);
+                let all = streamed.read_box(k, [0; 3], d).expect("read");
+                assert!(all == level.samples, "{what}: level {k} differs");
+                // A box straddling strips, tiles and slices.
+                let lo = d.map(|n| n / 3);
+                let hi = d.map(|n| (n / 3 + 9).min(n));
+                let part = streamed.read_box(k, lo, hi).expect("read");
+                let mut i = 0;
+                for z in lo[2]..hi[2] {
+                    for y in lo[1]..hi[1] {
+                        for x in lo[0]..hi[0] {
+                            let want = level.samples.get_f64((x + d[0] * (y + d[1] * z)) as usize);
+                            let got = part.get_f64(i);
+                            assert!(
+                                got == want || (got.is_nan() && want.is_nan()),
+                                "{what}: level {k} voxel ({x}, {y}, {z}) is {got}, not {want}"
+                            );
+                            i += 1;
+                        }
+                    }
+                }
+                level = level.halved();
+            }
+        }
+        // Converted from the stack a slab at a time.
+        let options = LoadOptions {
+            channel,
+            ram_budget: Some(1),
+            ..LoadOptions::default()
+        };
+        let v = load_volume(&path, &options).expect("opened");
+        let store = out.path().join(format!("{name}.ome.zarr"));
+        leapview::volume::zarr::write::write_ome_zarr(&v, &store, name, &|_| {})
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let back = load_volume(&store, &LoadOptions::default()).expect("opened");
+        let reference = common::f64_file(&out.path().join(format!("{name}.f64")));
+        common::assert_values_exactly(name, &back, &reference);
+    }
+}
