@@ -243,9 +243,14 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
         );
     }
     let fmt = |v: Option<f64>| v.map_or("-".to_string(), number);
+    // A streamed volume's percentiles are its preview's (averages of 2^k voxels a side).
+    let of_preview = volume.streaming().map_or(String::new(), |s| {
+        let [px, py, pz] = s.preview().dims;
+        format!(" (of level {}, {px} x {py} x {pz})", s.preview_level())
+    });
     outln!(
         out,
-        "percentiles: P1 {}  P50 {}  P99 {}  P99.9 {}",
+        "percentiles: P1 {}  P50 {}  P99 {}  P99.9 {}{of_preview}",
         fmt(q(0.01)),
         fmt(q(0.5)),
         fmt(q(0.99)),
@@ -254,7 +259,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
     if let Some((t, share)) = air {
         outln!(
             out,
-            "empty:       {:.1} % of voxels below {} (stored min + 0.1 x (P99.9 - min))",
+            "empty:       {:.1} % of voxels below {} (stored min + 0.1 x (P99.9 - min)){of_preview}",
             100.0 * share,
             number(t)
         );

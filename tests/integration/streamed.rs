@@ -281,3 +281,74 @@ fn a_generated_head_of_any_shape_is_written_slab_by_slab_and_read_by_zarr_python
     assert!(!out.status.success());
     assert!(common::stderr(&out).contains("--dims gives the shape of dense-head"));
 }
+
+/// `leapview convert` when the disk fills part way (a file-size limit the process may not pass:
+/// each write past it fails as on a full disk) or the process is killed: a clean one-line error
+/// for the first, and for both no store at OUT and, after the error, no partial folder left.
+#[test]
+fn a_convert_that_cannot_finish_leaves_no_store_that_looks_whole() {
+    let dir = common::TempDir::new("convert-fails");
+    let input = dir.path().join("in.ome.zarr");
+    let out = common::leapview(&[
+        "generate",
+        "dense-head",
+        "--dims",
+        "200,180,300",
+        "--type",
+        "uint16",
+        "--out",
+        &input.display().to_string(),
+    ]);
+    assert!(out.status.success(), "{}", common::stderr(&out));
+    let target = dir.path().join("out.ome.zarr");
+    // Writes past 512 blocks fail with EFBIG (the signal that would kill the process ignored).
+    let full = std::process::Command::new("sh")
+        .arg("-c")
+        .arg(r#"trap '' XFSZ; ulimit -f 512; exec "$0" "$@""#)
+        .arg(env!("CARGO_BIN_EXE_leapview"))
+        .args(["convert", &input.display().to_string()])
+        .arg(&target)
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .expect("run the binary");
+    assert!(!full.status.success(), "a store written past the limit");
+    let said = common::stderr(&full);
+    let last = said.lines().last().unwrap_or_default();
+    assert!(last.contains("large"), "{said}");
+    assert!(!target.exists(), "a store at OUT after a failed write");
+    let left: Vec<String> = std::fs::read_dir(dir.path())
+        .expect("the folder")
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains("partial"))
+        .collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+    // Killed part way: whatever it left is not at OUT.
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_leapview"))
+        .args(["convert", &input.display().to_string()])
+        .arg(&target)
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("start the binary");
+    let started = std::time::Instant::now();
+    while !std::fs::read_dir(dir.path())
+        .expect("the folder")
+        .flatten()
+        .any(|e| e.file_name().to_string_lossy().contains("partial"))
+        && started.elapsed().as_secs() < 60
+    {
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let _ = child.kill();
+    let status = child.wait().expect("its end");
+    if status.success() {
+        // It finished before the kill: then the store is whole.
+        load_volume(&target, &LoadOptions::default()).expect("a whole store");
+    } else {
+        assert!(
+            !target.exists(),
+            "a store at OUT after the process was killed"
+        );
+    }
+}

@@ -478,12 +478,15 @@ fn finish(
             let bytes = super::streamed::voxels(dims) * scalar.size_bytes() as u64;
             let (level, [hx, hy, hz]) = opened.first_held;
             let [px, py, pz] = opened.streamed.preview().dims;
+            let preview = opened.streamed.preview_level();
             let statistics = match &opened.statistics {
-                Some(_) => "range and histogram of every voxel, counted in that pass".to_string(),
-                None => format!(
-                    "statistics and info from level {} ({px} x {py} x {pz} voxels)",
-                    opened.streamed.preview_level()
+                Some(_) => format!(
+                    "range and histogram of every voxel, counted in that pass; percentiles \
+                     from level {preview} ({px} x {py} x {pz} voxels)"
                 ),
+                None => {
+                    format!("statistics and info from level {preview} ({px} x {py} x {pz} voxels)")
+                }
             };
             notes.push(format!(
                 "read from the stack brick by brick as the view needs them ({} of samples, more \
