@@ -105,14 +105,7 @@ fn a_streamed_store_reads_every_level_as_leapview_halves_the_volume() {
         let lo = d.map(|n| n / 3);
         let hi = d.map(|n| (n / 3 + 33).min(n));
         let part = source.read_box(k, lo, hi).expect("read");
-        let mut want = Vec::new();
-        for z in lo[2]..hi[2] {
-            for y in lo[1]..hi[1] {
-                for x in lo[0]..hi[0] {
-                    want.push(level.samples.get_f64((x + d[0] * (y + d[1] * z)) as usize));
-                }
-            }
-        }
+        let want = common::box_values(&level.samples, d, lo, hi);
         let got: Vec<f64> = (0..part.len()).map(|i| part.get_f64(i)).collect();
         assert_eq!(got, want, "level {k}, box {lo:?}..{hi:?}");
         level = level.halved();

@@ -290,14 +290,7 @@ impl<'a> Stack<'a> {
         if self.progress.is_some_and(|p| p.is_cancelled()) {
             return Err(VolumeError::Cancelled);
         }
-        let (pw, ph, ps) = page_shape(decoder)?;
-        let (w, h, scalar) = self.shape;
-        if (pw, ph, ps) != self.shape {
-            return Err(bad(format!(
-                "{} is {pw} x {ph} {ps}, the first {w} x {h} {scalar}",
-                what()
-            )));
-        }
+        same_shape(decoder, self.shape, what)?;
         append(&mut self.samples, decoder.read_image().map_err(tiff_error)?)?;
         if let Some(p) = self.progress {
             p.advance(self.page_bytes);
@@ -362,10 +355,7 @@ pub(crate) fn load_file(
                 path: path.to_path_buf(),
                 pages,
             };
-            Read::Streamed(
-                Box::new(stream::open_streamed(pages, shape, budget, progress)?),
-                budget,
-            )
+            Read::streamed(pages, shape, budget, progress)?
         }
         None => {
             let mut stack = Stack::new(&mut decoder, pages.len() as u64, progress)?;
@@ -387,8 +377,38 @@ enum Read<'a> {
     Streamed(Box<Opened>, u64),
 }
 
+impl Read<'_> {
+    /// The stack `pages` of `shape`, streamed under `budget` bytes.
+    fn streamed(
+        pages: Pages,
+        shape: PageShape,
+        budget: u64,
+        progress: Option<&super::progress::LoadProgress>,
+    ) -> Result<Self, VolumeError> {
+        let opened = stream::open_streamed(pages, shape, budget, progress)?;
+        Ok(Self::Streamed(Box::new(opened), budget))
+    }
+}
+
 /// A page's width, height and sample type.
 type PageShape = (u32, u32, ScalarType);
+
+/// Refuses the decoder's page where its shape is not the first page's, `first`; `what` names it.
+fn same_shape(
+    decoder: &mut TiffDecoder,
+    first: PageShape,
+    what: impl Fn() -> String,
+) -> Result<(), VolumeError> {
+    let (pw, ph, ps) = page_shape(decoder)?;
+    let (w, h, scalar) = first;
+    if (pw, ph, ps) != first {
+        return Err(bad(format!(
+            "{} is {pw} x {ph} {ps}, the first {w} x {h} {scalar}",
+            what()
+        )));
+    }
+    Ok(())
+}
 
 /// The shape of the decoder's page and the memory budget, where a stack of `count` such pages
 /// is larger than the budget (`--ram-budget`) or the memory available: it is streamed.
@@ -432,11 +452,7 @@ pub(crate) fn load_folder(
     let spacing = spacing([rx, ry, None], &mut notes);
     let read = match streams(&mut decoder, files.len(), options)? {
         Some((shape, budget)) => {
-            let pages = Pages::Folder(files.to_vec());
-            Read::Streamed(
-                Box::new(stream::open_streamed(pages, shape, budget, progress)?),
-                budget,
-            )
+            Read::streamed(Pages::Folder(files.to_vec()), shape, budget, progress)?
         }
         None => {
             let mut stack = Stack::new(&mut decoder, files.len() as u64, progress)?;

@@ -10,7 +10,7 @@ use std::sync::{Arc, Mutex};
 
 use rayon::prelude::*;
 
-use super::{TiffDecoder, append, bad, open, page_shape, reserved, tiff_error};
+use super::{TiffDecoder, append, bad, open, reserved, same_shape, tiff_error};
 use crate::volume::downsample::{Level, halve, halved_dims, level_dims};
 use crate::volume::error::VolumeError;
 use crate::volume::progress::LoadProgress;
@@ -279,14 +279,7 @@ impl TiffSource {
     fn read_slice(&self, z: u32) -> Result<(Samples, [u32; 2]), VolumeError> {
         let [w, h, _] = self.dims;
         self.with_page(z, |decoder| {
-            let (pw, ph, ps) = page_shape(decoder)?;
-            if (pw, ph, ps) != (w, h, self.scalar) {
-                return Err(bad(format!(
-                    "{} is {pw} x {ph} {ps}, the first {w} x {h} {}",
-                    self.pages.name(z),
-                    self.scalar
-                )));
-            }
+            same_shape(decoder, (w, h, self.scalar), || self.pages.name(z))?;
             let (cw, ch) = decoder.chunk_dimensions();
             let mut samples = reserved(self.scalar, u64::from(w) * u64::from(h))?;
             append(&mut samples, decoder.read_image().map_err(tiff_error)?)?;

@@ -295,3 +295,22 @@ pub fn raw_options(dims: [u32; 3], scalar_type: ScalarType) -> LoadOptions {
         ..LoadOptions::default()
     }
 }
+
+/// The values of the box `lo..hi` of samples of a volume of `dims` (x fastest), as f64: what a
+/// box read from a streamed source must hold.
+pub fn box_values(
+    samples: &leapview::volume::Samples,
+    dims: [u32; 3],
+    lo: [u32; 3],
+    hi: [u32; 3],
+) -> Vec<f64> {
+    let mut out = Vec::new();
+    for z in lo[2]..hi[2] {
+        for y in lo[1]..hi[1] {
+            for x in lo[0]..hi[0] {
+                out.push(samples.get_f64((x + dims[0] * (y + dims[1] * z)) as usize));
+            }
+        }
+    }
+    out
+}

@@ -120,19 +120,14 @@ fn stacks_larger_than_the_memory_budget_are_read_brick_by_brick_with_the_same_va
                 let lo = d.map(|n| n / 3);
                 let hi = d.map(|n| (n / 3 + 9).min(n));
                 let part = streamed.read_box(k, lo, hi).expect("read");
-                let mut i = 0;
-                for z in lo[2]..hi[2] {
-                    for y in lo[1]..hi[1] {
-                        for x in lo[0]..hi[0] {
-                            let want = level.samples.get_f64((x + d[0] * (y + d[1] * z)) as usize);
-                            let got = part.get_f64(i);
-                            assert!(
-                                got == want || (got.is_nan() && want.is_nan()),
-                                "{what}: level {k} voxel ({x}, {y}, {z}) is {got}, not {want}"
-                            );
-                            i += 1;
-                        }
-                    }
+                let want = common::box_values(&level.samples, d, lo, hi);
+                assert_eq!(part.len(), want.len(), "{what}: level {k}");
+                for (i, want) in want.into_iter().enumerate() {
+                    let got = part.get_f64(i);
+                    assert!(
+                        got == want || (got.is_nan() && want.is_nan()),
+                        "{what}: level {k} box {lo:?}..{hi:?} sample {i} is {got}, not {want}"
+                    );
                 }
                 level = level.halved();
             }
