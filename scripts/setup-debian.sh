@@ -41,6 +41,9 @@ fi
 if [ "$tests" = yes ] && ! python3 -c "import venv, ensurepip" >/dev/null 2>&1; then
   missing="$missing python3-venv"
 fi
+if [ "$tests" = yes ] && ! command -v npm >/dev/null 2>&1; then
+  missing="$missing nodejs npm"
+fi
 
 # The tests' Python references, in .venv beside this script's folder; remade when the
 # requirements change.
@@ -61,13 +64,33 @@ make_venv() {
   cp "$requirements" "$here/.venv/requirements-tests.txt"
 }
 
+# The tests' Node packages (Azurite), in .node, from scripts/node's lock file; remade when it
+# changes. Install scripts are not run: Azurite needs none.
+lock="$here/scripts/node/package-lock.json"
+node_ready() {
+  [ -x "$here/.node/node_modules/.bin/azurite-blob" ] && cmp -s "$lock" "$here/.node/package-lock.json"
+}
+make_node() {
+  if node_ready; then
+    echo "setup: .node is ready (Azurite)"
+    return 0
+  fi
+  echo "setup: making .node from scripts/node/package-lock.json"
+  rm -rf "$here/.node"
+  mkdir -p "$here/.node"
+  cp "$here/scripts/node/package.json" "$lock" "$here/.node/"
+  npm ci --prefix "$here/.node" --ignore-scripts --no-audit --no-fund --loglevel=error
+}
+
 if [ -z "$missing" ]; then
-  echo "setup: nothing to install (cmake, C++ compiler, Vulkan driver$( [ "$tests" = yes ] && echo ', Xvfb, xdotool, python3-venv') present)"
+  echo "setup: nothing to install (cmake, C++ compiler, Vulkan driver$( [ "$tests" = yes ] && echo ', Xvfb, xdotool, python3-venv, npm') present)"
   if [ "$tests" = yes ]; then
     if [ "$check" = yes ]; then
       venv_ready || { echo "setup: missing: .venv (the tests' Python)" >&2; exit 1; }
+      node_ready || { echo "setup: missing: .node (the tests' Azurite)" >&2; exit 1; }
     else
       make_venv
+      make_node
     fi
   fi
   exit 0
@@ -91,4 +114,5 @@ $run env DEBIAN_FRONTEND=noninteractive apt-get update -qq
 $run env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $missing
 if [ "$tests" = yes ]; then
   make_venv
+  make_node
 fi

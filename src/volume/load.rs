@@ -76,7 +76,7 @@ fn load(path: &Path, options: &LoadOptions) -> Result<Volume, VolumeError> {
         |n| n.to_string_lossy().into_owned(),
     );
     let progress = options.progress.as_deref();
-    // An http(s):// or s3:// address is a remote OME-Zarr store.
+    // An http(s)://, s3://, gs:// or az:// address is a remote OME-Zarr store.
     if zarr::is_remote(path) {
         return zarr::load(path, name, options);
     }

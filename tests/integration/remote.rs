@@ -1,10 +1,12 @@
 //! OME-Zarr stores at an address (`volume::zarr::remote`), served on loopback by an
 //! S3-compatible server (moto, `scripts/python/s3_server.py`) that answers both S3 requests and
-//! path-style HTTP range requests, and by a plain HTTP file server with ranges
-//! (`scripts/python/http_server.py`): read over `s3://` and `http://` they give the voxels, facts
-//! and pictures of the same store in a folder, whole or brick by brick; a chunk that fails to decode
-//! is said once and the rest renders; missing stores, buckets and servers, and credentials the
-//! server refuses, are refused with the reason.
+//! path-style HTTP range requests, by a plain HTTP file server with ranges
+//! (`scripts/python/http_server.py`), by Google's Cloud Storage emulator
+//! (`scripts/python/gcs_server.py`) and by Microsoft's Azure Blob emulator, Azurite
+//! (`scripts/python/azure_server.py`): read over `s3://`, `http://`, `gs://` and `az://` they
+//! give the voxels, facts and pictures of the same store in a folder, whole or brick by brick; a
+//! chunk that fails to decode is said once and the rest renders; missing stores, buckets and
+//! servers, and credentials the server refuses, are refused with the reason.
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -14,12 +16,25 @@ use leapview::volume::{LoadOptions, load_volume};
 
 use crate::common;
 
+/// Which server serves the store, so which settings `leapview` is given to reach it.
+#[derive(Clone, Copy)]
+enum Kind {
+    /// moto's S3 server (or a plain file server).
+    S3,
+    /// The Cloud Storage emulator.
+    Gcs,
+    /// Azurite.
+    Azure,
+}
+
 /// The object-store server, serving folders in bucket `bkt` until dropped.
 struct Server {
     child: Child,
     port: u16,
-    /// The access key and secret the server takes (`testing` where it checks none).
+    /// The access key and secret the server takes (`testing` where it checks none; for Azurite
+    /// its account's key, the client's default).
     key: (String, String),
+    kind: Kind,
 }
 
 impl Server {
@@ -27,22 +42,36 @@ impl Server {
     fn start(folders: &[&Path]) -> Self {
         let mut args = vec![Path::new("bkt")];
         args.extend_from_slice(folders);
-        Self::run("s3_server.py", &args)
+        Self::run("s3_server.py", &args, Kind::S3)
+    }
+
+    /// The Cloud Storage emulator, serving `folders` in bucket `bkt`.
+    fn gcs(folders: &[&Path]) -> Self {
+        let mut args = vec![Path::new("bkt")];
+        args.extend_from_slice(folders);
+        Self::run("gcs_server.py", &args, Kind::Gcs)
+    }
+
+    /// Azurite, serving `folders` in container `bkt` and checking the requests' signatures.
+    fn azure(folders: &[&Path]) -> Self {
+        let mut args = vec![Path::new("bkt")];
+        args.extend_from_slice(folders);
+        Self::run("azure_server.py", &args, Kind::Azure)
     }
 
     /// The S3 server checking credentials: only its own user's key is taken.
     fn checking(folders: &[&Path]) -> Self {
         let mut args = vec![Path::new("--auth"), Path::new("bkt")];
         args.extend_from_slice(folders);
-        Self::run("s3_server.py", &args)
+        Self::run("s3_server.py", &args, Kind::S3)
     }
 
     /// A plain HTTP file server of `folder`.
     fn files(folder: &Path) -> Self {
-        Self::run("http_server.py", &[folder])
+        Self::run("http_server.py", &[folder], Kind::S3)
     }
 
-    fn run(script: &str, args: &[&Path]) -> Self {
+    fn run(script: &str, args: &[&Path], kind: Kind) -> Self {
         let mut child = Command::new(common::python())
             .arg(
                 PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -68,6 +97,7 @@ impl Server {
             child,
             port,
             key: (text("key"), text("secret")),
+            kind,
         }
     }
 
@@ -75,26 +105,43 @@ impl Server {
         format!("http://127.0.0.1:{}/bkt/{name}", self.port)
     }
 
-    /// `leapview ARGS` with the server as its S3 endpoint and its key.
+    /// `leapview ARGS` with the server as its endpoint and its key.
     fn leapview(&self, args: &[&str]) -> std::process::Output {
         self.leapview_as(args, &self.key)
     }
 
-    /// `leapview ARGS` with the server as its S3 endpoint and the access key and secret `key`.
+    /// `leapview ARGS` with the server as its endpoint (through the variables its scheme's
+    /// users set) and the access key and secret `key` (S3; for Azure the account key `key.1`).
     fn leapview_as(&self, args: &[&str], key: &(String, String)) -> std::process::Output {
-        Command::new(env!("CARGO_BIN_EXE_leapview"))
+        let endpoint = format!("http://127.0.0.1:{}", self.port);
+        let mut command = Command::new(env!("CARGO_BIN_EXE_leapview"));
+        command
             .args(args)
-            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-            .env(
-                "AWS_ENDPOINT_URL",
-                format!("http://127.0.0.1:{}", self.port),
-            )
-            .env("AWS_ALLOW_HTTP", "true")
-            .env("AWS_ACCESS_KEY_ID", &key.0)
-            .env("AWS_SECRET_ACCESS_KEY", &key.1)
-            .env("AWS_REGION", "us-east-1")
-            .output()
-            .expect("run the binary")
+            .env("XDG_RUNTIME_DIR", std::env::temp_dir());
+        match self.kind {
+            Kind::S3 => command
+                .env("AWS_ENDPOINT_URL", endpoint)
+                .env("AWS_ALLOW_HTTP", "true")
+                .env("AWS_ACCESS_KEY_ID", &key.0)
+                .env("AWS_SECRET_ACCESS_KEY", &key.1)
+                .env("AWS_REGION", "us-east-1"),
+            // A public bucket: the emulator checks no credentials.
+            Kind::Gcs => command
+                .env("GOOGLE_BASE_URL", endpoint)
+                .env("GOOGLE_ALLOW_HTTP", "true")
+                .env("GOOGLE_SKIP_SIGNATURE", "true"),
+            // The emulator's account; its key where the test gives none.
+            Kind::Azure => {
+                command
+                    .env("AZURE_STORAGE_USE_EMULATOR", "true")
+                    .env("AZURITE_BLOB_STORAGE_URL", endpoint);
+                if key.1 != "testing" {
+                    command.env("AZURE_STORAGE_ACCOUNT_KEY", &key.1);
+                }
+                &mut command
+            }
+        };
+        command.output().expect("run the binary")
     }
 }
 
@@ -155,41 +202,18 @@ fn a_store_over_s3_and_http_reads_and_renders_as_the_folder_does() {
     assert_eq!(bricks.histogram(), folder.histogram());
     // The command line over s3:// and http://: the folder's info and picture.
     let s3 = "s3://bkt/head.ome.zarr";
-    let info = |address: &str| {
-        let out = server.leapview(&["info", address, "--ram-budget", "1MiB"]);
-        assert!(out.status.success(), "{address}: {}", common::stderr(&out));
-        let text = String::from_utf8_lossy(&out.stdout).into_owned();
-        text.lines()
-            .filter(|l| {
-                l.starts_with("dims:") || l.starts_with("range:") || l.starts_with("spacing:")
-            })
-            .map(str::to_string)
-            .collect::<Vec<_>>()
-    };
-    let want = info(&local.display().to_string());
-    assert_eq!(want.len(), 3, "{want:?}");
-    assert_eq!(info(s3), want);
-    assert_eq!(info(&http), want);
-    let render = |address: &str, png: &str| {
-        let out_png = dir.path().join(png);
-        let out = server.leapview(&[
-            "render",
-            address,
-            "--out",
-            &out_png.display().to_string(),
-            "--size",
-            "64x48",
-            "--ram-budget",
-            "1MiB",
-        ]);
-        assert!(out.status.success(), "{address}: {}", common::stderr(&out));
-        pixels(&out_png)
-    };
-    let want = render(&local.display().to_string(), "folder.png");
-    assert!(want.iter().any(|&b| b > 0), "a blank picture");
-    assert!(render(s3, "s3.png") == want, "the s3:// picture differs");
+    let in_folder = local.display().to_string();
+    let want = info(&common::leapview, &in_folder);
+    let run = |args: &[&str]| server.leapview(args);
+    assert_eq!(info(&run, s3), want);
+    assert_eq!(info(&run, &http), want);
+    let want = pixels_of(&common::leapview, &dir, &in_folder, "folder");
     assert!(
-        render(&http, "http.png") == want,
+        pixels_of(&run, &dir, s3, "s3") == want,
+        "the s3:// picture differs"
+    );
+    assert!(
+        pixels_of(&run, &dir, &http, "http") == want,
         "the http:// picture differs"
     );
     // A plain file server that answers ranges: the same.
@@ -205,7 +229,7 @@ fn a_store_over_s3_and_http_reads_and_renders_as_the_folder_does() {
         "the file server's voxels differ"
     );
     assert!(
-        render(&plain, "files.png") == want,
+        pixels_of(&run, &dir, &plain, "files") == want,
         "the file server's picture differs"
     );
 }
@@ -273,4 +297,91 @@ fn credentials_the_server_refuses_are_said_and_its_own_key_reads() {
         assert!(said.contains(address), "{key:?}: {said}");
         assert!(said.lines().count() <= 2, "{said}");
     }
+}
+
+#[test]
+fn a_store_over_gcs_and_azure_reads_and_renders_as_the_folder_does() {
+    let dir = common::TempDir::new("remote-clouds");
+    let local = store(&dir, "head.ome.zarr");
+    let folder = local.display().to_string();
+    let want_info = info(&common::leapview, &folder);
+    let want = pixels_of(&common::leapview, &dir, &folder, "folder");
+    let azure = Server::azure(&[&local]);
+    for (server, address) in [
+        (&Server::gcs(&[&local]), "gs://bkt/head.ome.zarr"),
+        (&azure, "az://bkt/head.ome.zarr"),
+    ] {
+        let run = |args: &[&str]| server.leapview(args);
+        assert_eq!(info(&run, address), want_info, "{address}");
+        // Under a 1 MiB budget: brick by brick.
+        let got = pixels_of(&run, &dir, address, &address[..2]);
+        assert!(got == want, "the {address} picture differs");
+    }
+    // A trailing slash reads the same; the container's root is not a store.
+    let run = |args: &[&str]| azure.leapview(args);
+    assert_eq!(info(&run, "az://bkt/head.ome.zarr/"), want_info);
+    let out = azure.leapview(&["info", "az://bkt"]);
+    assert!(!out.status.success());
+    assert!(
+        common::stderr(&out).contains("not a Zarr store"),
+        "{}",
+        common::stderr(&out)
+    );
+}
+
+#[test]
+fn azure_credentials_the_emulator_refuses_are_said_with_the_variables_to_set() {
+    let dir = common::TempDir::new("remote-azure-credentials");
+    let local = store(&dir, "head.ome.zarr");
+    let server = Server::azure(&[&local]);
+    let address = "az://bkt/head.ome.zarr";
+    // Another account key (base64, as keys are): Azurite checks the shared-key signature.
+    let wrong = (
+        "devstoreaccount1".to_string(),
+        "bm90LXRoZS1rZXk=".to_string(),
+    );
+    let out = server.leapview_as(&["info", address], &wrong);
+    assert!(!out.status.success(), "a wrong key was taken");
+    let said = common::stderr(&out);
+    assert!(said.contains("credentials"), "{said}");
+    assert!(said.contains("AZURE_STORAGE_ACCOUNT_KEY"), "{said}");
+    assert!(said.contains(address), "{said}");
+    assert!(said.lines().count() <= 2, "{said}");
+}
+
+/// How `leapview` is run: on its own, or given a server's settings.
+type Run<'a> = dyn Fn(&[&str]) -> std::process::Output + 'a;
+
+/// The dims, range and spacing lines of `leapview info ADDRESS` under a 1 MiB budget.
+fn info(run: &Run, address: &str) -> Vec<String> {
+    let out = run(&["info", address, "--ram-budget", "1MiB"]);
+    assert!(out.status.success(), "{address}: {}", common::stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let lines: Vec<String> = text
+        .lines()
+        .filter(|l| l.starts_with("dims:") || l.starts_with("range:") || l.starts_with("spacing:"))
+        .map(str::to_string)
+        .collect();
+    assert_eq!(lines.len(), 3, "{text}");
+    lines
+}
+
+/// The pixels of a 64×48 `leapview render ADDRESS` under a 1 MiB budget (brick by brick),
+/// written in `dir` as `NAME.png`.
+fn pixels_of(run: &Run, dir: &common::TempDir, address: &str, name: &str) -> Vec<u8> {
+    let png = dir.path().join(format!("{name}.png"));
+    let out = run(&[
+        "render",
+        address,
+        "--out",
+        &png.display().to_string(),
+        "--size",
+        "64x48",
+        "--ram-budget",
+        "1MiB",
+    ]);
+    assert!(out.status.success(), "{address}: {}", common::stderr(&out));
+    let got = pixels(&png);
+    assert!(got.iter().any(|&b| b > 0), "{address}: a blank picture");
+    got
 }

@@ -145,13 +145,15 @@ impl Dialogs {
             ui.set_width(520.0);
             ui.heading("Open a volume");
             ui.label(
-                "Path of a NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), MetaImage (.mha, .mhd) or \
-                 raw file, a DICOM file, or a folder of DICOM files:",
+                "Path of a NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), MetaImage (.mha, .mhd), \
+                 TIFF or raw file, a DICOM file, a folder of DICOM files or TIFF slices, or an \
+                 OME-Zarr store: a folder, or an address (https://, s3://, gs://, az://; \
+                 credentials from the AWS_, GOOGLE_ or AZURE_ environment variables):",
             );
             let edit = ui.add(
                 egui::TextEdit::singleline(text)
                     .desired_width(f32::INFINITY)
-                    .hint_text("/path/to/volume.nii.gz"),
+                    .hint_text("/path/to/volume.nii.gz or s3://bucket/image.ome.zarr"),
             );
             if !*focused_once {
                 edit.request_focus();

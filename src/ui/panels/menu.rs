@@ -105,6 +105,11 @@ pub const FORMATS: &[&str] = &[
      in the side panel's Volume section to choose from.",
     "Slices are ordered by their position along the slice normal, never by file name; gaps, \
      uneven spacing and gantry tilt are resampled and said in the side panel.",
+    "TIFF stacks: a multi-page TIFF, OME-TIFF or ImageJ hyperstack, or a folder of 2D slices; \
+     8/16-bit and float.",
+    "OME-Zarr (NGFF 0.4 and 0.5): a folder, or an address through File › Open path… \
+     (https://, s3://, gs://, az://). One larger than Advanced › Store memory, as a TIFF stack \
+     larger, is read brick by brick as the view needs it.",
 ];
 
 /// Draws the menu bar; returns what the user chose.

@@ -18,11 +18,10 @@ pub enum ZarrError {
         reason: String,
     },
     /// A remote store refused the request's credentials (or their absence).
-    #[error(
-        "the store refused the request's credentials (for s3://, AWS_ACCESS_KEY_ID and \
-         AWS_SECRET_ACCESS_KEY; AWS_SKIP_SIGNATURE=true for a public bucket): {reason}"
-    )]
+    #[error("the store refused the request's credentials ({takes}): {reason}")]
     Credentials {
+        /// Which credentials the address's scheme takes, from where.
+        takes: &'static str,
         /// What the server said.
         reason: String,
     },

@@ -7,6 +7,7 @@
 //! orientation (NGFF has none), so the volume opens as RAS, assumed. Chunks absent from the store
 //! read as the array's fill value; a chunk that fails to decode is left at it, said once.
 
+mod address;
 mod levels;
 mod ngff;
 mod read;
@@ -23,6 +24,7 @@ use zarrs::filesystem::FilesystemStore;
 use zarrs::group::Group;
 use zarrs::storage::ReadableStorageTraits;
 
+use self::address::Scheme;
 use self::ngff::{Axis, AxisKind, Image, Level};
 use self::read::{Selection, ZarrArray};
 use super::error::VolumeError;
@@ -44,12 +46,10 @@ pub(crate) fn is_store(path: &Path) -> bool {
     METADATA_FILES.iter().any(|f| path.join(f).is_file())
 }
 
-/// Whether `path` is the address of a remote store (`http://`, `https://`, `s3://`).
+/// Whether `path` is the address of a remote store (`http://`, `https://`, `s3://`, `gs://`,
+/// `az://`; see [`Scheme`]).
 pub(crate) fn is_remote(path: &Path) -> bool {
-    let text = path.to_string_lossy().to_ascii_lowercase();
-    ["http://", "https://", "s3://"]
-        .iter()
-        .any(|scheme| text.starts_with(scheme))
+    Scheme::of(&path.to_string_lossy()).is_some()
 }
 
 /// Opens the OME-Zarr image (or plain Zarr array) in the folder `path`, or at the address
@@ -59,15 +59,16 @@ pub(crate) fn load(
     name: String,
     options: &LoadOptions,
 ) -> Result<Volume, VolumeError> {
-    let remote = is_remote(path);
-    load_store(path, name, options).map_err(|e| match e {
-        VolumeError::Zarr(e) if remote => refusal(e).into(),
-        e => e,
+    let scheme = Scheme::of(&path.to_string_lossy());
+    load_store(path, name, options).map_err(|e| match (e, scheme) {
+        (VolumeError::Zarr(e), Some(scheme)) => refusal(e, scheme).into(),
+        (e, _) => e,
     })
 }
 
-/// `e`, said as a refusal of the credentials where the server answered 401 or 403.
-fn refusal(e: ZarrError) -> ZarrError {
+/// `e`, said as a refusal of the credentials (those `scheme` takes) where the server answered
+/// 401 or 403.
+fn refusal(e: ZarrError, scheme: Scheme) -> ZarrError {
     let text = e.to_string();
     // object_store's words for 403 and 401, and the statuses themselves.
     let refused = [
@@ -80,7 +81,10 @@ fn refusal(e: ZarrError) -> ZarrError {
         ZarrError::Open { reason, .. } | ZarrError::Remote { reason, .. }
             if refused.iter().any(|r| text.contains(r)) =>
         {
-            ZarrError::Credentials { reason }
+            ZarrError::Credentials {
+                takes: scheme.credentials(),
+                reason,
+            }
         }
         e => e,
     }
@@ -239,7 +243,7 @@ fn join(root: &str, child: &str) -> String {
 /// A store as this reader takes it: a folder, or a remote store read synchronously.
 type Store = Arc<dyn ReadableStorageTraits>;
 
-/// The remote store at `path` (an `http(s)://` or `s3://` address).
+/// The remote store at `path` (an address [`is_remote`] takes).
 #[cfg(feature = "remote")]
 fn remote_store(path: &Path) -> Result<Store, ZarrError> {
     remote::open(&path.to_string_lossy())

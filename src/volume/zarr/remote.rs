@@ -1,14 +1,18 @@
 //! Stores at an address: `http://` and `https://` (any server that answers range requests with
-//! 206, as object stores and most file servers do) and `s3://bucket/path` (AWS or any
+//! 206, as object stores and most file servers do), `s3://BUCKET/PATH` (AWS or any
 //! S3-compatible server, configured by the usual `AWS_*` environment variables: credentials,
 //! `AWS_REGION`, `AWS_ENDPOINT_URL`, `AWS_ALLOW_HTTP`, `AWS_SKIP_SIGNATURE` for public
-//! buckets), through `object_store`, read synchronously on a tokio runtime of LeapView's own.
+//! buckets), `gs://BUCKET/PATH` (Google Cloud Storage, `GOOGLE_*` variables) and
+//! `az://CONTAINER/PATH` (Azure Blob Storage, `AZURE_*` variables), through `object_store`,
+//! read synchronously on a tokio runtime of LeapView's own.
 
 use std::sync::{Arc, OnceLock};
 
 use zarrs::storage::ReadableStorageTraits;
 use zarrs_object_store::AsyncObjectStore;
 use zarrs_object_store::object_store::aws::AmazonS3Builder;
+use zarrs_object_store::object_store::azure::MicrosoftAzureBuilder;
+use zarrs_object_store::object_store::gcp::GoogleCloudStorageBuilder;
 use zarrs_object_store::object_store::http::HttpBuilder;
 use zarrs_object_store::object_store::prefix::PrefixStore;
 use zarrs_object_store::object_store::{ClientOptions, ObjectStore};
@@ -16,6 +20,7 @@ use zarrs_storage::storage_adapter::async_to_sync::{
     AsyncToSyncBlockOn, AsyncToSyncStorageAdapter,
 };
 
+use super::address::{Cloud, Scheme};
 use crate::volume::error::zarr::ZarrError;
 
 /// The runtime the stores' requests run on: one for the process, started on first use (why
@@ -50,30 +55,45 @@ pub(super) fn open(address: &str) -> Result<Arc<dyn ReadableStorageTraits>, Zarr
         address: address.to_string(),
         reason,
     };
-    let lower = address.to_ascii_lowercase();
-    let store: Arc<dyn ObjectStore> = if lower.starts_with("s3://") {
-        let rest = &address["s3://".len()..];
-        let (bucket, prefix) = rest.split_once('/').unwrap_or((rest, ""));
-        if bucket.is_empty() {
-            return Err(refused(
-                "an s3:// address names a bucket: s3://BUCKET/PATH".into(),
-            ));
+    let store: Arc<dyn ObjectStore> = match Scheme::of(address) {
+        Some(Scheme::Http) | None => Arc::new(
+            HttpBuilder::new()
+                .with_url(address.trim_end_matches('/'))
+                .with_client_options(ClientOptions::new().with_allow_http(true))
+                .build()
+                .map_err(|e| refused(e.to_string()))?,
+        ),
+        Some(Scheme::Cloud(cloud)) => {
+            let (bucket, prefix) = cloud.split(address).map_err(refused)?;
+            // A client that cannot be set up lacks a setting: say which the scheme takes.
+            let built = |e: zarrs_object_store::object_store::Error| {
+                refused(format!("{e} ({})", Scheme::Cloud(cloud).credentials()))
+            };
+            let store: Arc<dyn ObjectStore> = match cloud {
+                Cloud::S3 => Arc::new(
+                    AmazonS3Builder::from_env()
+                        .with_bucket_name(bucket)
+                        .build()
+                        .map_err(built)?,
+                ),
+                Cloud::Gcs => Arc::new(
+                    GoogleCloudStorageBuilder::from_env()
+                        .with_bucket_name(bucket)
+                        .build()
+                        .map_err(built)?,
+                ),
+                Cloud::Azure => Arc::new(
+                    MicrosoftAzureBuilder::from_env()
+                        .with_container_name(bucket)
+                        .build()
+                        .map_err(built)?,
+                ),
+            };
+            match prefix {
+                "" => store,
+                p => Arc::new(PrefixStore::new(store, p)),
+            }
         }
-        let s3 = AmazonS3Builder::from_env()
-            .with_bucket_name(bucket)
-            .build()
-            .map_err(|e| refused(e.to_string()))?;
-        match prefix.trim_matches('/') {
-            "" => Arc::new(s3),
-            p => Arc::new(PrefixStore::new(s3, p)),
-        }
-    } else {
-        let http = HttpBuilder::new()
-            .with_url(address.trim_end_matches('/'))
-            .with_client_options(ClientOptions::new().with_allow_http(true))
-            .build()
-            .map_err(|e| refused(e.to_string()))?;
-        Arc::new(http)
     };
     let handle = runtime()
         .map_err(|e| refused(format!("no runtime for network requests: {e}")))?
