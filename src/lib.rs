@@ -1,6 +1,6 @@
 //! LeapView: GPU volume ray casting for CT and MRI with empty-space leaping.
 //!
-//! Layers, bottom up (docs/ARCHITECTURE.md): the pure core — `volume`, `transfer`, `accel`,
+//! Layers, bottom up (docs/ARCHITECTURE.md): the pure core — `volume`, `labels`, `transfer`, `accel`,
 //! `camera`, `sampling`, `imaging`, `settings`, `counters`, `text` — and what is built on it without a
 //! GPU — the CPU `reference` ray caster, the `bench` and `accuracy` records and tables; `render`,
 //! the wgpu renderer that the window, the command line and the tests share; `ui`, the window. A
@@ -16,6 +16,7 @@ pub mod bench;
 pub mod camera;
 pub mod counters;
 pub mod imaging;
+pub mod labels;
 pub mod mpr;
 pub mod parallel;
 pub mod reference;

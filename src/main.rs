@@ -24,6 +24,7 @@ fn main() -> ExitCode {
                 file: cli.file,
                 load_options,
                 gpu_budget: cli.gpu.gpu_budget,
+                labels: cli.labels,
             };
             leapview::ui::app::run(options).map_err(|e| match e {
                 AppError::Automation(_) => Failure::BadInput(e.into()),

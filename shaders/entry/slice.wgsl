@@ -58,9 +58,12 @@ struct SliceParams {
     invert: u32,
     // 1 (display variant): a colour volume, whose thin slices show its own colour.
     volume_colour: u32,
-    _pad1: u32,
-    _pad2: u32,
-    _pad3: u32,
+    // 1 (display variant): the labels (label_tex) filled over the image in their colours
+    // (label_colours, alpha 0 where hidden), label_opacity opaque; with label_outline 1 each
+    // label's outline (a pixel whose neighbour's label differs) opaque.
+    labels: u32,
+    label_opacity: f32,
+    label_outline: u32,
 }
 
 
@@ -73,6 +76,10 @@ struct SliceParams {
 @group(0) @binding(3) var screen: texture_storage_2d<rgba8unorm, write>;
 // The transfer function's straight colour and opacity per value (transfer::lut::slice_colours).
 @group(0) @binding(5) var colours: texture_2d<f32>;
+// The labels on the volume's grid (render/slice/labels.rs), and each label value's colour at
+// texel (value % 256, value / 256), its alpha 0 where the label is hidden.
+@group(0) @binding(8) var label_tex: texture_3d<u32>;
+@group(0) @binding(9) var label_colours: texture_2d<f32>;
 #else
 @group(0) @binding(2) var<storage, read_write> values: array<f32>;
 @group(0) @binding(3) var<storage, read_write> image: array<u32>;
@@ -324,6 +331,40 @@ fn slab_value(v: vec3<f32>) -> f32 {
     return value;
 }
 
+#ifdef DISPLAY
+// The label of the voxel nearest voxel coordinates `v`; 0 outside the volume.
+fn label_at(v: vec3<f32>) -> u32 {
+    let dims = vec3<i32>(textureDimensions(label_tex));
+    let i = vec3<i32>(floor(v + vec3<f32>(0.5)));
+    if any(i < vec3<i32>(0)) || any(i >= dims) {
+        return 0u;
+    }
+    return textureLoad(label_tex, i, 0).r;
+}
+
+// `rgb` with the label at `v` filled over it (and its outline, where on); as is where the
+// pixel has no shown label.
+fn with_labels(rgb: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
+    let l = label_at(v);
+    if l == 0u {
+        return rgb;
+    }
+    let c = textureLoad(label_colours, vec2<i32>(i32(l % 256u), i32(l / 256u)), 0);
+    if c.a == 0.0 {
+        return rgb;
+    }
+    var a = params.label_opacity;
+    if params.label_outline == 1u {
+        let dx = params.step_x.xyz;
+        let dy = params.step_y.xyz;
+        let edge = label_at(v + dx) != l || label_at(v - dx) != l || label_at(v + dy) != l
+            || label_at(v - dy) != l;
+        a = select(a, 1.0, edge);
+    }
+    return mix(rgb, c.rgb, a);
+}
+#endif
+
 // Pixel `id`'s value, grey, written.
 fn shade(id: vec2<u32>) {
     let v = params.first.xyz + f32(id.x) * params.step_x.xyz + f32(id.y) * params.step_y.xyz;
@@ -351,6 +392,9 @@ fn shade(id: vec2<u32>) {
         let s = clamp((value - params.colour_lo) / (params.colour_hi - params.colour_lo), 0.0, 1.0);
         let c = textureSampleLevel(colours, linear, vec2<f32>((s * (n - 1.0) + 0.5) / n, 0.5), 0.0);
         rgb = mix(rgb, c.rgb, clamp(c.a, 0.0, 1.0));
+    }
+    if params.labels == 1u {
+        rgb = with_labels(rgb, v);
     }
     textureStore(screen, vec2<i32>(id), vec4<f32>(rgb, 1.0));
 #else

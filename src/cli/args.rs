@@ -26,6 +26,9 @@ pub struct Cli {
     pub command: Option<Command>,
     /// Volume file or DICOM folder to open in the window (formats below).
     pub file: Option<PathBuf>,
+    /// A segmentation of FILE, shown over the slices (as File › Open segmentation…).
+    #[arg(long, value_name = "LABELS", requires = "file")]
+    pub labels: Option<PathBuf>,
     /// Layout of a raw file.
     #[command(flatten)]
     pub raw: RawArgs,
@@ -205,6 +208,21 @@ pub struct SliceArgs {
     /// fixed cost). Needs an adapter with timestamp queries.
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=1024), hide_short_help = true)]
     pub repeat: u32,
+    /// A segmentation of the volume, filled over the slice in its segments' colours.
+    ///
+    /// NIfTI, NRRD or Slicer .seg.nrrd, MetaImage or DICOM SEG; put on the volume's grid by
+    /// patient position. Names and colours as info --labels lists them.
+    #[arg(long, value_name = "FILE")]
+    pub labels: Option<PathBuf>,
+    /// An ITK-SNAP label description file or a Slicer colour table naming the labels.
+    #[arg(long, value_name = "FILE", requires = "labels")]
+    pub label_names: Option<PathBuf>,
+    /// How opaque the labels' fill is, 0 to 1 (0: outlines only).
+    #[arg(long, default_value_t = 0.5, requires = "labels")]
+    pub label_opacity: f32,
+    /// Draw no outline around each label.
+    #[arg(long, requires = "labels")]
+    pub no_label_outline: bool,
     /// GPU memory.
     #[command(flatten)]
     pub gpu: GpuArgs,
@@ -474,6 +492,16 @@ pub struct InfoArgs {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+    /// A segmentation of the volume: list its segments (value, name, colour, voxels).
+    ///
+    /// NIfTI, NRRD or Slicer .seg.nrrd, MetaImage; put on the volume's grid by patient
+    /// position (nearest label). Names and colours from the file, from --label-names, or from
+    /// a .txt or .ctbl file beside it with its name.
+    #[arg(long, value_name = "FILE")]
+    pub labels: Option<PathBuf>,
+    /// An ITK-SNAP label description file or a Slicer colour table naming the labels.
+    #[arg(long, value_name = "FILE", requires = "labels")]
+    pub label_names: Option<PathBuf>,
 }
 
 #[cfg(test)]

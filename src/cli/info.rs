@@ -1,5 +1,6 @@
 //! `leapview info`: what a volume holds.
 
+use leapview::labels::{LabelMap, LabelOptions, load_labels};
 use leapview::transfer::TransferFunction;
 use leapview::transfer::fit::{self, DataKind};
 use leapview::volume::progress::Shape;
@@ -114,8 +115,18 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
     };
     let air = air_fraction(&volume);
     let transparent = tf.as_ref().map(|tf| transparent_fraction(&volume, tf));
+    let labels = match &args.labels {
+        Some(path) => {
+            let options = LabelOptions {
+                names: args.label_names.clone(),
+            };
+            Some(load_labels(path, &volume, &options).bad_input()?)
+        }
+        None => None,
+    };
     let m = volume.mapping();
     if args.json {
+        let labels_json = labels.as_ref().map(labels_value);
         let value = serde_json::json!({
             "name": volume.name(),
             "dims": dims,
@@ -165,6 +176,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
             "origin_lps_mm": volume.provenance().origin_lps,
             "patient_box_lps_mm": patient_box(&volume, dims[2], stride),
             "slices_read_every": stride,
+            "labels": labels_json,
         });
         return print_stdout(&format!("{value:#}\n")).failed();
     }
@@ -291,7 +303,78 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
             100.0 * share
         );
     }
+    if let Some(labels) = &labels {
+        labels_text(&mut out, labels, stride);
+    }
     print_stdout(&out).failed()
+}
+
+/// The segments of `labels` and their notes, as JSON.
+fn labels_value(labels: &LabelMap) -> serde_json::Value {
+    let segments: Vec<serde_json::Value> = labels
+        .segments()
+        .iter()
+        .map(|s| {
+            serde_json::json!({
+                "value": s.value,
+                "layer": s.layer,
+                "name": s.name,
+                "colour": hex(s.colour),
+                "voxels": s.voxels,
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "file": labels.name(),
+        "segments": segments,
+        "notes": labels.notes(),
+    })
+}
+
+/// `#rrggbb`.
+fn hex([r, g, b]: [u8; 3]) -> String {
+    format!("#{r:02x}{g:02x}{b:02x}")
+}
+
+/// The segments of `labels`, a line each; `stride`: the volume's slices were read every so
+/// many, and the voxels counted on those.
+fn labels_text(out: &mut String, labels: &LabelMap, stride: u32) {
+    let layers = labels.layers().len();
+    outln!(
+        out,
+        "labels:      {}: {} segments{}",
+        labels.name(),
+        labels.segments().len(),
+        if layers > 1 {
+            format!(" in {layers} layers")
+        } else {
+            String::new()
+        }
+    );
+    for s in labels.segments() {
+        let layer = if layers > 1 {
+            format!(" (layer {})", s.layer)
+        } else {
+            String::new()
+        };
+        outln!(
+            out,
+            "  {:>5}  {}  {:>10} voxels  {}{layer}",
+            s.value,
+            hex(s.colour),
+            s.voxels,
+            s.name
+        );
+    }
+    for note in labels.notes() {
+        outln!(out, "labels note: {note}");
+    }
+    if stride > 1 {
+        outln!(
+            out,
+            "labels note: voxels counted on every {stride}th slice read"
+        );
+    }
 }
 
 /// A DICOM series' facts, and the other series found beside it.

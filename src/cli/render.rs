@@ -85,6 +85,10 @@ fn render_image(
         slab: None,
         mode: leapview::mpr::SlabMode::Mip,
         repeat: 0,
+        labels: None,
+        label_names: None,
+        label_opacity: 0.5,
+        no_label_outline: false,
         gpu: args.gpu,
     };
     super::slice::write_slice(volume, &slice, &ctx)

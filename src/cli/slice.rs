@@ -3,11 +3,12 @@
 
 use anyhow::anyhow;
 use glam::DVec3;
+use leapview::labels::{LabelOptions, load_labels};
 use leapview::mpr::{PatientFrame, Plane, PlaneKind, Slab, SliceView};
 use leapview::render::context::GpuContext;
 use leapview::render::slice::{
-    DisplayTarget, Output, SliceError, SliceLook, SliceRenderer, SliceSource, SliceTarget,
-    slice_params,
+    DisplayTarget, LabelLook, Output, SliceError, SliceLabels, SliceLook, SliceRenderer,
+    SliceSource, SliceTarget, slice_params,
 };
 use leapview::render::volume_texture::{VolumeTexture, VolumeTextureError};
 use leapview::transfer::fit;
@@ -60,6 +61,17 @@ fn check_args(args: &SliceArgs) -> Result<(), Failure> {
         )));
     }
     leapview::imaging::check_output_path(&args.out).bad_input()?;
+    if args.labels.is_some() && args.exact {
+        return Err(bad(
+            "--labels are drawn over the slice the window shows; --exact writes grey values".into(),
+        ));
+    }
+    if !(0.0..=1.0).contains(&args.label_opacity) {
+        return Err(bad(format!(
+            "--label-opacity is 0 to 1, not {}",
+            args.label_opacity
+        )));
+    }
     slab_of(args)?;
     Ok(())
 }
@@ -150,6 +162,10 @@ fn settings_of(
             Some(choice) => choice == super::args::YesNo::Yes,
             None => volume.provenance().invert_grey,
         },
+        labels: LabelLook {
+            opacity: args.label_opacity,
+            outline: !args.no_label_outline,
+        },
     };
     Ok(SliceSettings { view, look, tf })
 }
@@ -187,6 +203,19 @@ pub fn write_slice(
     } else {
         None
     };
+    let labels = match &args.labels {
+        Some(path) => {
+            let options = LabelOptions {
+                names: args.label_names.clone(),
+            };
+            let map = load_labels(path, volume, &options).bad_input()?;
+            for note in map.notes() {
+                eprintln!("leapview: note: {}: {note}", map.name());
+            }
+            Some(SliceLabels::new(&ctx.device, &ctx.queue, &map).bad_input()?)
+        }
+        None => None,
+    };
     let slice_failure = |e: SliceError| match e {
         SliceError::TooLarge(..) => Failure::BadInput(e.into()),
         other => Failure::Other(other.into()),
@@ -206,11 +235,12 @@ pub fn write_slice(
                 &texture,
                 bricks.as_ref(),
                 colours.as_ref(),
+                labels.as_ref(),
                 &view,
                 look,
             )
             .map_err(slice_failure)?;
-        if look.colour || volume.colour().is_some() {
+        if look.colour || volume.colour().is_some() || labels.is_some() {
             image::RgbImage::from_raw(w, h, rgb.concat()).map(Into::into)
         } else {
             let grey = rgb.iter().map(|p| p[0]).collect();
@@ -223,6 +253,7 @@ pub fn write_slice(
             texture: &texture.view,
             bricks: bricks.as_ref(),
             colours: colours.as_ref(),
+            labels: labels.as_ref(),
         };
         let format = texture.encoding.format;
         let other = |e: SliceError| Failure::Other(e.into());

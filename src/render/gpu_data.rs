@@ -224,7 +224,7 @@ pub fn layouts() -> Vec<StructLayout> {
         layout!(SliceParams = "SliceParams" in "entry/slice.wgsl" {
             first, step_x, step_y, slab_step, width, height, nearest, pitch, texel_max,
             unit_scale, unit_bias, window_lo, window_hi, slab_count, slab_mode, leap, colour,
-            colour_lo, colour_hi, invert, volume_colour, _pad1, _pad2, _pad3,
+            colour_lo, colour_hi, invert, volume_colour, labels, label_opacity, label_outline,
         }),
     ]
 }
@@ -536,12 +536,12 @@ pub struct SliceParams {
     pub invert: u32,
     /// 1 (display variant): a colour volume, whose thin slices show its own colour.
     pub volume_colour: u32,
-    /// Padding to a multiple of 16 bytes.
-    pub _pad1: u32,
-    /// See `_pad1`.
-    pub _pad2: u32,
-    /// See `_pad1`.
-    pub _pad3: u32,
+    /// 1 (display variant): the labels (`label_tex`) filled over the image in their colours.
+    pub labels: u32,
+    /// How opaque a label's fill is, 0…1.
+    pub label_opacity: f32,
+    /// 1: each label's outline drawn opaque (where a neighbouring pixel's label differs).
+    pub label_outline: u32,
 }
 
 /// `SliceParams.slab_mode`: the largest sample.

@@ -130,6 +130,8 @@ pub enum Action {
     OpenFolderDialog,
     /// Show the path prompt.
     OpenPathPrompt,
+    /// Show the file dialog for a segmentation of the volume on screen.
+    OpenLabelsDialog,
     /// Open series N (1-based, as listed) of the folder the volume on screen came from.
     OpenSeries(usize),
     /// Open another volume of the 4-D file on screen (counted from 0).

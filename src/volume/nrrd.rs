@@ -22,6 +22,16 @@ use super::{model::Volume, samples::Samples};
 use fields::NrrdHeader;
 use header::HeaderEnd;
 
+/// The `key:=value` fields of the NRRD header at `path` (where a `.seg.nrrd` describes its
+/// segments), read without its samples.
+pub(crate) fn key_values(
+    path: &Path,
+) -> Result<std::collections::HashMap<String, String>, VolumeError> {
+    let (file, _) = decode::open_file(path)?;
+    let (text, _, _) = header::read_header_text(&mut BufReader::new(file))?;
+    Ok(text.key_values)
+}
+
 /// Reads a NRRD volume; `name` becomes the volume's name.
 pub(crate) fn read_nrrd(
     path: &Path,

@@ -15,7 +15,7 @@ use leapview::imaging::ImageF32;
 use leapview::mpr::{PatientFrame, Plane, PlaneKind, Slab, SlabMode, SliceView};
 use leapview::reference;
 use leapview::render::VolumeRenderer;
-use leapview::render::slice::{SliceLook, SliceRenderer};
+use leapview::render::slice::{LabelLook, SliceLook, SliceRenderer};
 use leapview::render::volume_texture::VolumeTexture;
 use leapview::settings::effects::Shading;
 use leapview::settings::{Bricking, Mode, RenderPath, RenderSettings, Strategy, Upload};
@@ -281,6 +281,7 @@ fn slices_of_a_bricked_volume_equal_one_textures() {
                 leap: true,
                 colour: false,
                 invert: false,
+                labels: LabelLook::default(),
             };
             let draw = |texture: &VolumeTexture| {
                 let bricks = slab.and_then(|_| renderer.bricks_of(&ctx, &volume, texture));
@@ -288,7 +289,16 @@ fn slices_of_a_bricked_volume_equal_one_textures() {
                     .render(&ctx, &volume, texture, bricks.as_ref(), view, look)
                     .expect("slice");
                 let display = renderer
-                    .render_display(&ctx, &volume, texture, bricks.as_ref(), None, view, look)
+                    .render_display(
+                        &ctx,
+                        &volume,
+                        texture,
+                        bricks.as_ref(),
+                        None,
+                        None,
+                        view,
+                        look,
+                    )
                     .expect("slice");
                 (exact, display)
             };
@@ -558,6 +568,7 @@ fn over_budget_the_bricks_a_slice_crosses_stay_at_full_resolution() {
         leap: true,
         colour: false,
         invert: false,
+        labels: LabelLook::default(),
     };
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let (dir, up) = ViewPreset::Oblique.direction_and_up();

@@ -23,6 +23,7 @@ mod hard_cases_image;
 mod hard_cases_iso;
 mod hard_cases_values;
 mod hard_cases_volume;
+mod labels;
 mod leaping;
 mod leaping_real;
 mod loaders;

@@ -9,7 +9,7 @@ use common::{check_reference_within, colour_ramp, framing, renderer_for, setting
 use glam::DVec3;
 use leapview::camera::{ProjectionKind, ViewPreset};
 use leapview::mpr::{PatientFrame, Plane, PlaneKind, SliceView};
-use leapview::render::slice::{SliceLook, SliceRenderer};
+use leapview::render::slice::{LabelLook, SliceLook, SliceRenderer};
 use leapview::render::volume_texture::VolumeTexture;
 use leapview::settings::effects::{IsoSettings, Shading};
 use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
@@ -118,6 +118,7 @@ fn look(window: [f64; 2], invert: bool) -> SliceLook {
         leap: false,
         colour: false,
         invert,
+        labels: LabelLook::default(),
     }
 }
 
@@ -134,6 +135,7 @@ fn a_colour_volume_slices_in_its_own_colours() {
             &ctx,
             &volume,
             &texture,
+            None,
             None,
             None,
             &view,

@@ -7,7 +7,7 @@ use glam::DVec3;
 use leapview::mpr::{PatientFrame, Plane, PlaneKind, Slab, SlabMode, SliceView};
 use leapview::reference::slice::slice_values;
 use leapview::render::context::GpuContext;
-use leapview::render::slice::{SliceImage, SliceLook, SliceRenderer};
+use leapview::render::slice::{LabelLook, SliceImage, SliceLook, SliceRenderer};
 use leapview::render::volume_texture::VolumeTexture;
 use leapview::volume::{Orientation, Provenance, Samples, ValueMapping, Volume};
 
@@ -107,6 +107,7 @@ fn draw_slab(
         leap: true,
         colour: false,
         invert: false,
+        labels: LabelLook::default(),
     };
     let renderer = SliceRenderer::new(&ctx.device).expect("pipeline");
     // Slabs leap over their bricks here, so the reference checks the leaping walk.

@@ -7,7 +7,7 @@ use crate::common;
 use glam::DVec3;
 use leapview::mpr::{PatientFrame, Plane, PlaneKind, Slab, SlabMode, SliceView};
 use leapview::render::gpu_data::SLAB_BRICK;
-use leapview::render::slice::{SliceLook, SliceRenderer};
+use leapview::render::slice::{LabelLook, SliceLook, SliceRenderer};
 use leapview::render::volume_texture::{VolumeTexture, texel_units};
 use leapview::volume::{Volume, load_volume};
 
@@ -120,6 +120,7 @@ fn leaping_slabs_equal_slabs_that_take_every_sample() {
                     leap: true,
                     colour: false,
                     invert: false,
+                    labels: LabelLook::default(),
                 };
                 let leaping = renderer
                     .render(&ctx, &v, &texture, Some(&bricks), view, look)
@@ -181,12 +182,13 @@ fn the_window_shows_the_exact_slice_within_a_grey_level() {
                         leap: true,
                         colour: false,
                         invert: false,
+                        labels: LabelLook::default(),
                     };
                     let exact = renderer
                         .render(&ctx, &v, &texture, Some(&bricks), view, look)
                         .expect("exact");
                     let shown: Vec<u8> = renderer
-                        .render_display(&ctx, &v, &texture, Some(&bricks), None, view, look)
+                        .render_display(&ctx, &v, &texture, Some(&bricks), None, None, view, look)
                         .expect("display")
                         .iter()
                         .map(|p| p[0])
@@ -244,12 +246,13 @@ fn slices_coloured_by_the_transfer_function_blend_its_colour_by_its_opacity() {
             leap: true,
             colour: true,
             invert: false,
+            labels: LabelLook::default(),
         };
         let exact = renderer
             .render(&ctx, &v, &texture, None, &view, look)
             .expect("exact");
         let shown = renderer
-            .render_display(&ctx, &v, &texture, None, Some(&colours), &view, look)
+            .render_display(&ctx, &v, &texture, None, Some(&colours), None, &view, look)
             .expect("display");
         for ((value, g), rgb) in exact.values.iter().zip(&exact.grey).zip(&shown) {
             let (want, alpha) = if value.is_nan() {

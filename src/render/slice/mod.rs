@@ -8,10 +8,12 @@
 //! is `reference::slice`.
 
 mod bricks;
+mod labels;
 mod targets;
 mod timing;
 
 pub use bricks::SliceBricks;
+pub use labels::{LabelUploadError, SliceLabels};
 pub use targets::{DisplayTarget, SliceTarget};
 
 use crate::mpr::{PatientFrame, Slab, SlabMode, SliceView};
@@ -43,6 +45,27 @@ pub struct SliceLook {
     /// Grey from white at the window's low end to black at its high end (DICOM MONOCHROME1,
     /// `Provenance::invert_grey`, or the user's choice).
     pub invert: bool,
+    /// How labels are drawn over the image, where the pass is given them (the display variant).
+    pub labels: LabelLook,
+}
+
+/// How a slice shows labels: filled at an opacity, with or without their outlines.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LabelLook {
+    /// How opaque the fill is, 0…1 (0: outlines only, where on).
+    pub opacity: f32,
+    /// Each label's outline drawn opaque.
+    pub outline: bool,
+}
+
+impl Default for LabelLook {
+    /// Half opaque, with outlines: the image shows through, the boundaries stay sharp.
+    fn default() -> Self {
+        Self {
+            opacity: 0.5,
+            outline: true,
+        }
+    }
 }
 
 /// The parameters of one view's pass: the view's pixel grid in `frame`'s voxel coordinates, the
@@ -89,9 +112,9 @@ pub fn slice_params(
         colour_hi: volume.normalization_range().max as f32,
         invert: u32::from(look.invert),
         volume_colour: u32::from(volume.colour().is_some()),
-        _pad1: 0,
-        _pad2: 0,
-        _pad3: 0,
+        labels: 1,
+        label_opacity: look.labels.opacity.clamp(0.0, 1.0),
+        label_outline: u32::from(look.labels.outline),
     }
 }
 
@@ -135,6 +158,8 @@ pub struct SliceSource<'a> {
     /// The transfer function's colours over the volume's value range
     /// ([`SliceRenderer::colour_table`]); without them the display variant writes grey.
     pub colours: Option<&'a TableTexture>,
+    /// Labels over the image (the display variant); without them, none.
+    pub labels: Option<&'a SliceLabels>,
 }
 
 /// Where a pass writes, which also picks its variant.
@@ -166,6 +191,8 @@ pub struct SliceRenderer {
     no_bricks: wgpu::Buffer,
     /// Bound in place of a colour table where there is none.
     no_colours: TableTexture,
+    /// Bound in place of labels where there are none.
+    no_labels: labels::NoLabels,
 }
 
 /// Why a slice could not be drawn.
@@ -210,6 +237,7 @@ impl SliceRenderer {
                 mapped_at_creation: false,
             }),
             no_colours: TableTexture::slice_colours(device, 1),
+            no_labels: labels::NoLabels::new(device),
         })
     }
 
@@ -242,6 +270,9 @@ impl SliceRenderer {
         }
         if source.colours.is_none() {
             params.colour = 0;
+        }
+        if source.labels.is_none() {
+            params.labels = 0;
         }
         queue.write_buffer(output.params(), 0, bytemuck::bytes_of(&params));
         let pipeline = match output {
@@ -276,6 +307,19 @@ impl SliceRenderer {
                 entries.push(wgpu::BindGroupEntry {
                     binding: 5,
                     resource: wgpu::BindingResource::TextureView(&colours.view),
+                });
+                let (labels, label_colours) = source
+                    .labels
+                    .map_or((&self.no_labels.labels, &self.no_labels.colours), |l| {
+                        (&l.labels, &l.colours)
+                    });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: wgpu::BindingResource::TextureView(labels),
+                });
+                entries.push(wgpu::BindGroupEntry {
+                    binding: 9,
+                    resource: wgpu::BindingResource::TextureView(label_colours),
                 });
                 entries.push(wgpu::BindGroupEntry {
                     binding: 2,
@@ -359,6 +403,7 @@ impl SliceRenderer {
             texture: &view_of,
             bricks,
             colours: None,
+            labels: None,
         };
         self.submit(ctx, source, Output::Exact(&target), &params);
         let (values, grey) = target.read(ctx)?;
@@ -370,8 +415,8 @@ impl SliceRenderer {
     }
 
     /// Draws `view` as the window shows it (the display variant; coloured by `colours` where
-    /// `look` asks) and reads its pixels back, RGB, row-major: `leapview slice` and the tests
-    /// that compare the two variants.
+    /// `look` asks, with `labels` over it) and reads its pixels back, RGB, row-major:
+    /// `leapview slice` and the tests that compare the two variants.
     #[allow(clippy::too_many_arguments)]
     pub fn render_display(
         &self,
@@ -380,6 +425,7 @@ impl SliceRenderer {
         texture: &VolumeTexture,
         bricks: Option<&SliceBricks>,
         colours: Option<&TableTexture>,
+        labels: Option<&SliceLabels>,
         view: &SliceView,
         look: SliceLook,
     ) -> Result<Vec<[u8; 3]>, SliceError> {
@@ -397,6 +443,7 @@ impl SliceRenderer {
             texture: &view_of,
             bricks,
             colours,
+            labels,
         };
         self.submit(ctx, source, Output::Display(&target), &params);
         target.read(ctx)

@@ -5,6 +5,7 @@
 //! the central panel.
 
 mod automation;
+mod labels;
 mod persistence;
 mod view;
 
@@ -20,7 +21,7 @@ use crate::ui::frames::scene::Scene;
 use crate::ui::layout::Layout;
 use crate::ui::loading::{Loader, VolumeSource};
 use crate::ui::panels::controls::{PanelInfo, controls_ui};
-use crate::ui::panels::dialogs::Dialogs;
+use crate::ui::panels::dialogs::{Dialogs, Purpose};
 use crate::ui::panels::effects::effects_ui;
 use crate::ui::panels::menu::menu_bar;
 use crate::ui::panels::save_image::{SaveImageEvent, SaveImageForm, save_image_window};
@@ -43,6 +44,8 @@ pub struct AppOptions {
     pub load_options: LoadOptions,
     /// `--gpu-budget`, over the one the window kept.
     pub gpu_budget: Option<u64>,
+    /// A segmentation of the file, shown over the slices once it is open.
+    pub labels: Option<PathBuf>,
 }
 
 /// Why the window could not run.
@@ -80,13 +83,14 @@ pub fn run(options: AppOptions) -> Result<(), AppError> {
         "leapview",
         native_options(&title),
         Box::new(move |cc| {
-            let app = LeapViewApp::new(
+            let mut app = LeapViewApp::new(
                 cc,
                 options.load_options,
                 first,
                 automation,
                 options.gpu_budget,
             )?;
+            app.pending_labels = options.labels;
             Ok(Box::new(app))
         }),
     )
@@ -128,6 +132,10 @@ struct LeapViewApp {
     layout_before_image: Option<Layout>,
     /// The slice views (drawn when the layout has them).
     slices: crate::ui::slices::SliceViews,
+    /// A segmentation being read.
+    labels_load: Option<labels::LabelsLoad>,
+    /// A segmentation to read once a volume is shown.
+    pending_labels: Option<PathBuf>,
 }
 
 impl LeapViewApp {
@@ -179,6 +187,8 @@ impl LeapViewApp {
             saving: None,
             layout_before_image: None,
             slices,
+            labels_load: None,
+            pending_labels: None,
         };
         // A file's orientation as corrected before, unless the command line gives one.
         let first = match first {
@@ -315,6 +325,7 @@ impl LeapViewApp {
             Action::OpenVolume(index) => self.open_volume(index, ctx),
             Action::OpenChannel(index) => self.open_channel(index, ctx),
             Action::OpenPathPrompt => self.dialogs.open_prompt(),
+            Action::OpenLabelsDialog => self.dialogs.open_labels_dialog(ctx),
             Action::LoadPhantom => self.start_loading(VolumeSource::SheppLogan, ctx),
             Action::LoadVessels => self.start_loading(VolumeSource::VesselTree, ctx),
             Action::Quit => ctx.send_viewport_cmd(ViewportCommand::Close),
@@ -471,6 +482,7 @@ impl eframe::App for LeapViewApp {
         // The smoke test counts passes against rendered frames.
         log::trace!("egui pass {}", ctx.cumulative_pass_nr());
         self.receive_volume(&ctx);
+        self.receive_labels(&ctx);
         if self.scene.collect_measurements() {
             ctx.request_repaint_after(RESULTS_POLL);
         }
@@ -517,6 +529,7 @@ impl eframe::App for LeapViewApp {
                         );
                         ui.separator();
                         if state.layout.has_slices() && volume.is_some() {
+                            slices.labels_ui(ui);
                             slices.controls_ui(ui);
                             ui.separator();
                         }
@@ -530,8 +543,10 @@ impl eframe::App for LeapViewApp {
         }
         CentralPanel::no_frame().show(ui, |ui| self.view(ui));
 
-        if let Some(path) = self.dialogs.ui(&ctx) {
-            self.open_file(path, &ctx);
+        match self.dialogs.ui(&ctx) {
+            Some((path, Purpose::Volume)) => self.open_file(path, &ctx),
+            Some((path, Purpose::Labels)) => self.open_labels(path, &ctx),
+            None => {}
         }
         self.save_image_ui(&ctx);
         self.automate(&ctx);

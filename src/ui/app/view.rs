@@ -51,7 +51,17 @@ impl LeapViewApp {
         if self.state.layout.has_slices()
             && let Some(probe) = self.slices.hover()
         {
-            draw_probe(ui, area, probe, self.scene.volume().map(|v| &v.kind));
+            let label = probe
+                .voxel
+                .and_then(|v| self.slices.labels()?.segment_at(v))
+                .map(|s| format!("{} (label {})", s.name, s.value));
+            draw_probe(
+                ui,
+                area,
+                probe,
+                self.scene.volume().map(|v| &v.kind),
+                label.as_deref(),
+            );
         }
         // Without the 3D view (a 2D image alone), loading shows over the whole area.
         if !self.state.layout.has_3d() {
@@ -281,13 +291,14 @@ fn draw_drop_hint(ui: &egui::Ui, rect: egui::Rect) {
     );
 }
 
-/// The point under the pointer in a slice: patient millimetres, voxel, value, at the bottom of
-/// the central area.
+/// The point under the pointer in a slice: patient millimetres, voxel, value, the label shown
+/// there, at the bottom of the central area.
 fn draw_probe(
     ui: &egui::Ui,
     area: egui::Rect,
     probe: &crate::ui::slices::Probe,
     kind: Option<&crate::transfer::fit::DataKind>,
+    label: Option<&str>,
 ) {
     let p = probe.patient;
     let mut text = format!("{:.1}, {:.1}, {:.1} mm (LPS)", p.x, p.y, p.z);
@@ -317,6 +328,9 @@ fn draw_probe(
         }
         None if probe.voxel.is_some() => text.push_str("   no value"),
         None => text.push_str("   outside the volume"),
+    }
+    if let Some(label) = label {
+        text.push_str(&format!("   {label}"));
     }
     let at = egui::pos2(area.min.x + 6.0, area.max.y - 6.0);
     let font = egui::FontId::monospace(13.0);

@@ -17,9 +17,21 @@ const VOLUME_EXTENSIONS: [&str; 9] = [
     "nrrd", "nhdr", "nii", "gz", "raw", "mha", "mhd", "dcm", "DICOMDIR",
 ];
 
+/// What a chosen file is for.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Purpose {
+    /// A volume to open.
+    #[default]
+    Volume,
+    /// A segmentation of the volume on screen.
+    Labels,
+}
+
 /// The window's dialogs.
 #[derive(Default)]
 pub struct Dialogs {
+    /// What the open dialog or prompt chooses a file for.
+    purpose: Purpose,
     /// Error messages waiting to be seen, oldest first.
     errors: Vec<String>,
     /// The typed path while the prompt is open, and whether it has had the focus yet.
@@ -44,30 +56,43 @@ impl Dialogs {
         !self.errors.is_empty()
     }
 
-    /// Opens the path prompt.
+    /// Opens the path prompt for a volume.
     pub(crate) fn open_prompt(&mut self) {
+        if self.prompt.is_none() && self.picker.is_none() {
+            self.purpose = Purpose::Volume;
+        }
         self.prompt.get_or_insert_with(|| (String::new(), false));
     }
 
     /// Opens the system file dialog, or the path prompt where there can be none.
     pub(crate) fn open_file_dialog(&mut self, ctx: &egui::Context) {
-        self.open_dialog(ctx, false);
+        self.open_dialog(ctx, false, Purpose::Volume);
     }
 
     /// Opens the system folder dialog (for a DICOM series), or the path prompt.
     pub(crate) fn open_folder_dialog(&mut self, ctx: &egui::Context) {
-        self.open_dialog(ctx, true);
+        self.open_dialog(ctx, true, Purpose::Volume);
     }
 
-    fn open_dialog(&mut self, ctx: &egui::Context, folder: bool) {
-        if self.picker.is_some() {
+    /// Opens the system file dialog for a segmentation, or the path prompt.
+    pub(crate) fn open_labels_dialog(&mut self, ctx: &egui::Context) {
+        self.open_dialog(ctx, false, Purpose::Labels);
+    }
+
+    fn open_dialog(&mut self, ctx: &egui::Context, folder: bool, purpose: Purpose) {
+        if self.picker.is_some() || self.prompt.is_some() {
             return;
         }
+        self.purpose = purpose;
         if !portal_possible() {
             log::info!("no D-Bus session and no zenity: asking for a path instead");
-            self.open_prompt();
+            self.prompt = Some((String::new(), false));
             return;
         }
+        let title = match purpose {
+            Purpose::Volume => "Open a volume",
+            Purpose::Labels => "Open a segmentation of the volume on screen",
+        };
         let (tx, rx) = mpsc::channel();
         let ctx = ctx.clone();
         let spawned = std::thread::Builder::new()
@@ -79,7 +104,7 @@ impl Dialogs {
                         .pick_folder()
                 } else {
                     rfd::FileDialog::new()
-                        .set_title("Open a volume")
+                        .set_title(title)
                         .add_filter(
                             "Volumes (NRRD, NIfTI, MetaImage, DICOM, raw)",
                             &VOLUME_EXTENSIONS,
@@ -94,13 +119,13 @@ impl Dialogs {
             Ok(_) => self.picker = Some((Instant::now(), rx)),
             Err(e) => {
                 log::warn!("cannot start the file dialog: {e}");
-                self.open_prompt();
+                self.prompt = Some((String::new(), false));
             }
         }
     }
 
-    /// Draws the open dialogs and returns a file the user chose.
-    pub fn ui(&mut self, ctx: &egui::Context) -> Option<PathBuf> {
+    /// Draws the open dialogs and returns a file the user chose, and what for.
+    pub fn ui(&mut self, ctx: &egui::Context) -> Option<(PathBuf, Purpose)> {
         let mut chosen = self.poll_picker();
         if let Some(message) = self.errors.first() {
             let response = Modal::new(Id::unique("leapview error")).show(ctx, |ui| {
@@ -117,7 +142,7 @@ impl Dialogs {
         } else if self.prompt.is_some() {
             chosen = chosen.or_else(|| self.prompt_ui(ctx));
         }
-        chosen
+        chosen.map(|path| (path, self.purpose))
     }
 
     /// The answer of the system file dialog; opens the prompt when the dialog could not show.
@@ -132,24 +157,33 @@ impl Dialogs {
         self.picker = None;
         if answer.is_none() && elapsed < DIALOG_FAILED_WITHIN {
             log::info!("the file dialog did not show (no desktop portal?): asking for a path");
-            self.open_prompt();
+            self.prompt = Some((String::new(), false));
         }
         answer
     }
 
     fn prompt_ui(&mut self, ctx: &egui::Context) -> Option<PathBuf> {
+        let purpose = self.purpose;
         let (text, focused_once) = self.prompt.as_mut()?;
         let mut open = false;
         let mut cancel = false;
         let response = Modal::new(Id::unique("leapview open path")).show(ctx, |ui| {
             ui.set_width(520.0);
-            ui.heading("Open a volume");
-            ui.label(
-                "Path of a NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), MetaImage (.mha, .mhd), \
+            if purpose == Purpose::Labels {
+                ui.heading("Open a segmentation");
+                ui.label(
+                    "Path of the labels of the volume on screen: NIfTI, NRRD or Slicer \
+                     .seg.nrrd, MetaImage, or a DICOM SEG file:",
+                );
+            } else {
+                ui.heading("Open a volume");
+                ui.label(
+                    "Path of a NRRD (.nrrd, .nhdr), NIfTI (.nii, .nii.gz), MetaImage (.mha, .mhd), \
                  TIFF or raw file, a DICOM file, a folder of DICOM files or TIFF slices, or an \
                  OME-Zarr store: a folder, or an address (https://, s3://, gs://, az://; \
                  credentials from the AWS_, GOOGLE_ or AZURE_ environment variables):",
-            );
+                );
+            }
             let edit = ui.add(
                 egui::TextEdit::singleline(text)
                     .desired_width(f32::INFINITY)

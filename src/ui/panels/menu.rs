@@ -147,6 +147,16 @@ pub fn menu_bar(
             if ui.button("Open path…").clicked() {
                 action = Some(Action::OpenPathPrompt);
             }
+            if ui
+                .button("Open segmentation…")
+                .on_hover_text(
+                    "Labels of the volume on screen (NIfTI, NRRD, Slicer .seg.nrrd, MetaImage, \
+                     DICOM SEG), shown over the slices",
+                )
+                .clicked()
+            {
+                action = Some(Action::OpenLabelsDialog);
+            }
             ui.add_enabled_ui(!state.recent.is_empty(), |ui| {
                 ui.menu_button("Recent", |ui| {
                     for path in &state.recent {

@@ -7,6 +7,7 @@
 
 mod controls;
 mod crop_edit;
+mod labels;
 mod pane;
 mod planes_3d;
 
@@ -21,6 +22,8 @@ use crate::render::volume_texture::{VolumeView, texel_units};
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
+use labels::LabelsAction;
+pub use labels::ShownLabels;
 pub use pane::Probe;
 use pane::{PaneLook, SlicePane};
 
@@ -94,6 +97,8 @@ pub struct SliceViews {
     colours: Option<Colours>,
     /// The point under the pointer in a slice this pass, if any.
     hover: Option<Probe>,
+    /// A segmentation over the slices.
+    labels: Option<ShownLabels>,
 }
 
 /// A transfer function's colour table on the GPU, for one volume (its value range).
@@ -134,7 +139,53 @@ impl SliceViews {
             alone: false,
             colours: None,
             hover: None,
+            labels: None,
         }
+    }
+
+    /// Shows `map` (on the volume's grid) over the slices, every segment shown; the reason
+    /// where it cannot be.
+    pub fn set_labels(&mut self, map: Arc<crate::labels::LabelMap>) -> Result<(), String> {
+        let (Ok(gpu), Some(source)) = (&self.gpu, &self.source) else {
+            return Err("no volume to show labels over".into());
+        };
+        if map.dims() != source.volume.dims() {
+            return Err("the labels are of another volume".into());
+        }
+        self.labels = Some(ShownLabels::new(
+            &gpu.device,
+            &gpu.queue,
+            map,
+            source.generation,
+        )?);
+        Ok(())
+    }
+
+    /// The segmentation over the slices, if any.
+    pub fn labels(&self) -> Option<&ShownLabels> {
+        self.labels.as_ref()
+    }
+
+    /// The segmentation, to change what it shows, and the queue its colours go through.
+    fn labels_mut(&mut self) -> Option<(&mut ShownLabels, &wgpu::Queue)> {
+        let queue = &self.gpu.as_ref().ok()?.queue;
+        Some((self.labels.as_mut()?, queue))
+    }
+
+    /// The segmentation's section of the side panel, where there is one.
+    pub fn labels_ui(&mut self, ui: &mut egui::Ui) {
+        let Some((labels, queue)) = self.labels_mut() else {
+            return;
+        };
+        if labels.ui(ui, queue) == Some(LabelsAction::Close) {
+            self.labels = None;
+        }
+        ui.separator();
+    }
+
+    /// The volume the slices show.
+    pub fn volume(&self) -> Option<Arc<Volume>> {
+        self.source.as_ref().map(|s| Arc::clone(&s.volume))
     }
 
     /// The transfer function the slices are coloured by (when `colour_by_tf`): its table is
@@ -180,6 +231,8 @@ impl SliceViews {
             pane.forget_view();
         }
         self.planes = standard_planes();
+        // Labels lie on one volume's grid.
+        self.labels = None;
         self.source = Some(Source {
             volume,
             frame,
@@ -351,6 +404,11 @@ impl SliceViews {
                 .as_ref()
                 .filter(|c| self.colour_by_tf && c.volume == source.generation)
                 .map(|c| (&c.table, c.generation)),
+            labels: self
+                .labels
+                .as_ref()
+                .filter(|l| l.volume == source.generation)
+                .map(ShownLabels::for_pane),
             alone: self.alone,
             directions: source
                 .volume

@@ -10,7 +10,9 @@ use glam::{DVec2, DVec3};
 use crate::mpr::frame::lps;
 use crate::mpr::{Plane, PlaneKind, Slab, SliceView};
 use crate::render::gpu_data::SliceParams;
-use crate::render::slice::{DisplayTarget, Output, SliceLook, SliceSource, slice_params};
+use crate::render::slice::{
+    DisplayTarget, LabelLook, Output, SliceLabels, SliceLook, SliceSource, slice_params,
+};
 use crate::render::table_texture::TableTexture;
 use crate::ui::gestures::window_level::window_drag;
 use crate::volume::Direction;
@@ -40,12 +42,18 @@ pub struct PaneLook<'a> {
     pub crop: Option<CropBox>,
     /// The transfer function's colour table and its generation, when the slices are coloured.
     pub colours: Option<(&'a TableTexture, u64)>,
+    /// A segmentation over the slice: its textures, their generation and its look.
+    pub labels: Option<(&'a SliceLabels, u64, LabelLook)>,
     /// A 2D image alone in its layout: no other planes' lines cross it.
     pub alone: bool,
     /// Whether the patient's directions are known (not a 2D image shown as stored), so that
     /// the edges name them.
     pub directions: bool,
 }
+
+/// What a pane's texture shows: the volume's and its bricks' generations, the colour table's
+/// and the labels' (where shown), and the pass's parameters.
+type Drawn = ((u64, u64), (Option<u64>, Option<u64>), SliceParams);
 
 /// The point under the pointer in a slice.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,9 +98,9 @@ pub struct SlicePane {
     kind: PlaneKind,
     view: Option<SliceView>,
     gpu: Option<PaneGpu>,
-    /// What the texture shows: the volume's generation and its bricks', the colour table's and the pass's
-    /// parameters.
-    drawn: Option<((u64, u64), Option<u64>, SliceParams)>,
+    /// What the texture shows: the volume's generation and its bricks', the colour table's and
+    /// the labels' generations, and the pass's parameters.
+    drawn: Option<Drawn>,
     /// A distance ruler's ends (patient mm), drawn while the plane passes through them.
     ruler: Option<(DVec3, DVec3)>,
     /// The cropping box's face being dragged.
@@ -314,6 +322,7 @@ impl SlicePane {
             leap: true,
             colour: look.colours.is_some(),
             invert: look.invert,
+            labels: look.labels.map_or_else(LabelLook::default, |(_, _, l)| l),
         };
         let params = slice_params(
             &view,
@@ -325,7 +334,7 @@ impl SlicePane {
         );
         let drawn = Some((
             (source.generation, source.contents),
-            look.colours.map(|(_, g)| g),
+            (look.colours.map(|(_, g)| g), look.labels.map(|(_, g, _)| g)),
             params,
         ));
         if self.drawn == drawn {
@@ -345,6 +354,7 @@ impl SlicePane {
                 texture: &source.texture,
                 bricks,
                 colours: look.colours.map(|(table, _)| table),
+                labels: look.labels.map(|(labels, _, _)| labels),
             },
             Output::Display(&pane.target),
             &params,

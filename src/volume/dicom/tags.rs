@@ -60,7 +60,8 @@ fn unknown_bytes(el: &InMemElement) -> Option<Vec<u8>> {
     (el.vr() == VR::UN).then(|| el.to_bytes().map(|b| b.into_owned()).unwrap_or_default())
 }
 
-fn text(el: Option<&InMemElement>) -> String {
+/// A text attribute, trimmed (empty where absent).
+pub(crate) fn text(el: Option<&InMemElement>) -> String {
     let Some(el) = el else {
         return String::new();
     };
@@ -70,7 +71,8 @@ fn text(el: Option<&InMemElement>) -> String {
     }
 }
 
-fn floats(el: Option<&InMemElement>) -> Option<Vec<f64>> {
+/// A multi-valued decimal attribute.
+pub(crate) fn floats(el: Option<&InMemElement>) -> Option<Vec<f64>> {
     let el = el?;
     match unknown_bytes(el) {
         Some(_) => text(Some(el))
@@ -86,7 +88,7 @@ fn float(el: Option<&InMemElement>) -> Option<f64> {
 }
 
 /// An integer string (IS) attribute.
-fn int(el: Option<&InMemElement>) -> Option<i64> {
+pub(crate) fn int(el: Option<&InMemElement>) -> Option<i64> {
     let el = el?;
     match unknown_bytes(el) {
         Some(_) => text(Some(el)).split('\\').next()?.trim().parse().ok(),
@@ -95,7 +97,7 @@ fn int(el: Option<&InMemElement>) -> Option<i64> {
 }
 
 /// An unsigned short (US) attribute.
-fn us(el: Option<&InMemElement>) -> Option<i64> {
+pub(crate) fn us(el: Option<&InMemElement>) -> Option<i64> {
     let el = el?;
     match unknown_bytes(el) {
         Some(b) if b.len() >= 2 => Some(i64::from(u16::from_le_bytes([b[0], b[1]]))),
@@ -110,12 +112,15 @@ fn array<const N: usize>(el: Option<&InMemElement>) -> Option<[f64; N]> {
 }
 
 /// The first item of sequence `seq` in `item`.
-fn first_item(item: &InMemDicomObject, seq: dicom_core::Tag) -> Option<&InMemDicomObject> {
+pub(crate) fn first_item(
+    item: &InMemDicomObject,
+    seq: dicom_core::Tag,
+) -> Option<&InMemDicomObject> {
     item.get(seq)?.items()?.first()
 }
 
 /// An attribute of a functional group macro, from the frame's item, else the shared one.
-fn group_attr<'a>(
+pub(crate) fn group_attr<'a>(
     frame: Option<&'a InMemDicomObject>,
     shared: Option<&'a InMemDicomObject>,
     macro_seq: dicom_core::Tag,

@@ -1,0 +1,85 @@
+//! Segmentations beside the image: label volumes (NIfTI, NRRD and Slicer's `.seg.nrrd`,
+//! MetaImage) and DICOM SEG, their segments' names and colours (from the file, an ITK-SNAP label description
+//! or a colour table beside it, else a palette), put on the image's voxel grid by patient
+//! coordinates (nearest label).
+//!
+//! A [`LabelMap`] holds one or more layers of labels on the image's grid, each voxel a `u16`
+//! (0 is no label); a segment is a label value in a layer. Overlapping segments (Slicer's layers)
+//! are layers of their own (a DICOM SEG's overlapping segments go into as few layers as hold them
+//! apart).
+
+mod dicom_seg;
+mod error;
+mod names;
+mod palette;
+mod read;
+mod resample;
+
+pub use self::error::LabelError;
+pub use self::read::{LabelOptions, load_labels};
+
+/// One segment: a label value in a layer, its name and colour.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Segment {
+    /// The label value its voxels hold in [`Segment::layer`].
+    pub value: u16,
+    /// The layer holding it (0 but for overlapping segments).
+    pub layer: u16,
+    /// Its name: the file's, else "label N".
+    pub name: String,
+    /// Its colour, sRGB: the file's, else the palette's.
+    pub colour: [u8; 3],
+    /// Its voxels on the image's grid.
+    pub voxels: u64,
+}
+
+/// Labels on an image's voxel grid, in layers, with their segments.
+#[derive(Clone, Debug)]
+pub struct LabelMap {
+    /// The image's dimensions.
+    dims: [u32; 3],
+    /// Each layer's label per voxel, x fastest, as the image's samples.
+    layers: Vec<Vec<u16>>,
+    /// Every segment with at least one voxel, or named by the file, by layer then value.
+    segments: Vec<Segment>,
+    /// What was done to the file's labels, for the user (resampled, partly outside, …).
+    notes: Vec<String>,
+    /// The file's name.
+    name: String,
+}
+
+impl LabelMap {
+    /// The image's dimensions, which the layers have.
+    pub fn dims(&self) -> [u32; 3] {
+        self.dims
+    }
+
+    /// Each layer's label per voxel.
+    pub fn layers(&self) -> &[Vec<u16>] {
+        &self.layers
+    }
+
+    /// The segments, by layer then value.
+    pub fn segments(&self) -> &[Segment] {
+        &self.segments
+    }
+
+    /// What was done to the labels on the way to the image's grid.
+    pub fn notes(&self) -> &[String] {
+        &self.notes
+    }
+
+    /// The label file's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The segment holding voxel index `i` of layer `layer`, if any.
+    pub fn segment_at(&self, layer: usize, i: usize) -> Option<&Segment> {
+        let value = *self.layers.get(layer)?.get(i)?;
+        (value != 0).then_some(())?;
+        self.segments
+            .iter()
+            .find(|s| usize::from(s.layer) == layer && s.value == value)
+    }
+}

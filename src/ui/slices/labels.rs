@@ -1,0 +1,167 @@
+//! A segmentation over the slice views: the label map, its textures on the GPU, which segments
+//! are shown and how (fill opacity, outlines).
+
+use std::collections::BTreeSet;
+use std::sync::Arc;
+
+use crate::labels::{LabelMap, Segment};
+use crate::render::slice::{LabelLook, SliceLabels};
+
+/// The labels shown over the slices of one volume.
+pub struct ShownLabels {
+    /// The labels on the volume's grid.
+    pub map: Arc<LabelMap>,
+    gpu: SliceLabels,
+    /// Hidden segments, by (layer, value).
+    hidden: BTreeSet<(u16, u16)>,
+    /// How they are drawn.
+    pub look: LabelLook,
+    /// Counts changes of what is shown: a new one redraws every pane.
+    generation: u64,
+    /// The volume they lie on (`Source::generation`).
+    pub(super) volume: u64,
+    /// The panel's search text.
+    search: String,
+}
+
+/// What the segmentation's panel asked for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum LabelsAction {
+    /// Take the segmentation away.
+    Close,
+}
+
+impl ShownLabels {
+    /// `map`'s labels, all shown, on `device`.
+    pub(super) fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        map: Arc<LabelMap>,
+        volume: u64,
+    ) -> Result<Self, String> {
+        let gpu = SliceLabels::new(device, queue, &map).map_err(|e| e.to_string())?;
+        Ok(Self {
+            map,
+            gpu,
+            hidden: BTreeSet::new(),
+            look: LabelLook::default(),
+            generation: 0,
+            volume,
+            search: String::new(),
+        })
+    }
+
+    /// Whether `segment` is shown.
+    fn is_shown(&self, segment: &Segment) -> bool {
+        !self.hidden.contains(&(segment.layer, segment.value))
+    }
+
+    /// Shows the segments `shown` says (by layer and value), hides the others, and redraws.
+    fn show_only(&mut self, queue: &wgpu::Queue, shown: impl Fn(&Segment) -> bool) {
+        self.hidden = self
+            .map
+            .segments()
+            .iter()
+            .filter(|s| !shown(s))
+            .map(|s| (s.layer, s.value))
+            .collect();
+        let hidden = &self.hidden;
+        self.gpu
+            .show(queue, &self.map, |s| !hidden.contains(&(s.layer, s.value)));
+        self.generation += 1;
+    }
+
+    /// What a pane draws them with: the textures, the generation and the look.
+    pub(super) fn for_pane(&self) -> (&SliceLabels, u64, LabelLook) {
+        (&self.gpu, self.generation, self.look)
+    }
+
+    /// The side panel's section: fill opacity, outlines, and each segment (shown or not, its
+    /// colour, name, value and voxels), searchable by name, all at once or one alone.
+    pub(super) fn ui(&mut self, ui: &mut egui::Ui, queue: &wgpu::Queue) -> Option<LabelsAction> {
+        let mut action = None;
+        let map = Arc::clone(&self.map);
+        let segments = map.segments();
+        ui.horizontal(|ui| {
+            ui.strong("Segmentation");
+            ui.label(format!("{} · {} segments", map.name(), segments.len()))
+                .on_hover_text(map.notes().join("\n"));
+            if ui.small_button("Close").clicked() {
+                action = Some(LabelsAction::Close);
+            }
+        });
+        let before = self.look;
+        ui.horizontal(|ui| {
+            ui.label("Fill");
+            ui.add(egui::Slider::new(&mut self.look.opacity, 0.0..=1.0).fixed_decimals(2));
+            ui.checkbox(&mut self.look.outline, "outlines");
+        });
+        if self.look != before {
+            self.generation += 1;
+        }
+        let mut shown: Vec<bool> = segments.iter().map(|s| self.is_shown(s)).collect();
+        let mut changed = false;
+        ui.horizontal(|ui| {
+            ui.add(
+                egui::TextEdit::singleline(&mut self.search)
+                    .hint_text("search by name")
+                    .desired_width(150.0),
+            );
+            if ui.button("All").clicked() {
+                shown.iter_mut().for_each(|v| *v = true);
+                changed = true;
+            }
+            if ui.button("None").clicked() {
+                shown.iter_mut().for_each(|v| *v = false);
+                changed = true;
+            }
+        });
+        let needle = self.search.to_lowercase();
+        egui::ScrollArea::vertical()
+            .id_salt("segments")
+            .max_height(260.0)
+            .show(ui, |ui| {
+                for (i, s) in segments.iter().enumerate() {
+                    if !needle.is_empty() && !s.name.to_lowercase().contains(&needle) {
+                        continue;
+                    }
+                    ui.horizontal(|ui| {
+                        changed |= ui.checkbox(&mut shown[i], "").changed();
+                        let [r, g, b] = s.colour;
+                        let (rect, _) =
+                            ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+                        ui.painter()
+                            .rect_filled(rect, 2.0, egui::Color32::from_rgb(r, g, b));
+                        ui.label(&s.name).on_hover_text(format!(
+                            "label {} (layer {}), {} voxels",
+                            s.value, s.layer, s.voxels
+                        ));
+                        if ui.small_button("only").clicked() {
+                            shown.iter_mut().for_each(|v| *v = false);
+                            shown[i] = true;
+                            changed = true;
+                        }
+                    });
+                }
+            });
+        if changed {
+            let keep: BTreeSet<(u16, u16)> = segments
+                .iter()
+                .zip(&shown)
+                .filter(|(_, on)| **on)
+                .map(|(s, _)| (s.layer, s.value))
+                .collect();
+            self.show_only(queue, |s| keep.contains(&(s.layer, s.value)));
+        }
+        action
+    }
+
+    /// The shown segment at stored voxel `[i, j, k]` of the volume, if any.
+    pub fn segment_at(&self, [i, j, k]: [u32; 3]) -> Option<&Segment> {
+        let [nx, ny, _] = self.map.dims().map(|d| d as usize);
+        let index = i as usize + nx * (j as usize + ny * k as usize);
+        (0..self.map.layers().len())
+            .filter_map(|layer| self.map.segment_at(layer, index))
+            .find(|s| self.is_shown(s))
+    }
+}
