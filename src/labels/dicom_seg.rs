@@ -115,7 +115,7 @@ pub(super) fn read(path: &Path) -> Result<Seg, String> {
     let frames = per_frame
         .iter()
         .enumerate()
-        .map(|(i, item)| frame(i, item, &described))
+        .map(|(i, item)| frame(i, item, shared, &described))
         .collect::<Result<Vec<_>, _>>()?;
     let orientation = floats(group_attr(
         per_frame.first(),
@@ -290,22 +290,36 @@ fn segments(obj: &InMemDicomObject) -> Result<Vec<Described>, String> {
         .collect()
 }
 
-/// Frame `i`'s segment and position, from its functional groups.
-fn frame(i: usize, item: &InMemDicomObject, described: &[Described]) -> Result<Frame, String> {
-    let segment = first_item(item, tags::SEGMENT_IDENTIFICATION_SEQUENCE)
-        .and_then(|s| us(s.get(tags::REFERENCED_SEGMENT_NUMBER)))
-        .and_then(|n| u16::try_from(n).ok())
-        .ok_or_else(|| format!("frame {} names no segment", i + 1))?;
+/// Frame `i`'s segment and position, from its functional groups (`item`), else the shared ones
+/// (a SEG of one segment names it there).
+fn frame(
+    i: usize,
+    item: &InMemDicomObject,
+    shared: Option<&InMemDicomObject>,
+    described: &[Described],
+) -> Result<Frame, String> {
+    let segment = us(group_attr(
+        Some(item),
+        shared,
+        tags::SEGMENT_IDENTIFICATION_SEQUENCE,
+        tags::REFERENCED_SEGMENT_NUMBER,
+    ))
+    .and_then(|n| u16::try_from(n).ok())
+    .ok_or_else(|| format!("frame {} names no segment", i + 1))?;
     if !described.iter().any(|d| d.value == segment) {
         return Err(format!(
             "frame {} is of segment {segment}, which SegmentSequence does not describe",
             i + 1
         ));
     }
-    let position = first_item(item, tags::PLANE_POSITION_SEQUENCE)
-        .and_then(|p| floats(p.get(tags::IMAGE_POSITION_PATIENT)))
-        .filter(|v| v.len() == 3 && v.iter().all(|c| c.is_finite()))
-        .ok_or_else(|| format!("frame {} has no ImagePositionPatient", i + 1))?;
+    let position = floats(group_attr(
+        Some(item),
+        shared,
+        tags::PLANE_POSITION_SEQUENCE,
+        tags::IMAGE_POSITION_PATIENT,
+    ))
+    .filter(|v| v.len() == 3 && v.iter().all(|c| c.is_finite()))
+    .ok_or_else(|| format!("frame {} has no ImagePositionPatient", i + 1))?;
     Ok(Frame {
         segment,
         position: DVec3::new(position[0], position[1], position[2]),

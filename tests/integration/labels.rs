@@ -2,7 +2,8 @@
 //! the shared data's CT head labels (SimpleITK's NIfTI, Slicer's `.seg.nrrd` layout written by
 //! pynrrd) on the DICOM series they were made from, the MR head's 120 parcels (nibabel) with their
 //! ITK-SNAP label description, and nibabel's label volumes on other grids, whose labels on the
-//! image's grid numpy computes from the affines alone (`scripts/python/label_files.py`); and the
+//! image's grid numpy computes from the affines alone (`scripts/python/label_files.py`), highdicom's
+//! DICOM SEGs (overlapping, fractional, of another series: `scripts/python/seg_files.py`); and the
 //! slice view's label fill, outlines and hiding against the labels under each pixel.
 
 use std::path::Path;
@@ -366,4 +367,90 @@ fn a_slice_fills_each_shown_label_in_its_colour_and_outlines_its_edges() {
         }
     }
     assert!(edges > 100, "only {edges} outline pixels");
+}
+
+#[test]
+fn highdicom_segs_overlapping_fractional_and_of_another_series_are_read_or_refused() {
+    let dir = common::TempDir::new("labels-seg");
+    common::run_python("seg_files.py", &[dir.path()]);
+    let cases = common::cases_json(dir.path());
+    let series = image(&dir.path().join("series"));
+    let frame = PatientFrame::of(&series);
+    let coord = |key: &str| -> [f64; 3] {
+        let v = cases[key].as_array().expect(key);
+        std::array::from_fn(|a| v[a].as_f64().expect("a number"))
+    };
+    let (origin, spacing) = (coord("origin"), coord("spacing"));
+    let dims: Vec<usize> = cases["dims"]
+        .as_array()
+        .expect("dims")
+        .iter()
+        .map(|d| d.as_u64().expect("a size") as usize)
+        .collect();
+    for file in ["binary", "fractional"] {
+        let map = labels(&dir.path().join(format!("{file}.dcm")), &series);
+        for want in cases[file].as_array().expect("segments") {
+            let number = want["number"].as_u64().expect("number") as u16;
+            let segment = map
+                .segments()
+                .iter()
+                .find(|s| s.value == number)
+                .unwrap_or_else(|| panic!("{file}: no segment {number}"));
+            assert_eq!(segment.name, want["label"].as_str().expect("label"));
+            let rgb: Vec<u8> = want["rgb"]
+                .as_array()
+                .expect("rgb")
+                .iter()
+                .map(|c| c.as_u64().expect("a byte") as u8)
+                .collect();
+            let off = segment
+                .colour
+                .iter()
+                .zip(&rgb)
+                .map(|(a, b)| a.abs_diff(*b))
+                .max();
+            assert!(
+                off <= Some(1),
+                "{file} {number}: {:?} against {rgb:?}",
+                segment.colour
+            );
+            // Membership voxel by voxel, in whichever layer holds the segment.
+            let mask = std::fs::read(dir.path().join(format!("{file}_{number}.u8"))).expect("mask");
+            let [nx, ny, nz] = series.dims();
+            let mut wrong = 0;
+            for k in 0..nz {
+                for j in 0..ny {
+                    for i in 0..nx {
+                        let p =
+                            frame.to_patient(DVec3::new(f64::from(i), f64::from(j), f64::from(k)));
+                        let at = |a: usize| ((p[a] - origin[a]) / spacing[a]).round() as usize;
+                        let want = mask[at(0) + dims[0] * (at(1) + dims[1] * at(2))] == 1;
+                        let index = series.index(i, j, k);
+                        let got = map.layers().iter().any(|l| l[index] == number);
+                        wrong += usize::from(got != want);
+                    }
+                }
+            }
+            assert_eq!(wrong, 0, "{file} segment {number}: {wrong} voxels differ");
+        }
+    }
+    // The two spheres overlap: two layers.
+    let binary = labels(&dir.path().join("binary.dcm"), &series);
+    assert_eq!(binary.layers().len(), 2);
+    let fractional = labels(&dir.path().join("fractional.dcm"), &series);
+    assert!(
+        fractional.notes().iter().any(|n| n.contains("half")),
+        "{:?}",
+        fractional.notes()
+    );
+    // A SEG of the other series (the same frame of reference) is refused.
+    let e = load_labels(
+        &dir.path().join("other.dcm"),
+        &series,
+        &LabelOptions::default(),
+    )
+    .map(|_| ())
+    .expect_err("another series")
+    .to_string();
+    assert!(e.contains("another scan") && e.contains("series"), "{e}");
 }

@@ -1,0 +1,173 @@
+"""DICOM segmentations written by highdicom over a CT series written by pydicom, for LeapView's
+DICOM SEG reader (tests/integration/labels.rs).
+
+    python seg_files.py OUT
+
+Writes OUT/series/ (12 axial CT slices of 24 x 20 pixels, 0.7 x 0.9 mm, 2.5 mm apart),
+OUT/other/ (the same slices as another series in the same frame of reference) and:
+- binary.dcm: three BINARY segments, the first two overlapping (two spheres), the third apart
+  (a box); highdicom leaves out the frames a segment does not touch;
+- fractional.dcm: one FRACTIONAL segment of values 0, 0.3, 0.7 and 1 (shown where above half);
+- other.dcm: a BINARY segment of the other series;
+and, for each segment of binary.dcm and fractional.dcm, `<file>_<segment>.u8`: 1 where the voxel
+is in the segment, 0 elsewhere, index = column + columns * (row + rows * slice), slices in
+order of z. cases.json gives the geometry (first voxel's centre, spacing: x, y, z in mm,
+LPS) and the segments' numbers, labels and colours as highdicom converts their CIELab values to
+sRGB.
+"""
+
+import json
+import os
+import sys
+
+import highdicom as hd
+import numpy as np
+from pydicom.dataset import Dataset, FileMetaDataset
+from pydicom.sr.codedict import codes
+from pydicom.uid import CTImageStorage, ExplicitVRLittleEndian, generate_uid
+
+ROWS, COLS, SLICES = 20, 24, 12
+DX, DY, DZ = 0.7, 0.9, 2.5
+ORIGIN = (-8.05, -9.1, 30.0)
+
+
+def ct_series(folder, study, frame_of_reference, series):
+    """The CT slices, written with pydicom; returns their data sets."""
+    os.makedirs(folder, exist_ok=True)
+    rng = np.random.default_rng(3)
+    slices = []
+    for k in range(SLICES):
+        ds = Dataset()
+        ds.file_meta = FileMetaDataset()
+        ds.file_meta.MediaStorageSOPClassUID = CTImageStorage
+        ds.file_meta.TransferSyntaxUID = ExplicitVRLittleEndian
+        ds.SOPClassUID = CTImageStorage
+        ds.SOPInstanceUID = generate_uid()
+        ds.file_meta.MediaStorageSOPInstanceUID = ds.SOPInstanceUID
+        ds.StudyInstanceUID = study
+        ds.SeriesInstanceUID = series
+        ds.FrameOfReferenceUID = frame_of_reference
+        ds.Modality = "CT"
+        ds.PatientName = "Seg^Test"
+        ds.PatientID = "seg-test"
+        ds.PatientBirthDate = ""
+        ds.PatientSex = "O"
+        ds.StudyDate = "20261206"
+        ds.StudyTime = "120000"
+        ds.AccessionNumber = ""
+        ds.ReferringPhysicianName = ""
+        ds.StudyID = "1"
+        ds.SeriesNumber = 1
+        ds.InstanceNumber = k + 1
+        ds.Manufacturer = "LeapView tests"
+        ds.ImagePositionPatient = [ORIGIN[0], ORIGIN[1], ORIGIN[2] + k * DZ]
+        ds.ImageOrientationPatient = [1, 0, 0, 0, 1, 0]
+        ds.PixelSpacing = [DY, DX]
+        ds.SliceThickness = DZ
+        ds.Rows, ds.Columns = ROWS, COLS
+        ds.SamplesPerPixel = 1
+        ds.PhotometricInterpretation = "MONOCHROME2"
+        ds.BitsAllocated = 16
+        ds.BitsStored = 16
+        ds.HighBit = 15
+        ds.PixelRepresentation = 1
+        ds.RescaleIntercept = -1024
+        ds.RescaleSlope = 1
+        pixels = rng.integers(900, 1200, (ROWS, COLS)).astype(np.int16)
+        ds.PixelData = pixels.tobytes()
+        ds.save_as(os.path.join(folder, f"slice{k:03d}.dcm"), enforce_file_format=True)
+        slices.append(ds)
+    return slices
+
+
+def description(number, label, colour):
+    return hd.seg.SegmentDescription(
+        segment_number=number,
+        segment_label=label,
+        segmented_property_category=codes.SCT.Tissue,
+        segmented_property_type=codes.SCT.Tissue,
+        algorithm_type=hd.seg.SegmentAlgorithmTypeValues.MANUAL,
+        display_color=hd.color.CIELabColor(*colour),
+    )
+
+
+def write_seg(path, sources, pixels, kind, descriptions, **extra):
+    seg = hd.seg.Segmentation(
+        source_images=sources,
+        pixel_array=pixels,
+        segmentation_type=kind,
+        segment_descriptions=descriptions,
+        series_instance_uid=generate_uid(),
+        series_number=100,
+        sop_instance_uid=generate_uid(),
+        instance_number=1,
+        manufacturer="LeapView tests",
+        manufacturer_model_name="seg_files.py",
+        software_versions="1",
+        device_serial_number="1",
+        **extra,
+    )
+    seg.save_as(path)
+
+
+def rgb(lab):
+    return list(hd.color.CIELabColor(*lab).to_rgb(clip=True))
+
+
+def main(out):
+    study, frame = generate_uid(), generate_uid()
+    series = ct_series(os.path.join(out, "series"), study, frame, generate_uid())
+    other = ct_series(os.path.join(out, "other"), study, frame, generate_uid())
+    k, r, c = np.meshgrid(np.arange(SLICES), np.arange(ROWS), np.arange(COLS), indexing="ij")
+    z, y, x = k * DZ, r * DY, c * DX
+    a = (x - 6) ** 2 + (y - 8) ** 2 + ((z - 14) / 1.5) ** 2 < 25
+    b = (x - 10) ** 2 + (y - 9) ** 2 + ((z - 15) / 1.5) ** 2 < 20
+    box = (c >= 18) & (c < 22) & (r >= 2) & (r < 6) & (k >= 2) & (k < 4)
+    binary = np.stack([a, b, box], axis=-1).astype(np.uint8)
+    assert (a & b).any() and not (box & (a | b)).any()
+    colours = [(60.0, 40.0, 20.0), (80.0, -50.0, 30.0), (50.0, 10.0, -60.0)]
+    labels = ["sphere a", "sphere b", "box"]
+    write_seg(
+        os.path.join(out, "binary.dcm"),
+        series,
+        binary,
+        hd.seg.SegmentationTypeValues.BINARY,
+        [description(i + 1, labels[i], colours[i]) for i in range(3)],
+    )
+    # Fractions in four levels: 0 outside, 0.3 and 0.7 in two shells, 1 at the core.
+    d = np.sqrt((x - 8) ** 2 + (y - 9) ** 2 + ((z - 15) / 2) ** 2)
+    fraction = np.select([d < 2, d < 4, d < 6], [1.0, 0.7, 0.3], 0.0).astype(np.float32)
+    write_seg(
+        os.path.join(out, "fractional.dcm"),
+        series,
+        fraction,
+        hd.seg.SegmentationTypeValues.FRACTIONAL,
+        [description(1, "fraction", colours[0])],
+        max_fractional_value=255,
+    )
+    write_seg(
+        os.path.join(out, "other.dcm"),
+        other,
+        binary[..., :1],
+        hd.seg.SegmentationTypeValues.BINARY,
+        [description(1, "elsewhere", colours[0])],
+    )
+    for i in range(3):
+        binary[..., i].astype(np.uint8).tofile(os.path.join(out, f"binary_{i + 1}.u8"))
+    (fraction > 0.5).astype(np.uint8).tofile(os.path.join(out, "fractional_1.u8"))
+    cases = {
+        "origin": ORIGIN,
+        "spacing": [DX, DY, DZ],
+        "dims": [COLS, ROWS, SLICES],
+        # highdicom's own conversion of each CIELab colour to sRGB (clipped into the gamut).
+        "binary": [
+            {"number": i + 1, "label": labels[i], "rgb": rgb(colours[i])} for i in range(3)
+        ],
+        "fractional": [{"number": 1, "label": "fraction", "rgb": rgb(colours[0])}],
+    }
+    with open(os.path.join(out, "cases.json"), "w") as f:
+        json.dump(cases, f, indent=1)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])
