@@ -58,9 +58,9 @@ struct SliceParams {
     invert: u32,
     // 1 (display variant): a colour volume, whose thin slices show its own colour.
     volume_colour: u32,
-    // 1 (display variant): the labels (label_tex) filled over the image in their colours
-    // (label_colours, alpha 0 where hidden), label_opacity opaque; with label_outline 1 each
-    // label's outline (a pixel whose neighbour's label differs) opaque.
+    // The display variant fills this many layers of labels (label_tex's channels, 0 … 4) over
+    // the image in their colours (label_colours, alpha 0 where hidden), label_opacity opaque;
+    // with label_outline 1 each label's outline (a pixel whose neighbour's label differs) opaque.
     labels: u32,
     label_opacity: f32,
     label_outline: u32,
@@ -76,8 +76,8 @@ struct SliceParams {
 @group(0) @binding(3) var screen: texture_storage_2d<rgba8unorm, write>;
 // The transfer function's straight colour and opacity per value (transfer::lut::slice_colours).
 @group(0) @binding(5) var colours: texture_2d<f32>;
-// The labels on the volume's grid (render/slice/labels.rs), and each label value's colour at
-// texel (value % 256, value / 256), its alpha 0 where the label is hidden.
+// The labels on the volume's grid, a layer per channel (render/slice/labels.rs), and each label
+// value's colour at texel (value % 256, value / 256), its alpha 0 where the label is hidden.
 @group(0) @binding(8) var label_tex: texture_3d<u32>;
 @group(0) @binding(9) var label_colours: texture_2d<f32>;
 #else
@@ -332,36 +332,44 @@ fn slab_value(v: vec3<f32>) -> f32 {
 }
 
 #ifdef DISPLAY
-// The label of the voxel nearest voxel coordinates `v`; 0 outside the volume.
-fn label_at(v: vec3<f32>) -> u32 {
+// The labels of the voxel nearest voxel coordinates `v`, a layer per component (0 past the
+// layers there are: an R or RG texture's missing channels read 0, 1); 0 outside the volume.
+fn labels_at(v: vec3<f32>) -> vec4<u32> {
     let dims = vec3<i32>(textureDimensions(label_tex));
     let i = vec3<i32>(floor(v + vec3<f32>(0.5)));
     if any(i < vec3<i32>(0)) || any(i >= dims) {
-        return 0u;
+        return vec4<u32>(0u);
     }
-    return textureLoad(label_tex, i, 0).r;
+    let texel = textureLoad(label_tex, i, 0);
+    return select(vec4<u32>(0u), texel, vec4<u32>(0u, 1u, 2u, 3u) < vec4<u32>(params.labels));
 }
 
-// `rgb` with the label at `v` filled over it (and its outline, where on); as is where the
-// pixel has no shown label.
+// `rgb` with the labels at `v` filled over it layer by layer (and their outlines, where on);
+// as is where the pixel has no shown label.
 fn with_labels(rgb: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
-    let l = label_at(v);
-    if l == 0u {
+    let here = labels_at(v);
+    if all(here == vec4<u32>(0u)) {
         return rgb;
     }
-    let c = textureLoad(label_colours, vec2<i32>(i32(l % 256u), i32(l / 256u)), 0);
-    if c.a == 0.0 {
-        return rgb;
-    }
-    var a = params.label_opacity;
+    var edge = vec4<bool>(false);
     if params.label_outline == 1u {
         let dx = params.step_x.xyz;
         let dy = params.step_y.xyz;
-        let edge = label_at(v + dx) != l || label_at(v - dx) != l || label_at(v + dy) != l
-            || label_at(v - dy) != l;
-        a = select(a, 1.0, edge);
+        edge = labels_at(v + dx) != here | labels_at(v - dx) != here | labels_at(v + dy) != here
+            | labels_at(v - dy) != here;
     }
-    return mix(rgb, c.rgb, a);
+    var out = rgb;
+    for (var layer = 0u; layer < min(params.labels, 4u); layer = layer + 1u) {
+        let l = here[layer];
+        if l == 0u {
+            continue;
+        }
+        let c = textureLoad(label_colours, vec2<i32>(i32(l % 256u), i32(l / 256u)), 0);
+        if c.a > 0.0 {
+            out = mix(out, c.rgb, select(params.label_opacity, 1.0, edge[layer]));
+        }
+    }
+    return out;
 }
 #endif
 
@@ -393,7 +401,7 @@ fn shade(id: vec2<u32>) {
         let c = textureSampleLevel(colours, linear, vec2<f32>((s * (n - 1.0) + 0.5) / n, 0.5), 0.0);
         rgb = mix(rgb, c.rgb, clamp(c.a, 0.0, 1.0));
     }
-    if params.labels == 1u {
+    if params.labels > 0u {
         rgb = with_labels(rgb, v);
     }
     textureStore(screen, vec2<i32>(id), vec4<f32>(rgb, 1.0));

@@ -19,8 +19,12 @@ use crate::volume::dicom::tags::{first_item, floats, group_attr, text, us};
 /// Most layers of overlapping segments taken.
 const MOST_LAYERS: usize = 16;
 
-/// Most voxels of the SEG's own grid: 2³¹.
+/// Most voxels of the SEG's own grid: 2³¹, and no more than [`GRID_PER_IMAGE`] times the
+/// image's (a few frames far apart would otherwise ask for a grid of gigabytes).
 const MOST_VOXELS: u64 = 1 << 31;
+
+/// How many times the image's voxels a SEG's grid may hold (finer in-plane, say), plus 2²⁰.
+const GRID_PER_IMAGE: u64 = 8;
 
 /// A DICOM SEG on its own grid.
 pub(super) struct Seg {
@@ -59,8 +63,8 @@ struct Frame {
     position: DVec3,
 }
 
-/// Reads the SEG at `path`; the reason where it cannot be shown.
-pub(super) fn read(path: &Path) -> Result<Seg, String> {
+/// Reads the SEG at `path` for an image of `image_voxels`; the reason where it cannot be shown.
+pub(super) fn read(path: &Path, image_voxels: u64) -> Result<Seg, String> {
     // dicom-rs allocates what a length says before reading: lying lengths are refused first.
     let options = match guard::check_lengths(path)? {
         Encoding::AsDeclared => OpenFileOptions::new().open_file(path),
@@ -150,9 +154,12 @@ pub(super) fn read(path: &Path) -> Result<Seg, String> {
     let grid = Grid::of(&frames, normal, between)?;
     let dims = [cols, rows, grid.planes];
     let voxels = dims.iter().map(|&d| u64::from(d)).product::<u64>();
-    if voxels > MOST_VOXELS {
+    let most = MOST_VOXELS.min(image_voxels.saturating_mul(GRID_PER_IMAGE) + (1 << 20));
+    if voxels > most {
         return Err(format!(
-            "its grid of {voxels} voxels is larger than LeapView reads"
+            "its frames span a grid of {cols}×{rows}×{} voxels, far more than the image's \
+             {image_voxels}: is it of another scan?",
+            grid.planes
         ));
     }
     let pixel_data = obj

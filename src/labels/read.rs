@@ -38,10 +38,11 @@ pub fn load_labels(
     }
     let mut notes = Vec::new();
     let (layers, inside, described, strict) = if looks_like_dicom(path) && dicom_seg::is_seg(path) {
-        let seg = dicom_seg::read(path).map_err(|reason| LabelError::Seg {
-            path: path.to_path_buf(),
-            reason,
-        })?;
+        let seg =
+            dicom_seg::read(path, image.sample_count()).map_err(|reason| LabelError::Seg {
+                path: path.to_path_buf(),
+                reason,
+            })?;
         check_references(&seg, image, path, &mut notes)?;
         notes.extend(seg.notes.iter().cloned());
         let from = Placement {

@@ -536,7 +536,8 @@ pub struct SliceParams {
     pub invert: u32,
     /// 1 (display variant): a colour volume, whose thin slices show its own colour.
     pub volume_colour: u32,
-    /// 1 (display variant): the labels (`label_tex`) filled over the image in their colours.
+    /// The layers of labels (`label_tex`'s channels, 0 … 4) the display variant fills over the
+    /// image in their colours.
     pub labels: u32,
     /// How opaque a label's fill is, 0…1.
     pub label_opacity: f32,

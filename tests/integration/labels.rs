@@ -434,9 +434,83 @@ fn highdicom_segs_overlapping_fractional_and_of_another_series_are_read_or_refus
             assert_eq!(wrong, 0, "{file} segment {number}: {wrong} voxels differ");
         }
     }
-    // The two spheres overlap: two layers.
+    // The two spheres overlap: two layers, both drawn in the slices (the later over the earlier).
     let binary = labels(&dir.path().join("binary.dcm"), &series);
     assert_eq!(binary.layers().len(), 2);
+    let ctx = common::gpu();
+    let texture = VolumeTexture::upload(&ctx, &series).expect("upload");
+    let renderer = SliceRenderer::new(&ctx.device).expect("pipeline");
+    let gpu_labels = SliceLabels::new(&ctx.device, &ctx.queue, &binary).expect("labels");
+    assert_eq!(gpu_labels.layers(), 2);
+    let at = DVec3::from(origin) + DVec3::new(8.0, 8.5, 15.0);
+    let view = SliceView::fit(
+        Plane::standard(PlaneKind::Axial, at),
+        &frame,
+        Some([96, 80]),
+    );
+    let look = SliceLook {
+        window: [-100.0, 200.0],
+        nearest: true,
+        slab: None,
+        leap: false,
+        colour: false,
+        invert: false,
+        labels: LabelLook {
+            opacity: 1.0,
+            outline: false,
+        },
+    };
+    let drawn = renderer
+        .render_display(
+            &ctx,
+            &series,
+            &texture,
+            None,
+            None,
+            Some(&gpu_labels),
+            &view,
+            look,
+        )
+        .expect("slice");
+    let grid = view.voxel_grid(&frame);
+    let colour = |l: u16| {
+        binary
+            .segments()
+            .iter()
+            .find(|s| s.value == l)
+            .map(|s| s.colour)
+    };
+    let (mut both, mut wrong) = (0, 0);
+    for y in 0..view.size[1] {
+        for x in 0..view.size[0] {
+            let v = grid.first + grid.step_x * f64::from(x) + grid.step_y * f64::from(y);
+            if v.to_array()
+                .iter()
+                .any(|c| ((c - c.floor()) - 0.5).abs() < 1e-3)
+            {
+                continue;
+            }
+            let [i, j, k] = v.to_array().map(|c| (c + 0.5).floor() as i64);
+            let [nx, ny, nz] = series.dims().map(i64::from);
+            if !(0..nx).contains(&i) || !(0..ny).contains(&j) || !(0..nz).contains(&k) {
+                continue;
+            }
+            let index = series.index(i as u32, j as u32, k as u32);
+            let here: Vec<u16> = binary.layers().iter().map(|l| l[index]).collect();
+            both += usize::from(here.iter().all(|&l| l != 0));
+            // Opaque fill: the last layer's label where there is one.
+            if let Some(want) = here
+                .iter()
+                .rev()
+                .find(|&&l| l != 0)
+                .and_then(|&l| colour(l))
+            {
+                wrong += usize::from(drawn[(x + view.size[0] * y) as usize] != want);
+            }
+        }
+    }
+    assert!(both > 0, "the slice misses the overlap");
+    assert_eq!(wrong, 0, "{wrong} labelled pixels differ");
     let fractional = labels(&dir.path().join("fractional.dcm"), &series);
     assert!(
         fractional.notes().iter().any(|n| n.contains("half")),

@@ -1,7 +1,7 @@
-//! A segmentation on the GPU for the slice views: its first layer of labels as a 3D `R16Uint`
-//! texture on the image's grid (read with `textureLoad`, nearest voxel: labels are never
-//! interpolated) and a 256 × 256 table of each label value's colour, its alpha 0 where the label
-//! is hidden.
+//! A segmentation on the GPU for the slice views: its layers of labels (up to four, one per
+//! channel: `R16Uint`, `Rg16Uint` or `Rgba16Uint`) as a 3D texture on the image's grid (read with
+//! `textureLoad`, nearest voxel: labels are never interpolated) and a 256 × 256 table of each
+//! label value's colour, its alpha 0 where the label is hidden.
 
 use crate::labels::LabelMap;
 
@@ -10,6 +10,9 @@ use super::super::texture::full_view;
 /// Label values a colour table holds: every `u16`.
 const TABLE_EDGE: u32 = 256;
 
+/// Most layers of labels drawn: a texel's channels.
+const MOST_LAYERS: usize = 4;
+
 /// A label map's textures.
 pub struct SliceLabels {
     /// The first layer's labels.
@@ -17,6 +20,8 @@ pub struct SliceLabels {
     /// Each label value's colour (sRGB) and visibility (alpha).
     pub(super) colours: wgpu::TextureView,
     colour_texture: wgpu::Texture,
+    /// How many layers the texture holds.
+    layers: u32,
 }
 
 /// Why labels could not go to the GPU.
@@ -28,6 +33,11 @@ pub enum LabelUploadError {
          a bricked volume are not shown yet"
     )]
     TooLarge([u32; 3], u32),
+    /// More layers of overlapping segments than a texel holds.
+    #[error(
+        "the segments overlap {0} deep; the slices draw at most {MOST_LAYERS} overlapping layers"
+    )]
+    TooManyLayers(usize),
 }
 
 impl SliceLabels {
@@ -42,6 +52,16 @@ impl SliceLabels {
         if dims.iter().any(|&d| d > limit) {
             return Err(LabelUploadError::TooLarge(dims, limit));
         }
+        let layers = labels.layers();
+        if layers.len() > MOST_LAYERS {
+            return Err(LabelUploadError::TooManyLayers(layers.len()));
+        }
+        // One channel per layer; three take four (there is no three-channel format).
+        let (format, channels) = match layers.len() {
+            0 | 1 => (wgpu::TextureFormat::R16Uint, 1),
+            2 => (wgpu::TextureFormat::Rg16Uint, 2),
+            _ => (wgpu::TextureFormat::Rgba16Uint, 4),
+        };
         let size = wgpu::Extent3d {
             width: dims[0],
             height: dims[1],
@@ -53,18 +73,27 @@ impl SliceLabels {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D3,
-            format: wgpu::TextureFormat::R16Uint,
+            format,
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
-        let empty = vec![0u16; dims.iter().map(|&d| d as usize).product()];
-        let layer = labels.layers().first().unwrap_or(&empty);
+        let voxels = dims.iter().map(|&d| d as usize).product::<usize>();
+        let texels: Vec<u16> = match layers {
+            [one] => one.clone(),
+            _ => (0..voxels * channels)
+                .map(|i| {
+                    layers
+                        .get(i % channels)
+                        .map_or(0, |layer| layer[i / channels])
+                })
+                .collect(),
+        };
         queue.write_texture(
             texture.as_image_copy(),
-            bytemuck::cast_slice(layer),
+            bytemuck::cast_slice(&texels),
             wgpu::TexelCopyBufferLayout {
                 offset: 0,
-                bytes_per_row: Some(dims[0] * 2),
+                bytes_per_row: Some(dims[0] * 2 * channels as u32),
                 rows_per_image: Some(dims[1]),
             },
             size,
@@ -87,13 +116,20 @@ impl SliceLabels {
             labels: full_view(&texture),
             colours: full_view(&colour_texture),
             colour_texture,
+            layers: layers.len().max(1) as u32,
         };
         made.show(queue, labels, |_| true);
         Ok(made)
     }
 
-    /// Writes the colour table: each segment of layer 0 in its colour, shown where `visible`
-    /// says so (hidden labels have alpha 0).
+    /// How many layers of labels the texture holds.
+    pub fn layers(&self) -> u32 {
+        self.layers
+    }
+
+    /// Writes the colour table: each segment in its colour, shown where `visible` says so
+    /// (hidden labels have alpha 0). Label values name one segment across the layers (a DICOM
+    /// SEG's segment numbers do).
     pub fn show(
         &self,
         queue: &wgpu::Queue,
@@ -101,7 +137,7 @@ impl SliceLabels {
         visible: impl Fn(&crate::labels::Segment) -> bool,
     ) {
         let mut table = vec![[0u8; 4]; (TABLE_EDGE * TABLE_EDGE) as usize];
-        for s in labels.segments().iter().filter(|s| s.layer == 0) {
+        for s in labels.segments() {
             let [r, g, b] = s.colour;
             table[usize::from(s.value)] = [r, g, b, if visible(s) { 255 } else { 0 }];
         }

@@ -112,7 +112,8 @@ pub fn slice_params(
         colour_hi: volume.normalization_range().max as f32,
         invert: u32::from(look.invert),
         volume_colour: u32::from(volume.colour().is_some()),
-        labels: 1,
+        // Set by the pass from the labels it is given.
+        labels: 0,
         label_opacity: look.labels.opacity.clamp(0.0, 1.0),
         label_outline: u32::from(look.labels.outline),
     }
@@ -271,9 +272,7 @@ impl SliceRenderer {
         if source.colours.is_none() {
             params.colour = 0;
         }
-        if source.labels.is_none() {
-            params.labels = 0;
-        }
+        params.labels = source.labels.map_or(0, SliceLabels::layers);
         queue.write_buffer(output.params(), 0, bytemuck::bytes_of(&params));
         let pipeline = match output {
             Output::Exact(_) => self.exact.pick(source.texture),
