@@ -9,7 +9,9 @@ OUT/other/ (the same slices as another series in the same frame of reference) an
   (a box); highdicom leaves out the frames a segment does not touch;
 - fractional.dcm: one FRACTIONAL segment of values 0, 0.3, 0.7 and 1 (shown where above half);
 - other.dcm: a BINARY segment of the other series;
-and, for each segment of binary.dcm and fractional.dcm, `<file>_<segment>.u8`: 1 where the voxel
+bad_*.dcm: binary.dcm altered with pydicom to lie (more frames than functional groups,
+pixel data cut short, a frame of a segment not described, a type its bits do not fit, a frame
+moved 10 m away); and, for each segment of binary.dcm and fractional.dcm, `<file>_<segment>.u8`: 1 where the voxel
 is in the segment, 0 elsewhere, index = column + columns * (row + rows * slice), slices in
 order of z. cases.json gives the geometry (first voxel's centre, spacing: x, y, z in mm,
 LPS) and the segments' numbers, labels and colours as highdicom converts their CIELab values to
@@ -22,6 +24,7 @@ import sys
 
 import highdicom as hd
 import numpy as np
+import pydicom
 from pydicom.dataset import Dataset, FileMetaDataset
 from pydicom.sr.codedict import codes
 from pydicom.uid import CTImageStorage, ExplicitVRLittleEndian, generate_uid
@@ -110,6 +113,43 @@ def write_seg(path, sources, pixels, kind, descriptions, **extra):
     seg.save_as(path)
 
 
+def lying(out):
+    """binary.dcm altered to lie in one way each; returns [{file, said}]: what LeapView must
+    say of each."""
+    cases = []
+
+    def alter(name, said, change):
+        ds = pydicom.dcmread(os.path.join(out, "binary.dcm"))
+        change(ds)
+        ds.save_as(os.path.join(out, name))
+        cases.append({"file": name, "said": said})
+
+    def more_frames(ds):
+        ds.NumberOfFrames = int(ds.NumberOfFrames) + 5
+
+    def cut_pixels(ds):
+        ds.PixelData = ds.PixelData[: len(ds.PixelData) // 2]
+
+    def unknown_segment(ds):
+        item = ds.PerFrameFunctionalGroupsSequence[0].SegmentIdentificationSequence[0]
+        item.ReferencedSegmentNumber = 9
+
+    def wrong_type(ds):
+        ds.SegmentationType = "FRACTIONAL"
+
+    def far_frame(ds):
+        position = ds.PerFrameFunctionalGroupsSequence[-1].PlanePositionSequence[0]
+        x, y, z = (float(v) for v in position.ImagePositionPatient)
+        position.ImagePositionPatient = [x, y, z + 10000.0]
+
+    alter("bad_frames.dcm", "functional groups", more_frames)
+    alter("bad_pixels.dcm", "pixel data holds", cut_pixels)
+    alter("bad_segment.dcm", "does not describe", unknown_segment)
+    alter("bad_type.dcm", "BitsAllocated 1", wrong_type)
+    alter("bad_far.dcm", "far more than the image", far_frame)
+    return cases
+
+
 def rgb(lab):
     return list(hd.color.CIELabColor(*lab).to_rgb(clip=True))
 
@@ -152,6 +192,7 @@ def main(out):
         hd.seg.SegmentationTypeValues.BINARY,
         [description(1, "elsewhere", colours[0])],
     )
+    refused = lying(out)
     for i in range(3):
         binary[..., i].astype(np.uint8).tofile(os.path.join(out, f"binary_{i + 1}.u8"))
     (fraction > 0.5).astype(np.uint8).tofile(os.path.join(out, "fractional_1.u8"))
@@ -164,6 +205,7 @@ def main(out):
             {"number": i + 1, "label": labels[i], "rgb": rgb(colours[i])} for i in range(3)
         ],
         "fractional": [{"number": 1, "label": "fraction", "rgb": rgb(colours[0])}],
+        "refused": refused,
     }
     with open(os.path.join(out, "cases.json"), "w") as f:
         json.dump(cases, f, indent=1)

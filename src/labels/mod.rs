@@ -18,6 +18,19 @@ mod resample;
 pub use self::error::LabelError;
 pub use self::read::{LabelOptions, load_labels};
 
+/// Whether the file at `path` can only be a segmentation: a Slicer `.seg.nrrd` or a DICOM SEG
+/// (a dropped file is opened as the labels of the volume on screen then).
+pub fn is_segmentation_file(path: &std::path::Path) -> bool {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    name.ends_with(".seg.nrrd")
+        || (path.is_file()
+            && crate::volume::dicom::scan::looks_like_dicom(path)
+            && dicom_seg::is_seg(path))
+}
+
 /// One segment: a label value in a layer, its name and colour.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Segment {

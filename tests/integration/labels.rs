@@ -45,6 +45,16 @@ fn the_ct_heads_nifti_and_seg_nrrd_give_the_same_labels_on_its_dicom_series() {
         "the two files' labels differ"
     );
     let want = vec![(1, 831_700), (2, 394_132), (3, 381_662)];
+    // A dropped .seg.nrrd or DICOM SEG is taken for labels; a NIfTI of labels is not told apart.
+    assert!(leapview::labels::is_segmentation_file(
+        &data.join("labels/ct_head_cthead.seg.nrrd")
+    ));
+    assert!(leapview::labels::is_segmentation_file(
+        &data.join("labels/ct_head_cthead_seg.dcm")
+    ));
+    assert!(!leapview::labels::is_segmentation_file(
+        &data.join("labels/ct_head_cthead_labels.nii.gz")
+    ));
     assert_eq!(counts(&nifti), want);
     assert_eq!(counts(&seg), want);
     assert!(nifti.notes().is_empty(), "{:?}", nifti.notes());
@@ -527,4 +537,18 @@ fn highdicom_segs_overlapping_fractional_and_of_another_series_are_read_or_refus
     .expect_err("another series")
     .to_string();
     assert!(e.contains("another scan") && e.contains("series"), "{e}");
+    // SEGs that lie: refused with the reason, nothing allocated for the lie.
+    for bad in cases["refused"].as_array().expect("refused") {
+        let file = dir.path().join(bad["file"].as_str().expect("a file"));
+        let e = load_labels(&file, &series, &LabelOptions::default())
+            .map(|_| ())
+            .expect_err("a lying SEG")
+            .to_string();
+        let said = bad["said"].as_str().expect("what to say");
+        assert!(e.contains(said), "{}: {e}", file.display());
+        assert!(leapview::labels::is_segmentation_file(&file));
+    }
+    assert!(!leapview::labels::is_segmentation_file(
+        &dir.path().join("series/slice000.dcm")
+    ));
 }

@@ -439,7 +439,12 @@ impl LeapViewApp {
             self.apply(Action::Quit, ctx);
         }
         if let Some(path) = dropped {
-            self.open_file(path, ctx);
+            // A segmentation dropped over a volume is its labels; anything else opens.
+            if crate::labels::is_segmentation_file(&path) && self.slices.volume().is_some() {
+                self.open_labels(path, ctx);
+            } else {
+                self.open_file(path, ctx);
+            }
         }
     }
 
