@@ -17,6 +17,7 @@ import subprocess
 import sys
 
 from azure.storage.blob import BlobServiceClient
+from served import each_file
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 AZURITE = os.path.join(HERE, "..", "..", ".node", "node_modules", ".bin", "azurite-blob")
@@ -45,14 +46,9 @@ def main(container, folders):
     service = BlobServiceClient(account_url=endpoint, credential={"account_name": ACCOUNT,
                                                                    "account_key": KEY})
     blobs = service.create_container(container)
-    for folder in folders:
-        name = os.path.basename(os.path.normpath(folder))
-        for root, _, files in os.walk(folder):
-            for f in files:
-                path = os.path.join(root, f)
-                key = name + "/" + os.path.relpath(path, folder).replace(os.sep, "/")
-                with open(path, "rb") as data:
-                    blobs.upload_blob(key, data)
+    for path, key in each_file(folders):
+        with open(path, "rb") as data:
+            blobs.upload_blob(key, data)
     print(json.dumps({"port": port}), flush=True)
     sys.stdin.read()
     azurite.terminate()

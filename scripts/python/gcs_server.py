@@ -9,7 +9,6 @@ input closes. The emulator checks no credentials.
 """
 
 import json
-import os
 import sys
 import urllib.request
 
@@ -19,6 +18,7 @@ from email.utils import format_datetime
 from gcp_storage_emulator import server as emulator
 from gcp_storage_emulator.handlers import objects
 from gcp_storage_emulator.server import create_server
+from served import each_file
 
 
 class _HeadersOnly:
@@ -72,17 +72,12 @@ def main(bucket, folders):
     server = create_server("127.0.0.1", 0, in_memory=True, default_bucket=bucket)
     server.start()
     port = server._api._httpd.server_address[1]
-    for folder in folders:
-        name = os.path.basename(os.path.normpath(folder))
-        for root, _, files in os.walk(folder):
-            for f in files:
-                path = os.path.join(root, f)
-                key = name + "/" + os.path.relpath(path, folder).replace(os.sep, "/")
-                with open(path, "rb") as data:
-                    request = urllib.request.Request(
-                        f"http://127.0.0.1:{port}/{bucket}/{key}", data=data.read(), method="PUT"
-                    )
-                urllib.request.urlopen(request).close()
+    for path, key in each_file(folders):
+        with open(path, "rb") as data:
+            request = urllib.request.Request(
+                f"http://127.0.0.1:{port}/{bucket}/{key}", data=data.read(), method="PUT"
+            )
+        urllib.request.urlopen(request).close()
     print(json.dumps({"port": port}), flush=True)
     sys.stdin.read()
     server.stop()

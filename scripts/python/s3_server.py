@@ -23,6 +23,7 @@ if AUTH:
 
 import boto3  # noqa: E402
 from moto.server import ThreadedMotoServer  # noqa: E402
+from served import each_file  # noqa: E402
 
 
 def main(bucket, folders):
@@ -48,13 +49,8 @@ def main(bucket, folders):
         region_name="us-east-1",
     )
     s3.create_bucket(Bucket=bucket, ACL="public-read")
-    for folder in folders:
-        name = os.path.basename(os.path.normpath(folder))
-        for root, _, files in os.walk(folder):
-            for f in files:
-                path = os.path.join(root, f)
-                key = name + "/" + os.path.relpath(path, folder).replace(os.sep, "/")
-                s3.upload_file(path, bucket, key, ExtraArgs={"ACL": "public-read"})
+    for path, key in each_file(folders):
+        s3.upload_file(path, bucket, key, ExtraArgs={"ACL": "public-read"})
     said = {"port": port}
     if AUTH:
         said.update(key=access["AccessKeyId"], secret=access["SecretAccessKey"])

@@ -256,11 +256,16 @@ fn a_seg_nrrd_that_disagrees_with_its_voxels_and_grids_without_geometry_are_refu
     );
 }
 
-/// The label of the voxel nearest each pixel of `view` (row-major), and whether the pixel's
-/// centre lies within 10⁻³ voxels of a tie (where f32 and f64 may round apart).
-fn labels_under(map: &LabelMap, frame: &PatientFrame, view: &SliceView) -> Vec<(u16, bool)> {
+/// The stored index of the voxel nearest each pixel of `view` (row-major; `None` outside a
+/// volume of `dims`), and whether the pixel's centre lies within 10⁻³ voxels of a tie (where f32
+/// and f64 may round apart).
+fn voxels_under(
+    frame: &PatientFrame,
+    view: &SliceView,
+    dims: [u32; 3],
+) -> Vec<(Option<usize>, bool)> {
     let grid = view.voxel_grid(frame);
-    let [nx, ny, nz] = map.dims().map(i64::from);
+    let [nx, ny, nz] = dims.map(i64::from);
     let mut out = Vec::new();
     for y in 0..view.size[1] {
         for x in 0..view.size[0] {
@@ -271,15 +276,19 @@ fn labels_under(map: &LabelMap, frame: &PatientFrame, view: &SliceView) -> Vec<(
                 .any(|c| ((c - c.floor()) - 0.5).abs() < 1e-3);
             let [i, j, k] = v.to_array().map(|c| (c + 0.5).floor() as i64);
             let inside = (0..nx).contains(&i) && (0..ny).contains(&j) && (0..nz).contains(&k);
-            let label = if inside {
-                map.layers()[0][(i + nx * (j + ny * k)) as usize]
-            } else {
-                0
-            };
-            out.push((label, near_tie));
+            out.push((inside.then(|| (i + nx * (j + ny * k)) as usize), near_tie));
         }
     }
     out
+}
+
+/// The first layer's label of the voxel nearest each pixel of `view` (0 outside), and whether
+/// the pixel is near a tie.
+fn labels_under(map: &LabelMap, frame: &PatientFrame, view: &SliceView) -> Vec<(u16, bool)> {
+    voxels_under(frame, view, map.dims())
+        .into_iter()
+        .map(|(index, tie)| (index.map_or(0, |i| map.layers()[0][i]), tie))
+        .collect()
 }
 
 #[test]
@@ -482,7 +491,6 @@ fn highdicom_segs_overlapping_fractional_and_of_another_series_are_read_or_refus
             look,
         )
         .expect("slice");
-    let grid = view.voxel_grid(&frame);
     let colour = |l: u16| {
         binary
             .segments()
@@ -491,32 +499,23 @@ fn highdicom_segs_overlapping_fractional_and_of_another_series_are_read_or_refus
             .map(|s| s.colour)
     };
     let (mut both, mut wrong) = (0, 0);
-    for y in 0..view.size[1] {
-        for x in 0..view.size[0] {
-            let v = grid.first + grid.step_x * f64::from(x) + grid.step_y * f64::from(y);
-            if v.to_array()
-                .iter()
-                .any(|c| ((c - c.floor()) - 0.5).abs() < 1e-3)
-            {
-                continue;
-            }
-            let [i, j, k] = v.to_array().map(|c| (c + 0.5).floor() as i64);
-            let [nx, ny, nz] = series.dims().map(i64::from);
-            if !(0..nx).contains(&i) || !(0..ny).contains(&j) || !(0..nz).contains(&k) {
-                continue;
-            }
-            let index = series.index(i as u32, j as u32, k as u32);
-            let here: Vec<u16> = binary.layers().iter().map(|l| l[index]).collect();
-            both += usize::from(here.iter().all(|&l| l != 0));
-            // Opaque fill: the last layer's label where there is one.
-            if let Some(want) = here
-                .iter()
-                .rev()
-                .find(|&&l| l != 0)
-                .and_then(|&l| colour(l))
-            {
-                wrong += usize::from(drawn[(x + view.size[0] * y) as usize] != want);
-            }
+    for (pixel, (index, tie)) in voxels_under(&frame, &view, series.dims())
+        .into_iter()
+        .enumerate()
+    {
+        let Some(index) = index.filter(|_| !tie) else {
+            continue;
+        };
+        let here: Vec<u16> = binary.layers().iter().map(|l| l[index]).collect();
+        both += usize::from(here.iter().all(|&l| l != 0));
+        // Opaque fill: the last layer's label where there is one.
+        if let Some(want) = here
+            .iter()
+            .rev()
+            .find(|&&l| l != 0)
+            .and_then(|&l| colour(l))
+        {
+            wrong += usize::from(drawn[pixel] != want);
         }
     }
     assert!(both > 0, "the slice misses the overlap");
