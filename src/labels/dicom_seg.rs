@@ -46,15 +46,22 @@ pub(super) struct Seg {
     pub notes: Vec<String>,
 }
 
-/// Whether the DICOM file at `path` is a segmentation.
+/// Whether the DICOM file at `path` is a segmentation (a file whose lengths lie is not: it is
+/// refused as a volume then, with the reason).
 pub(super) fn is_seg(path: &Path) -> bool {
-    OpenFileOptions::new()
-        .read_until(tags::PIXEL_DATA)
-        .open_file(path)
-        .is_ok_and(|obj| {
-            text(obj.get(tags::SOP_CLASS_UID)) == uids::SEGMENTATION_STORAGE
-                || text(obj.get(tags::MODALITY)) == "SEG"
-        })
+    // dicom-rs allocates what a length says before reading: lying lengths are refused first.
+    let options = OpenFileOptions::new().read_until(tags::PIXEL_DATA);
+    let opened = match guard::check_lengths(path) {
+        Ok(Encoding::AsDeclared) => options.open_file(path),
+        Ok(Encoding::ImplicitForExplicit) => options
+            .transfer_syntax_index(ImplicitForExplicit)
+            .open_file(path),
+        Err(_) => return false,
+    };
+    opened.is_ok_and(|obj| {
+        text(obj.get(tags::SOP_CLASS_UID)) == uids::SEGMENTATION_STORAGE
+            || text(obj.get(tags::MODALITY)) == "SEG"
+    })
 }
 
 /// One frame: its segment and where it lies.

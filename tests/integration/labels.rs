@@ -550,4 +550,13 @@ fn highdicom_segs_overlapping_fractional_and_of_another_series_are_read_or_refus
     assert!(!leapview::labels::is_segmentation_file(
         &dir.path().join("series/slice000.dcm")
     ));
+    // A SEG cut short: its lengths are checked before dicom-rs reads it, and it is refused.
+    let bytes = std::fs::read(dir.path().join("binary.dcm")).expect("the SEG");
+    let cut = dir.path().join("cut.dcm");
+    std::fs::write(&cut, &bytes[..3000]).expect("cut");
+    let e = load_labels(&cut, &series, &LabelOptions::default())
+        .map(|_| ())
+        .expect_err("a cut SEG")
+        .to_string();
+    assert!(e.contains("cut short"), "{e}");
 }
