@@ -13,8 +13,7 @@ use glam::{DMat3, DVec3};
 
 use super::names::Described;
 use crate::volume::dicom::guard::{self, Encoding, ImplicitForExplicit};
-use crate::volume::dicom::pixels::error_chain;
-use crate::volume::dicom::tags::{first_item, floats, group_attr, text, us};
+use crate::volume::dicom::tags::{Object, first_item, floats, group_attr, text, us};
 
 /// Most layers of overlapping segments taken.
 const MOST_LAYERS: usize = 16;
@@ -46,22 +45,36 @@ pub(super) struct Seg {
     pub notes: Vec<String>,
 }
 
-/// Whether the DICOM file at `path` is a segmentation (a file whose lengths lie is not: it is
-/// refused as a volume then, with the reason).
-pub(super) fn is_seg(path: &Path) -> bool {
+/// The DICOM file at `path` as dicom-rs reads it (up to its pixel data where `headers_only`),
+/// once its lengths are checked; `None` where they lie or dicom-rs cannot read it (the volume
+/// reader then says why).
+fn open(path: &Path, headers_only: bool) -> Option<Object> {
+    let options = OpenFileOptions::new();
+    let options = if headers_only {
+        options.read_until(tags::PIXEL_DATA)
+    } else {
+        options
+    };
     // dicom-rs allocates what a length says before reading: lying lengths are refused first.
-    let options = OpenFileOptions::new().read_until(tags::PIXEL_DATA);
-    let opened = match guard::check_lengths(path) {
-        Ok(Encoding::AsDeclared) => options.open_file(path),
-        Ok(Encoding::ImplicitForExplicit) => options
+    match guard::check_lengths(path).ok()? {
+        Encoding::AsDeclared => options.open_file(path),
+        Encoding::ImplicitForExplicit => options
             .transfer_syntax_index(ImplicitForExplicit)
             .open_file(path),
-        Err(_) => return false,
-    };
-    opened.is_ok_and(|obj| {
-        text(obj.get(tags::SOP_CLASS_UID)) == uids::SEGMENTATION_STORAGE
-            || text(obj.get(tags::MODALITY)) == "SEG"
-    })
+    }
+    .ok()
+}
+
+/// Whether `obj` is a segmentation.
+fn is_seg_object(obj: &InMemDicomObject) -> bool {
+    text(obj.get(tags::SOP_CLASS_UID)) == uids::SEGMENTATION_STORAGE
+        || text(obj.get(tags::MODALITY)) == "SEG"
+}
+
+/// Whether the DICOM file at `path` is a segmentation (one whose lengths lie is not: it is
+/// refused as a volume then, with the reason).
+pub(super) fn is_seg(path: &Path) -> bool {
+    open(path, true).is_some_and(|obj| is_seg_object(&obj))
 }
 
 /// One frame: its segment and where it lies.
@@ -70,16 +83,13 @@ struct Frame {
     position: DVec3,
 }
 
-/// Reads the SEG at `path` for an image of `image_voxels`; the reason where it cannot be shown.
-pub(super) fn read(path: &Path, image_voxels: u64) -> Result<Seg, String> {
-    // dicom-rs allocates what a length says before reading: lying lengths are refused first.
-    let options = match guard::check_lengths(path)? {
-        Encoding::AsDeclared => OpenFileOptions::new().open_file(path),
-        Encoding::ImplicitForExplicit => OpenFileOptions::new()
-            .transfer_syntax_index(ImplicitForExplicit)
-            .open_file(path),
+/// Reads the SEG at `path` for an image of `image_voxels`: `None` where the DICOM file is no
+/// segmentation (or cannot be read as one: the volume reader says why), the reason where it is one
+/// that cannot be shown.
+pub(super) fn read(path: &Path, image_voxels: u64) -> Result<Option<Seg>, String> {
+    let Some(obj) = open(path, false).filter(|obj| is_seg_object(obj)) else {
+        return Ok(None);
     };
-    let obj = options.map_err(|e| error_chain(&e))?;
     let syntax = obj
         .meta()
         .transfer_syntax()
@@ -198,7 +208,8 @@ pub(super) fn read(path: &Path, image_voxels: u64) -> Result<Seg, String> {
     let mut layers: Vec<Vec<u16>> = Vec::new();
     let mut placed = Vec::with_capacity(described.len());
     for segment in &described {
-        let mine: Vec<(usize, usize)> = frames
+        // The segment's voxels on the grid.
+        let mine: Vec<usize> = frames
             .iter()
             .enumerate()
             .filter(|(_, f)| f.segment == segment.value)
@@ -206,12 +217,12 @@ pub(super) fn read(path: &Path, image_voxels: u64) -> Result<Seg, String> {
                 let k = grid.plane_of(frame.position, normal);
                 (0..plane)
                     .filter(move |&p| inside(f, p))
-                    .map(move |p| (f, k * plane + p))
+                    .map(move |p| k * plane + p)
             })
             .collect();
         let free = layers
             .iter()
-            .position(|layer| mine.iter().all(|&(_, v)| layer[v] == 0));
+            .position(|layer| mine.iter().all(|&v| layer[v] == 0));
         let layer = match free {
             Some(l) => l,
             None if layers.len() < MOST_LAYERS => {
@@ -224,7 +235,7 @@ pub(super) fn read(path: &Path, image_voxels: u64) -> Result<Seg, String> {
                 ));
             }
         };
-        for &(_, v) in &mine {
+        for &v in &mine {
             layers[layer][v] = segment.value;
         }
         placed.push(Described {
@@ -258,7 +269,7 @@ pub(super) fn read(path: &Path, image_voxels: u64) -> Result<Seg, String> {
             "fractional segments shown where at least half their maximum ({max}) holds"
         ));
     }
-    Ok(Seg {
+    Ok(Some(Seg {
         described: placed,
         layers,
         dims,
@@ -267,7 +278,7 @@ pub(super) fn read(path: &Path, image_voxels: u64) -> Result<Seg, String> {
         referenced_series,
         frame_of_reference: text(obj.get(tags::FRAME_OF_REFERENCE_UID)),
         notes,
-    })
+    }))
 }
 
 /// The segments of `SegmentSequence`: number, label, colour.

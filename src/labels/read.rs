@@ -37,30 +37,36 @@ pub fn load_labels(
         });
     }
     let mut notes = Vec::new();
-    let (layers, inside, described, strict) = if looks_like_dicom(path) && dicom_seg::is_seg(path) {
-        let seg =
-            dicom_seg::read(path, image.sample_count()).map_err(|reason| LabelError::Seg {
-                path: path.to_path_buf(),
-                reason,
-            })?;
-        check_references(&seg, image, path, &mut notes)?;
-        notes.extend(seg.notes.iter().cloned());
-        let from = Placement {
-            axes: seg.axes,
-            origin: seg.origin,
-            dims: seg.dims,
-        };
-        let (layers, inside) = resampled(seg.layers, &from, image, path, &mut notes)?;
-        (layers, inside, seg.described, true)
-    } else {
-        let volume = load_volume(path, &LoadOptions::default())?;
-        let samples = volume.samples().ok_or_else(|| LabelError::Streamed {
+    let seg = if looks_like_dicom(path) {
+        dicom_seg::read(path, image.sample_count()).map_err(|reason| LabelError::Seg {
             path: path.to_path_buf(),
-        })?;
-        let file_labels = labels_of(samples, &volume, path)?;
-        let (layers, inside) = on_grid(vec![file_labels], &volume, image, path, &mut notes)?;
-        let (described, from_seg_nrrd) = descriptions(path, options)?;
-        (layers, inside, described, from_seg_nrrd)
+            reason,
+        })?
+    } else {
+        None
+    };
+    let (layers, inside, described, strict) = match seg {
+        Some(seg) => {
+            check_references(&seg, image, path, &mut notes)?;
+            notes.extend(seg.notes.iter().cloned());
+            let from = Placement {
+                axes: seg.axes,
+                origin: seg.origin,
+                dims: seg.dims,
+            };
+            let (layers, inside) = resampled(seg.layers, &from, image, path, &mut notes)?;
+            (layers, inside, seg.described, true)
+        }
+        None => {
+            let volume = load_volume(path, &LoadOptions::default())?;
+            let samples = volume.samples().ok_or_else(|| LabelError::Streamed {
+                path: path.to_path_buf(),
+            })?;
+            let file_labels = labels_of(samples, &volume, path)?;
+            let (layers, inside) = on_grid(vec![file_labels], &volume, image, path, &mut notes)?;
+            let (described, from_seg_nrrd) = descriptions(path, options)?;
+            (layers, inside, described, from_seg_nrrd)
+        }
     };
     let total = image.sample_count();
     // A SEG (or a .seg.nrrd, which Slicer crops to its segments) covers only where its segments
@@ -132,27 +138,27 @@ fn labels_of(samples: &Samples, volume: &Volume, path: &Path) -> Result<Vec<u16>
         (v.fract() == 0.0 && (0.0..=65535.0).contains(&v)).then_some(v as u16)
     };
     let n = samples.len();
+    // One pass where every voxel is a label; the bad ones are counted only to say so.
+    if let Some(labels) = (0..n)
+        .into_par_iter()
+        .map(label)
+        .collect::<Option<Vec<u16>>>()
+    {
+        return Ok(labels);
+    }
     let bad = (0..n)
         .into_par_iter()
         .filter(|&i| label(i).is_none())
         .count() as u64;
-    if let Some(first) = (bad > 0)
-        .then(|| (0..n).find(|&i| label(i).is_none()))
-        .flatten()
-    {
-        let [nx, ny, _] = volume.dims().map(|d| d as usize);
-        let voxel = [first % nx, first / nx % ny, first / (nx * ny)].map(|c| c as u32);
-        return Err(LabelError::NotLabels {
-            path: path.to_path_buf(),
-            value: mapping.apply(samples.get_f64(first)),
-            voxel,
-            count: bad,
-        });
-    }
-    Ok((0..n)
-        .into_par_iter()
-        .map(|i| label(i).unwrap_or(0))
-        .collect())
+    let first = (0..n).find(|&i| label(i).is_none()).unwrap_or(0);
+    let [nx, ny, _] = volume.dims().map(|d| d as usize);
+    let voxel = [first % nx, first / nx % ny, first / (nx * ny)].map(|c| c as u32);
+    Err(LabelError::NotLabels {
+        path: path.to_path_buf(),
+        value: mapping.apply(samples.get_f64(first)),
+        voxel,
+        count: bad,
+    })
 }
 
 /// The segments the file or a names file describes, and whether a `.seg.nrrd` did (then every
@@ -246,13 +252,6 @@ fn on_grid(
             "{which} no orientation: the labels are taken voxel for voxel (the grids' sizes agree)"
         ));
         return Ok((layers, image.sample_count()));
-    }
-    if same_dims {
-        let (from, to) = (PatientFrame::of(labels), PatientFrame::of(image));
-        let map = GridMap::between(&Placement::of(&from), &Placement::of(&to));
-        if map.is_identity(image.dims()) {
-            return Ok((layers, image.sample_count()));
-        }
     }
     resampled(
         layers,

@@ -291,6 +291,20 @@ fn labels_under(map: &LabelMap, frame: &PatientFrame, view: &SliceView) -> Vec<(
         .collect()
 }
 
+/// A CT slice of nearest voxels in a soft-tissue window, labels `opacity` opaque, outlined or
+/// not.
+fn look(opacity: f32, outline: bool) -> SliceLook {
+    SliceLook {
+        window: [-100.0, 200.0],
+        nearest: true,
+        slab: None,
+        leap: false,
+        colour: false,
+        invert: false,
+        labels: LabelLook { opacity, outline },
+    }
+}
+
 #[test]
 fn a_slice_fills_each_shown_label_in_its_colour_and_outlines_its_edges() {
     let data = common::data_dir();
@@ -308,15 +322,6 @@ fn a_slice_fills_each_shown_label_in_its_colour_and_outlines_its_edges() {
         &frame,
         Some([200, 180]),
     );
-    let look = |opacity: f32, outline: bool| SliceLook {
-        window: [-100.0, 200.0],
-        nearest: true,
-        slab: None,
-        leap: false,
-        colour: false,
-        invert: false,
-        labels: LabelLook { opacity, outline },
-    };
     let draw = |labels: Option<&SliceLabels>, look: SliceLook| {
         renderer
             .render_display(&ctx, &series, &texture, None, None, labels, &view, look)
@@ -467,18 +472,7 @@ fn highdicom_segs_overlapping_fractional_and_of_another_series_are_read_or_refus
         &frame,
         Some([96, 80]),
     );
-    let look = SliceLook {
-        window: [-100.0, 200.0],
-        nearest: true,
-        slab: None,
-        leap: false,
-        colour: false,
-        invert: false,
-        labels: LabelLook {
-            opacity: 1.0,
-            outline: false,
-        },
-    };
+    let look = look(1.0, false);
     let drawn = renderer
         .render_display(
             &ctx,

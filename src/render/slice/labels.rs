@@ -78,15 +78,17 @@ impl SliceLabels {
             view_formats: &[],
         });
         let voxels = dims.iter().map(|&d| d as usize).product::<usize>();
-        let texels: Vec<u16> = match layers {
-            [one] => one.clone(),
+        // One layer goes as it is; several are interleaved, a channel each.
+        let texels: std::borrow::Cow<'_, [u16]> = match layers {
+            [one] => one.into(),
             _ => (0..voxels * channels)
                 .map(|i| {
                     layers
                         .get(i % channels)
                         .map_or(0, |layer| layer[i / channels])
                 })
-                .collect(),
+                .collect::<Vec<u16>>()
+                .into(),
         };
         queue.write_texture(
             texture.as_image_copy(),

@@ -45,12 +45,9 @@ impl LeapViewApp {
 
     /// Takes a finished segmentation: shown over the slices (in a layout that has them).
     pub(super) fn receive_labels(&mut self, ctx: &egui::Context) {
+        // Kept pending again while no volume is shown.
         if let Some(path) = self.pending_labels.take() {
-            if self.slices.volume().is_some() {
-                self.open_labels(path, ctx);
-            } else {
-                self.pending_labels = Some(path);
-            }
+            self.open_labels(path, ctx);
         }
         let Some(load) = &self.labels_load else {
             return;
