@@ -55,7 +55,7 @@
 //       (isosurfaces: the side of the sample before); returns the samples it read
 // and, for pre-integrated DVR only (PREINTEGRATED), the segment hooks:
 //   fn acc_start(acc, ray)           the entry value starts the first segment
-//   fn acc_resume(acc, t, s)         after a leap, the sample at t starts the next segment
+//   fn acc_resume(acc, t, p, s)      after a leap, the sample at t (at p) starts the next segment
 //   fn acc_tail(acc, ray)            the segment from the last sample to the exit
 // A new mode is a new modes/*.wgsl implementing this, one include line below, and its key in
 // variant.rs; nothing in march/ or leap/ changes.

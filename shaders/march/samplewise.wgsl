@@ -35,7 +35,8 @@ fn march_samples(acc: ptr<function, Acc>, tally: ptr<function, Tally>, ray: Ray,
             let last = min(next, end) - 1u;
             if last > k {
                 let t_last = sample_distance(ray, last);
-                acc_resume(acc, t_last, inner_value(entry + ray.box_per_mm * t_last));
+                let p_last = entry + ray.box_per_mm * t_last;
+                acc_resume(acc, t_last, p_last, inner_value(p_last));
             }
             // Samples k + 1 .. next − 1 (sample k was taken; the resumed one is not counted
             // as a sample, as it is only read, not classified).

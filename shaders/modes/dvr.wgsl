@@ -28,14 +28,14 @@ fn acc_init() -> Acc {
 
 // The ray's entry value starts the first segment.
 fn acc_start(acc: ptr<function, Acc>, ray: Ray) {
-    (*acc).front = segment_end(sample_value(ray.entry));
+    (*acc).front = segment_end(labelled_value(sample_value(ray.entry), ray.entry));
     (*acc).front_t = 0.0;
 }
 
-// After a leap: the sample at t (value s) starts the next segment; the segment ending at it lies
-// inside the empty region and adds nothing.
-fn acc_resume(acc: ptr<function, Acc>, t: f32, s: f32) {
-    (*acc).front = segment_end(s);
+// After a leap: the sample at t (box position p, value s) starts the next segment; the segment
+// ending at it lies inside the empty region and adds nothing.
+fn acc_resume(acc: ptr<function, Acc>, t: f32, p: vec3<f32>, s: f32) {
+    (*acc).front = segment_end(labelled_value(s, p));
     (*acc).front_t = t;
 }
 #else
@@ -81,7 +81,8 @@ fn acc_enter(acc: ptr<function, Acc>, ray: Ray, first: u32) -> u32 {
 }
 #endif
 
-fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32 {
+fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s_in: f32) -> u32 {
+    let s = labelled_value(s_in, p);
 #ifdef PREINTEGRATED
     let back = segment_end(s);
     var c = preintegrated((*acc).front, back, t - (*acc).front_t);
@@ -94,6 +95,7 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
         // The segment's opacity pre-integrated over luminance, its colour the sample's own.
         c = vec4<f32>(sample_colour(p), c.a);
     }
+    c = vec4<f32>(labelled_colour(c.rgb, p), c.a);
 #else
     // The table holds the optical depth of a full step (src/transfer/lut.rs).
     var c = classify(s);
@@ -109,6 +111,7 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
     if frame.colour_volume != 0u {
         c = vec4<f32>(sample_colour(p), c.a);
     }
+    c = vec4<f32>(labelled_colour(c.rgb, p), c.a);
 #endif
     return composite(acc, ray, p, c);
 }
@@ -139,11 +142,12 @@ fn composite(acc: ptr<function, Acc>, ray: Ray, p: vec3<f32>, c_in: vec4<f32>) -
 // step before the exit).
 fn acc_tail(acc: ptr<function, Acc>, ray: Ray) {
     let exit = ray.entry + ray.box_per_mm * ray.length_mm;
-    let back = segment_end(sample_value(exit));
+    let back = segment_end(labelled_value(sample_value(exit), exit));
     var c = preintegrated((*acc).front, back, ray.length_mm - (*acc).front_t);
     if frame.colour_volume != 0u {
         c = vec4<f32>(sample_colour(exit), c.a);
     }
+    c = vec4<f32>(labelled_colour(c.rgb, exit), c.a);
     if c.a > 0.0 {
         composite(acc, ray, exit, c);
     }

@@ -129,8 +129,18 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
             }
         }
         let th = t0 + (t1 - t0) * clamp(d0 / (d0 - d1), 0.0, 1.0);
+        let hit_p = ray.entry + ray.box_per_mm * th;
+#ifdef LABEL_INSIDE
+        // A crossing outside the shown labels is cut away: the ray goes on, on its new side.
+        if !inside_labels(hit_p) {
+            (*acc).side = side;
+            (*acc).prev_t = t;
+            (*acc).prev_d = d;
+            return 0u;
+        }
+#endif
         (*acc).hit = true;
-        (*acc).hit_p = ray.entry + ray.box_per_mm * th;
+        (*acc).hit_p = hit_p;
 #ifdef EARLY_TERMINATION
         return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
 #else
@@ -153,6 +163,7 @@ fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
     if frame.colour_volume != 0u {
         color = sample_colour(acc.hit_p);
     }
+    color = labelled_colour(color, acc.hit_p);
 #ifdef SHADING
     color = phong(color, gradient(acc.hit_p), ray.dir_world);
 #endif

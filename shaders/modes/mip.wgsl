@@ -9,13 +9,15 @@ const MIP_PRIME_SAMPLES: u32 = 4u;
 struct Acc {
     extreme: f32,
     seen: bool,
+    // Where the extreme was taken (LABEL_COLOUR: its label tints the pixel).
+    at: vec3<f32>,
 }
 
 fn acc_init() -> Acc {
 #ifdef MODE_MINIP
-    return Acc(3.0e38, false);
+    return Acc(3.0e38, false, vec3<f32>(0.0));
 #else
-    return Acc(-3.0e38, false);
+    return Acc(-3.0e38, false, vec3<f32>(0.0));
 #endif
 }
 
@@ -72,13 +74,20 @@ fn acc_prime(acc: ptr<function, Acc>, ray: Ray, part: u32, parts: u32) -> vec2<u
 #endif
 
 #ifdef RAY_SPLIT
-// The extreme of two parts of a ray.
+// The extreme of two parts of a ray: the front part's where they tie, as one loop keeps the
+// first sample of a tie.
 fn acc_combine(front: Acc, back: Acc) -> Acc {
 #ifdef MODE_MINIP
-    return Acc(min(front.extreme, back.extreme), front.seen || back.seen);
+    let back_wins = back.extreme < front.extreme;
 #else
-    return Acc(max(front.extreme, back.extreme), front.seen || back.seen);
+    let back_wins = back.extreme > front.extreme;
 #endif
+    var joined = front;
+    if back_wins {
+        joined = back;
+    }
+    joined.seen = front.seen || back.seen;
+    return joined;
 }
 
 // A part of a ray needs nothing from before it.
@@ -87,7 +96,8 @@ fn acc_enter(acc: ptr<function, Acc>, ray: Ray, first: u32) -> u32 {
 }
 #endif
 
-fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s: f32) -> u32 {
+fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s_in: f32) -> u32 {
+    let s = labelled_value(s_in, p);
     if s < MISSING_BELOW {
         return 0u;
     }
@@ -95,6 +105,7 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
 #ifdef MODE_MINIP
     let better = s < (*acc).extreme;
     (*acc).extreme = min((*acc).extreme, s);
+    (*acc).at = select((*acc).at, p, better);
 #ifdef EARLY_TERMINATION
     if (*acc).extreme <= frame.saturation {
         return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
@@ -103,6 +114,7 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
 #else
     let better = s > (*acc).extreme;
     (*acc).extreme = max((*acc).extreme, s);
+    (*acc).at = select((*acc).at, p, better);
 #ifdef EARLY_TERMINATION
     // Nothing can change the image once the value reaches the saturation point.
     if (*acc).extreme >= frame.saturation {
@@ -123,9 +135,10 @@ fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
     let c = classify(acc.extreme);
     // The table holds the optical depth of a step; iso.y turns it into that of one d0.
     let a = opacity_of_depth(c.a * frame.steps_per_d0);
-    return vec4<f32>(c.rgb * a + (1.0 - a) * frame.background.rgb, 1.0);
+    return vec4<f32>(labelled_colour(c.rgb, acc.at) * a + (1.0 - a) * frame.background.rgb, 1.0);
 #else
     let grey = clamp((acc.extreme - frame.window_lo) / (frame.window_hi - frame.window_lo), 0.0, 1.0);
-    return vec4<f32>(vec3<f32>(grey), 1.0);
+    // Grey, or tinted by the label where the extreme was taken.
+    return vec4<f32>(grey * labelled_colour(vec3<f32>(1.0), acc.at), 1.0);
 #endif
 }

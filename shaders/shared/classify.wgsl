@@ -1,6 +1,7 @@
 // Sampling the volume and post-classification through the transfer-function table.
 
 #include "shared/common.wgsl"
+#include "shared/labels.wgsl"
 
 // Non-finite voxels are stored far below 0 (see src/render/volume_texture/encoding.rs): the texture
 // unit's blend of any that take part falls below MISSING_BELOW (generated/constants.wgsl).

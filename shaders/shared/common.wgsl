@@ -85,6 +85,11 @@ struct Frame {
     // 1 for a colour volume: DVR and isosurfaces take each sample's own colour (sample_colour),
     // the transfer function its opacity.
     colour_volume: u32,
+    // Layers of labels in label_tex (shared/labels.wgsl), 0 without a segmentation.
+    label_layers: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // One ray inside the volume: entry (box coordinates), direction in box units per mm and in

@@ -432,6 +432,9 @@ pub struct RenderArgs {
     /// Print sample counts, leaps and the GPU time of the frame.
     #[arg(long)]
     pub stats: bool,
+    /// A segmentation shown with the volume.
+    #[command(flatten)]
+    pub segmentation: super::label_args::LabelArgs,
 }
 
 /// Camera placement shared by `render` (and later `bench`).

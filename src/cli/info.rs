@@ -1,6 +1,6 @@
 //! `leapview info`: what a volume holds.
 
-use leapview::labels::{LabelMap, LabelOptions, load_labels};
+use leapview::labels::LabelMap;
 use leapview::transfer::TransferFunction;
 use leapview::transfer::fit::{self, DataKind};
 use leapview::volume::progress::Shape;
@@ -8,6 +8,7 @@ use leapview::volume::stats::quantile;
 use leapview::volume::{LoadProgress, OrientationSource, ValueMapping, Volume};
 
 use super::args::{InfoArgs, RawArgs};
+use super::label_args::read_labels;
 use super::text::{number, outln, print_stdout};
 use super::{Failure, load};
 use crate::cli::OrFail;
@@ -116,12 +117,7 @@ pub fn run(args: InfoArgs, raw: &RawArgs) -> Result<(), Failure> {
     let air = air_fraction(&volume);
     let transparent = tf.as_ref().map(|tf| transparent_fraction(&volume, tf));
     let labels = match &args.labels {
-        Some(path) => {
-            let options = LabelOptions {
-                names: args.label_names.clone(),
-            };
-            Some(load_labels(path, &volume, &options).bad_input()?)
-        }
+        Some(path) => Some(read_labels(path, args.label_names.as_ref(), &volume)?),
         None => None,
     };
     let m = volume.mapping();

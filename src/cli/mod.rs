@@ -11,6 +11,7 @@ mod datasets;
 pub mod effect_args;
 mod generate;
 mod info;
+mod label_args;
 mod measuring;
 pub mod parse;
 mod plotting;

@@ -3,6 +3,7 @@
 use anyhow::Context;
 use leapview::camera::Aabb;
 use leapview::render::RenderError;
+use leapview::render::labels::GpuLabels;
 use leapview::render::raycast::{auto_path, auto_strategy};
 use leapview::render::{FrameRequest, GpuContext, RefineRun, VolumeRenderer};
 use leapview::settings::{RenderSettings, Strategy, Upload};
@@ -85,8 +86,8 @@ fn render_image(
         slab: None,
         mode: leapview::mpr::SlabMode::Mip,
         repeat: 0,
-        labels: None,
-        label_names: None,
+        labels: args.segmentation.labels.clone(),
+        label_names: args.segmentation.label_names.clone(),
         label_opacity: 0.5,
         no_label_outline: false,
         gpu: args.gpu,
@@ -116,6 +117,7 @@ fn settings_of(
         quality.apply(&mut settings);
     }
     args.effects.apply(&mut settings);
+    settings.labels = args.segmentation.label_view;
     // MIP, MinIP and X-ray without a window: the header's, else the data's, a few outliers left
     // out.
     settings.window = settings.window.or_else(|| fit::default_window_of(volume));
@@ -169,6 +171,15 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         )
         .map_err(render_failure)?;
     renderer.set_transfer_function(&tf);
+    if let Some(map) = args.segmentation.load(&volume)? {
+        let shown = args.segmentation.shown(&map)?;
+        let ctx = renderer.context();
+        let labels = GpuLabels::new(&ctx.device, &ctx.queue, &map).bad_input()?;
+        labels.show(&ctx.queue, &map, |s| shown.contains(&(s.layer, s.value)));
+        renderer
+            .set_labels(Some(std::sync::Arc::new(labels)))
+            .map_err(render_failure)?;
+    }
     auto_path::choose(&mut renderer, settings.path).map_err(render_failure)?;
     auto_strategy::choose(&mut renderer, &settings, args.size, &camera, true)
         .map_err(render_failure)?;

@@ -3,12 +3,12 @@
 
 use anyhow::anyhow;
 use glam::DVec3;
-use leapview::labels::{LabelOptions, load_labels};
 use leapview::mpr::{PatientFrame, Plane, PlaneKind, Slab, SliceView};
 use leapview::render::context::GpuContext;
+use leapview::render::labels::GpuLabels;
 use leapview::render::slice::{
-    DisplayTarget, LabelLook, Output, SliceError, SliceLabels, SliceLook, SliceRenderer,
-    SliceSource, SliceTarget, slice_params,
+    DisplayTarget, LabelLook, Output, SliceError, SliceLook, SliceRenderer, SliceSource,
+    SliceTarget, slice_params,
 };
 use leapview::render::volume_texture::{VolumeTexture, VolumeTextureError};
 use leapview::transfer::fit;
@@ -205,14 +205,8 @@ pub fn write_slice(
     };
     let labels = match &args.labels {
         Some(path) => {
-            let options = LabelOptions {
-                names: args.label_names.clone(),
-            };
-            let map = load_labels(path, volume, &options).bad_input()?;
-            for note in map.notes() {
-                eprintln!("leapview: note: {}: {note}", map.name());
-            }
-            Some(SliceLabels::new(&ctx.device, &ctx.queue, &map).bad_input()?)
+            let map = super::label_args::read_labels(path, args.label_names.as_ref(), volume)?;
+            Some(GpuLabels::new(&ctx.device, &ctx.queue, &map).bad_input()?)
         }
         None => None,
     };

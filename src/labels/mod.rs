@@ -87,6 +87,18 @@ impl LabelMap {
         &self.name
     }
 
+    /// Each label value's colour (sRGB) and whether it is shown (alpha 255) or hidden or absent
+    /// (alpha 0): a table of every `u16`, indexed by value, as the GPU and the CPU reference read
+    /// it. Label values name one segment across the layers (a DICOM SEG's segment numbers do).
+    pub fn colour_table(&self, visible: impl Fn(&Segment) -> bool) -> Vec<[u8; 4]> {
+        let mut table = vec![[0u8; 4]; 1 << 16];
+        for s in &self.segments {
+            let [r, g, b] = s.colour;
+            table[usize::from(s.value)] = [r, g, b, if visible(s) { 255 } else { 0 }];
+        }
+        table
+    }
+
     /// The segment holding voxel index `i` of layer `layer`, if any.
     pub fn segment_at(&self, layer: usize, i: usize) -> Option<&Segment> {
         let value = *self.layers.get(layer)?.get(i)?;

@@ -20,7 +20,7 @@ use crate::settings::RenderSettings;
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
-pub use modes::RayInput;
+pub use modes::{Labelled, RayInput};
 pub use shade::{gradient, phong};
 pub use trilinear::sample_trilinear;
 
@@ -41,11 +41,24 @@ pub fn render(
     size: [u32; 2],
     settings: &RenderSettings,
 ) -> ReferenceImage {
+    render_labelled(volume, tf, camera, size, settings, None)
+}
+
+/// [`render`] with a segmentation over the volume, shown as `settings.labels` says.
+pub fn render_labelled(
+    volume: &Volume,
+    tf: &TransferFunction,
+    camera: &Camera,
+    size: [u32; 2],
+    settings: &RenderSettings,
+    labels: Option<&Labelled<'_>>,
+) -> ReferenceImage {
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let world_from_clip = camera.clip_from_world(size, &bounds).inverse();
     let caster = Caster {
         volume,
         tf,
+        labels,
         // Rays run through the cropping box (the whole bounding box when nothing is cropped).
         bounds: settings.crop.world(&bounds),
         world_from_clip,
@@ -98,6 +111,7 @@ pub fn render(
 struct Caster<'a> {
     volume: &'a Volume,
     tf: &'a TransferFunction,
+    labels: Option<&'a Labelled<'a>>,
     bounds: Aabb,
     world_from_clip: DMat4,
     size: [u32; 2],
@@ -118,6 +132,7 @@ impl Caster<'_> {
                 let ray = RayInput {
                     volume: self.volume,
                     tf: self.tf,
+                    labels: self.labels,
                     settings: self.settings,
                     entry: origin + dir * entry,
                     dir,

@@ -3,6 +3,7 @@
 
 use glam::DVec3;
 
+use crate::labels::LabelMap;
 use crate::sampling::{SampleGrid, corrected_opacity};
 use crate::settings::{MipColor, Mode, RenderSettings, Shading, Strategy};
 use crate::transfer::{TransferFunction, preintegration};
@@ -12,12 +13,45 @@ use super::shade::{gradient, phong};
 use super::trilinear::{sample_colour, sample_trilinear};
 use crate::counters::FrameCounters;
 
+/// A segmentation over the volume: its labels on the volume's grid and each label value's
+/// colour and visibility ([`LabelMap::colour_table`]), shown as the settings' `labels` say.
+pub struct Labelled<'a> {
+    /// The labels.
+    pub map: &'a LabelMap,
+    /// Each label value's sRGB colour, alpha 255 where shown.
+    pub table: &'a [[u8; 4]],
+}
+
+impl Labelled<'_> {
+    /// The shown labels of the voxel nearest world position `p` (mm; voxel i's centre at
+    /// i · spacing), by layer (at most four, as the GPU reads): (value, colour).
+    fn shown_at(&self, volume: &Volume, p: DVec3) -> impl Iterator<Item = [u8; 4]> + '_ {
+        let dims = volume.dims();
+        let spacing = volume.spacing_mm();
+        let i: [u32; 3] = std::array::from_fn(|a| {
+            let v = (p[a] / spacing[a] + 0.5).floor();
+            v.clamp(0.0, f64::from(dims[a] - 1)) as u32
+        });
+        let index = volume.index(i[0], i[1], i[2]);
+        self.map
+            .layers()
+            .iter()
+            .take(4)
+            .map(move |layer| layer[index])
+            .filter(|&l| l != 0)
+            .map(|l| self.table[usize::from(l)])
+            .filter(|c| c[3] > 0)
+    }
+}
+
 /// One ray through the volume.
 pub struct RayInput<'a> {
     /// The volume.
     pub volume: &'a Volume,
     /// The transfer function.
     pub tf: &'a TransferFunction,
+    /// A segmentation over the volume, if any.
+    pub labels: Option<&'a Labelled<'a>>,
     /// The settings.
     pub settings: &'a RenderSettings,
     /// Entry point, world millimetres.
@@ -47,6 +81,38 @@ impl RayInput<'_> {
     /// Normalised value at distance `t` from the entry, `None` where a non-finite voxel weighs in.
     fn value(&self, t: f64) -> Option<f64> {
         sample_trilinear(self.volume, self.entry + self.dir * t).map(|v| self.range().normalize(v))
+    }
+
+    /// Whether the image is shown at distance `t`: everywhere, or where the labels cut the rest
+    /// away, only inside a shown label (shaders/shared/labels.wgsl).
+    fn shown(&self, t: f64) -> bool {
+        match self.labels {
+            Some(l) if self.settings.labels.cuts() => l
+                .shown_at(self.volume, self.entry + self.dir * t)
+                .next()
+                .is_some(),
+            _ => true,
+        }
+    }
+
+    /// [`Self::value`] as the variant sees it: `None` where the labels cut the image away.
+    fn labelled_value(&self, t: f64) -> Option<f64> {
+        self.value(t).filter(|_| self.shown(t))
+    }
+
+    /// A sample's colour at distance `t` as shown: that of the first layer's shown label there
+    /// where labels colour the image (not in X-ray), else `colour`.
+    fn labelled_colour(&self, colour: DVec3, t: f64) -> DVec3 {
+        let xray = matches!(self.settings.mode, Mode::Xray | Mode::XrayAttenuation);
+        match self.labels {
+            Some(l) if self.settings.labels.colours() && !xray => l
+                .shown_at(self.volume, self.entry + self.dir * t)
+                .next()
+                .map_or(colour, |[r, g, b, _]| {
+                    DVec3::new(f64::from(r), f64::from(g), f64::from(b)) / 255.0
+                }),
+            _ => colour,
+        }
     }
 
     fn lit(&self, color: DVec3, t: f64) -> DVec3 {
@@ -117,7 +183,9 @@ fn dvr(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     let (mut color, mut alpha) = (DVec3::ZERO, 0.0);
     for s in ray.grid().samples() {
         counts.samples += 1;
-        let Some(value) = sample_trilinear(ray.volume, ray.entry + ray.dir * s.t_mm) else {
+        let Some(value) = sample_trilinear(ray.volume, ray.entry + ray.dir * s.t_mm)
+            .filter(|_| ray.shown(s.t_mm))
+        else {
             continue;
         };
         let a = corrected_opacity(
@@ -130,11 +198,8 @@ fn dvr(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
         }
         counts.visible_samples += 1;
         let own = sample_colour(ray.volume, ray.entry + ray.dir * s.t_mm);
-        let c = ray.lit_if_seen(
-            own.unwrap_or_else(|| DVec3::from_array(ray.tf.color_at(value, range))),
-            s.t_mm,
-            (1.0 - alpha) * a,
-        );
+        let own = own.unwrap_or_else(|| DVec3::from_array(ray.tf.color_at(value, range)));
+        let c = ray.lit_if_seen(ray.labelled_colour(own, s.t_mm), s.t_mm, (1.0 - alpha) * a);
         color += (1.0 - alpha) * a * c;
         alpha += (1.0 - alpha) * a;
         if stops_early(ray) && alpha > ray.settings.termination_alpha {
@@ -151,10 +216,10 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     let per_mm =
         ray.settings.opacity_step_vox() / (ray.settings.step_vox * ray.volume.min_spacing_mm());
     let (mut color, mut alpha) = (DVec3::ZERO, 0.0);
-    let mut front = (0.0, ray.value(0.0));
+    let mut front = (0.0, ray.labelled_value(0.0));
     for s in ray.grid().samples() {
         counts.samples += 1;
-        let back = (s.t_mm, ray.value(s.t_mm));
+        let back = (s.t_mm, ray.labelled_value(s.t_mm));
         let (t0, v0) = std::mem::replace(&mut front, back);
         let (Some(v0), Some(v1)) = (v0, back.1) else {
             continue;
@@ -166,6 +231,7 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
         // A colour volume: the segment's opacity pre-integrated over luminance, its colour the
         // sample's own (the shader's rule).
         let c = sample_colour(ray.volume, ray.entry + ray.dir * s.t_mm).unwrap_or(c);
+        let c = ray.labelled_colour(c, s.t_mm);
         counts.visible_samples += 1;
         let c = ray.lit_if_seen(c, s.t_mm, (1.0 - alpha) * a);
         color += (1.0 - alpha) * a * c;
@@ -176,9 +242,10 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     }
     // The last sample lies up to a step before the exit: the segment from it to the exit.
     let (t0, v0) = front;
-    if let (Some(v0), Some(v1)) = (v0, ray.value(ray.length_mm)) {
+    if let (Some(v0), Some(v1)) = (v0, ray.labelled_value(ray.length_mm)) {
         let (c, a) = preintegration::segment(ray.tf, range, v0, v1, (ray.length_mm - t0) * per_mm);
         let c = sample_colour(ray.volume, ray.entry + ray.dir * ray.length_mm).unwrap_or(c);
+        let c = ray.labelled_colour(c, ray.length_mm);
         if a > 0.0 {
             color += (1.0 - alpha) * a * ray.lit_if_seen(c, ray.length_mm, (1.0 - alpha) * a);
             alpha += (1.0 - alpha) * a;
@@ -211,11 +278,16 @@ fn iso(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
                     (t1, d1) = (tm, dm);
                 }
             }
-            counts.visible_samples += 1;
             let hit = root(t0, d0, t1, d1);
+            // A crossing the labels cut away: the ray goes on, on its new side.
+            if !ray.shown(hit) {
+                prev = Some((s.t_mm, d));
+                continue;
+            }
+            counts.visible_samples += 1;
             let colour = sample_colour(ray.volume, ray.entry + ray.dir * hit)
                 .unwrap_or_else(|| ray.tf_color(iso));
-            return Some(ray.lit(colour, hit));
+            return Some(ray.lit(ray.labelled_colour(colour, hit), hit));
         }
         prev = Some((s.t_mm, d));
     }
@@ -231,14 +303,16 @@ fn extreme(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
         (false, MipColor::Window) => hi,
         (false, MipColor::Tf) => 1.0,
     };
-    let mut best: Option<f64> = None;
+    let mut best: Option<(f64, f64)> = None;
     for s in ray.grid().samples() {
         counts.samples += 1;
-        let Some(v) = ray.value(s.t_mm) else { continue };
-        let better = best.is_none_or(|b| if minimum { v < b } else { v > b });
+        let Some(v) = ray.labelled_value(s.t_mm) else {
+            continue;
+        };
+        let better = best.is_none_or(|(b, _)| if minimum { v < b } else { v > b });
         if better {
             counts.visible_samples += 1;
-            best = Some(v);
+            best = Some((v, s.t_mm));
         }
         if stops_early(ray)
             && (if minimum {
@@ -250,13 +324,17 @@ fn extreme(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
             break;
         }
     }
-    let v = best?;
+    let (v, at) = best?;
     Some(match ray.settings.mip_color {
-        MipColor::Window => DVec3::splat(((v - lo) / (hi - lo)).clamp(0.0, 1.0)),
+        // Grey, tinted by the label where the extreme was taken.
+        MipColor::Window => {
+            ((v - lo) / (hi - lo)).clamp(0.0, 1.0) * ray.labelled_colour(DVec3::ONE, at)
+        }
         MipColor::Tf => {
             let r = ray.range();
             let a = ray.tf.opacity_at(r.denormalize(v), r);
-            a * ray.tf_color(v) + (1.0 - a) * DVec3::from_array(ray.settings.background)
+            a * ray.labelled_colour(ray.tf_color(v), at)
+                + (1.0 - a) * DVec3::from_array(ray.settings.background)
         }
     })
 }
@@ -269,7 +347,9 @@ fn xray(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     let mut integral = 0.0;
     for (k, s) in grid.samples().enumerate() {
         counts.samples += 1;
-        let Some(v) = ray.value(s.t_mm) else { continue };
+        let Some(v) = ray.labelled_value(s.t_mm) else {
+            continue;
+        };
         let f = ((v - lo) / (hi - lo)).clamp(0.0, 1.0);
         if f <= 0.0 {
             continue;

@@ -200,7 +200,7 @@ pub fn layouts() -> Vec<StructLayout> {
             phong_ambient, phong_diffuse, phong_specular, phong_shininess, window_lo, window_hi,
             saturation, xray_density_per_mm, iso_threshold, steps_per_d0, depth_units_per_mm,
             iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight, row_offset,
-            row_end, all_finite, colour_volume,
+            row_end, all_finite, colour_volume, label_layers, _pad0, _pad1, _pad2,
         }),
         layout!(VolumeGeometry = "VolumeGeometry" in "shared/volume_geometry.wgsl" {
             dims, brick_vox, texel_size, _pad0, bricks_per_box, _pad1, last_brick, _pad2,
@@ -325,6 +325,14 @@ pub struct FrameUniforms {
     pub all_finite: u32,
     /// 1 for a colour volume: DVR and isosurfaces take each sample's own colour.
     pub colour_volume: u32,
+    /// Layers of labels bound beside the volume (0 without a segmentation).
+    pub label_layers: u32,
+    /// Padding to 16 bytes.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+    /// Padding.
+    pub _pad2: u32,
 }
 
 /// Where the shaders find a voxel of the volume (`VolumeGeometry`, shaders/shared/volume.wgsl):

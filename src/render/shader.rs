@@ -25,6 +25,7 @@ const MODULES: &[(&str, &str)] = modules![
     "shared/volume_geometry.wgsl",
     "shared/proxy.wgsl",
     "shared/classify.wgsl",
+    "shared/labels.wgsl",
     "shared/stats.wgsl",
     "shared/shade.wgsl",
     "shared/preintegrate.wgsl",

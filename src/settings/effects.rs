@@ -76,6 +76,38 @@ pub enum MipColor {
     Tf,
 }
 
+/// How a segmentation loaded beside the volume shows in the 3D view (nothing without one).
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
+)]
+pub enum LabelView {
+    /// The image alone, as if no labels were loaded.
+    Off,
+    /// The image's transfer function, each sample coloured by its shown label (hidden labels
+    /// keep the function's colour; MIP and MinIP tint their pixel by the label of the extreme;
+    /// X-ray, a density integral, stays grey).
+    #[default]
+    Colour,
+    /// The image only inside the shown labels: every other sample is cut away (DVR, MIP, MinIP,
+    /// X-ray); an isosurface only where its crossing lies inside them.
+    Inside,
+    /// Both: only inside the shown labels, each sample in its label's colour.
+    #[value(name = "colour-inside")]
+    ColourInside,
+}
+
+impl LabelView {
+    /// Whether samples take their label's colour.
+    pub fn colours(self) -> bool {
+        matches!(self, Self::Colour | Self::ColourInside)
+    }
+
+    /// Whether everything outside the shown labels is cut away.
+    pub fn cuts(self) -> bool {
+        matches!(self, Self::Inside | Self::ColourInside)
+    }
+}
+
 /// Isosurface parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct IsoSettings {

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 pub use crop::{CropBox, CropError};
 pub use effects::{
-    GradientScheme, IsoSettings, Light, MAX_ISO_REFINEMENT, MipColor, Phong, Shading,
+    GradientScheme, IsoSettings, LabelView, Light, MAX_ISO_REFINEMENT, MipColor, Phong, Shading,
 };
 pub use precision::TexturePrecision;
 pub use quality::QualityPreset;
@@ -237,6 +237,8 @@ pub struct RenderSettings {
     pub xray_density_per_mm: f64,
     /// The part of the volume rays are limited to (the whole volume by default).
     pub crop: crop::CropBox,
+    /// How a segmentation loaded beside the volume shows (ignored without one).
+    pub labels: LabelView,
 }
 
 impl Default for RenderSettings {
@@ -263,6 +265,7 @@ impl Default for RenderSettings {
             mip_color: MipColor::Window,
             xray_density_per_mm: effects::DEFAULT_XRAY_DENSITY_PER_MM,
             crop: crop::CropBox::FULL,
+            labels: LabelView::Colour,
         }
     }
 }

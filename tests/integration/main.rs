@@ -24,6 +24,7 @@ mod hard_cases_iso;
 mod hard_cases_values;
 mod hard_cases_volume;
 mod labels;
+mod labels_3d;
 mod leaping;
 mod leaping_real;
 mod loaders;

@@ -113,12 +113,18 @@ fn texture_reads(module: &naga::Module) -> usize {
 #[test]
 fn variants_carry_only_the_effects_their_scene_needs() {
     use leapview::settings::Mode;
-    use leapview::settings::effects::Shading;
+    use leapview::settings::effects::{LabelView, Shading};
     for key in PipelineKey::all() {
         let module = validate(&format!("{key:?}"), &key.source().expect("composes"));
         let names = function_names(&module);
         let has = |f: &str| names.iter().any(|n| n == f);
         let lit = key.shading == Shading::Phong;
+        let labelled = key.labels != LabelView::Off;
+        assert_eq!(
+            has("labels_at"),
+            labelled,
+            "{key:?}: label reads exactly in variants showing labels"
+        );
         assert_eq!(
             has("gradient"),
             lit,
@@ -136,9 +142,11 @@ fn variants_carry_only_the_effects_their_scene_needs() {
             assert!(!lit, "{key:?}: MIP, MinIP and X-ray are never lit");
             // The loop's one volume read, the table read of MIP colours, the exit (and entry)
             // point loads, and the texel loads of a sample where a non-finite voxel takes part
-            // (`sample_finite`): no gradient reads hide elsewhere.
+            // (`sample_finite`), and with labels the label and colour-table loads of the cut
+            // and of the tint (two each): no gradient reads hide elsewhere.
+            let label_reads = if labelled { 4 } else { 0 };
             assert!(
-                texture_reads(&module) <= 5,
+                texture_reads(&module) <= 5 + label_reads,
                 "{key:?}: {} texture reads",
                 texture_reads(&module)
             );

@@ -54,6 +54,9 @@ pub enum RenderError {
     /// A shader module is malformed (a bug).
     #[error("internal shader error: {0}")]
     Shader(#[from] ShaderError),
+    /// A segmentation that cannot be shown over the volume loaded.
+    #[error("{0}")]
+    Labels(String),
     /// The GPU reported an error while rendering.
     #[error("the GPU reported an error: {0}")]
     Gpu(String),
@@ -69,6 +72,7 @@ impl RenderError {
                 | Self::ImageSize { .. }
                 | Self::TargetsRefused { .. }
                 | Self::Settings(_)
+                | Self::Labels(_)
         )
     }
 }

@@ -1,8 +1,11 @@
-//! What lives as long as one volume: its 3D texture and geometry, group 0 (which binds the
-//! texture beside the renderer's uniforms, sampler and tables), and the leaping structures with
-//! their group 3.
+//! What lives as long as one volume: its 3D texture and geometry, the segmentation shown over
+//! it, group 0 (which binds both beside the renderer's uniforms, sampler and tables), and the
+//! leaping structures with their group 3.
+
+use std::sync::Arc;
 
 use crate::render::context::GpuContext;
+use crate::render::labels::{GpuLabels, NoLabels};
 use crate::render::volume_texture::{VolumeTexture, VolumeTextureError};
 use crate::settings::{RenderSettings, Upload};
 use crate::volume::{ValueRange, Volume};
@@ -22,6 +25,8 @@ pub struct FrameShared<'a> {
     pub sampler: &'a wgpu::Sampler,
     /// The transfer function's tables.
     pub tables: &'a TransferTables,
+    /// Bound where the volume has no segmentation.
+    pub(crate) no_labels: &'a NoLabels,
 }
 
 /// A volume on the GPU, ready to be ray-cast.
@@ -38,6 +43,8 @@ pub struct GpuVolume {
     pub all_finite: bool,
     /// Whether the volume is a colour one (its texels: luminance, red, green, blue).
     pub colour: bool,
+    /// The segmentation shown over it (shared with the slices), if any.
+    pub labels: Option<Arc<GpuLabels>>,
     /// Group 0 of every ray-casting pipeline.
     pub frame_group: wgpu::BindGroup,
     /// The min/max pyramid, node flags and distance field (built lazily).
@@ -57,16 +64,7 @@ impl GpuVolume {
         (upload, first_upload): (&Upload, Option<std::time::Duration>),
     ) -> Result<Self, VolumeTextureError> {
         let texture = VolumeTexture::upload_streaming(ctx, volume, upload, first_upload)?;
-        let frame_group = layouts.frame_group(
-            &ctx.device,
-            &FrameResources {
-                uniforms: shared.uniforms,
-                volume: &texture.view,
-                sampler: shared.sampler,
-                lut: &shared.tables.lut().view,
-                integrals: &shared.tables.integrals().view,
-            },
-        );
+        let frame_group = frame_group(ctx, layouts, shared, &texture, None);
         let leap = LeapStructures::new(
             ctx,
             volume.dims(),
@@ -82,6 +80,7 @@ impl GpuVolume {
             range: volume.normalization_range(),
             all_finite: !volume.may_be_non_finite(),
             colour: volume.colour().is_some(),
+            labels: None,
             frame_group,
             leap,
             leap_group,
@@ -89,7 +88,43 @@ impl GpuVolume {
     }
 }
 
+/// Group 0 of `texture` with `labels` (none: the dummies).
+fn frame_group(
+    ctx: &GpuContext,
+    layouts: &Layouts,
+    shared: &FrameShared<'_>,
+    texture: &VolumeTexture,
+    labels: Option<&GpuLabels>,
+) -> wgpu::BindGroup {
+    let labels = labels.map_or((&shared.no_labels.labels, &shared.no_labels.colours), |l| {
+        (&l.labels, &l.colours)
+    });
+    layouts.frame_group(
+        &ctx.device,
+        &FrameResources {
+            uniforms: shared.uniforms,
+            volume: &texture.view,
+            sampler: shared.sampler,
+            lut: &shared.tables.lut().view,
+            integrals: &shared.tables.integrals().view,
+            labels,
+        },
+    )
+}
+
 impl GpuVolume {
+    /// Shows `labels` (on this volume's grid) over it, or none.
+    pub(crate) fn set_labels(
+        &mut self,
+        ctx: &GpuContext,
+        layouts: &Layouts,
+        shared: &FrameShared<'_>,
+        labels: Option<Arc<GpuLabels>>,
+    ) {
+        self.frame_group = frame_group(ctx, layouts, shared, &self.texture, labels.as_deref());
+        self.labels = labels;
+    }
+
     /// The uniforms of a frame of this volume of `size` pixels seen through `geometry`, for a
     /// lookup table of `lut_entries` whose stored depths are in units of `lut_depth_unit`
     /// (leaping levels still unset).
@@ -108,7 +143,7 @@ impl GpuVolume {
             all_finite: self.all_finite,
             colour: self.colour,
         };
-        frame_uniforms(
+        let mut uniforms = frame_uniforms(
             geometry,
             size,
             self.dims,
@@ -116,6 +151,8 @@ impl GpuVolume {
             settings,
             decoding,
             LeapLevels::default(),
-        )
+        );
+        uniforms.label_layers = self.labels.as_ref().map_or(0, |l| l.layers());
+        uniforms
     }
 }

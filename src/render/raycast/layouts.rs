@@ -11,7 +11,7 @@ use crate::render::volume_texture::VolumeView;
 /// The bind group layouts shared by all ray-casting pipelines.
 pub struct Layouts {
     /// Group 0: frame uniforms, volume, sampler, transfer-function table, pre-integration table,
-    /// the volume's page table and geometry.
+    /// the volume's page table and geometry, its labels and their colours.
     pub frame: wgpu::BindGroupLayout,
     /// Group 1 of the fragment path: the exit-point texture.
     pub fragment_io: wgpu::BindGroupLayout,
@@ -36,6 +36,9 @@ pub struct FrameResources<'a> {
     pub lut: &'a wgpu::TextureView,
     /// The pre-integration table.
     pub integrals: &'a wgpu::TextureView,
+    /// The labels on the volume's grid and each label's colour (a 1³ texture of none and a
+    /// 1 × 1 table without a segmentation).
+    pub labels: (&'a wgpu::TextureView, &'a wgpu::TextureView),
 }
 
 /// What group 3 binds: the leaping structures of one volume.
@@ -163,6 +166,17 @@ impl Layouts {
                     },
                     count: None,
                 },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 7,
+                    visibility: RAY_LOOP,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Uint,
+                        view_dimension: D3,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                texture_entry(8, D2, false, RAY_LOOP),
             ],
         );
         let fragment_io = layout(
@@ -218,6 +232,8 @@ impl Layouts {
                 TextureView(r.integrals),
                 r.volume.pages.as_entire_binding(),
                 r.volume.geometry.as_entire_binding(),
+                TextureView(r.labels.0),
+                TextureView(r.labels.1),
             ],
         )
     }

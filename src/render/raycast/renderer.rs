@@ -8,11 +8,12 @@
 use std::sync::Arc;
 
 use crate::render::context::GpuContext;
+use crate::render::labels::{GpuLabels, NoLabels};
 use crate::render::pack::Rgba8Reader;
 use crate::render::probe::{FrameResults, ProbePool};
 use crate::render::volume_texture::VolumeTexture;
 use crate::render::volume_texture::{Cull, Pace, REACH_STEP_VOX, SlicePlane, Unseen};
-use crate::settings::{ConcretePath, Mode, RenderPath, RenderSettings, Upload};
+use crate::settings::{ConcretePath, LabelView, Mode, RenderPath, RenderSettings, Upload};
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 
@@ -65,6 +66,8 @@ pub struct VolumeRenderer {
     pages_generation: u64,
     /// The slice planes shown beside the rays (their bricks hold data).
     slice_planes: Vec<SlicePlane>,
+    /// Bound in place of a segmentation where the volume has none.
+    no_labels: NoLabels,
 }
 
 /// Continuous voxel coordinates (voxel `i`'s centre at `i + ½`) → the frame's clip space.
@@ -103,6 +106,7 @@ impl VolumeRenderer {
             work: WorkCounts::default(),
         };
         Ok(Self {
+            no_labels: NoLabels::new(device),
             transfer: super::transfer_tables::TransferTables::new(&ctx),
             ctx,
             pipelines,
@@ -145,6 +149,7 @@ impl VolumeRenderer {
             uniforms: &self.uniforms,
             sampler: &self.sampler,
             tables: &self.transfer,
+            no_labels: &self.no_labels,
         };
         let uploaded = GpuVolume::new(
             &self.ctx,
@@ -156,6 +161,37 @@ impl VolumeRenderer {
         self.volume = Some(uploaded);
         self.transfer.invalidate();
         self.strategy_choice = None;
+        Ok(())
+    }
+
+    /// Shows `labels` over the volume loaded (on its grid: `labels::load_labels` puts them
+    /// there), or none. Refused where no volume is loaded, where the labels lie on another grid,
+    /// and over a bricked volume (labels do not travel in bricks yet).
+    pub fn set_labels(&mut self, labels: Option<Arc<GpuLabels>>) -> Result<(), RenderError> {
+        let volume = self.volume.as_mut().ok_or(RenderError::NoVolume)?;
+        if let Some(l) = &labels {
+            if l.dims() != volume.dims {
+                return Err(RenderError::Labels(format!(
+                    "the labels lie on a {:?} grid, the volume on {:?}",
+                    l.dims(),
+                    volume.dims
+                )));
+            }
+            if volume.texture.view.bricked {
+                return Err(RenderError::Labels(
+                    "this volume is drawn in bricks (past one GPU texture or the memory \
+                     budget); segmentations over bricked volumes are not shown in 3D yet"
+                        .into(),
+                ));
+            }
+        }
+        let shared = FrameShared {
+            uniforms: &self.uniforms,
+            sampler: &self.sampler,
+            tables: &self.transfer,
+            no_labels: &self.no_labels,
+        };
+        volume.set_labels(&self.ctx, &self.pipelines.layouts, &shared, labels);
         Ok(())
     }
 
@@ -284,6 +320,18 @@ impl VolumeRenderer {
         self.volume.as_ref().is_some_and(|v| v.texture.view.bricked)
     }
 
+    /// What the volume shown adds to a variant's key under `settings`: whether it has missing
+    /// voxels, whether it is bricked, and how its segmentation shows (`Off` without one).
+    fn volume_traits(&self, settings: &RenderSettings) -> (bool, bool, LabelView) {
+        let labelled = self.volume.as_ref().is_some_and(|v| v.labels.is_some());
+        let view = if labelled {
+            settings.labels
+        } else {
+            LabelView::Off
+        };
+        (self.has_missing_voxels(), self.is_bricked(), view)
+    }
+
     /// Bakes what the frame's settings need of the transfer function's tables.
     fn refresh_tables(&mut self, settings: &RenderSettings) {
         let Some(volume) = &self.volume else { return };
@@ -346,7 +394,7 @@ impl VolumeRenderer {
         request.settings.validate()?;
         let mut concrete = self.concrete_settings(request.settings, request.size);
         let path = self.resolve_path(concrete.path)?;
-        let volume_traits = (self.has_missing_voxels(), self.is_bricked());
+        let volume_traits = self.volume_traits(&concrete);
         self.ensure_targets(request.size)?;
         let (first, last) = (rows[0] == 0, rows[1] >= request.size[1]);
         self.refresh_tables(&concrete);
@@ -417,7 +465,8 @@ impl VolumeRenderer {
             // for the pyramid's whole build anyway, not in that one (a 73 ms frame at 2048 ×
             // 2048 × 1024 on the H100, §13).
             let later = PipelineKey::new(&concrete, path, request.stats, request.size)
-                .for_volume(volume_traits.0, volume_traits.1);
+                .for_volume(volume_traits.0, volume_traits.1)
+                .with_labels(volume_traits.2);
             if first && !volume.leap.pyramid_ready() && !self.pipelines.has(&later) {
                 self.pipelines.for_frame(&self.ctx.device, later)?;
             }
@@ -425,7 +474,8 @@ impl VolumeRenderer {
         }
         let settings = &concrete;
         let key = PipelineKey::new(settings, path, request.stats, request.size)
-            .for_volume(volume_traits.0, volume_traits.1);
+            .for_volume(volume_traits.0, volume_traits.1)
+            .with_labels(volume_traits.2);
         uniforms.row_offset = rows[0];
         uniforms.row_end = rows[1];
         let scope = self
@@ -543,7 +593,8 @@ impl VolumeRenderer {
         self.resolve_path(settings.path).is_ok_and(|path| {
             self.pipelines.has(
                 &PipelineKey::new(settings, path, stats, size)
-                    .for_volume(self.has_missing_voxels(), self.is_bricked()),
+                    .for_volume(self.has_missing_voxels(), self.is_bricked())
+                    .with_labels(self.volume_traits(settings).2),
             )
         })
     }
@@ -559,7 +610,8 @@ impl VolumeRenderer {
     ) -> Result<(), RenderError> {
         let settings = &self.concrete_settings(settings, size);
         let key = PipelineKey::new(settings, self.resolve_path(settings.path)?, stats, size)
-            .for_volume(self.has_missing_voxels(), self.is_bricked());
+            .for_volume(self.has_missing_voxels(), self.is_bricked())
+            .with_labels(self.volume_traits(settings).2);
         self.pipelines.for_frame(&self.ctx.device, key)?;
         Ok(())
     }

@@ -144,6 +144,10 @@ pub(crate) fn frame_uniforms(
         row_end: size[1],
         all_finite: u32::from(decoding.all_finite),
         colour_volume: u32::from(decoding.colour),
+        label_layers: 0,
+        _pad0: 0,
+        _pad1: 0,
+        _pad2: 0,
     }
 }
 

@@ -3,7 +3,7 @@
 //! selects, so that no variant carries code it cannot run.
 
 use crate::render::shader::{ShaderError, compose};
-use crate::settings::effects::{GradientScheme, MipColor, Shading};
+use crate::settings::effects::{GradientScheme, LabelView, MipColor, Shading};
 use crate::settings::{ConcretePath, Mode, RenderSettings, Strategy};
 
 /// Identifies one ray-casting pipeline variant. Build it with [`PipelineKey::new`], which drops
@@ -39,6 +39,10 @@ pub struct PipelineKey {
     /// Whether the volume is bricked (`BRICKED`): every sample finds its brick through the page
     /// table (shaders/shared/volume.wgsl). Set by the renderer from its volume.
     pub bricked: bool,
+    /// How a segmentation shows (`LABELS`, `LABEL_COLOUR`, `LABEL_INSIDE`: shaders/shared/labels.wgsl):
+    /// `Off` without one. Set by the renderer from the labels it holds
+    /// ([`PipelineKey::with_labels`]).
+    pub labels: LabelView,
 }
 
 /// The ray loops, one file each in `shaders/march/`, picked by [`PipelineKey::ray_loop`] as the
@@ -139,7 +143,20 @@ impl PipelineKey {
                 && u64::from(size[0]) * u64::from(size[1]) <= SPLIT_MAX_PIXELS,
             missing: false,
             bricked: false,
+            labels: LabelView::Off,
         }
+    }
+
+    /// The same variant showing a segmentation as `view` says (`Off`: none loaded). X-ray, a
+    /// density integral that no one sample colours, drops the colouring.
+    pub fn with_labels(self, view: LabelView) -> Self {
+        let xray = matches!(self.mode, Mode::Xray | Mode::XrayAttenuation);
+        let labels = match view {
+            LabelView::Colour if xray => LabelView::Off,
+            LabelView::ColourInside if xray => LabelView::Inside,
+            view => view,
+        };
+        Self { labels, ..self }
     }
 
     /// The same variant for a volume that has non-finite voxels (`missing`) or not, bricked or
@@ -189,7 +206,17 @@ impl PipelineKey {
                                         let others = [(true, false), (false, true), (true, true)]
                                             .map(|(m, b)| key.for_volume(m, b));
                                         let others = others.iter().filter(|_| sampled).copied();
-                                        for key in std::iter::once(key).chain(others) {
+                                        // Segmentations in every view, on the plain volume.
+                                        let labelled = [
+                                            LabelView::Colour,
+                                            LabelView::Inside,
+                                            LabelView::ColourInside,
+                                        ]
+                                        .map(|view| key.with_labels(view));
+                                        let labelled = labelled.iter().filter(|_| sampled).copied();
+                                        for key in
+                                            std::iter::once(key).chain(others).chain(labelled)
+                                        {
                                             if !keys.contains(&key) {
                                                 keys.push(key);
                                             }
@@ -249,6 +276,15 @@ impl PipelineKey {
         }
         if self.bricked {
             defines.push("BRICKED");
+        }
+        if self.labels != LabelView::Off {
+            defines.push("LABELS");
+        }
+        if self.labels.colours() {
+            defines.push("LABEL_COLOUR");
+        }
+        if self.labels.cuts() {
+            defines.push("LABEL_INSIDE");
         }
         defines
     }

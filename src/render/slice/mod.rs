@@ -8,12 +8,10 @@
 //! is `reference::slice`.
 
 mod bricks;
-mod labels;
 mod targets;
 mod timing;
 
 pub use bricks::SliceBricks;
-pub use labels::{LabelUploadError, SliceLabels};
 pub use targets::{DisplayTarget, SliceTarget};
 
 use crate::mpr::{PatientFrame, Slab, SlabMode, SliceView};
@@ -23,6 +21,7 @@ use crate::volume::Volume;
 
 use super::context::GpuContext;
 use super::gpu_data::{SLAB_MEAN, SLAB_MINIP, SLAB_MIP, SliceParams, WORKGROUP};
+use super::labels::GpuLabels;
 use super::shader::{ShaderError, compose, compute_pipeline, shader_module};
 use super::table_texture::TableTexture;
 use super::volume_texture::{PerLayout, VolumeTexture, VolumeView, texel_units};
@@ -160,7 +159,7 @@ pub struct SliceSource<'a> {
     /// ([`SliceRenderer::colour_table`]); without them the display variant writes grey.
     pub colours: Option<&'a TableTexture>,
     /// Labels over the image (the display variant); without them, none.
-    pub labels: Option<&'a SliceLabels>,
+    pub labels: Option<&'a GpuLabels>,
 }
 
 /// Where a pass writes, which also picks its variant.
@@ -193,7 +192,7 @@ pub struct SliceRenderer {
     /// Bound in place of a colour table where there is none.
     no_colours: TableTexture,
     /// Bound in place of labels where there are none.
-    no_labels: labels::NoLabels,
+    no_labels: super::labels::NoLabels,
 }
 
 /// Why a slice could not be drawn.
@@ -238,7 +237,7 @@ impl SliceRenderer {
                 mapped_at_creation: false,
             }),
             no_colours: TableTexture::slice_colours(device, 1),
-            no_labels: labels::NoLabels::new(device),
+            no_labels: super::labels::NoLabels::new(device),
         })
     }
 
@@ -272,7 +271,7 @@ impl SliceRenderer {
         if source.colours.is_none() {
             params.colour = 0;
         }
-        params.labels = source.labels.map_or(0, SliceLabels::layers);
+        params.labels = source.labels.map_or(0, GpuLabels::layers);
         queue.write_buffer(output.params(), 0, bytemuck::bytes_of(&params));
         let pipeline = match output {
             Output::Exact(_) => self.exact.pick(source.texture),
@@ -424,7 +423,7 @@ impl SliceRenderer {
         texture: &VolumeTexture,
         bricks: Option<&SliceBricks>,
         colours: Option<&TableTexture>,
-        labels: Option<&SliceLabels>,
+        labels: Option<&GpuLabels>,
         view: &SliceView,
         look: SliceLook,
     ) -> Result<Vec<[u8; 3]>, SliceError> {

@@ -534,7 +534,7 @@ impl eframe::App for LeapViewApp {
                         );
                         ui.separator();
                         if state.layout.has_slices() && volume.is_some() {
-                            slices.labels_ui(ui);
+                            slices.labels_ui(ui, &mut state.render.labels);
                             slices.controls_ui(ui);
                             ui.separator();
                         }

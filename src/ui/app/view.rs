@@ -153,6 +153,7 @@ impl LeapViewApp {
         if user_input(ctx) {
             self.scene.note_input();
         }
+        self.scene.offer_labels(self.slices.labels_3d());
         if let Err(message) =
             self.scene
                 .render_if_changed(&mut self.state, area.size_px, interacting)

@@ -158,6 +158,7 @@ mod tests {
             transfer_generation: 0,
             volume_generation: 0,
             bricks_generation: 0,
+            labels_generation: 0,
             slices_generation: 0,
             stats: false,
         }

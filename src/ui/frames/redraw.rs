@@ -21,6 +21,8 @@ pub struct FrameInputs {
     pub volume_generation: u64,
     /// Bumped by every frame that some wanted brick was missing from: the next shows more.
     pub bricks_generation: u64,
+    /// Bumped whenever the segmentation shown changes (another, none, a label toggled).
+    pub labels_generation: u64,
     /// Bumped when the slice planes moved while the rays leave bricks out (their bricks are
     /// decided again in the next frame).
     pub slices_generation: u64,
@@ -74,6 +76,7 @@ mod tests {
             transfer_generation: 1,
             volume_generation: 1,
             bricks_generation: 0,
+            labels_generation: 0,
             slices_generation: 0,
             stats: false,
         }

@@ -5,19 +5,24 @@ use std::collections::BTreeSet;
 use std::sync::Arc;
 
 use crate::labels::{LabelMap, Segment};
-use crate::render::slice::{LabelLook, SliceLabels};
+use crate::render::labels::GpuLabels;
+use crate::render::slice::LabelLook;
+use crate::settings::LabelView;
 
 /// The labels shown over the slices of one volume.
 pub struct ShownLabels {
     /// The labels on the volume's grid.
     pub map: Arc<LabelMap>,
-    gpu: SliceLabels,
+    /// Its textures, shared with the 3D view.
+    gpu: Arc<GpuLabels>,
     /// Hidden segments, by (layer, value).
     hidden: BTreeSet<(u16, u16)>,
     /// How they are drawn.
     pub look: LabelLook,
     /// Counts changes of what is shown: a new one redraws every pane.
     generation: u64,
+    /// Counts changes of which segments are shown (the 3D view redraws for those alone).
+    shown_generation: u64,
     /// The volume they lie on (`Source::generation`).
     pub(super) volume: u64,
     /// The panel's search text.
@@ -39,13 +44,14 @@ impl ShownLabels {
         map: Arc<LabelMap>,
         volume: u64,
     ) -> Result<Self, String> {
-        let gpu = SliceLabels::new(device, queue, &map).map_err(|e| e.to_string())?;
+        let gpu = Arc::new(GpuLabels::new(device, queue, &map).map_err(|e| e.to_string())?);
         Ok(Self {
             map,
             gpu,
             hidden: BTreeSet::new(),
             look: LabelLook::default(),
             generation: 0,
+            shown_generation: 0,
             volume,
             search: String::new(),
         })
@@ -69,16 +75,27 @@ impl ShownLabels {
         self.gpu
             .show(queue, &self.map, |s| !hidden.contains(&(s.layer, s.value)));
         self.generation += 1;
+        self.shown_generation += 1;
+    }
+
+    /// What the 3D view shows: the textures and the count of visibility changes.
+    pub(super) fn for_3d(&self) -> (Arc<GpuLabels>, u64) {
+        (Arc::clone(&self.gpu), self.shown_generation)
     }
 
     /// What a pane draws them with: the textures, the generation and the look.
-    pub(super) fn for_pane(&self) -> (&SliceLabels, u64, LabelLook) {
+    pub(super) fn for_pane(&self) -> (&GpuLabels, u64, LabelLook) {
         (&self.gpu, self.generation, self.look)
     }
 
     /// The side panel's section: fill opacity, outlines, and each segment (shown or not, its
     /// colour, name, value and voxels), searchable by name, all at once or one alone.
-    pub(super) fn ui(&mut self, ui: &mut egui::Ui, queue: &wgpu::Queue) -> Option<LabelsAction> {
+    pub(super) fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        queue: &wgpu::Queue,
+        view: &mut LabelView,
+    ) -> Option<LabelsAction> {
         let mut action = None;
         let map = Arc::clone(&self.map);
         let segments = map.segments();
@@ -88,6 +105,29 @@ impl ShownLabels {
                 .on_hover_text(map.notes().join("\n"));
             if ui.small_button("Close").clicked() {
                 action = Some(LabelsAction::Close);
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("3D");
+            for (value, text, hover) in [
+                (
+                    LabelView::Colour,
+                    "colour",
+                    "each sample in its shown label's colour",
+                ),
+                (
+                    LabelView::Inside,
+                    "inside",
+                    "the image only inside the shown labels, the rest cut away",
+                ),
+                (
+                    LabelView::ColourInside,
+                    "both",
+                    "only inside the shown labels, each in its colour",
+                ),
+                (LabelView::Off, "off", "the image alone"),
+            ] {
+                ui.selectable_value(view, value, text).on_hover_text(hover);
             }
         });
         let before = self.look;

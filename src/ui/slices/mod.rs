@@ -172,12 +172,19 @@ impl SliceViews {
         Some((self.labels.as_mut()?, queue))
     }
 
-    /// The segmentation's section of the side panel, where there is one.
-    pub fn labels_ui(&mut self, ui: &mut egui::Ui) {
+    /// The segmentation for the 3D view, if any: its textures and the count of visibility
+    /// changes.
+    pub fn labels_3d(&self) -> Option<(Arc<crate::render::labels::GpuLabels>, u64)> {
+        self.labels.as_ref().map(ShownLabels::for_3d)
+    }
+
+    /// The segmentation's section of the side panel, where there is one; `view`: how it shows
+    /// in 3D.
+    pub fn labels_ui(&mut self, ui: &mut egui::Ui, view: &mut crate::settings::LabelView) {
         let Some((labels, queue)) = self.labels_mut() else {
             return;
         };
-        if labels.ui(ui, queue) == Some(LabelsAction::Close) {
+        if labels.ui(ui, queue, view) == Some(LabelsAction::Close) {
             self.labels = None;
         }
         ui.separator();

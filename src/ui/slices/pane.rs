@@ -10,8 +10,9 @@ use glam::{DVec2, DVec3};
 use crate::mpr::frame::lps;
 use crate::mpr::{Plane, PlaneKind, Slab, SliceView};
 use crate::render::gpu_data::SliceParams;
+use crate::render::labels::GpuLabels;
 use crate::render::slice::{
-    DisplayTarget, LabelLook, Output, SliceLabels, SliceLook, SliceSource, slice_params,
+    DisplayTarget, LabelLook, Output, SliceLook, SliceSource, slice_params,
 };
 use crate::render::table_texture::TableTexture;
 use crate::ui::gestures::window_level::window_drag;
@@ -43,7 +44,7 @@ pub struct PaneLook<'a> {
     /// The transfer function's colour table and its generation, when the slices are coloured.
     pub colours: Option<(&'a TableTexture, u64)>,
     /// A segmentation over the slice: its textures, their generation and its look.
-    pub labels: Option<(&'a SliceLabels, u64, LabelLook)>,
+    pub labels: Option<(&'a GpuLabels, u64, LabelLook)>,
     /// A 2D image alone in its layout: no other planes' lines cross it.
     pub alone: bool,
     /// Whether the patient's directions are known (not a 2D image shown as stored), so that

@@ -4,6 +4,7 @@
 //! the window) busy for long ([`crate::ui::frames::frame_job`]), refine a still view, frames per second, GPU
 //! time of the last frame.
 
+mod labels;
 mod readout;
 
 use std::sync::Arc;
@@ -65,6 +66,8 @@ pub struct Scene {
     busy: Busy,
     /// A frame that failed, for the next pass to report.
     error: Option<String>,
+    /// The segmentation shown in 3D.
+    labels: labels::SceneLabels,
 }
 
 impl Scene {
@@ -102,7 +105,17 @@ impl Scene {
             last_input: None,
             busy: Busy::default(),
             error: None,
+            labels: labels::SceneLabels::default(),
         })
+    }
+
+    /// The segmentation to show in 3D this pass (`None`: none), with the generation of its
+    /// visibility: the renderer takes it before the next frame.
+    pub(crate) fn offer_labels(
+        &mut self,
+        labels: Option<(Arc<crate::render::labels::GpuLabels>, u64)>,
+    ) {
+        self.labels.offer(labels);
     }
 
     /// Uploads `volume` (`from_file`: read from a file, not generated) and frames it in the
@@ -145,6 +158,7 @@ impl Scene {
             ..VolumeSummary::of(volume)
         };
         self.framing.show(summary, projection);
+        self.labels.volume_changed();
         let summary = self.framing.volume().ok_or(RenderError::NoVolume)?;
         log::info!("showing {}: {}", summary.name, summary.line());
         Ok(summary)
@@ -318,6 +332,7 @@ impl Scene {
         if shared.renderer.set_slice_planes(&self.slice_planes) {
             self.slice_generation += 1;
         }
+        self.labels.apply(&mut shared.renderer)?;
         let changed = shared.renderer.set_transfer_function(state.editor.tf());
         self.stats.transfer_given(changed);
         let inputs = FrameInputs {
@@ -329,6 +344,7 @@ impl Scene {
             transfer_generation: shared.renderer.transfer_generation(),
             volume_generation: self.framing.generation(),
             bricks_generation: shared.renderer.bricks_generation(),
+            labels_generation: self.labels.generation,
             slices_generation: if shared.renderer.residency_culls() {
                 self.slice_generation
             } else {

@@ -1,11 +1,12 @@
-//! A segmentation on the GPU for the slice views: its layers of labels (up to four, one per
-//! channel: `R16Uint`, `Rg16Uint` or `Rgba16Uint`) as a 3D texture on the image's grid (read with
-//! `textureLoad`, nearest voxel: labels are never interpolated) and a 256 × 256 table of each
-//! label value's colour, its alpha 0 where the label is hidden.
+//! A segmentation on the GPU, one upload for the slice views and the ray caster: its layers of
+//! labels (up to four, one per channel: `R16Uint`, `Rg16Uint` or `Rgba16Uint`) as a 3D texture
+//! on the image's grid (read with `textureLoad`, nearest voxel: labels are never interpolated)
+//! and a 256 × 256 table of each label value's colour, its alpha 0 where the label is hidden
+//! ([`LabelMap::colour_table`]).
 
 use crate::labels::LabelMap;
 
-use super::super::texture::full_view;
+use super::texture::full_view;
 
 /// Label values a colour table holds: every `u16`.
 const TABLE_EDGE: u32 = 256;
@@ -14,14 +15,16 @@ const TABLE_EDGE: u32 = 256;
 const MOST_LAYERS: usize = 4;
 
 /// A label map's textures.
-pub struct SliceLabels {
-    /// The first layer's labels.
-    pub(super) labels: wgpu::TextureView,
+pub struct GpuLabels {
+    /// The labels, a layer per channel.
+    pub(crate) labels: wgpu::TextureView,
     /// Each label value's colour (sRGB) and visibility (alpha).
-    pub(super) colours: wgpu::TextureView,
+    pub(crate) colours: wgpu::TextureView,
     colour_texture: wgpu::Texture,
     /// How many layers the texture holds.
     layers: u32,
+    /// The grid they lie on (the image's).
+    dims: [u32; 3],
 }
 
 /// Why labels could not go to the GPU.
@@ -34,13 +37,11 @@ pub enum LabelUploadError {
     )]
     TooLarge([u32; 3], u32),
     /// More layers of overlapping segments than a texel holds.
-    #[error(
-        "the segments overlap {0} deep; the slices draw at most {MOST_LAYERS} overlapping layers"
-    )]
+    #[error("the segments overlap {0} deep; at most {MOST_LAYERS} overlapping layers are drawn")]
     TooManyLayers(usize),
 }
 
-impl SliceLabels {
+impl GpuLabels {
     /// Uploads `labels`'s first layer and its segments' colours, each visible.
     pub fn new(
         device: &wgpu::Device,
@@ -68,7 +69,7 @@ impl SliceLabels {
             depth_or_array_layers: dims[2],
         };
         let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("slice labels"),
+            label: Some("labels"),
             size,
             mip_level_count: 1,
             sample_count: 1,
@@ -119,9 +120,15 @@ impl SliceLabels {
             colours: full_view(&colour_texture),
             colour_texture,
             layers: layers.len().max(1) as u32,
+            dims,
         };
         made.show(queue, labels, |_| true);
         Ok(made)
+    }
+
+    /// The voxel grid the labels lie on (the image's).
+    pub fn dims(&self) -> [u32; 3] {
+        self.dims
     }
 
     /// How many layers of labels the texture holds.
@@ -130,19 +137,14 @@ impl SliceLabels {
     }
 
     /// Writes the colour table: each segment in its colour, shown where `visible` says so
-    /// (hidden labels have alpha 0). Label values name one segment across the layers (a DICOM
-    /// SEG's segment numbers do).
+    /// (hidden labels have alpha 0).
     pub fn show(
         &self,
         queue: &wgpu::Queue,
         labels: &LabelMap,
         visible: impl Fn(&crate::labels::Segment) -> bool,
     ) {
-        let mut table = vec![[0u8; 4]; (TABLE_EDGE * TABLE_EDGE) as usize];
-        for s in labels.segments() {
-            let [r, g, b] = s.colour;
-            table[usize::from(s.value)] = [r, g, b, if visible(s) { 255 } else { 0 }];
-        }
+        let table = labels.colour_table(visible);
         queue.write_texture(
             self.colour_texture.as_image_copy(),
             bytemuck::cast_slice(&table),
@@ -161,13 +163,13 @@ impl SliceLabels {
 }
 
 /// Bound where a pass shows no labels: a 1³ texture of label 0 and a 1 × 1 colour table.
-pub(super) struct NoLabels {
-    pub(super) labels: wgpu::TextureView,
-    pub(super) colours: wgpu::TextureView,
+pub(crate) struct NoLabels {
+    pub(crate) labels: wgpu::TextureView,
+    pub(crate) colours: wgpu::TextureView,
 }
 
 impl NoLabels {
-    pub(super) fn new(device: &wgpu::Device) -> Self {
+    pub(crate) fn new(device: &wgpu::Device) -> Self {
         let make = |label, dimension, format| {
             full_view(&device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),

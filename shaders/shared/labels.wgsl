@@ -1,0 +1,63 @@
+// A segmentation in the ray loop (LABELS): the label of the voxel nearest a sample (labels are
+// never interpolated) in up to four layers, and what the variant does with it: LABEL_COLOUR, a
+// sample takes its shown label's colour; LABEL_INSIDE, samples outside the shown labels are
+// cut away. src/render/labels.rs uploads both textures; src/reference/modes.rs twins the rules.
+
+#include "shared/common.wgsl"
+
+#ifdef LABELS
+// The labels on the volume's grid, a layer per channel, and each label value's colour at texel
+// (value % 256, value / 256), its alpha 0 where the label is hidden or absent.
+@group(0) @binding(7) var label_tex: texture_3d<u32>;
+@group(0) @binding(8) var label_colours: texture_2d<f32>;
+
+// The labels of the voxel nearest box position p, a layer per component (0 past the layers the
+// texture holds: an R16Uint texel reads alpha 1).
+fn labels_at(p: vec3<f32>) -> vec4<u32> {
+    let dims = vec3<i32>(textureDimensions(label_tex));
+    let i = clamp(vec3<i32>(floor(p * vec3<f32>(dims))), vec3<i32>(0), dims - vec3<i32>(1));
+    let texel = textureLoad(label_tex, i, 0);
+    return select(vec4<u32>(0u), texel, vec4<u32>(0u, 1u, 2u, 3u) < vec4<u32>(frame.label_layers));
+}
+
+// Label value l's colour (rgb) and whether it is shown (a = 1) or not (0).
+fn label_colour(l: u32) -> vec4<f32> {
+    return textureLoad(label_colours, vec2<i32>(i32(l % 256u), i32(l / 256u)), 0);
+}
+
+// Whether some layer's label at p is shown.
+fn inside_labels(p: vec3<f32>) -> bool {
+    let here = labels_at(p);
+    var shown = false;
+    for (var layer = 0u; layer < 4u; layer++) {
+        shown = shown || (here[layer] != 0u && label_colour(here[layer]).a > 0.0);
+    }
+    return shown;
+}
+#endif
+
+// A sample's colour `rgb` at p as the variant shows it: with LABEL_COLOUR, the colour of the
+// first layer's shown label there, where there is one.
+fn labelled_colour(rgb: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+#ifdef LABEL_COLOUR
+    let here = labels_at(p);
+    for (var layer = 0u; layer < 4u; layer++) {
+        let c = label_colour(here[layer]);
+        if here[layer] != 0u && c.a > 0.0 {
+            return c.rgb;
+        }
+    }
+#endif
+    return rgb;
+}
+
+// A ray's sample value s at p as the variant sees it: with LABEL_INSIDE, missing (transparent,
+// never an extreme, no density) outside the shown labels.
+fn labelled_value(s: f32, p: vec3<f32>) -> f32 {
+#ifdef LABEL_INSIDE
+    if !inside_labels(p) {
+        return MISSING_BELOW - 1.0;
+    }
+#endif
+    return s;
+}

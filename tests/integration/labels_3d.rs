@@ -1,0 +1,269 @@
+//! Segmentations in the ray loop: the shared CT head (its DICOM series) with its labels (written
+//! by SimpleITK; the palette's colours, far from any transfer function's), every mode with the labels colouring the image and
+//! cutting it to the shown labels, on both paths, against the f64 reference; leaping exact with
+//! labels; a label toggle against a render without it.
+
+use std::sync::Arc;
+
+use leapview::camera::{Camera, ProjectionKind, ViewPreset};
+use leapview::imaging::ImageF32;
+use leapview::labels::{LabelMap, LabelOptions, Segment, load_labels};
+use leapview::reference::{self, Labelled};
+use leapview::render::VolumeRenderer;
+use leapview::render::labels::GpuLabels;
+use leapview::settings::effects::{IsoSettings, LabelView, MipColor, Shading};
+use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
+use leapview::transfer::TransferFunction;
+use leapview::volume::{LoadOptions, Volume, load_volume};
+
+use crate::common;
+
+/// The CT head series, its labels (1 soft tissue, 2 skull, 3 brain) and a soft-tissue function.
+fn scene() -> (Volume, LabelMap, TransferFunction) {
+    let data = common::data_dir();
+    let volume = load_volume(&data.join("dicom/ct_head_cthead"), &LoadOptions::default())
+        .expect("the CT head series");
+    let labels = load_labels(
+        &data.join("labels/ct_head_cthead_labels.nii.gz"),
+        &volume,
+        &LabelOptions::default(),
+    )
+    .expect("its labels");
+    let tf = leapview::transfer::presets::preset("ct-soft-tissue").expect("preset");
+    (volume, labels, tf)
+}
+
+/// A renderer holding the scene, the labels shown where `visible` says.
+fn renderer(
+    volume: &Volume,
+    labels: &LabelMap,
+    tf: &TransferFunction,
+    visible: impl Fn(&Segment) -> bool,
+) -> VolumeRenderer {
+    let mut r = common::renderer_for(volume, tf);
+    let ctx = r.context();
+    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, labels).expect("labels upload");
+    gpu.show(&ctx.queue, labels, visible);
+    r.set_labels(Some(Arc::new(gpu)))
+        .expect("labels over the volume");
+    r
+}
+
+/// The largest RGB difference between two images.
+fn max_diff(a: &ImageF32, b: &ImageF32) -> f64 {
+    a.diff(b).expect("same size").max_abs
+}
+
+fn render(r: &mut VolumeRenderer, camera: &Camera, settings: RenderSettings) -> ImageF32 {
+    r.render_image(camera, [56, 56], &settings)
+        .unwrap_or_else(|e| panic!("{settings:?}: {e}"))
+}
+
+/// Each mode under each way of showing labels.
+fn cases() -> Vec<(&'static str, RenderSettings)> {
+    let base = RenderSettings {
+        step_vox: 0.5,
+        strategy: Strategy::RcT,
+        ..RenderSettings::default()
+    };
+    let iso = IsoSettings {
+        value: Some(300.0),
+        refine_iterations: 4,
+    };
+    vec![
+        ("dvr-colour", base),
+        (
+            "dvr-unlit-inside",
+            RenderSettings {
+                shading: Shading::Off,
+                labels: LabelView::Inside,
+                ..base
+            },
+        ),
+        (
+            "dvr-colour-inside",
+            RenderSettings {
+                labels: LabelView::ColourInside,
+                ..base
+            },
+        ),
+        (
+            "dvr-preintegrated-colour-inside",
+            RenderSettings {
+                labels: LabelView::ColourInside,
+                preintegrated: true,
+                ..base
+            },
+        ),
+        (
+            "iso-colour",
+            RenderSettings {
+                mode: Mode::Iso,
+                iso,
+                ..base
+            },
+        ),
+        (
+            "iso-inside",
+            RenderSettings {
+                mode: Mode::Iso,
+                iso,
+                labels: LabelView::Inside,
+                ..base
+            },
+        ),
+        (
+            "mip-colour-inside",
+            RenderSettings {
+                mode: Mode::Mip,
+                window: Some([0.0, 1500.0]),
+                labels: LabelView::ColourInside,
+                ..base
+            },
+        ),
+        (
+            "mip-tf-colour",
+            RenderSettings {
+                mode: Mode::Mip,
+                mip_color: MipColor::Tf,
+                ..base
+            },
+        ),
+        (
+            "minip-inside",
+            RenderSettings {
+                mode: Mode::MinIp,
+                window: Some([-200.0, 200.0]),
+                labels: LabelView::Inside,
+                ..base
+            },
+        ),
+        (
+            "xray-inside",
+            RenderSettings {
+                mode: Mode::Xray,
+                window: Some([-200.0, 1500.0]),
+                labels: LabelView::ColourInside,
+                ..base
+            },
+        ),
+    ]
+}
+
+/// Skull and brain shown, soft tissue (label 1) hidden: colouring leaves soft tissue the
+/// function's colour, cutting takes it away.
+fn skull_and_brain(s: &Segment) -> bool {
+    s.value != 1
+}
+
+#[test]
+fn labels_colour_and_cut_every_mode_as_the_reference_does() {
+    let (volume, labels, tf) = scene();
+    let table = labels.colour_table(skull_and_brain);
+    let labelled = Labelled {
+        map: &labels,
+        table: &table,
+    };
+    let mut r = renderer(&volume, &labels, &tf, skull_and_brain);
+    let camera = common::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
+    for (name, settings) in cases() {
+        let expected =
+            reference::render_labelled(&volume, &tf, &camera, [56, 56], &settings, Some(&labelled))
+                .image;
+        let unlabelled = reference::render(&volume, &tf, &camera, [56, 56], &settings).image;
+        // (X-ray's mean loses only the soft tissue's faint share of each path.)
+        assert!(
+            max_diff(&expected, &unlabelled) > 0.03,
+            "{name}: the labels change nothing in the reference"
+        );
+        for path in [RenderPath::Fragment, RenderPath::Compute] {
+            let actual = render(&mut r, &camera, RenderSettings { path, ..settings });
+            // The nearest label is taken at f32 positions on the GPU, f64 in the reference: a
+            // sample on a label's border may fall on either side, so a few pixels may differ
+            // by a label's colour (at most 2 %); the rest within 4/255 as every mode is.
+            common::assert_close(
+                &format!("labels-{name}-{path:?}"),
+                &actual,
+                &expected,
+                4.0 / 255.0,
+                0.02,
+            );
+        }
+    }
+}
+
+#[test]
+fn leaping_stays_exact_with_labels() {
+    let (volume, labels, tf) = scene();
+    let mut r = renderer(&volume, &labels, &tf, skull_and_brain);
+    let camera = common::framing(&volume, ViewPreset::PlusX, ProjectionKind::Perspective);
+    for (name, settings) in cases() {
+        for path in [RenderPath::Fragment, RenderPath::Compute] {
+            let plain = render(&mut r, &camera, RenderSettings { path, ..settings });
+            for strategy in [Strategy::RcS, Strategy::RcSDistance] {
+                if strategy.for_mode(settings.mode) != strategy {
+                    continue;
+                }
+                let leapt = render(
+                    &mut r,
+                    &camera,
+                    RenderSettings {
+                        path,
+                        strategy,
+                        ..settings
+                    },
+                );
+                common::assert_close(
+                    &format!("labels-leap-{name}-{path:?}-{strategy:?}"),
+                    &leapt,
+                    &plain,
+                    1.0 / 255.0,
+                    0.0,
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_label_toggle_shows_as_a_render_without_it() {
+    let (volume, labels, tf) = scene();
+    let camera = common::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
+    let colour = RenderSettings {
+        step_vox: 0.5,
+        path: RenderPath::Compute,
+        strategy: Strategy::RcS,
+        ..RenderSettings::default()
+    };
+    let mut plain = common::renderer_for(&volume, &tf);
+    let without = render(&mut plain, &camera, colour);
+    // Every label hidden: the image as if none were loaded, to the bit.
+    let mut r = common::renderer_for(&volume, &tf);
+    let ctx = r.context().clone();
+    let gpu = Arc::new(GpuLabels::new(&ctx.device, &ctx.queue, &labels).expect("upload"));
+    gpu.show(&ctx.queue, &labels, |_| false);
+    r.set_labels(Some(Arc::clone(&gpu))).expect("labels");
+    assert_eq!(render(&mut r, &camera, colour), without);
+    // Shown (the table rewritten, nothing else), they colour the next frame; hidden again, the
+    // image is back.
+    gpu.show(&ctx.queue, &labels, |_| true);
+    let shown = render(&mut r, &camera, colour);
+    assert!(max_diff(&shown, &without) > 0.2);
+    gpu.show(&ctx.queue, &labels, |_| false);
+    assert_eq!(render(&mut r, &camera, colour), without);
+    gpu.show(&ctx.queue, &labels, |_| true);
+    // The view `Off` shows no labels however many are shown.
+    let off = RenderSettings {
+        labels: LabelView::Off,
+        ..colour
+    };
+    assert_eq!(render(&mut r, &camera, off), without);
+    // Cut to hidden labels only: nothing is left but the background.
+    let cut = RenderSettings {
+        labels: LabelView::Inside,
+        ..colour
+    };
+    let mut none = renderer(&volume, &labels, &tf, |_| false);
+    let empty = render(&mut none, &camera, cut);
+    assert!(empty.pixels.iter().all(|p| p[..3] == [0.0, 0.0, 0.0]));
+}
