@@ -19,6 +19,20 @@
 @group(3) @binding(2) var<storage, read> block_distance: array<u32>;
 #endif
 @group(3) @binding(3) var<storage, read> minmax: array<vec2<f32>>;
+#ifdef LABEL_INSIDE
+// 1 where a node holds a shown label (build/labels.wgsl).
+@group(3) @binding(4) var<storage, read> node_shown: array<u32>;
+#endif
+
+// Whether the view cuts node `node` away: it holds no shown label while the image is shown only
+// inside them (LABEL_INSIDE); the modes that skip by min/max ask (DVR's flags already hold it).
+fn cut_away(node: u32) -> bool {
+#ifdef LABEL_INSIDE
+    return node_shown[node] == 0u;
+#else
+    return false;
+#endif
+}
 
 #ifdef LEAP_DISTANCE
 // acc_reach of the modes whose field is built from emptiness flags (DVR, X-ray): `to_matter`

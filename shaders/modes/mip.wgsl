@@ -27,9 +27,9 @@ fn acc_init() -> Acc {
 fn acc_skips(acc: Acc, node: u32) -> bool {
     let m = minmax[node];
 #ifdef MODE_MINIP
-    return holds_no_finite_voxel(m) || m.x >= acc.extreme;
+    return holds_no_finite_voxel(m) || m.x >= acc.extreme || cut_away(node);
 #else
-    return holds_no_finite_voxel(m) || m.y <= acc.extreme;
+    return holds_no_finite_voxel(m) || m.y <= acc.extreme || cut_away(node);
 #endif
 }
 

@@ -18,7 +18,7 @@ fn acc_init() -> Acc {
 // integral (and the mean divides by the analytic path length).
 fn acc_skips(acc: Acc, node: u32) -> bool {
     let m = minmax[node];
-    return holds_no_finite_voxel(m) || m.y <= frame.window_lo;
+    return holds_no_finite_voxel(m) || m.y <= frame.window_lo || cut_away(node);
 }
 
 fn acc_leap_target(k: u32, after: u32) -> u32 {

@@ -99,6 +99,19 @@ impl LabelMap {
         table
     }
 
+    /// Bare layers of labels on a grid of `dims`, no segment described (tests of what reads
+    /// the layers alone).
+    #[cfg(test)]
+    pub(crate) fn bare(dims: [u32; 3], layers: Vec<Vec<u16>>) -> Self {
+        Self {
+            dims,
+            layers,
+            segments: Vec::new(),
+            notes: Vec::new(),
+            name: "test".into(),
+        }
+    }
+
     /// The segment holding voxel index `i` of layer `layer`, if any.
     pub fn segment_at(&self, layer: usize, i: usize) -> Option<&Segment> {
         let value = *self.layers.get(layer)?.get(i)?;

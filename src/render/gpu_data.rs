@@ -57,6 +57,7 @@ fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
         ("RAY_PARTS", "u32", u(RAY_PARTS)),
         ("SPLIT_GROUP_ROWS", "u32", u(SPLIT_GROUP_ROWS)),
         ("BUILD_WORKGROUP", "u32", u(BUILD_WORKGROUP)),
+        ("CELL_VOX", "u32", u(crate::accel::label_cells::CELL_VOX)),
         ("TABLE_WORKGROUP", "u32", u(TABLE_WORKGROUP)),
         ("NODE_WORKGROUP", "u32", u(NODE_WORKGROUP)),
         (
@@ -214,6 +215,9 @@ pub fn layouts() -> Vec<StructLayout> {
         }),
         layout!(EmptinessParams = "EmptinessParams" in "build/params.wgsl" {
             lut_size, node_count, rule, threshold,
+        }),
+        layout!(LabelParams = "LabelParams" in "build/labels.wgsl" {
+            cells, level,
         }),
         layout!(DistanceParams = "DistanceParams" in "build/distance.wgsl" {
             leaf_level, axis, sides, _pad1,
@@ -423,6 +427,16 @@ pub struct EmptinessParams {
     /// The normalised value at or below which a node is empty under [`RULE_AT_MOST`]; the iso
     /// value under [`RULE_ISO`].
     pub threshold: f32,
+}
+
+/// Parameters of one level's pass of the label flags (`LabelParams`, build/labels.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LabelParams {
+    /// Cells per axis of the label lists (`accel::label_cells`).
+    pub cells: [u32; 3],
+    /// The pyramid level this pass builds.
+    pub level: u32,
 }
 
 /// Parameters of one axis pass of the distance field (`DistanceParams`).

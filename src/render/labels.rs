@@ -4,6 +4,11 @@
 //! and a 256 × 256 table of each label value's colour, its alpha 0 where the label is hidden
 //! ([`LabelMap::colour_table`]).
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use wgpu::util::DeviceExt;
+
+use crate::accel::label_cells::LabelCells;
 use crate::labels::LabelMap;
 
 use super::texture::full_view;
@@ -14,7 +19,11 @@ const TABLE_EDGE: u32 = 256;
 /// Most layers of labels drawn: a texel's channels.
 const MOST_LAYERS: usize = 4;
 
-/// A label map's textures.
+/// Words of the visibility bits: one bit per `u16` label value.
+const SHOWN_WORDS: usize = (1 << 16) / 32;
+
+/// A label map's textures, and what leaping over hidden labels reads: which labels each cell of
+/// the grid holds ([`LabelCells`], as two storage buffers) and one visibility bit per label.
 pub struct GpuLabels {
     /// The labels, a layer per channel.
     pub(crate) labels: wgpu::TextureView,
@@ -25,6 +34,16 @@ pub struct GpuLabels {
     layers: u32,
     /// The grid they lie on (the image's).
     dims: [u32; 3],
+    /// Cells per axis of the cell lists.
+    pub(crate) cells: [u32; 3],
+    /// Per cell, where its labels start in `cell_labels` (cells + 1 entries).
+    pub(crate) cell_offsets: wgpu::Buffer,
+    /// Every cell's labels.
+    pub(crate) cell_labels: wgpu::Buffer,
+    /// One bit per label value: shown.
+    pub(crate) shown_bits: wgpu::Buffer,
+    /// Bumped by every [`GpuLabels::show`]: what depends on the visibility is built again.
+    generation: AtomicU64,
 }
 
 /// Why labels could not go to the GPU.
@@ -115,15 +134,50 @@ impl GpuLabels {
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
+        let cells = LabelCells::of(labels);
+        let storage = |label, words: &[u32]| {
+            // A binding holds at least one word.
+            let contents: &[u32] = if words.is_empty() { &[0] } else { words };
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::cast_slice(contents),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            })
+        };
         let made = Self {
             labels: full_view(&texture),
             colours: full_view(&colour_texture),
             colour_texture,
             layers: layers.len().max(1) as u32,
             dims,
+            cells: cells.cells,
+            cell_offsets: storage("label cell offsets", &cells.offsets),
+            cell_labels: storage("label cell labels", &cells.labels),
+            shown_bits: storage("shown labels", &[0; SHOWN_WORDS]),
+            generation: AtomicU64::new(0),
         };
         made.show(queue, labels, |_| true);
         Ok(made)
+    }
+
+    /// Counts the changes of which labels are shown.
+    pub fn generation(&self) -> u64 {
+        self.generation.load(Ordering::Relaxed)
+    }
+
+    /// Bytes on the GPU: the labels, the colour table, the cell lists and the visibility bits.
+    pub fn gpu_bytes(&self) -> u64 {
+        let voxels: u64 = self.dims.iter().map(|&d| u64::from(d)).product();
+        let texel: u64 = match self.layers {
+            1 => 2,
+            2 => 4,
+            _ => 8,
+        };
+        voxels * texel
+            + u64::from(TABLE_EDGE * TABLE_EDGE * 4)
+            + self.cell_offsets.size()
+            + self.cell_labels.size()
+            + self.shown_bits.size()
     }
 
     /// The voxel grid the labels lie on (the image's).
@@ -145,6 +199,14 @@ impl GpuLabels {
         visible: impl Fn(&crate::labels::Segment) -> bool,
     ) {
         let table = labels.colour_table(visible);
+        let mut bits = vec![0u32; SHOWN_WORDS];
+        for (value, c) in table.iter().enumerate() {
+            if c[3] > 0 {
+                bits[value / 32] |= 1 << (value % 32);
+            }
+        }
+        queue.write_buffer(&self.shown_bits, 0, bytemuck::cast_slice(&bits));
+        self.generation.fetch_add(1, Ordering::Relaxed);
         queue.write_texture(
             self.colour_texture.as_image_copy(),
             bytemuck::cast_slice(&table),

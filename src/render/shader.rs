@@ -45,6 +45,7 @@ const MODULES: &[(&str, &str)] = modules![
     "build/minmax.wgsl",
     "build/emptiness.wgsl",
     "build/distance.wgsl",
+    "build/labels.wgsl",
 ];
 
 /// A WGSL module from composed source.

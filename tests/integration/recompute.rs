@@ -31,6 +31,7 @@ fn delta(before: WorkCounts, after: WorkCounts) -> WorkCounts {
         minmax_brick_builds: after.minmax_brick_builds - before.minmax_brick_builds,
         flag_builds: after.flag_builds - before.flag_builds,
         distance_builds: after.distance_builds - before.distance_builds,
+        label_flag_builds: after.label_flag_builds - before.label_flag_builds,
         integral_builds: after.integral_builds - before.integral_builds,
     }
 }
@@ -43,6 +44,7 @@ const FRAME: WorkCounts = WorkCounts {
     minmax_brick_builds: 0,
     flag_builds: 0,
     distance_builds: 0,
+    label_flag_builds: 0,
     integral_builds: 0,
 };
 

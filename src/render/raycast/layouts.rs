@@ -19,7 +19,8 @@ pub struct Layouts {
     pub compute_io: wgpu::BindGroupLayout,
     /// Group 2 of statistics variants: the counters.
     pub stats: wgpu::BindGroupLayout,
-    /// Group 3 of leaping variants: pyramid levels, node flags, distances, node min/max.
+    /// Group 3 of leaping variants: pyramid levels, node flags, distances, node min/max, nodes
+    /// holding a shown label.
     pub leap: wgpu::BindGroupLayout,
 }
 
@@ -51,6 +52,8 @@ pub struct LeapResources<'a> {
     pub distance: &'a wgpu::Buffer,
     /// Per-node (min, max).
     pub minmax: &'a wgpu::Buffer,
+    /// Per node, 1 where it holds a shown label (read by views cut to the shown labels).
+    pub node_shown: &'a wgpu::Buffer,
 }
 
 /// The stages that run the ray loop.
@@ -202,7 +205,7 @@ impl Layouts {
         let leap = layout(
             device,
             "leap",
-            &[0, 1, 2, 3].map(|binding| storage_entry(binding, true)),
+            &[0, 1, 2, 3, 4].map(|binding| storage_entry(binding, true)),
         );
         Self {
             frame,
@@ -287,6 +290,7 @@ impl Layouts {
                 r.node_empty.as_entire_binding(),
                 r.distance.as_entire_binding(),
                 r.minmax.as_entire_binding(),
+                r.node_shown.as_entire_binding(),
             ],
         )
     }

@@ -18,7 +18,9 @@ use crate::render::volume_texture::{PerLayout, VolumeView};
 use crate::settings::{Mode, RenderSettings, Strategy};
 
 use super::layouts::LeapResources;
+use super::leap_labels::{LabelFlagPipelines, LabelFlags, ShownKey, shown_key};
 use super::uniforms::LeapLevels;
+use crate::render::labels::GpuLabels;
 
 /// The builder pipelines, created once per renderer.
 pub struct LeapPipelines {
@@ -31,6 +33,7 @@ pub struct LeapPipelines {
     flags: wgpu::ComputePipeline,
     distance: wgpu::ComputePipeline,
     distance_rows: wgpu::ComputePipeline,
+    labels: LabelFlagPipelines,
 }
 
 impl LeapPipelines {
@@ -62,6 +65,7 @@ impl LeapPipelines {
             flags: compute_pipeline(device, &emptiness, "flag_nodes"),
             distance: compute_pipeline(device, &distance, "distance_pass"),
             distance_rows: compute_pipeline(device, &distance, "distance_rows"),
+            labels: LabelFlagPipelines::new(device)?,
         })
     }
 }
@@ -137,7 +141,7 @@ fn groups_for(count: u32, per_group: u32) -> (u32, u32) {
 }
 
 /// Dispatches one invocation per node of a level of `nodes` (the 3D builders' workgroups).
-fn dispatch_over_nodes(pass: &mut wgpu::ComputePass<'_>, nodes: [u32; 3]) {
+pub(super) fn dispatch_over_nodes(pass: &mut wgpu::ComputePass<'_>, nodes: [u32; 3]) {
     let [x, y, z] = nodes.map(|n| n.div_ceil(BUILD_WORKGROUP));
     pass.dispatch_workgroups(x, y, z);
 }
@@ -181,6 +185,10 @@ pub enum FlagRule {
     Iso(u32),
 }
 
+/// What node flags were built for: their rule and, where a view cuts the image to the shown
+/// labels, which labels were shown.
+pub type FlagKey = (FlagRule, Option<ShownKey>);
+
 /// The leaping structures of one volume.
 pub struct LeapStructures {
     /// Layout of the pyramid.
@@ -211,9 +219,11 @@ pub struct LeapStructures {
     /// Edge of the volume's bricks in voxels (0: one texture).
     data_brick: u32,
     /// What the node flags were built for, if anything.
-    pub flags_for: Option<FlagRule>,
+    pub flags_for: Option<FlagKey>,
     /// The flags and leaf level the distance field was built for, if anything.
-    pub distance_for: Option<(FlagRule, u32)>,
+    pub distance_for: Option<(FlagKey, u32)>,
+    /// Which nodes hold a shown label (views that cut the image to the shown labels).
+    labels: LabelFlags,
 }
 
 impl LeapStructures {
@@ -319,6 +329,7 @@ impl LeapStructures {
             data_brick,
             flags_for: None,
             distance_for: None,
+            labels: LabelFlags::new(device),
         }
     }
 
@@ -520,8 +531,6 @@ impl LeapStructures {
         pass.set_bind_group(0, &flags, &[]);
         let (gx, gy) = groups_for(nodes, NODE_WORKGROUP);
         pass.dispatch_workgroups(gx, gy, 1);
-        drop(pass);
-        self.flags_for = Some(rule);
     }
 
     /// Records the distance-field build over leaf level `leaf` (three 1D passes ending in
@@ -550,7 +559,7 @@ impl LeapStructures {
                     leaf_level: leaf,
                     axis,
                     sides: match self.flags_for {
-                        Some(FlagRule::Iso(_)) => SIDES_ISO,
+                        Some((FlagRule::Iso(_), _)) => SIDES_ISO,
                         _ => SIDES_EMPTY_FULL,
                     },
                     _pad1: 0,
@@ -588,7 +597,7 @@ impl LeapStructures {
             0,
             level.count() as u64 * 4,
         );
-        self.distance_for = self.flags_for.map(|rule| (rule, leaf));
+        self.distance_for = self.flags_for.map(|key| (key, leaf));
     }
 
     /// What the ray loop's bind group (group 3) binds.
@@ -598,6 +607,7 @@ impl LeapStructures {
             node_empty: &self.node_empty,
             distance: &self.distance[0],
             minmax: &self.minmax,
+            node_shown: &self.labels.node_shown,
         }
     }
 
@@ -621,6 +631,9 @@ pub struct LeapRequest<'a> {
     pub iso_threshold: f32,
     /// The volume (the pyramid is built from it).
     pub volume: &'a VolumeView,
+    /// The segmentation the frame cuts the image to (only the shown labels' nodes can matter),
+    /// if it does.
+    pub cut_to: Option<&'a GpuLabels>,
 }
 
 /// Which structures one [`LeapStructures::prepare`] recorded a build of.
@@ -634,6 +647,10 @@ pub struct Builds {
     pub flags: bool,
     /// The distance field.
     pub distance: bool,
+    /// Which nodes hold a shown label (the shown labels changed).
+    pub labels: bool,
+    /// Whether group 3's buffers were made anew (its bind group must be made again).
+    pub regrouped: bool,
 }
 
 impl LeapStructures {
@@ -670,11 +687,24 @@ impl LeapStructures {
             Mode::Iso if distance => Some(FlagRule::Iso(request.iso_threshold.to_bits())),
             _ => None,
         };
-        let flags = rule.is_some_and(|r| self.flags_for != Some(r));
+        // Views cut to the shown labels: the flags mark nodes without one empty (isosurfaces
+        // never cut by node: their crossings are cut one by one).
+        let cut = request.cut_to;
+        let key = rule.map(|r| {
+            let cuts = !matches!(r, FlagRule::Iso(_));
+            (r, cut.filter(|_| cuts).map(shown_key))
+        });
+        let shown = cut.filter(|l| !self.labels.holds(shown_key(l)));
+        let flags = key.is_some_and(|k| self.flags_for != Some(k));
         let builds_distance =
-            rule.is_some_and(|r| distance && (flags || self.distance_for != Some((r, leaf))));
+            key.is_some_and(|k| distance && (flags || self.distance_for != Some((k, leaf))));
         // One span times every pass recorded here: its first begins it, its last ends it.
-        let passes = [self.minmax_pending(), flags, builds_distance];
+        let passes = [
+            self.minmax_pending(),
+            shown.is_some(),
+            flags,
+            builds_distance,
+        ];
         let (first, last) = (
             passes.iter().position(|&p| p),
             passes.iter().rposition(|&p| p),
@@ -687,21 +717,34 @@ impl LeapStructures {
         };
         let (minmax, minmax_bricks) =
             self.build_minmax(ctx, pipelines, request.volume, encoder, ts);
+        let mut regrouped = false;
+        if let Some(labels) = shown {
+            let ts = rebuild_span(&mut probe, ends(1));
+            let pyramid = (&self.pyramid, &self.level_buffer);
+            regrouped = (self.labels).build(ctx, &pipelines.labels, pyramid, labels, encoder, ts);
+        }
         let builds = Builds {
             minmax,
             minmax_bricks,
             flags,
             distance: builds_distance,
+            labels: shown.is_some(),
+            regrouped,
         };
-        let Some(rule) = rule else {
+        let Some((rule, cut_key)) = key else {
             return (levels, builds);
         };
         if flags {
-            let ts = rebuild_span(&mut probe, ends(1));
+            let ts = rebuild_span(&mut probe, ends(2));
             self.build_flags(ctx, pipelines, rule, request.lut, encoder, ts);
+            if cut_key.is_some() {
+                let pyramid = (&self.pyramid, &self.level_buffer);
+                (self.labels).cut(ctx, &pipelines.labels, pyramid, &self.node_empty, encoder);
+            }
+            self.flags_for = Some((rule, cut_key));
         }
         if builds_distance {
-            let ts = rebuild_span(&mut probe, ends(2));
+            let ts = rebuild_span(&mut probe, ends(3));
             self.build_distance(ctx, pipelines, leaf, encoder, ts);
         }
         (levels, builds)

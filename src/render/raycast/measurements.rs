@@ -47,6 +47,7 @@ impl Measurements {
         self.work.minmax_brick_builds += u64::from(builds.minmax_bricks);
         self.work.flag_builds += u64::from(builds.flags);
         self.work.distance_builds += u64::from(builds.distance);
+        self.work.label_flag_builds += u64::from(builds.labels);
     }
 
     /// Resolves the frame's probe into its read-back buffer, submits, and starts the read-back.

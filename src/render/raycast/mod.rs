@@ -10,6 +10,7 @@ pub mod error;
 pub mod gpu_volume;
 pub mod layouts;
 pub mod leap;
+mod leap_labels;
 mod measurements;
 pub mod passes;
 pub mod pipelines;

@@ -498,6 +498,7 @@ impl VolumeRenderer {
                 window_lo: uniforms.window_lo,
                 iso_threshold: uniforms.iso_threshold,
                 volume: &volume.texture.view,
+                cut_to: volume.labels.as_deref().filter(|_| key.labels.cuts()),
             };
             let probe = slot.as_ref().map(|s| (&mut m.probes, s));
             let (levels, builds) = volume.leap.prepare(
@@ -508,6 +509,10 @@ impl VolumeRenderer {
                 probe,
             );
             m.count_builds(builds);
+            if builds.regrouped {
+                volume.leap_group =
+                    (self.pipelines.layouts).leap_group(&self.ctx.device, &volume.leap.resources());
+            }
             uniforms.leaf_level = levels.leaf_level;
             uniforms.level_count = levels.level_count;
         }

@@ -45,6 +45,8 @@ pub struct WorkCounts {
     pub flag_builds: u64,
     /// Distance fields built (flags or block size changed).
     pub distance_builds: u64,
+    /// Flags of the nodes holding a shown label built (a cut view's shown labels changed).
+    pub label_flag_builds: u64,
     /// Pre-integration tables built (transfer function or value range changed while
     /// pre-integration is on).
     pub integral_builds: u64,

@@ -1,0 +1,188 @@
+//! Leaping over hidden labels: one flag per pyramid node, whether it holds a shown label
+//! (`shaders/build/labels.wgsl`), built from a segmentation's cell lists and visibility bits
+//! ([`GpuLabels`]) when the shown labels change; and, for the flag rules that read `node_empty`,
+//! the nodes without a shown label marked empty after the flag pass. Views that cut the image to
+//! the shown labels leap over the rest; nothing is built for views that do not.
+
+use crate::accel::pyramid::Pyramid;
+use crate::render::context::GpuContext;
+use crate::render::gpu_data::LabelParams;
+use crate::render::labels::GpuLabels;
+use crate::render::shader::{ShaderError, compose, compute_pipeline, shader_module};
+
+use super::leap::dispatch_over_nodes;
+
+/// The builders, created once per renderer.
+pub struct LabelFlagPipelines {
+    base: wgpu::ComputePipeline,
+    parent: wgpu::ComputePipeline,
+    cut: wgpu::ComputePipeline,
+}
+
+impl LabelFlagPipelines {
+    /// Compiles the builders.
+    pub fn new(device: &wgpu::Device) -> Result<Self, ShaderError> {
+        let name = "build/labels.wgsl";
+        let module = shader_module(device, name, compose(name, &[])?);
+        Ok(Self {
+            base: compute_pipeline(device, &module, "shown_base"),
+            parent: compute_pipeline(device, &module, "shown_parent"),
+            cut: compute_pipeline(device, &module, "cut_flags"),
+        })
+    }
+}
+
+/// Which segmentation, at which visibility, flags were built for: its address (the same
+/// `GpuLabels` while it lives) and its generation.
+pub type ShownKey = (usize, u64);
+
+/// The key of `labels` as it is now.
+pub fn shown_key(labels: &GpuLabels) -> ShownKey {
+    (std::ptr::from_ref(labels) as usize, labels.generation())
+}
+
+/// The per-node flags of one volume's pyramid.
+pub struct LabelFlags {
+    /// 1 where the node holds a shown label (a 4-byte stand-in until a cut view needs them).
+    pub node_shown: wgpu::Buffer,
+    /// One parameter block per level, made with the flags.
+    params: Vec<wgpu::Buffer>,
+    /// What the flags hold.
+    pub built_for: Option<ShownKey>,
+}
+
+impl LabelFlags {
+    /// A stand-in: nothing built.
+    pub fn new(device: &wgpu::Device) -> Self {
+        Self {
+            node_shown: node_buffer(device, 1),
+            params: Vec::new(),
+            built_for: None,
+        }
+    }
+
+    /// Whether the flags hold `key` (else [`Self::build`] records their build).
+    pub fn holds(&self, key: ShownKey) -> bool {
+        self.built_for == Some(key)
+    }
+
+    /// Records the flags' build for `labels` over `pyramid` (whose levels are in `levels`);
+    /// returns whether the flag buffer was made anew (its bind groups must be made again).
+    pub fn build(
+        &mut self,
+        ctx: &GpuContext,
+        pipelines: &LabelFlagPipelines,
+        (pyramid, levels): (&Pyramid, &wgpu::Buffer),
+        labels: &GpuLabels,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) -> bool {
+        let device = &ctx.device;
+        let nodes = u64::from(pyramid.node_count());
+        let made = self.node_shown.size() < nodes * 4;
+        if made {
+            self.node_shown = node_buffer(device, nodes);
+        }
+        if self.params.len() != pyramid.levels.len() {
+            self.params = (0..pyramid.levels.len())
+                .map(|_| param_buffer(device))
+                .collect();
+        }
+        for (l, buffer) in self.params.iter().enumerate() {
+            let params = LabelParams {
+                cells: labels.cells,
+                level: l as u32,
+            };
+            ctx.queue
+                .write_buffer(buffer, 0, bytemuck::bytes_of(&params));
+        }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("label flags"),
+            timestamp_writes: timestamps,
+        });
+        for (l, level) in pyramid.levels.iter().enumerate() {
+            let (pipeline, entries) = if l == 0 {
+                let entries = vec![
+                    entry(0, self.params[l].as_entire_binding()),
+                    entry(1, levels.as_entire_binding()),
+                    entry(2, self.node_shown.as_entire_binding()),
+                    entry(3, labels.cell_offsets.as_entire_binding()),
+                    entry(4, labels.cell_labels.as_entire_binding()),
+                    entry(5, labels.shown_bits.as_entire_binding()),
+                ];
+                (&pipelines.base, entries)
+            } else {
+                let entries = vec![
+                    entry(0, self.params[l].as_entire_binding()),
+                    entry(1, levels.as_entire_binding()),
+                    entry(2, self.node_shown.as_entire_binding()),
+                ];
+                (&pipelines.parent, entries)
+            };
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("label flags"),
+                layout: &pipeline.get_bind_group_layout(0),
+                entries: &entries,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            dispatch_over_nodes(&mut pass, level.nodes);
+        }
+        drop(pass);
+        self.built_for = Some(shown_key(labels));
+        made
+    }
+
+    /// Records the marking of every node without a shown label as empty in `node_empty` (after
+    /// the flag pass wrote it).
+    pub fn cut(
+        &self,
+        ctx: &GpuContext,
+        pipelines: &LabelFlagPipelines,
+        (pyramid, levels): (&Pyramid, &wgpu::Buffer),
+        node_empty: &wgpu::Buffer,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("cut to the shown labels"),
+            timestamp_writes: None,
+        });
+        for (l, level) in pyramid.levels.iter().enumerate() {
+            let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("cut to the shown labels"),
+                layout: &pipelines.cut.get_bind_group_layout(0),
+                entries: &[
+                    entry(0, self.params[l].as_entire_binding()),
+                    entry(1, levels.as_entire_binding()),
+                    entry(2, self.node_shown.as_entire_binding()),
+                    entry(6, node_empty.as_entire_binding()),
+                ],
+            });
+            pass.set_pipeline(&pipelines.cut);
+            pass.set_bind_group(0, &group, &[]);
+            dispatch_over_nodes(&mut pass, level.nodes);
+        }
+    }
+}
+
+fn entry(binding: u32, resource: wgpu::BindingResource<'_>) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry { binding, resource }
+}
+
+fn node_buffer(device: &wgpu::Device, nodes: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("node holds a shown label"),
+        size: nodes * 4,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+fn param_buffer(device: &wgpu::Device) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("label flag params"),
+        size: std::mem::size_of::<LabelParams>() as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
