@@ -171,15 +171,20 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         )
         .map_err(render_failure)?;
     renderer.set_transfer_function(&tf);
-    if let Some(map) = args.segmentation.load(&volume)? {
-        let shown = args.segmentation.shown(&map)?;
-        let ctx = renderer.context();
-        let labels = GpuLabels::new(&ctx.device, &ctx.queue, &map).bad_input()?;
-        labels.show(&ctx.queue, &map, |s| shown.contains(&(s.layer, s.value)));
-        renderer
-            .set_labels(Some(std::sync::Arc::new(labels)))
-            .map_err(render_failure)?;
-    }
+    let labelled = match args.segmentation.load(&volume)? {
+        Some(map) => {
+            let shown = args.segmentation.shown(&map)?;
+            let ctx = renderer.context();
+            let labels = GpuLabels::new(&ctx.device, &ctx.queue, &map).bad_input()?;
+            labels.show(&ctx.queue, &map, |s| shown.contains(&(s.layer, s.value)));
+            let labels = std::sync::Arc::new(labels);
+            renderer
+                .set_labels(Some(std::sync::Arc::clone(&labels)))
+                .map_err(render_failure)?;
+            Some((map, labels, shown))
+        }
+        None => None,
+    };
     auto_path::choose(&mut renderer, settings.path).map_err(render_failure)?;
     auto_strategy::choose(&mut renderer, &settings, args.size, &camera, true)
         .map_err(render_failure)?;
@@ -309,6 +314,26 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
                 );
             }
         }
+        if let Some((map, labels, shown)) = &labelled {
+            outln!(
+                out,
+                "labels: {}: {} segments, {} shown, view {:?}, {:.1} MB on the GPU",
+                map.name(),
+                map.segments().len(),
+                shown.len(),
+                settings.labels,
+                labels.gpu_bytes() as f64 / 1e6
+            );
+            let toggles = label_toggles(&mut renderer, &request, (map, labels, shown))?;
+            if let Some((rebuild, frame)) = toggles {
+                outln!(
+                    out,
+                    "label_toggle_ms: {frame:.3} (the frame after a label's toggle, of which \
+                     {rebuild:.3} rebuilding the leaping flags; medians of {} toggles)",
+                    TIMED_FRAMES * 2
+                );
+            }
+        }
         print_stdout(&out).failed()?;
     } else if let Some(ms) = first.gpu_ms {
         eprintln!(
@@ -317,6 +342,44 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         );
     }
     Ok(())
+}
+
+/// Times toggling one shown label (hidden, then shown again, and so on), each followed by a
+/// frame: the medians of the GPU time the frame spent rebuilding the leaping flags that read the
+/// shown labels and of the whole frame (the rebuild included); `None` without timestamps or
+/// with no label shown.
+fn label_toggles(
+    renderer: &mut VolumeRenderer,
+    request: &FrameRequest<'_>,
+    (map, labels, shown): (
+        &leapview::labels::LabelMap,
+        &GpuLabels,
+        &std::collections::BTreeSet<(u16, u16)>,
+    ),
+) -> Result<Option<(f64, f64)>, Failure> {
+    let Some(&toggled) = shown.iter().next() else {
+        return Ok(None);
+    };
+    let (mut rebuilds, mut frames) = (Vec::new(), Vec::new());
+    for k in 0..TIMED_FRAMES * 2 {
+        let hide = k % 2 == 0;
+        let queue = &renderer.context().queue;
+        labels.show(queue, map, |s| {
+            let key = (s.layer, s.value);
+            shown.contains(&key) && !(hide && key == toggled)
+        });
+        let (_, r) = renderer.render_and_wait(request).map_err(render_failure)?;
+        rebuilds.push(r.rebuild_ms.unwrap_or(0.0));
+        frames.extend(r.gpu_ms);
+    }
+    if frames.len() < rebuilds.len() {
+        return Ok(None);
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    Ok(Some((median(&mut rebuilds), median(&mut frames))))
 }
 
 /// The strategy a frame ran with, for people: the name asked for, and for `auto` what it stood

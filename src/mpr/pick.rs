@@ -2,7 +2,8 @@
 //! through the volume, the first visible surface (DVR: where the accumulated opacity passes ½;
 //! isosurface: the first sample at or above the iso value) or the brightest (MIP, X-ray) or
 //! darkest (MinIP) sample. Marched on the CPU at half the finest spacing, nearest-voxel values:
-//! a pick, not a picture.
+//! a pick, not a picture. Where the view shows only a segmentation's shown labels, only their
+//! voxels ([`pick_shown`]).
 
 use glam::{DVec2, DVec3};
 
@@ -25,6 +26,20 @@ pub fn pick(
     size: [u32; 2],
     px: DVec2,
 ) -> Option<DVec3> {
+    pick_shown(volume, settings, tf, camera, size, px, |_| true)
+}
+
+/// [`pick`] where only the voxels `shown` admits take part (a view cut to a segmentation's
+/// shown labels: the rest is not on screen).
+pub fn pick_shown(
+    volume: &Volume,
+    settings: &RenderSettings,
+    tf: &TransferFunction,
+    camera: &Camera,
+    size: [u32; 2],
+    px: DVec2,
+    shown: impl Fn([u32; 3]) -> bool,
+) -> Option<DVec3> {
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let (origin, dir) = camera.pixel_ray(px.x - 0.5, px.y - 0.5, size, &bounds);
     let (t0, t1) = bounds.intersect(origin, dir)?;
@@ -39,7 +54,7 @@ pub fn pick(
         let i: [u32; 3] = std::array::from_fn(|a| {
             (v[a] + 0.5).floor().clamp(0.0, f64::from(dims[a]) - 1.0) as u32
         });
-        Some(volume.value(i[0], i[1], i[2])).filter(|x| x.is_finite())
+        Some(volume.value(i[0], i[1], i[2])).filter(|x| x.is_finite() && shown(i))
     };
     let samples = ((t1 - t0) / step).ceil().max(0.0) as usize;
     let points = (0..samples).map(|k| origin + dir * (t0 + (k as f64 + 0.5) * step));
@@ -145,6 +160,17 @@ mod tests {
         settings.mode = Mode::Dvr;
         assert_eq!(
             pick(&volume, &settings, &tf, &camera, size, DVec2::new(1.0, 1.0)),
+            None
+        );
+        // Cut to the voxels behind the centre (a segmentation's shown labels): the ray passes
+        // the near half and meets the cut face at the centre.
+        let behind = |v: [u32; 3]| f64::from(v[1]) <= centre.y;
+        let px = DVec2::new(32.0, 32.0);
+        let hit =
+            pick_shown(&volume, &settings, &tf, &camera, size, px, behind).expect("the cut face");
+        assert!((hit.y - centre.y).abs() <= 1.0, "{hit} is not at the cut");
+        assert_eq!(
+            pick_shown(&volume, &settings, &tf, &camera, size, px, |_| false),
             None
         );
     }

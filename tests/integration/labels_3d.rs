@@ -395,3 +395,59 @@ fn cut_views_leap_over_hidden_labels_and_a_toggle_rebuilds_only_their_flags() {
         (0, 0)
     );
 }
+
+#[test]
+fn render_shows_labels_and_refuses_what_it_cannot_show() {
+    use common::{leapview, stderr};
+    let data = common::data_dir();
+    let series = data.join("dicom/ct_head_cthead");
+    let labels = data.join("labels/ct_head_cthead.seg.nrrd");
+    let dir = common::output_dir();
+    let out = |name: &str| dir.join(format!("labels-cli-{name}.png"));
+    let (series, labels) = (series.to_string_lossy(), labels.to_string_lossy());
+    let render = |name: &str, extra: &[&str]| {
+        let path = out(name);
+        let mut args = vec![
+            "render",
+            &series,
+            "--size",
+            "64x64",
+            "--tf",
+            "ct-soft-tissue",
+        ];
+        let path_text = path.to_string_lossy().into_owned();
+        args.extend(["--out", &path_text]);
+        args.extend(extra);
+        let run = leapview(&args);
+        (run, path)
+    };
+    let (plain, plain_png) = render("plain", &[]);
+    assert!(plain.status.success(), "{}", stderr(&plain));
+    // Only the brain, by name, the rest cut away: a different picture.
+    let (cut, cut_png) = render(
+        "brain",
+        &[
+            "--labels",
+            &labels,
+            "--label-view",
+            "inside",
+            "--show-labels",
+            "Brain",
+        ],
+    );
+    assert!(cut.status.success(), "{}", stderr(&cut));
+    let a = image::open(&plain_png).expect("png").to_rgb8();
+    let b = image::open(&cut_png).expect("png").to_rgb8();
+    assert!(a != b, "the labels changed nothing");
+    // A label the file does not hold: refused, naming what it holds.
+    let (bad, _) = render("bad", &["--labels", &labels, "--show-labels", "liver"]);
+    assert_eq!(bad.status.code(), Some(2), "{}", stderr(&bad));
+    let text = stderr(&bad);
+    assert!(
+        text.contains("\"liver\" is no label") && text.contains("3 brain"),
+        "{text}"
+    );
+    // --label-view without --labels is a usage error.
+    let (usage, _) = render("usage", &["--label-view", "inside"]);
+    assert_eq!(usage.status.code(), Some(2), "{}", stderr(&usage));
+}

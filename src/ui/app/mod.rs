@@ -113,6 +113,8 @@ struct LeapViewApp {
     shot_inputs: Option<FrameInputs>,
     /// Where the view and the readout were drawn last pass, for the screenshot check.
     view_rect: egui::Rect,
+    /// What lies under the pointer in the 3D view this pass (where a segmentation is shown).
+    hover_3d: Option<crate::ui::slices::Probe>,
     readout_rect: Option<egui::Rect>,
     /// Where the orientation marker was drawn over the view in the last pass.
     marker_rect: Option<egui::Rect>,
@@ -177,6 +179,7 @@ impl LeapViewApp {
             load_options,
             shot_inputs: None,
             view_rect: egui::Rect::NOTHING,
+            hover_3d: None,
             readout_rect: None,
             marker_rect: None,
             plane_lines: Vec::new(),

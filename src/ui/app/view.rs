@@ -48,13 +48,18 @@ impl LeapViewApp {
                 Pane::Slice(_) => {}
             }
         }
-        if self.state.layout.has_slices()
-            && let Some(probe) = self.slices.hover()
-        {
+        let probe = match self.slices.hover() {
+            Some(probe) if self.state.layout.has_slices() => Some(*probe),
+            _ => self.hover_3d,
+        };
+        if let Some(probe) = &probe {
             let label = probe
                 .voxel
                 .and_then(|v| self.slices.labels()?.segment_at(v))
-                .map(|s| format!("{} (label {})", s.name, s.value));
+                .map(|s| match s.name == format!("label {}", s.value) {
+                    true => s.name.clone(),
+                    false => format!("{} (label {})", s.name, s.value),
+                });
             draw_probe(
                 ui,
                 area,
@@ -105,8 +110,19 @@ impl LeapViewApp {
         draw_drop_hint(ui, area.rect);
     }
 
-    /// What the view's gestures ask of the app: reset, window/level, the scripted turn.
+    /// What the view's gestures ask of the app: reset, window/level, the scripted turn; and
+    /// what lies under the pointer, where a segmentation is shown (its label in the readout).
     fn view_gestures(&mut self, area: &ViewArea, ctx: &egui::Context) {
+        self.hover_3d = None;
+        if self.slices.labels().is_some()
+            && let Some([x, y]) = area.hover_px
+            && let Some((camera, _)) = self.scene.framing().camera_and_bounds()
+        {
+            let tf = self.state.editor.tf();
+            let px = glam::DVec2::new(x, y);
+            self.hover_3d =
+                (self.slices).probe_3d(&self.state.render, tf, &camera, area.size_px, px);
+        }
         // With slices shown, a click on the 3D view moves the crosshair to what it points at.
         if self.state.layout.has_slices()
             && let Some([x, y]) = area.clicked_px

@@ -330,8 +330,7 @@ impl SliceViews {
         px: glam::DVec2,
     ) {
         let Some(source) = &self.source else { return };
-        let picked = crate::mpr::pick::pick(&source.volume, settings, tf, camera, size, px);
-        if let Some(world) = picked {
+        if let Some(world) = self.pick_world(settings, tf, camera, size, px) {
             let spacing = DVec3::from(source.volume.spacing_mm());
             let p = source.frame.to_patient(world / spacing);
             self.set_crosshair(p);
@@ -342,6 +341,56 @@ impl SliceViews {
                 p.z
             );
         }
+    }
+
+    /// The world point the 3D view's pixel `px` shows (`mpr::pick`), only the shown labels'
+    /// voxels where the view cuts the image to them.
+    fn pick_world(
+        &self,
+        settings: &crate::settings::RenderSettings,
+        tf: &crate::transfer::TransferFunction,
+        camera: &crate::camera::Camera,
+        size: [u32; 2],
+        px: glam::DVec2,
+    ) -> Option<DVec3> {
+        let source = self.source.as_ref()?;
+        let volume = &source.volume;
+        let cut = (self.labels.as_ref()).filter(|_| settings.labels.cuts());
+        match cut {
+            Some(labels) => {
+                crate::mpr::pick::pick_shown(volume, settings, tf, camera, size, px, |v| {
+                    labels.segment_at(v).is_some()
+                })
+            }
+            None => crate::mpr::pick::pick(volume, settings, tf, camera, size, px),
+        }
+    }
+
+    /// What the 3D view's pixel `px` shows, as a probe: its point, voxel and value (`None`
+    /// where the ray meets nothing).
+    pub fn probe_3d(
+        &self,
+        settings: &crate::settings::RenderSettings,
+        tf: &crate::transfer::TransferFunction,
+        camera: &crate::camera::Camera,
+        size: [u32; 2],
+        px: glam::DVec2,
+    ) -> Option<Probe> {
+        let source = self.source.as_ref()?;
+        let world = self.pick_world(settings, tf, camera, size, px)?;
+        let volume = &source.volume;
+        let v = world / DVec3::from(volume.spacing_mm());
+        let dims = volume.dims();
+        let voxel: [u32; 3] =
+            std::array::from_fn(|a| (v[a] + 0.5).floor().clamp(0.0, f64::from(dims[a] - 1)) as u32);
+        let [i, j, k] = voxel;
+        Some(Probe {
+            kind: None,
+            patient: source.frame.to_patient(v),
+            voxel: Some(voxel),
+            value: Some(volume.value(i, j, k)).filter(|x| x.is_finite()),
+            preview_level: volume.streaming().map(|s| s.preview_level()),
+        })
     }
 
     /// Back to the standard axial, coronal and sagittal planes.

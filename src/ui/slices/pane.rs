@@ -59,8 +59,8 @@ type Drawn = ((u64, u64), (Option<u64>, Option<u64>), SliceParams);
 /// The point under the pointer in a slice.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Probe {
-    /// Which pane.
-    pub kind: PlaneKind,
+    /// Which pane (`None`: the 3D view).
+    pub kind: Option<PlaneKind>,
     /// Patient position (mm, LPS).
     pub patient: DVec3,
     /// The nearest voxel (stored indices), `None` outside the volume.
@@ -286,7 +286,7 @@ impl SlicePane {
                     .map(|[i, j, k]| source.volume.value(i, j, k))
                     .filter(|v| v.is_finite());
                 outcome.hover = Some(Probe {
-                    kind: self.kind,
+                    kind: Some(self.kind),
                     patient,
                     voxel,
                     value,

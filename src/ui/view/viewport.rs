@@ -15,6 +15,8 @@ pub struct ViewArea {
     pub rect: Rect,
     /// Where a left click (not a drag) landed this pass, in physical pixels from the corner.
     pub clicked_px: Option<[f64; 2]>,
+    /// Where the pointer rests over the view (not dragging), in physical pixels from the corner.
+    pub hover_px: Option<[f64; 2]>,
     /// In physical pixels (what the renderer renders at).
     pub size_px: [u32; 2],
     /// Whether R was pressed (reset view) while the view had the keyboard.
@@ -88,6 +90,15 @@ pub(crate) fn view_ui(ui: &mut egui::Ui, camera: Option<&mut Camera>) -> ViewAre
         clicked_px: response
             .clicked()
             .then(|| response.interact_pointer_pos())
+            .flatten()
+            .map(|p| {
+                [
+                    f64::from((p.x - rect.min.x) * ppp),
+                    f64::from((p.y - rect.min.y) * ppp),
+                ]
+            }),
+        hover_px: (!response.dragged())
+            .then(|| response.hover_pos())
             .flatten()
             .map(|p| {
                 [
