@@ -365,8 +365,10 @@ fn with_labels(rgb: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
             continue;
         }
         let c = textureLoad(label_colours, vec2<i32>(i32(l % 256u), i32(l / 256u)), 0);
+        // The fill at the panel's opacity times the label's own (the table's alpha; 0: hidden),
+        // its outline opaque.
         if c.a > 0.0 {
-            out = mix(out, c.rgb, select(params.label_opacity, 1.0, edge[layer]));
+            out = mix(out, c.rgb, select(params.label_opacity * c.a, 1.0, edge[layer]));
         }
     }
     return out;

@@ -20,7 +20,7 @@ fn labels_at(p: vec3<f32>) -> vec4<u32> {
     return select(vec4<u32>(0u), texel, vec4<u32>(0u, 1u, 2u, 3u) < vec4<u32>(frame.label_layers));
 }
 
-// Label value l's colour (rgb) and whether it is shown (a = 1) or not (0).
+// Label value l's colour (rgb) and its opacity (a; 0: hidden).
 fn label_colour(l: u32) -> vec4<f32> {
     return textureLoad(label_colours, vec2<i32>(i32(l % 256u), i32(l / 256u)), 0);
 }
@@ -36,15 +36,15 @@ fn inside_labels(p: vec3<f32>) -> bool {
 }
 #endif
 
-// A sample's colour `rgb` at p as the variant shows it: with LABEL_COLOUR, the colour of the
-// first layer's shown label there, where there is one.
+// A sample's colour `rgb` at p as the variant shows it: with LABEL_COLOUR, mixed towards the
+// colour of the first layer's shown label there by that label's opacity (the table's alpha).
 fn labelled_colour(rgb: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
 #ifdef LABEL_COLOUR
     let here = labels_at(p);
     for (var layer = 0u; layer < 4u; layer++) {
         let c = label_colour(here[layer]);
         if here[layer] != 0u && c.a > 0.0 {
-            return c.rgb;
+            return mix(rgb, c.rgb, c.a);
         }
     }
 #endif

@@ -88,13 +88,21 @@ impl LabelMap {
     }
 
     /// Each label value's colour (sRGB) and whether it is shown (alpha 255) or hidden or absent
-    /// (alpha 0): a table of every `u16`, indexed by value, as the GPU and the CPU reference read
-    /// it. Label values name one segment across the layers (a DICOM SEG's segment numbers do).
+    /// (alpha 0; between: shown at that opacity, [`Self::styled_table`]): a table of every `u16`,
+    /// indexed by value, as the GPU and the CPU reference read it. Label values name one segment across the layers (a DICOM SEG's segment numbers do).
     pub fn colour_table(&self, visible: impl Fn(&Segment) -> bool) -> Vec<[u8; 4]> {
+        self.styled_table(|s| {
+            let [r, g, b] = s.colour;
+            [r, g, b, if visible(s) { 255 } else { 0 }]
+        })
+    }
+
+    /// [`Self::colour_table`] with each segment's colour and opacity as `style` says (sRGB,
+    /// alpha its opacity: 0 hidden).
+    pub fn styled_table(&self, style: impl Fn(&Segment) -> [u8; 4]) -> Vec<[u8; 4]> {
         let mut table = vec![[0u8; 4]; 1 << 16];
         for s in &self.segments {
-            let [r, g, b] = s.colour;
-            table[usize::from(s.value)] = [r, g, b, if visible(s) { 255 } else { 0 }];
+            table[usize::from(s.value)] = style(s);
         }
         table
     }

@@ -100,16 +100,17 @@ impl RayInput<'_> {
         self.value(t).filter(|_| self.shown(t))
     }
 
-    /// A sample's colour at distance `t` as shown: that of the first layer's shown label there
-    /// where labels colour the image (not in X-ray), else `colour`.
+    /// A sample's colour at distance `t` as shown: `colour` mixed towards that of the first
+    /// layer's shown label there by its opacity, where labels colour the image (not in X-ray).
     fn labelled_colour(&self, colour: DVec3, t: f64) -> DVec3 {
         let xray = matches!(self.settings.mode, Mode::Xray | Mode::XrayAttenuation);
         match self.labels {
             Some(l) if self.settings.labels.colours() && !xray => l
                 .shown_at(self.volume, self.entry + self.dir * t)
                 .next()
-                .map_or(colour, |[r, g, b, _]| {
-                    DVec3::new(f64::from(r), f64::from(g), f64::from(b)) / 255.0
+                .map_or(colour, |[r, g, b, a]| {
+                    let label = DVec3::new(f64::from(r), f64::from(g), f64::from(b)) / 255.0;
+                    colour.lerp(label, f64::from(a) / 255.0)
                 }),
             _ => colour,
         }

@@ -4,6 +4,7 @@
 //! and a 256 × 256 table of each label value's colour, its alpha 0 where the label is hidden
 //! ([`LabelMap::colour_table`]).
 
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use wgpu::util::DeviceExt;
@@ -42,8 +43,11 @@ pub struct GpuLabels {
     pub(crate) cell_labels: wgpu::Buffer,
     /// One bit per label value: shown.
     pub(crate) shown_bits: wgpu::Buffer,
-    /// Bumped by every [`GpuLabels::show`]: what depends on the visibility is built again.
+    /// Bumped by every [`GpuLabels::show`] that changes which labels are shown: what depends on
+    /// the visibility is built again.
     generation: AtomicU64,
+    /// The visibility bits last written.
+    last_bits: Mutex<Vec<u32>>,
 }
 
 /// Why labels could not go to the GPU.
@@ -155,6 +159,7 @@ impl GpuLabels {
             cell_labels: storage("label cell labels", &cells.labels),
             shown_bits: storage("shown labels", &[0; SHOWN_WORDS]),
             generation: AtomicU64::new(0),
+            last_bits: Mutex::new(vec![0; SHOWN_WORDS]),
         };
         made.show(queue, labels, |_| true);
         Ok(made)
@@ -198,15 +203,37 @@ impl GpuLabels {
         labels: &LabelMap,
         visible: impl Fn(&crate::labels::Segment) -> bool,
     ) {
-        let table = labels.colour_table(visible);
+        self.write_table(queue, &labels.colour_table(visible));
+    }
+
+    /// Writes the colour table: each segment in the colour and at the opacity `style` gives it
+    /// (alpha 0: hidden).
+    pub fn show_styled(
+        &self,
+        queue: &wgpu::Queue,
+        labels: &LabelMap,
+        style: impl Fn(&crate::labels::Segment) -> [u8; 4],
+    ) {
+        self.write_table(queue, &labels.styled_table(style));
+    }
+
+    /// Uploads `table` (a colour and opacity per label value) and the visibility bits it implies.
+    fn write_table(&self, queue: &wgpu::Queue, table: &[[u8; 4]]) {
         let mut bits = vec![0u32; SHOWN_WORDS];
         for (value, c) in table.iter().enumerate() {
             if c[3] > 0 {
                 bits[value / 32] |= 1 << (value % 32);
             }
         }
-        queue.write_buffer(&self.shown_bits, 0, bytemuck::cast_slice(&bits));
-        self.generation.fetch_add(1, Ordering::Relaxed);
+        // Only a change of which labels are shown rebuilds what leaps by them (a colour or an
+        // opacity does not).
+        let mut last = self.last_bits.lock().unwrap_or_else(|e| e.into_inner());
+        if *last != bits {
+            queue.write_buffer(&self.shown_bits, 0, bytemuck::cast_slice(&bits));
+            self.generation.fetch_add(1, Ordering::Relaxed);
+            *last = bits;
+        }
+        drop(last);
         queue.write_texture(
             self.colour_texture.as_image_copy(),
             bytemuck::cast_slice(&table),

@@ -168,12 +168,22 @@ fn skull_and_brain(s: &Segment) -> bool {
 #[test]
 fn labels_colour_and_cut_every_mode_as_the_reference_does() {
     let (volume, labels, tf) = scene();
-    let table = labels.colour_table(skull_and_brain);
+    // The skull at half opacity in another colour: colouring mixes towards it by half.
+    let style = |s: &Segment| match s.value {
+        1 => [0, 0, 0, 0],
+        2 => [40, 200, 90, 128],
+        _ => [s.colour[0], s.colour[1], s.colour[2], 255],
+    };
+    let table = labels.styled_table(style);
     let labelled = Labelled {
         map: &labels,
         table: &table,
     };
     let mut r = renderer(&volume, &labels, &tf, skull_and_brain);
+    let ctx = r.context().clone();
+    let gpu = Arc::new(GpuLabels::new(&ctx.device, &ctx.queue, &labels).expect("upload"));
+    gpu.show_styled(&ctx.queue, &labels, style);
+    r.set_labels(Some(gpu)).expect("labels");
     let camera = common::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
     for (name, settings) in cases() {
         let expected =
@@ -394,6 +404,25 @@ fn cut_views_leap_over_hidden_labels_and_a_toggle_rebuilds_only_their_flags() {
         ),
         (0, 0)
     );
+    // A new colour or opacity for a shown label, in a cut view: the same labels are shown, so
+    // nothing is rebuilt, but the picture changes.
+    let shown = render_at(&mut r, &camera, inside, size);
+    let before = r.work_counts();
+    gpu.show_styled(&ctx.queue, &labels, |s| {
+        [250, 20, 20, if brain(s) { 200 } else { 0 }]
+    });
+    let recoloured = render_at(
+        &mut r,
+        &camera,
+        RenderSettings {
+            labels: LabelView::ColourInside,
+            ..inside
+        },
+        size,
+    );
+    let after = r.work_counts();
+    assert_eq!(after.label_flag_builds - before.label_flag_builds, 0);
+    assert!(max_diff(&shown, &recoloured) > 0.1);
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! A segmentation over the slice views: the label map, its textures on the GPU, which segments
-//! are shown and how (fill opacity, outlines).
+//! are shown and how (fill opacity, outlines, each segment's colour and opacity).
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
 
 use crate::labels::{LabelMap, Segment};
@@ -17,6 +17,9 @@ pub struct ShownLabels {
     gpu: Arc<GpuLabels>,
     /// Hidden segments, by (layer, value).
     hidden: BTreeSet<(u16, u16)>,
+    /// Segments given another colour or opacity in the panel, by (layer, value): sRGB and
+    /// opacity (the file's colour, opaque, for the rest).
+    styled: BTreeMap<(u16, u16), [u8; 4]>,
     /// How they are drawn.
     pub look: LabelLook,
     /// Counts changes of what is shown: a new one redraws every pane.
@@ -49,6 +52,7 @@ impl ShownLabels {
             map,
             gpu,
             hidden: BTreeSet::new(),
+            styled: BTreeMap::new(),
             look: LabelLook::default(),
             generation: 0,
             shown_generation: 0,
@@ -71,9 +75,20 @@ impl ShownLabels {
             .filter(|s| !shown(s))
             .map(|s| (s.layer, s.value))
             .collect();
-        let hidden = &self.hidden;
-        self.gpu
-            .show(queue, &self.map, |s| !hidden.contains(&(s.layer, s.value)));
+        self.restyle(queue);
+    }
+
+    /// A segment's colour and opacity as drawn (alpha 0 where hidden).
+    fn style_of(&self, s: &Segment) -> [u8; 4] {
+        let key = (s.layer, s.value);
+        let [r, g, b] = s.colour;
+        let [r, g, b, a] = self.styled.get(&key).copied().unwrap_or([r, g, b, 255]);
+        [r, g, b, if self.hidden.contains(&key) { 0 } else { a }]
+    }
+
+    /// Writes every segment's colour, opacity and visibility to the GPU, and redraws.
+    fn restyle(&mut self, queue: &wgpu::Queue) {
+        self.gpu.show_styled(queue, &self.map, |s| self.style_of(s));
         self.generation += 1;
         self.shown_generation += 1;
     }
@@ -141,6 +156,7 @@ impl ShownLabels {
         }
         let mut shown: Vec<bool> = segments.iter().map(|s| self.is_shown(s)).collect();
         let mut changed = false;
+        let mut restyled = false;
         ui.horizontal(|ui| {
             ui.add(
                 egui::TextEdit::singleline(&mut self.search)
@@ -168,10 +184,29 @@ impl ShownLabels {
                     ui.horizontal(|ui| {
                         changed |= ui.checkbox(&mut shown[i], "").changed();
                         let [r, g, b] = s.colour;
-                        let (rect, _) =
-                            ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
-                        ui.painter()
-                            .rect_filled(rect, 2.0, egui::Color32::from_rgb(r, g, b));
+                        let key = (s.layer, s.value);
+                        let [mut cr, mut cg, mut cb, mut a] =
+                            self.styled.get(&key).copied().unwrap_or([r, g, b, 255]);
+                        let mut rgb = [cr, cg, cb];
+                        let picked = egui::color_picker::color_edit_button_srgb(ui, &mut rgb)
+                            .on_hover_text("its colour");
+                        let mut opacity = f32::from(a) / 255.0;
+                        let faded = ui
+                            .add(
+                                egui::DragValue::new(&mut opacity)
+                                    .range(0.05..=1.0)
+                                    .speed(0.01)
+                                    .fixed_decimals(2),
+                            )
+                            .on_hover_text(
+                                "its opacity: the fill over the slices, its colour's weight in 3D",
+                            );
+                        if picked.changed() || faded.changed() {
+                            [cr, cg, cb] = rgb;
+                            a = (opacity * 255.0).round() as u8;
+                            self.styled.insert(key, [cr, cg, cb, a]);
+                            restyled = true;
+                        }
                         ui.label(&s.name).on_hover_text(format!(
                             "label {} (layer {}), {} voxels",
                             s.value, s.layer, s.voxels
@@ -184,6 +219,9 @@ impl ShownLabels {
                     });
                 }
             });
+        if restyled && !changed {
+            self.restyle(queue);
+        }
         if changed {
             let keep: BTreeSet<(u16, u16)> = segments
                 .iter()
