@@ -236,7 +236,7 @@ impl GpuLabels {
         drop(last);
         queue.write_texture(
             self.colour_texture.as_image_copy(),
-            bytemuck::cast_slice(&table),
+            bytemuck::cast_slice(table),
             wgpu::TexelCopyBufferLayout {
                 offset: 0,
                 bytes_per_row: Some(TABLE_EDGE * 4),
