@@ -11,9 +11,9 @@ use crate::transfer::fit::{DataKind, fitted_preset};
 use crate::transfer::{TransferFunction, presets};
 use crate::volume::Orientation;
 
-/// The key a file's orientation is kept under: its absolute path, so that the same file opened
-/// from another folder finds it.
-fn orientation_key(path: &std::path::Path) -> String {
+/// The key a file's orientation (or a segmentation's style) is kept under: its absolute path,
+/// so that the same file opened from another folder finds it.
+pub(crate) fn file_key(path: &std::path::Path) -> String {
     std::fs::canonicalize(path)
         .unwrap_or_else(|_| path.to_path_buf())
         .display()
@@ -94,6 +94,24 @@ pub struct ViewerState {
     /// The orientation the user gave for a file (its absolute path → a code such as `RAI`, in
     /// the file's index frame), used in place of the header's whenever that file opens.
     pub orientations: std::collections::BTreeMap<String, String>,
+    /// How a segmentation was shown (its absolute path → hidden segments, colours, opacities,
+    /// fill and outlines), restored whenever that file opens again.
+    pub label_styles: std::collections::BTreeMap<String, LabelStyle>,
+}
+
+/// How one segmentation file is shown: which segments are hidden, those given another colour
+/// or opacity (by layer and value: sRGB and opacity), the fill's opacity and the outlines.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct LabelStyle {
+    /// Hidden segments, by (layer, value).
+    pub hidden: Vec<(u16, u16)>,
+    /// Segments of another colour or opacity: (layer, value) and sRGB + opacity.
+    pub styled: Vec<((u16, u16), [u8; 4])>,
+    /// The fill's opacity over the slices.
+    pub fill: f32,
+    /// Whether outlines are drawn.
+    pub outlines: bool,
 }
 
 impl Default for ViewerState {
@@ -125,6 +143,7 @@ impl Default for ViewerState {
             layout: crate::ui::layout::Layout::default(),
             show_slice_planes: true,
             orientations: std::collections::BTreeMap::new(),
+            label_styles: std::collections::BTreeMap::new(),
         }
     }
 }
@@ -186,7 +205,7 @@ impl ViewerState {
     /// The orientation the user gave for the file at `path`, if any (a stored code that no
     /// longer parses is ignored).
     pub(crate) fn orientation_for(&self, path: &std::path::Path) -> Option<Orientation> {
-        let code = self.orientations.get(&orientation_key(path))?;
+        let code = self.orientations.get(&file_key(path))?;
         Orientation::parse_code(code).ok()
     }
 
@@ -196,7 +215,7 @@ impl ViewerState {
         path: &std::path::Path,
         orientation: Option<Orientation>,
     ) {
-        let key = orientation_key(path);
+        let key = file_key(path);
         match orientation {
             Some(o) => {
                 self.orientations.insert(key, o.code());
@@ -288,6 +307,26 @@ mod tests {
                 .count(),
             1
         );
+    }
+
+    #[test]
+    fn a_segmentations_style_survives_the_stored_state() {
+        let mut state = ViewerState::default();
+        let style = LabelStyle {
+            hidden: vec![(0, 3)],
+            styled: vec![((0, 2), [40, 200, 90, 128])],
+            fill: 0.25,
+            outlines: false,
+        };
+        state
+            .label_styles
+            .insert("/data/seg.nrrd".into(), style.clone());
+        let stored = serde_json::to_string(&state).expect("serialises");
+        let back: ViewerState = serde_json::from_str(&stored).expect("parses");
+        assert_eq!(back.label_styles.get("/data/seg.nrrd"), Some(&style));
+        // A state stored before styles were kept still reads.
+        let old: ViewerState = serde_json::from_str("{}").expect("parses");
+        assert!(old.label_styles.is_empty());
     }
 
     #[test]

@@ -58,6 +58,7 @@ impl LeapViewApp {
             Err(mpsc::TryRecvError::Disconnected) => Err("the reader stopped".into()),
         };
         let path = load.path.display().to_string();
+        let key = crate::ui::state::file_key(&load.path);
         self.labels_load = None;
         let shown = answer.and_then(|map| {
             for note in map.notes() {
@@ -72,12 +73,30 @@ impl LeapViewApp {
                 .set_labels(Arc::new(map))
                 .map_err(|e| format!("{path}: {e}"))
         });
+        if shown.is_ok() {
+            // As the user left this file's segmentation last time.
+            if let Some(style) = self.state.label_styles.get(&key) {
+                self.slices.apply_label_style(&style.clone());
+            }
+            self.labels_file = Some(key);
+        }
         match shown {
             Ok(()) if !self.state.layout.has_slices() => self.state.layout = Layout::OnePlusThree,
             Ok(()) => {}
             Err(e) => self
                 .dialogs
                 .show_error(format!("Cannot show the segmentation: {e}")),
+        }
+    }
+
+    /// Keeps how the segmentation on screen is shown for its file (each pass; a no-op while it
+    /// is unchanged).
+    pub(super) fn keep_label_style(&mut self) {
+        let (Some(key), Some(style)) = (&self.labels_file, self.slices.label_style()) else {
+            return;
+        };
+        if self.state.label_styles.get(key) != Some(&style) {
+            self.state.label_styles.insert(key.clone(), style);
         }
     }
 }

@@ -138,6 +138,8 @@ struct LeapViewApp {
     labels_load: Option<labels::LabelsLoad>,
     /// A segmentation to read once a volume is shown.
     pending_labels: Option<PathBuf>,
+    /// The file of the segmentation shown (the key its style is kept under).
+    labels_file: Option<String>,
 }
 
 impl LeapViewApp {
@@ -192,6 +194,7 @@ impl LeapViewApp {
             slices,
             labels_load: None,
             pending_labels: None,
+            labels_file: None,
         };
         // A file's orientation as corrected before, unless the command line gives one.
         let first = match first {
@@ -491,6 +494,7 @@ impl eframe::App for LeapViewApp {
         log::trace!("egui pass {}", ctx.cumulative_pass_nr());
         self.receive_volume(&ctx);
         self.receive_labels(&ctx);
+        self.keep_label_style();
         if self.scene.collect_measurements() {
             ctx.request_repaint_after(RESULTS_POLL);
         }

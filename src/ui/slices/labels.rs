@@ -8,6 +8,7 @@ use crate::labels::{LabelMap, Segment};
 use crate::render::labels::GpuLabels;
 use crate::render::slice::LabelLook;
 use crate::settings::LabelView;
+use crate::ui::state::LabelStyle;
 
 /// The labels shown over the slices of one volume.
 pub struct ShownLabels {
@@ -75,6 +76,27 @@ impl ShownLabels {
             .filter(|s| !shown(s))
             .map(|s| (s.layer, s.value))
             .collect();
+        self.restyle(queue);
+    }
+
+    /// How the segmentation is shown, to keep for its file.
+    pub(super) fn style(&self) -> LabelStyle {
+        LabelStyle {
+            hidden: self.hidden.iter().copied().collect(),
+            styled: self.styled.iter().map(|(k, v)| (*k, *v)).collect(),
+            fill: self.look.opacity,
+            outlines: self.look.outline,
+        }
+    }
+
+    /// Shows the segmentation as `style` says (kept for its file), and redraws.
+    pub(super) fn apply_style(&mut self, queue: &wgpu::Queue, style: &LabelStyle) {
+        self.hidden = style.hidden.iter().copied().collect();
+        self.styled = style.styled.iter().copied().collect();
+        self.look = LabelLook {
+            opacity: style.fill.clamp(0.0, 1.0),
+            outline: style.outlines,
+        };
         self.restyle(queue);
     }
 

@@ -172,6 +172,18 @@ impl SliceViews {
         Some((self.labels.as_mut()?, queue))
     }
 
+    /// How the segmentation is shown, if there is one (kept for its file).
+    pub fn label_style(&self) -> Option<crate::ui::state::LabelStyle> {
+        self.labels.as_ref().map(ShownLabels::style)
+    }
+
+    /// Shows the segmentation as `style` (kept for its file) says.
+    pub fn apply_label_style(&mut self, style: &crate::ui::state::LabelStyle) {
+        if let Some((labels, queue)) = self.labels_mut() {
+            labels.apply_style(queue, style);
+        }
+    }
+
     /// The segmentation for the 3D view, if any: its textures and the count of visibility
     /// changes.
     pub fn labels_3d(&self) -> Option<(Arc<crate::render::labels::GpuLabels>, u64)> {
