@@ -25,7 +25,8 @@ pub struct LabelArgs {
         long,
         value_name = "FILE",
         requires = "labels",
-        help_heading = "Segmentation"
+        help_heading = "Segmentation",
+        hide_short_help = true
     )]
     pub label_names: Option<PathBuf>,
     /// How the labels show: colour (each sample in its label's colour), inside (the image only
