@@ -25,30 +25,37 @@ fn label_colour(l: u32) -> vec4<f32> {
     return textureLoad(label_colours, vec2<i32>(i32(l % 256u), i32(l / 256u)), 0);
 }
 
+// The first layer's shown label at p: its colour and opacity (a = 0 where none is shown). The
+// colour table is read only for the layers the texture holds, and only where a label lies.
+fn shown_label(p: vec3<f32>) -> vec4<f32> {
+    let here = labels_at(p);
+    for (var layer = 0u; layer < min(frame.label_layers, 4u); layer++) {
+        if here[layer] != 0u {
+            let c = label_colour(here[layer]);
+            if c.a > 0.0 {
+                return c;
+            }
+        }
+    }
+    return vec4<f32>(0.0);
+}
+
 // Whether some layer's label at p is shown.
 fn inside_labels(p: vec3<f32>) -> bool {
-    let here = labels_at(p);
-    var shown = false;
-    for (var layer = 0u; layer < 4u; layer++) {
-        shown = shown || (here[layer] != 0u && label_colour(here[layer]).a > 0.0);
-    }
-    return shown;
+    return shown_label(p).a > 0.0;
 }
 #endif
 
 // A sample's colour `rgb` at p as the variant shows it: with LABEL_COLOUR, mixed towards the
-// colour of the first layer's shown label there by that label's opacity (the table's alpha).
+// colour of the first layer's shown label there by that label's opacity (the table's alpha; 0
+// where none is shown leaves `rgb` as it is).
 fn labelled_colour(rgb: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
 #ifdef LABEL_COLOUR
-    let here = labels_at(p);
-    for (var layer = 0u; layer < 4u; layer++) {
-        let c = label_colour(here[layer]);
-        if here[layer] != 0u && c.a > 0.0 {
-            return mix(rgb, c.rgb, c.a);
-        }
-    }
-#endif
+    let c = shown_label(p);
+    return mix(rgb, c.rgb, c.a);
+#else
     return rgb;
+#endif
 }
 
 // A ray's sample value s at p as the variant sees it: with LABEL_INSIDE, missing (transparent,

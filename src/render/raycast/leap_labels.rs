@@ -83,18 +83,19 @@ impl LabelFlags {
         if made {
             self.node_shown = node_buffer(device, nodes);
         }
+        // The cells follow the volume's grid, as the levels do: written once.
         if self.params.len() != pyramid.levels.len() {
             self.params = (0..pyramid.levels.len())
                 .map(|_| param_buffer(device))
                 .collect();
-        }
-        for (l, buffer) in self.params.iter().enumerate() {
-            let params = LabelParams {
-                cells: labels.cells,
-                level: l as u32,
-            };
-            ctx.queue
-                .write_buffer(buffer, 0, bytemuck::bytes_of(&params));
+            for (l, buffer) in self.params.iter().enumerate() {
+                let params = LabelParams {
+                    cells: labels.cells,
+                    level: l as u32,
+                };
+                ctx.queue
+                    .write_buffer(buffer, 0, bytemuck::bytes_of(&params));
+            }
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("label flags"),
