@@ -9,6 +9,9 @@
 #ifdef SHADING
 #include "shared/shade.wgsl"
 #endif
+#ifdef LABEL_SURFACES
+#include "shared/label_surface.wgsl"
+#endif
 
 struct Acc {
     color: vec4<f32>,
@@ -17,15 +20,21 @@ struct Acc {
     front: SegmentEnd,
     front_t: f32,
 #endif
+#ifdef LABEL_SURFACES
+    track: SurfaceTrack,
+#endif
 }
 
-#ifdef PREINTEGRATED
 fn acc_init() -> Acc {
     var acc: Acc;
     acc.color = vec4<f32>(0.0);
+#ifdef LABEL_SURFACES
+    acc.track = surface_track();
+#endif
     return acc;
 }
 
+#ifdef PREINTEGRATED
 // The ray's entry value starts the first segment.
 fn acc_start(acc: ptr<function, Acc>, ray: Ray) {
     (*acc).front = segment_end(labelled_value(sample_value(ray.entry), ray.entry));
@@ -37,10 +46,6 @@ fn acc_start(acc: ptr<function, Acc>, ray: Ray) {
 fn acc_resume(acc: ptr<function, Acc>, t: f32, p: vec3<f32>, s: f32) {
     (*acc).front = segment_end(labelled_value(s, p));
     (*acc).front_t = t;
-}
-#else
-fn acc_init() -> Acc {
-    return Acc(vec4<f32>(0.0));
 }
 #endif
 
@@ -72,7 +77,9 @@ fn acc_combine(front: Acc, back: Acc) -> Acc {
         return front;
     }
 #endif
-    return Acc(front.color + (1.0 - front.color.a) * back.color);
+    var joined = front;
+    joined.color = front.color + (1.0 - front.color.a) * back.color;
+    return joined;
 }
 
 // A part of a ray needs nothing from before it.
@@ -82,6 +89,19 @@ fn acc_enter(acc: ptr<function, Acc>, ray: Ray, first: u32) -> u32 {
 #endif
 
 fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s_in: f32) -> u32 {
+#ifdef LABEL_SURFACES
+    // A label's surface the ray enters before this sample lies in front of it.
+    // Through a local: naga's SPIR-V writer cannot pass a pointer into a pointer's pointee.
+    var track = (*acc).track;
+    let surface = surface_before(&track, ray, k, t, p);
+    (*acc).track = track;
+    if surface.a > 0.0 {
+        let added = add_lit(acc, surface);
+        if (added & SAMPLE_STOP) != 0u {
+            return added;
+        }
+    }
+#endif
     let s = labelled_value(s_in, p);
 #ifdef PREINTEGRATED
     let back = segment_end(s);
@@ -128,6 +148,11 @@ fn composite(acc: ptr<function, Acc>, ray: Ray, p: vec3<f32>, c_in: vec4<f32>) -
         c = vec4<f32>(c.rgb * (frame.phong_ambient + frame.phong_diffuse), c.a);
     }
 #endif
+    return add_lit(acc, c);
+}
+
+// Adds colour c (straight, already lit) behind what the ray has gathered.
+fn add_lit(acc: ptr<function, Acc>, c: vec4<f32>) -> u32 {
     (*acc).color += (1.0 - (*acc).color.a) * vec4<f32>(c.rgb * c.a, c.a);
 #ifdef EARLY_TERMINATION
     if (*acc).color.a > frame.termination_alpha {

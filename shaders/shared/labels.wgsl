@@ -14,8 +14,17 @@
 // The labels of the voxel nearest box position p, a layer per component (0 past the layers the
 // texture holds: an R16Uint texel reads alpha 1).
 fn labels_at(p: vec3<f32>) -> vec4<u32> {
+    return labels_of(voxel_of(p));
+}
+
+// The voxel nearest box position p (clamped to the grid).
+fn voxel_of(p: vec3<f32>) -> vec3<i32> {
     let dims = vec3<i32>(textureDimensions(label_tex));
-    let i = clamp(vec3<i32>(floor(p * vec3<f32>(dims))), vec3<i32>(0), dims - vec3<i32>(1));
+    return clamp(vec3<i32>(floor(p * vec3<f32>(dims))), vec3<i32>(0), dims - vec3<i32>(1));
+}
+
+// The labels of voxel i (on the grid), a layer per component.
+fn labels_of(i: vec3<i32>) -> vec4<u32> {
     let texel = textureLoad(label_tex, i, 0);
     return select(vec4<u32>(0u), texel, vec4<u32>(0u, 1u, 2u, 3u) < vec4<u32>(frame.label_layers));
 }
@@ -28,7 +37,12 @@ fn label_colour(l: u32) -> vec4<f32> {
 // The first layer's shown label at p: its colour and opacity (a = 0 where none is shown). The
 // colour table is read only for the layers the texture holds, and only where a label lies.
 fn shown_label(p: vec3<f32>) -> vec4<f32> {
-    let here = labels_at(p);
+    return shown_label_of(voxel_of(p));
+}
+
+// The first layer's shown label of voxel i (a = 0 where none is shown).
+fn shown_label_of(i: vec3<i32>) -> vec4<f32> {
+    let here = labels_of(i);
     for (var layer = 0u; layer < min(frame.label_layers, 4u); layer++) {
         if here[layer] != 0u {
             let c = label_colour(here[layer]);

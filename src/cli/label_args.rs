@@ -30,7 +30,8 @@ pub struct LabelArgs {
     )]
     pub label_names: Option<PathBuf>,
     /// How the labels show: colour (each sample in its label's colour), inside (the image only
-    /// inside the shown labels, the rest cut away), colour-inside (both) or off.
+    /// inside the shown labels, the rest cut away), colour-inside (both), surfaces (each shown
+    /// label's boundary as a smooth lit surface, DVR) or off.
     #[arg(
         long,
         value_enum,
@@ -39,6 +40,17 @@ pub struct LabelArgs {
         help_heading = "Segmentation"
     )]
     pub label_view: LabelView,
+    /// How much --label-view surfaces smooths the labels' boundaries: a Gaussian's standard
+    /// deviation in voxels, 0 (none: the voxels' trilinear outline) to 1.5.
+    #[arg(
+        long,
+        value_name = "VOXELS",
+        default_value_t = leapview::labels::surface::DEFAULT_SMOOTHING,
+        requires = "labels",
+        help_heading = "Segmentation",
+        hide_short_help = true
+    )]
+    pub label_smoothing: f64,
     /// Show only these labels, by value or name (comma-separated); the rest are hidden.
     #[arg(
         long,

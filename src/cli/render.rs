@@ -118,6 +118,7 @@ fn settings_of(
     }
     args.effects.apply(&mut settings);
     settings.labels = args.segmentation.label_view;
+    settings.label_smoothing = args.segmentation.label_smoothing;
     // MIP, MinIP and X-ray without a window: the header's, else the data's, a few outliers left
     // out.
     settings.window = settings.window.or_else(|| fit::default_window_of(volume));
@@ -325,12 +326,23 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
                 labels.gpu_bytes() as f64 / 1e6
             );
             let toggles = label_toggles(&mut renderer, &request, (map, labels, shown))?;
-            if let Some((rebuild, frame)) = toggles {
+            if let Some((rebuild, frame, wall)) = toggles {
                 outln!(
                     out,
                     "label_toggle_ms: {frame:.3} (the frame after a label's toggle, of which \
-                     {rebuild:.3} rebuilding the leaping flags; medians of {} toggles)",
+                     {rebuild:.3} rebuilding the leaping flags; {wall:.1} from the toggle to \
+                     the frame done, on the clock, with any surface mask's rebuild; medians \
+                     of {} toggles)",
                     TIMED_FRAMES * 2
+                );
+            }
+            if let Some(bytes) = renderer.label_surface_bytes() {
+                outln!(
+                    out,
+                    "label_surfaces: smoothing {} voxels, {:.1} MB on the GPU (the mask and \
+                     its build's buffer)",
+                    settings.label_smoothing,
+                    bytes as f64 / 1e6
                 );
             }
         }
@@ -356,12 +368,13 @@ fn label_toggles(
         &GpuLabels,
         &std::collections::BTreeSet<(u16, u16)>,
     ),
-) -> Result<Option<(f64, f64)>, Failure> {
+) -> Result<Option<(f64, f64, f64)>, Failure> {
     let Some(&toggled) = shown.iter().next() else {
         return Ok(None);
     };
-    let (mut rebuilds, mut frames) = (Vec::new(), Vec::new());
+    let (mut rebuilds, mut frames, mut walls) = (Vec::new(), Vec::new(), Vec::new());
     for k in 0..TIMED_FRAMES * 2 {
+        let started = std::time::Instant::now();
         let hide = k % 2 == 0;
         let queue = &renderer.context().queue;
         labels.show(queue, map, |s| {
@@ -369,6 +382,7 @@ fn label_toggles(
             shown.contains(&key) && !(hide && key == toggled)
         });
         let (_, r) = renderer.render_and_wait(request).map_err(render_failure)?;
+        walls.push(started.elapsed().as_secs_f64() * 1e3);
         rebuilds.push(r.rebuild_ms.unwrap_or(0.0));
         frames.extend(r.gpu_ms);
     }
@@ -379,7 +393,11 @@ fn label_toggles(
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]
     };
-    Ok(Some((median(&mut rebuilds), median(&mut frames))))
+    Ok(Some((
+        median(&mut rebuilds),
+        median(&mut frames),
+        median(&mut walls),
+    )))
 }
 
 /// The strategy a frame ran with, for people: the name asked for, and for `auto` what it stood

@@ -14,6 +14,7 @@ mod names;
 mod palette;
 mod read;
 mod resample;
+pub mod surface;
 
 pub use self::error::LabelError;
 pub use self::read::{LabelOptions, load_labels};
@@ -105,6 +106,20 @@ impl LabelMap {
             table[usize::from(s.value)] = style(s);
         }
         table
+    }
+
+    /// Per voxel, whether its label in some layer is shown by `table` (alpha above 0): the
+    /// indicator [`surface::smoothed_mask`] smooths.
+    pub fn shown_voxels(&self, table: &[[u8; 4]]) -> Vec<bool> {
+        let voxels = self.dims.iter().map(|&d| d as usize).product::<usize>();
+        (0..voxels)
+            .map(|i| {
+                self.layers.iter().any(|layer| {
+                    let l = layer[i];
+                    l != 0 && table.get(usize::from(l)).is_some_and(|c| c[3] > 0)
+                })
+            })
+            .collect()
     }
 
     /// Bare layers of labels on a grid of `dims`, no segment described (tests of what reads

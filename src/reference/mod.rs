@@ -9,6 +9,7 @@
 mod modes;
 mod shade;
 pub mod slice;
+mod surfaces;
 mod trilinear;
 
 use glam::{DMat4, DVec2, DVec3};

@@ -10,6 +10,7 @@ use crate::transfer::{TransferFunction, preintegration};
 use crate::volume::{ValueRange, Volume};
 
 use super::shade::{gradient, phong};
+use super::surfaces::SurfaceWalk;
 use super::trilinear::{sample_colour, sample_trilinear};
 use crate::counters::FrameCounters;
 
@@ -20,12 +21,15 @@ pub struct Labelled<'a> {
     pub map: &'a LabelMap,
     /// Each label value's sRGB colour, alpha 255 where shown.
     pub table: &'a [[u8; 4]],
+    /// Where the view draws the shown labels as surfaces, their smoothed mask
+    /// ([`crate::labels::surface::smoothed_mask`] of this table's shown labels).
+    pub mask: Option<&'a [u8]>,
 }
 
 impl Labelled<'_> {
     /// The shown labels of the voxel nearest world position `p` (mm; voxel i's centre at
     /// i · spacing), by layer (at most four, as the GPU reads): (value, colour).
-    fn shown_at(&self, volume: &Volume, p: DVec3) -> impl Iterator<Item = [u8; 4]> + '_ {
+    pub(super) fn shown_at(&self, volume: &Volume, p: DVec3) -> impl Iterator<Item = [u8; 4]> + '_ {
         let dims = volume.dims();
         let spacing = volume.spacing_mm();
         let i: [u32; 3] = std::array::from_fn(|a| {
@@ -182,8 +186,18 @@ fn dvr(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     }
     let range = ray.range();
     let (mut color, mut alpha) = (DVec3::ZERO, 0.0);
+    let mut walk = SurfaceWalk::default();
+    let mut before = 0.0;
     for s in ray.grid().samples() {
         counts.samples += 1;
+        // A label's surface the ray enters before this sample lies in front of it.
+        if let Some((c, a)) = walk.before(ray, std::mem::replace(&mut before, s.t_mm), s.t_mm) {
+            color += (1.0 - alpha) * a * c;
+            alpha += (1.0 - alpha) * a;
+            if stops_early(ray) && alpha > ray.settings.termination_alpha {
+                break;
+            }
+        }
         let Some(value) = sample_trilinear(ray.volume, ray.entry + ray.dir * s.t_mm)
             .filter(|_| ray.shown(s.t_mm))
         else {
@@ -218,8 +232,16 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
         ray.settings.opacity_step_vox() / (ray.settings.step_vox * ray.volume.min_spacing_mm());
     let (mut color, mut alpha) = (DVec3::ZERO, 0.0);
     let mut front = (0.0, ray.labelled_value(0.0));
+    let mut walk = SurfaceWalk::default();
     for s in ray.grid().samples() {
         counts.samples += 1;
+        if let Some((c, a)) = walk.before(ray, front.0, s.t_mm) {
+            color += (1.0 - alpha) * a * c;
+            alpha += (1.0 - alpha) * a;
+            if stops_early(ray) && alpha > ray.settings.termination_alpha {
+                return color + (1.0 - alpha) * DVec3::from_array(ray.settings.background);
+            }
+        }
         let back = (s.t_mm, ray.labelled_value(s.t_mm));
         let (t0, v0) = std::mem::replace(&mut front, back);
         let (Some(v0), Some(v1)) = (v0, back.1) else {

@@ -31,7 +31,11 @@ pub(crate) fn sample_colour(volume: &Volume, p: DVec3) -> Option<DVec3> {
 
 /// The weighted sum of `at` over the eight voxels around `p` that give a value, and their
 /// total weight.
-fn corners(volume: &Volume, p: DVec3, at: impl Fn(u32, u32, u32) -> Option<DVec3>) -> (DVec3, f64) {
+pub(super) fn corners(
+    volume: &Volume,
+    p: DVec3,
+    at: impl Fn(u32, u32, u32) -> Option<DVec3>,
+) -> (DVec3, f64) {
     let dims = volume.dims();
     let spacing = volume.spacing_mm();
     // Continuous voxel coordinates: voxel centre i sits at i * spacing.

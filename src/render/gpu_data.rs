@@ -217,7 +217,10 @@ pub fn layouts() -> Vec<StructLayout> {
             lut_size, node_count, rule, threshold,
         }),
         layout!(LabelParams = "LabelParams" in "build/labels.wgsl" {
-            cells, level,
+            cells, level, apron, _pad0, _pad1, _pad2,
+        }),
+        layout!(SurfaceParams = "SurfaceParams" in "build/label_surface.wgsl" {
+            dims, axis, origin, row_words, extent, radius, weights, layers, _pad0, _pad1, _pad2,
         }),
         layout!(DistanceParams = "DistanceParams" in "build/distance.wgsl" {
             leaf_level, axis, sides, _pad1,
@@ -437,6 +440,43 @@ pub struct LabelParams {
     pub cells: [u32; 3],
     /// The pyramid level this pass builds.
     pub level: u32,
+    /// Cells around a level-0 node that count as its own (label surfaces), else 0.
+    pub apron: u32,
+    /// Padding to 16 bytes.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+    /// Padding.
+    pub _pad2: u32,
+}
+
+/// Parameters of one pass of the label-surface mask over one slab (`SurfaceParams`,
+/// build/label_surface.wgsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct SurfaceParams {
+    /// The grid's dimensions.
+    pub dims: [u32; 3],
+    /// The axis the pass smooths along.
+    pub axis: u32,
+    /// The slab's first voxel.
+    pub origin: [u32; 3],
+    /// Words (four voxels) per row of the buffer.
+    pub row_words: u32,
+    /// The slab's extent in voxels.
+    pub extent: [u32; 3],
+    /// The kernel's radius in voxels.
+    pub radius: u32,
+    /// The kernel's weights for offsets 0…3.
+    pub weights: [f32; 4],
+    /// Layers of labels the label texture holds.
+    pub layers: u32,
+    /// Padding to 16 bytes.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+    /// Padding.
+    pub _pad2: u32,
 }
 
 /// Parameters of one axis pass of the distance field (`DistanceParams`).

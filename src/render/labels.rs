@@ -217,6 +217,12 @@ impl GpuLabels {
         self.write_table(queue, &labels.styled_table(style));
     }
 
+    /// [`Self::write_table`] for tests that make a table of their own.
+    #[cfg(test)]
+    pub(crate) fn write_table_for_tests(&self, queue: &wgpu::Queue, table: &[[u8; 4]]) {
+        self.write_table(queue, table);
+    }
+
     /// Uploads `table` (a colour and opacity per label value) and the visibility bits it implies.
     fn write_table(&self, queue: &wgpu::Queue, table: &[[u8; 4]]) {
         let mut bits = vec![0u32; SHOWN_WORDS];
@@ -251,10 +257,13 @@ impl GpuLabels {
     }
 }
 
-/// Bound where a pass shows no labels: a 1³ texture of label 0 and a 1 × 1 colour table.
+/// Bound where a pass shows no labels: a 1³ texture of label 0, a 1 × 1 colour table and a 1³
+/// surface mask.
 pub(crate) struct NoLabels {
     pub(crate) labels: wgpu::TextureView,
     pub(crate) colours: wgpu::TextureView,
+    /// A 1³ label-surface mask of 0.
+    pub(crate) mask: wgpu::TextureView,
 }
 
 impl NoLabels {
@@ -285,6 +294,11 @@ impl NoLabels {
                 "no label colours",
                 wgpu::TextureDimension::D2,
                 wgpu::TextureFormat::Rgba8Unorm,
+            ),
+            mask: make(
+                "no label surface",
+                wgpu::TextureDimension::D3,
+                wgpu::TextureFormat::R8Unorm,
             ),
         }
     }

@@ -6,6 +6,7 @@
 
 pub mod context;
 pub mod gpu_data;
+pub mod label_surface;
 pub mod labels;
 pub mod memory;
 pub mod pack;

@@ -46,6 +46,8 @@ const MODULES: &[(&str, &str)] = modules![
     "build/emptiness.wgsl",
     "build/distance.wgsl",
     "build/labels.wgsl",
+    "build/label_surface.wgsl",
+    "shared/label_surface.wgsl",
 ];
 
 /// A WGSL module from composed source.

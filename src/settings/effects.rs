@@ -94,12 +94,20 @@ pub enum LabelView {
     /// Both: only inside the shown labels, each sample in its label's colour.
     #[value(name = "colour-inside")]
     ColourInside,
+    /// The image's transfer function with each shown label's boundary drawn as a smooth lit
+    /// surface in the label's colour, at its opacity (DVR; the other modes show the image alone).
+    Surfaces,
 }
 
 impl LabelView {
     /// Whether samples take their label's colour.
     pub fn colours(self) -> bool {
         matches!(self, Self::Colour | Self::ColourInside)
+    }
+
+    /// Whether the shown labels' boundaries are drawn as surfaces.
+    pub fn surfaces(self) -> bool {
+        self == Self::Surfaces
     }
 
     /// Whether everything outside the shown labels is cut away.

@@ -239,6 +239,9 @@ pub struct RenderSettings {
     pub crop: crop::CropBox,
     /// How a segmentation loaded beside the volume shows (ignored without one).
     pub labels: LabelView,
+    /// How much labels drawn as surfaces are smoothed: the Gaussian's standard deviation in
+    /// voxels (0: none; at most [`crate::labels::surface::MOST_SMOOTHING`]).
+    pub label_smoothing: f64,
 }
 
 impl Default for RenderSettings {
@@ -266,6 +269,7 @@ impl Default for RenderSettings {
             xray_density_per_mm: effects::DEFAULT_XRAY_DENSITY_PER_MM,
             crop: crop::CropBox::FULL,
             labels: LabelView::Colour,
+            label_smoothing: crate::labels::surface::DEFAULT_SMOOTHING,
         }
     }
 }
@@ -367,6 +371,10 @@ impl RenderSettings {
         {
             return Err(SettingsError::Background(self.background));
         }
+        let most = crate::labels::surface::MOST_SMOOTHING;
+        if !(0.0..=most).contains(&self.label_smoothing) {
+            return Err(SettingsError::LabelSmoothing(self.label_smoothing));
+        }
         self.crop.validate()?;
         Ok(())
     }
@@ -408,6 +416,9 @@ pub enum SettingsError {
     /// Sample offset outside [0, 1).
     #[error("the sample offset must be in [0, 1), got {0}")]
     Offset(f64),
+    /// Label smoothing outside 0…[`crate::labels::surface::MOST_SMOOTHING`] voxels.
+    #[error("the label smoothing must be from 0 to 1.5 voxels, got {0}")]
+    LabelSmoothing(f64),
     /// Background components outside [0, 1].
     #[error("background colour components must be in 0..1, got {0:?}")]
     Background([f64; 3]),

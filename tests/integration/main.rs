@@ -23,6 +23,7 @@ mod hard_cases_image;
 mod hard_cases_iso;
 mod hard_cases_values;
 mod hard_cases_volume;
+mod label_surfaces;
 mod labels;
 mod labels_3d;
 mod leaping;

@@ -32,6 +32,7 @@ fn delta(before: WorkCounts, after: WorkCounts) -> WorkCounts {
         flag_builds: after.flag_builds - before.flag_builds,
         distance_builds: after.distance_builds - before.distance_builds,
         label_flag_builds: after.label_flag_builds - before.label_flag_builds,
+        label_surface_builds: after.label_surface_builds - before.label_surface_builds,
         integral_builds: after.integral_builds - before.integral_builds,
     }
 }
@@ -45,6 +46,7 @@ const FRAME: WorkCounts = WorkCounts {
     flag_builds: 0,
     distance_builds: 0,
     label_flag_builds: 0,
+    label_surface_builds: 0,
     integral_builds: 0,
 };
 

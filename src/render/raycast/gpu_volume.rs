@@ -5,6 +5,7 @@
 use std::sync::Arc;
 
 use crate::render::context::GpuContext;
+use crate::render::label_surface::{SurfaceMask, SurfacePipelines};
 use crate::render::labels::{GpuLabels, NoLabels};
 use crate::render::volume_texture::{VolumeTexture, VolumeTextureError};
 use crate::settings::{RenderSettings, Upload};
@@ -45,6 +46,8 @@ pub struct GpuVolume {
     pub colour: bool,
     /// The segmentation shown over it (shared with the slices), if any.
     pub labels: Option<Arc<GpuLabels>>,
+    /// Its shown labels' smoothed mask, made on the first frame that draws them as surfaces.
+    pub(crate) surface: Option<SurfaceMask>,
     /// Group 0 of every ray-casting pipeline.
     pub frame_group: wgpu::BindGroup,
     /// The min/max pyramid, node flags and distance field (built lazily).
@@ -64,7 +67,7 @@ impl GpuVolume {
         (upload, first_upload): (&Upload, Option<std::time::Duration>),
     ) -> Result<Self, VolumeTextureError> {
         let texture = VolumeTexture::upload_streaming(ctx, volume, upload, first_upload)?;
-        let frame_group = frame_group(ctx, layouts, shared, &texture, None);
+        let frame_group = frame_group(ctx, layouts, shared, &texture, (None, None));
         let leap = LeapStructures::new(
             ctx,
             volume.dims(),
@@ -81,6 +84,7 @@ impl GpuVolume {
             all_finite: !volume.may_be_non_finite(),
             colour: volume.colour().is_some(),
             labels: None,
+            surface: None,
             frame_group,
             leap,
             leap_group,
@@ -88,16 +92,18 @@ impl GpuVolume {
     }
 }
 
-/// Group 0 of `texture` with `labels` (none: the dummies).
+/// Group 0 of `texture` with `labels` and their surface mask (none: the dummies).
 fn frame_group(
     ctx: &GpuContext,
     layouts: &Layouts,
     shared: &FrameShared<'_>,
     texture: &VolumeTexture,
-    labels: Option<&GpuLabels>,
+    (labels, surface): (Option<&GpuLabels>, Option<&SurfaceMask>),
 ) -> wgpu::BindGroup {
-    let labels = labels.map_or((&shared.no_labels.labels, &shared.no_labels.colours), |l| {
-        (&l.labels, &l.colours)
+    let none = shared.no_labels;
+    let mask = surface.map_or(&none.mask, |s| &s.view);
+    let labels = labels.map_or((&none.labels, &none.colours, mask), |l| {
+        (&l.labels, &l.colours, mask)
     });
     layouts.frame_group(
         &ctx.device,
@@ -121,8 +127,35 @@ impl GpuVolume {
         shared: &FrameShared<'_>,
         labels: Option<Arc<GpuLabels>>,
     ) {
-        self.frame_group = frame_group(ctx, layouts, shared, &self.texture, labels.as_deref());
+        self.surface = None;
+        let group = (labels.as_deref(), None);
+        self.frame_group = frame_group(ctx, layouts, shared, &self.texture, group);
         self.labels = labels;
+    }
+
+    /// Records the build of the shown labels' surface mask at `smoothing` (voxels) where it does
+    /// not hold them yet, making it (and group 0 again) on first use; returns whether it
+    /// recorded a build. Nothing without labels.
+    pub(crate) fn prepare_surfaces(
+        &mut self,
+        ctx: &GpuContext,
+        (layouts, pipelines): (&Layouts, &SurfacePipelines),
+        shared: &FrameShared<'_>,
+        smoothing: f32,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> bool {
+        let Some(labels) = self.labels.as_deref() else {
+            return false;
+        };
+        if !self.surface.as_ref().is_some_and(|s| s.fits(labels)) {
+            let mask = SurfaceMask::new(ctx, labels);
+            let group = (Some(labels), Some(&mask));
+            self.frame_group = frame_group(ctx, layouts, shared, &self.texture, group);
+            self.surface = Some(mask);
+        }
+        self.surface
+            .as_mut()
+            .is_some_and(|s| s.build(ctx, pipelines, labels, smoothing, encoder))
     }
 
     /// The uniforms of a frame of this volume of `size` pixels seen through `geometry`, for a

@@ -37,9 +37,13 @@ pub struct FrameResources<'a> {
     pub lut: &'a wgpu::TextureView,
     /// The pre-integration table.
     pub integrals: &'a wgpu::TextureView,
-    /// The labels on the volume's grid and each label's colour (a 1³ texture of none and a
-    /// 1 × 1 table without a segmentation).
-    pub labels: (&'a wgpu::TextureView, &'a wgpu::TextureView),
+    /// The labels on the volume's grid, each label's colour and the label surfaces' mask (a 1³
+    /// texture of none, a 1 × 1 table and a 1³ mask without a segmentation or surfaces).
+    pub labels: (
+        &'a wgpu::TextureView,
+        &'a wgpu::TextureView,
+        &'a wgpu::TextureView,
+    ),
 }
 
 /// What group 3 binds: the leaping structures of one volume.
@@ -180,6 +184,7 @@ impl Layouts {
                     count: None,
                 },
                 texture_entry(8, D2, false, RAY_LOOP),
+                texture_entry(9, D3, true, RAY_LOOP),
             ],
         );
         let fragment_io = layout(
@@ -237,6 +242,7 @@ impl Layouts {
                 r.volume.geometry.as_entire_binding(),
                 TextureView(r.labels.0),
                 TextureView(r.labels.1),
+                TextureView(r.labels.2),
             ],
         )
     }

@@ -18,7 +18,7 @@ use crate::render::volume_texture::{PerLayout, VolumeView};
 use crate::settings::{Mode, RenderSettings, Strategy};
 
 use super::layouts::LeapResources;
-use super::leap_labels::{LabelFlagPipelines, LabelFlags, ShownKey, shown_key};
+use super::leap_labels::{LabelFlagPipelines, LabelFlags, LabelUse, ShownKey, shown_key};
 use super::uniforms::LeapLevels;
 use crate::render::labels::GpuLabels;
 
@@ -631,9 +631,9 @@ pub struct LeapRequest<'a> {
     pub iso_threshold: f32,
     /// The volume (the pyramid is built from it).
     pub volume: &'a VolumeView,
-    /// The segmentation the frame cuts the image to (only the shown labels' nodes can matter),
-    /// if it does.
-    pub cut_to: Option<&'a GpuLabels>,
+    /// The segmentation whose shown labels decide which nodes matter, and how (the image cut to
+    /// them, or their surfaces drawn), if the frame's view does either.
+    pub labels: Option<(&'a GpuLabels, LabelUse)>,
 }
 
 /// Which structures one [`LeapStructures::prepare`] recorded a build of.
@@ -688,13 +688,16 @@ impl LeapStructures {
             _ => None,
         };
         // Views cut to the shown labels: the flags mark nodes without one empty (isosurfaces
-        // never cut by node: their crossings are cut one by one).
-        let cut = request.cut_to;
+        // never cut by node: their crossings are cut one by one). Views drawing their surfaces:
+        // nodes near one are not empty.
+        let labelled = request.labels;
         let key = rule.map(|r| {
-            let cuts = !matches!(r, FlagRule::Iso(_));
-            (r, cut.filter(|_| cuts).map(shown_key))
+            let folds = |&(_, u): &(&GpuLabels, LabelUse)| {
+                u == LabelUse::Surfaces || !matches!(r, FlagRule::Iso(_))
+            };
+            (r, labelled.filter(folds).map(|(l, u)| shown_key(l, u)))
         });
-        let shown = cut.filter(|l| !self.labels.holds(shown_key(l)));
+        let shown = labelled.filter(|&(l, u)| !self.labels.holds(shown_key(l, u)));
         let flags = key.is_some_and(|k| self.flags_for != Some(k));
         let builds_distance =
             key.is_some_and(|k| distance && (flags || self.distance_for != Some((k, leaf))));
@@ -737,9 +740,10 @@ impl LeapStructures {
         if flags {
             let ts = rebuild_span(&mut probe, ends(2));
             self.build_flags(ctx, pipelines, rule, request.lut, encoder, ts);
-            if cut_key.is_some() {
+            if let Some((_, _, use_)) = cut_key {
                 let pyramid = (&self.pyramid, &self.level_buffer);
-                (self.labels).cut(ctx, &pipelines.labels, pyramid, &self.node_empty, encoder);
+                let empty = (&self.node_empty, use_);
+                (self.labels).fold(ctx, &pipelines.labels, pyramid, empty, encoder);
             }
             self.flags_for = Some((rule, cut_key));
         }

@@ -17,6 +17,7 @@ pub struct LabelFlagPipelines {
     base: wgpu::ComputePipeline,
     parent: wgpu::ComputePipeline,
     cut: wgpu::ComputePipeline,
+    keep: wgpu::ComputePipeline,
 }
 
 impl LabelFlagPipelines {
@@ -28,17 +29,48 @@ impl LabelFlagPipelines {
             base: compute_pipeline(device, &module, "shown_base"),
             parent: compute_pipeline(device, &module, "shown_parent"),
             cut: compute_pipeline(device, &module, "cut_flags"),
+            keep: compute_pipeline(device, &module, "keep_flags"),
         })
     }
 }
 
-/// Which segmentation, at which visibility, flags were built for: its address (the same
-/// `GpuLabels` while it lives) and its generation.
-pub type ShownKey = (usize, u64);
+/// What a view does with the nodes of the shown labels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LabelUse {
+    /// The image is cut to the shown labels: nodes without one are empty.
+    Cut,
+    /// The shown labels are drawn as surfaces: nodes near one are not empty.
+    Surfaces,
+}
 
-/// The key of `labels` as it is now.
-pub fn shown_key(labels: &GpuLabels) -> ShownKey {
-    (std::ptr::from_ref(labels) as usize, labels.generation())
+impl LabelUse {
+    /// Cells around a level-0 node whose labels count as its own: one for surfaces (the mask's
+    /// kernel, at most three voxels, and the trilinear filter's voxel reach no further than one
+    /// cell past a shown voxel).
+    fn apron(self) -> u32 {
+        match self {
+            Self::Cut => 0,
+            Self::Surfaces => 1,
+        }
+    }
+}
+
+const _: () = assert!(
+    crate::labels::surface::MOST_RADIUS < crate::accel::label_cells::CELL_VOX,
+    "a surface's apron of one cell covers the mask's reach"
+);
+
+/// Which segmentation, at which visibility, flags were built for, and for what: its address
+/// (the same `GpuLabels` while it lives), its generation and the view's use of them.
+pub type ShownKey = (usize, u64, LabelUse);
+
+/// The key of `labels` as it is now, used as `use_` says.
+pub fn shown_key(labels: &GpuLabels, use_: LabelUse) -> ShownKey {
+    (
+        std::ptr::from_ref(labels) as usize,
+        labels.generation(),
+        use_,
+    )
 }
 
 /// The per-node flags of one volume's pyramid.
@@ -47,6 +79,8 @@ pub struct LabelFlags {
     pub node_shown: wgpu::Buffer,
     /// One parameter block per level, made with the flags.
     params: Vec<wgpu::Buffer>,
+    /// The apron the parameter blocks hold.
+    params_apron: Option<u32>,
     /// What the flags hold.
     pub built_for: Option<ShownKey>,
 }
@@ -57,6 +91,7 @@ impl LabelFlags {
         Self {
             node_shown: node_buffer(device, 1),
             params: Vec::new(),
+            params_apron: None,
             built_for: None,
         }
     }
@@ -66,14 +101,16 @@ impl LabelFlags {
         self.built_for == Some(key)
     }
 
-    /// Records the flags' build for `labels` over `pyramid` (whose levels are in `levels`);
-    /// returns whether the flag buffer was made anew (its bind groups must be made again).
+    /// Records the flags' build for `labels` used as `use_` over `pyramid` (whose levels are
+    /// in `levels`); returns whether the flag buffer was made anew (its bind groups must be made
+    /// again).
+    #[allow(clippy::too_many_arguments)]
     pub fn build(
         &mut self,
         ctx: &GpuContext,
         pipelines: &LabelFlagPipelines,
         (pyramid, levels): (&Pyramid, &wgpu::Buffer),
-        labels: &GpuLabels,
+        (labels, use_): (&GpuLabels, LabelUse),
         encoder: &mut wgpu::CommandEncoder,
         timestamps: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> bool {
@@ -83,15 +120,23 @@ impl LabelFlags {
         if made {
             self.node_shown = node_buffer(device, nodes);
         }
-        // The cells follow the volume's grid, as the levels do: written once.
+        // The cells follow the volume's grid, as the levels do: written once per apron.
         if self.params.len() != pyramid.levels.len() {
             self.params = (0..pyramid.levels.len())
                 .map(|_| param_buffer(device))
                 .collect();
+            self.params_apron = None;
+        }
+        if self.params_apron != Some(use_.apron()) {
+            self.params_apron = Some(use_.apron());
             for (l, buffer) in self.params.iter().enumerate() {
                 let params = LabelParams {
                     cells: labels.cells,
                     level: l as u32,
+                    apron: use_.apron(),
+                    _pad0: 0,
+                    _pad1: 0,
+                    _pad2: 0,
                 };
                 ctx.queue
                     .write_buffer(buffer, 0, bytemuck::bytes_of(&params));
@@ -130,20 +175,24 @@ impl LabelFlags {
             dispatch_over_nodes(&mut pass, level.nodes);
         }
         drop(pass);
-        self.built_for = Some(shown_key(labels));
+        self.built_for = Some(shown_key(labels, use_));
         made
     }
 
-    /// Records the marking of every node without a shown label as empty in `node_empty` (after
-    /// the flag pass wrote it).
-    pub fn cut(
+    /// Records, after the flag pass wrote `node_empty`, the marking of every node without a
+    /// shown label as empty (`Cut`) or of every node near one as not empty (`Surfaces`).
+    pub fn fold(
         &self,
         ctx: &GpuContext,
         pipelines: &LabelFlagPipelines,
         (pyramid, levels): (&Pyramid, &wgpu::Buffer),
-        node_empty: &wgpu::Buffer,
+        (node_empty, use_): (&wgpu::Buffer, LabelUse),
         encoder: &mut wgpu::CommandEncoder,
     ) {
+        let pipeline = match use_ {
+            LabelUse::Cut => &pipelines.cut,
+            LabelUse::Surfaces => &pipelines.keep,
+        };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("cut to the shown labels"),
             timestamp_writes: None,
@@ -151,7 +200,7 @@ impl LabelFlags {
         for (l, level) in pyramid.levels.iter().enumerate() {
             let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("cut to the shown labels"),
-                layout: &pipelines.cut.get_bind_group_layout(0),
+                layout: &pipeline.get_bind_group_layout(0),
                 entries: &[
                     entry(0, self.params[l].as_entire_binding()),
                     entry(1, levels.as_entire_binding()),
@@ -159,7 +208,7 @@ impl LabelFlags {
                     entry(6, node_empty.as_entire_binding()),
                 ],
             });
-            pass.set_pipeline(&pipelines.cut);
+            pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &group, &[]);
             dispatch_over_nodes(&mut pass, level.nodes);
         }

@@ -21,6 +21,8 @@ pub struct Pipelines {
     exit: wgpu::RenderPipeline,
     /// The min/max pyramid, emptiness and distance-field builders.
     pub leap: LeapPipelines,
+    /// The label surfaces' mask builders.
+    pub surfaces: crate::render::label_surface::SurfacePipelines,
     raycast: HashMap<PipelineKey, RaycastPipeline>,
 }
 
@@ -61,6 +63,7 @@ impl Pipelines {
         );
         Ok(Self {
             leap: LeapPipelines::new(device)?,
+            surfaces: crate::render::label_surface::SurfacePipelines::new(device)?,
             exit,
             layouts,
             raycast: HashMap::new(),

@@ -20,6 +20,7 @@ use crate::volume::Volume;
 use super::error::RenderError;
 use super::gpu_volume::{FrameShared, GpuVolume};
 use super::leap::{LeapRequest, LeapStructures};
+use super::leap_labels::LabelUse;
 use super::measurements::Measurements;
 use super::passes::RaycastPasses;
 use super::pipelines::Pipelines;
@@ -193,6 +194,12 @@ impl VolumeRenderer {
         };
         volume.set_labels(&self.ctx, &self.pipelines.layouts, &shared, labels);
         Ok(())
+    }
+
+    /// Bytes on the GPU of the label surfaces' mask, where a frame drew them.
+    pub fn label_surface_bytes(&self) -> Option<u64> {
+        let volume = self.volume.as_ref()?;
+        volume.surface.as_ref().map(|s| s.gpu_bytes())
     }
 
     /// How long each frame may spend uploading bricks of a bricked volume before it renders
@@ -488,6 +495,19 @@ impl VolumeRenderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
+        if key.labels.surfaces() {
+            let shared = FrameShared {
+                uniforms: &self.uniforms,
+                sampler: &self.sampler,
+                tables: &self.transfer,
+                no_labels: &self.no_labels,
+            };
+            let builders = (&self.pipelines.layouts, &self.pipelines.surfaces);
+            let smoothing = settings.label_smoothing as f32;
+            if volume.prepare_surfaces(&self.ctx, builders, &shared, smoothing, &mut encoder) {
+                self.measurements.work.label_surface_builds += 1;
+            }
+        }
         let m = &mut self.measurements;
         let slot = m.begin(&self.ctx.device, request.stats, [first, last], &mut encoder);
         if key.strategy.leaps() {
@@ -498,7 +518,16 @@ impl VolumeRenderer {
                 window_lo: uniforms.window_lo,
                 iso_threshold: uniforms.iso_threshold,
                 volume: &volume.texture.view,
-                cut_to: volume.labels.as_deref().filter(|_| key.labels.cuts()),
+                labels: volume.labels.as_deref().and_then(|l| {
+                    let use_ = if key.labels.cuts() {
+                        LabelUse::Cut
+                    } else if key.labels.surfaces() {
+                        LabelUse::Surfaces
+                    } else {
+                        return None;
+                    };
+                    Some((l, use_))
+                }),
             };
             let probe = slot.as_ref().map(|s| (&mut m.probes, s));
             let (levels, builds) = volume.leap.prepare(

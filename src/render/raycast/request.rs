@@ -47,6 +47,9 @@ pub struct WorkCounts {
     pub distance_builds: u64,
     /// Flags of the nodes holding a shown label built (a cut view's shown labels changed).
     pub label_flag_builds: u64,
+    /// Label-surface masks built (the shown labels or the smoothing changed in a view drawing
+    /// their surfaces).
+    pub label_surface_builds: u64,
     /// Pre-integration tables built (transfer function or value range changed while
     /// pre-integration is on).
     pub integral_builds: u64,

@@ -149,14 +149,22 @@ impl PipelineKey {
 
     /// The same variant showing a segmentation as `view` says (`Off`: none loaded). X-ray, a
     /// density integral that no one sample colours, drops the colouring.
+    /// Surfaces are drawn in DVR only (the other modes show the image alone), and a ray drawing
+    /// them is never split (its parts would each need the mask's side at their start).
     pub fn with_labels(self, view: LabelView) -> Self {
         let xray = matches!(self.mode, Mode::Xray | Mode::XrayAttenuation);
         let labels = match view {
             LabelView::Colour if xray => LabelView::Off,
             LabelView::ColourInside if xray => LabelView::Inside,
+            LabelView::Surfaces if self.mode != Mode::Dvr => LabelView::Off,
             view => view,
         };
-        Self { labels, ..self }
+        let split = self.split && !labels.surfaces();
+        Self {
+            labels,
+            split,
+            ..self
+        }
     }
 
     /// The same variant for a volume that has non-finite voxels (`missing`) or not, bricked or
@@ -285,6 +293,9 @@ impl PipelineKey {
         }
         if self.labels.cuts() {
             defines.push("LABEL_INSIDE");
+        }
+        if self.labels.surfaces() {
+            defines.push("LABEL_SURFACES");
         }
         defines
     }

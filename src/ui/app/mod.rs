@@ -541,7 +541,11 @@ impl eframe::App for LeapViewApp {
                         );
                         ui.separator();
                         if state.layout.has_slices() && volume.is_some() {
-                            slices.labels_ui(ui, &mut state.render.labels);
+                            slices.labels_ui(
+                                ui,
+                                &mut state.render.labels,
+                                &mut state.render.label_smoothing,
+                            );
                             slices.controls_ui(ui);
                             ui.separator();
                         }

@@ -131,7 +131,7 @@ impl ShownLabels {
         &mut self,
         ui: &mut egui::Ui,
         queue: &wgpu::Queue,
-        view: &mut LabelView,
+        (view, smoothing): (&mut LabelView, &mut f64),
     ) -> Option<LabelsAction> {
         let mut action = None;
         let map = Arc::clone(&self.map);
@@ -162,11 +162,27 @@ impl ShownLabels {
                     "both",
                     "only inside the shown labels, each in its colour",
                 ),
+                (
+                    LabelView::Surfaces,
+                    "surfaces",
+                    "each shown label's boundary as a smooth lit surface over the image (DVR)",
+                ),
                 (LabelView::Off, "off", "the image alone"),
             ] {
                 ui.selectable_value(view, value, text).on_hover_text(hover);
             }
         });
+        if view.surfaces() {
+            ui.horizontal(|ui| {
+                ui.label("Smoothing");
+                let most = crate::labels::surface::MOST_SMOOTHING;
+                ui.add(egui::Slider::new(smoothing, 0.0..=most).fixed_decimals(1))
+                    .on_hover_text(
+                        "a Gaussian's width in voxels: 0 shows the voxels' outline, more rounds \
+                         steps away and thins structures one or two voxels across",
+                    );
+            });
+        }
         let before = self.look;
         ui.horizontal(|ui| {
             ui.label("Fill");

@@ -192,11 +192,16 @@ impl SliceViews {
 
     /// The segmentation's section of the side panel, where there is one; `view`: how it shows
     /// in 3D.
-    pub fn labels_ui(&mut self, ui: &mut egui::Ui, view: &mut crate::settings::LabelView) {
+    pub fn labels_ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        view: &mut crate::settings::LabelView,
+        smoothing: &mut f64,
+    ) {
         let Some((labels, queue)) = self.labels_mut() else {
             return;
         };
-        if labels.ui(ui, queue, view) == Some(LabelsAction::Close) {
+        if labels.ui(ui, queue, (view, smoothing)) == Some(LabelsAction::Close) {
             self.labels = None;
         }
         ui.separator();
