@@ -23,12 +23,26 @@
 // 1 where a node holds a shown label (build/labels.wgsl).
 @group(3) @binding(4) var<storage, read> node_shown: array<u32>;
 #endif
+#ifdef LABEL_SURFACES
+// 1 where a shown label lies in or within a cell of a node (build/labels.wgsl's apron).
+@group(3) @binding(4) var<storage, read> node_shown: array<u32>;
+#endif
 
 // Whether the view cuts node `node` away: it holds no shown label while the image is shown only
 // inside them (LABEL_INSIDE); the modes that skip by min/max ask (DVR's flags already hold it).
 fn cut_away(node: u32) -> bool {
 #ifdef LABEL_INSIDE
     return node_shown[node] == 0u;
+#else
+    return false;
+#endif
+}
+
+// Whether node `node` may hold a shown label's surface (LABEL_SURFACES), so that no mode skips
+// it; the modes that skip by min/max ask (DVR's flags already hold it).
+fn keeps_surface(node: u32) -> bool {
+#ifdef LABEL_SURFACES
+    return node_shown[node] != 0u;
 #else
     return false;
 #endif

@@ -93,7 +93,7 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
     // A label's surface the ray enters before this sample lies in front of it.
     // Through a local: naga's SPIR-V writer cannot pass a pointer into a pointer's pointee.
     var track = (*acc).track;
-    let surface = surface_before(&track, ray, k, t, p);
+    let surface = surface_before(&track, ray, k, t, p).colour;
     (*acc).track = track;
     if surface.a > 0.0 {
         let added = add_lit(acc, surface);

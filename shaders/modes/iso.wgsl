@@ -7,6 +7,9 @@
 #ifdef SHADING
 #include "shared/shade.wgsl"
 #endif
+#ifdef LABEL_SURFACES
+#include "shared/label_surface.wgsl"
+#endif
 
 struct Acc {
     // Side of the previous sample: -1 below the iso value, +1 at or above, 0 before the first.
@@ -15,10 +18,18 @@ struct Acc {
     prev_d: f32,
     hit: bool,
     hit_p: vec3<f32>,
+#ifdef LABEL_SURFACES
+    // The labels' surfaces in front of the isosurface.
+    over: SurfaceOver,
+#endif
 }
 
 fn acc_init() -> Acc {
-    return Acc(0.0, 0.0, 0.0, false, vec3<f32>(0.0));
+    var acc: Acc;
+#ifdef LABEL_SURFACES
+    acc.over = surface_over();
+#endif
+    return acc;
 }
 
 #ifdef LEAP
@@ -29,8 +40,9 @@ fn acc_init() -> Acc {
 fn acc_skips(acc: Acc, node: u32) -> bool {
     let m = minmax[node];
     let iso = frame.iso_threshold;
-    return holds_no_finite_voxel(m) || (m.y < iso && acc.side < 0.0)
+    let skip = holds_no_finite_voxel(m) || (m.y < iso && acc.side < 0.0)
         || (m.x >= iso && acc.side > 0.0);
+    return skip && !keeps_surface(node);
 }
 
 // Land on the region's last sample, so the crossing after it is bracketed by the same two
@@ -110,6 +122,34 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
         // Plain RC marches on without effect.
         return 0u;
     }
+#ifdef LABEL_SURFACES
+    // A label's surface entered before this sample: in front of the isosurface unless the
+    // isosurface's crossing in the same step lies nearer (iso_sample adds it then).
+    var track = (*acc).over.track;
+    let surface = surface_before(&track, ray, k, t, p);
+    (*acc).over.track = track;
+    let r = iso_sample(acc, ray, t, s, surface);
+    if !(*acc).hit && surface.colour.a > 0.0 {
+        var added = (*acc).over;
+        let stop = over_add(&added, surface.colour);
+        (*acc).over = added;
+        return stop | r;
+    }
+    return r;
+#else
+    return iso_sample(acc, ray, t, s, 0.0);
+#endif
+}
+
+#ifndef LABEL_SURFACES
+// No surfaces: a stand-in for their hit.
+alias SurfaceHit = f32;
+#endif
+
+// Sample value s at distance t: the isosurface's crossing since the last sample, if any.
+// `surface` (LABEL_SURFACES) is a label's surface entered in the same step: where the
+// isosurface's crossing lies behind it, it is added first.
+fn iso_sample(acc: ptr<function, Acc>, ray: Ray, t: f32, s: f32, surface: SurfaceHit) -> u32 {
     let d = s - frame.iso_threshold;
     let side = select(-1.0, 1.0, d >= 0.0);
     if (*acc).side != 0.0 && side != (*acc).side && s >= MISSING_BELOW {
@@ -139,6 +179,13 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
             return 0u;
         }
 #endif
+#ifdef LABEL_SURFACES
+        if surface.colour.a > 0.0 && surface.t <= th {
+            var added = (*acc).over;
+            over_add(&added, surface.colour);
+            (*acc).over = added;
+        }
+#endif
         (*acc).hit = true;
         (*acc).hit_p = hit_p;
 #ifdef EARLY_TERMINATION
@@ -156,6 +203,15 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
 }
 
 fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
+#ifdef LABEL_SURFACES
+    return over_finish(acc.over, isosurface(acc, ray));
+#else
+    return isosurface(acc, ray);
+#endif
+}
+
+// The isosurface's colour where the ray hit it, else the background.
+fn isosurface(acc: Acc, ray: Ray) -> vec4<f32> {
     if !acc.hit {
         return frame.background;
     }

@@ -2,6 +2,9 @@
 // ray, as grey through the window or as the transfer function's colour.
 
 #include "shared/classify.wgsl"
+#ifdef LABEL_SURFACES
+#include "shared/label_surface.wgsl"
+#endif
 
 // Samples taken before the march for a lower bound (leaping only).
 const MIP_PRIME_SAMPLES: u32 = 4u;
@@ -11,14 +14,23 @@ struct Acc {
     seen: bool,
     // Where the extreme was taken (LABEL_COLOUR: its label tints the pixel).
     at: vec3<f32>,
+#ifdef LABEL_SURFACES
+    // The labels' surfaces over the projection.
+    over: SurfaceOver,
+#endif
 }
 
 fn acc_init() -> Acc {
+    var acc: Acc;
 #ifdef MODE_MINIP
-    return Acc(3.0e38, false, vec3<f32>(0.0));
+    acc.extreme = 3.0e38;
 #else
-    return Acc(-3.0e38, false, vec3<f32>(0.0));
+    acc.extreme = -3.0e38;
 #endif
+#ifdef LABEL_SURFACES
+    acc.over = surface_over();
+#endif
+    return acc;
 }
 
 #ifdef LEAP
@@ -27,10 +39,11 @@ fn acc_init() -> Acc {
 fn acc_skips(acc: Acc, node: u32) -> bool {
     let m = minmax[node];
 #ifdef MODE_MINIP
-    return holds_no_finite_voxel(m) || m.x >= acc.extreme || cut_away(node);
+    let skip = holds_no_finite_voxel(m) || m.x >= acc.extreme || cut_away(node);
 #else
-    return holds_no_finite_voxel(m) || m.y <= acc.extreme || cut_away(node);
+    let skip = holds_no_finite_voxel(m) || m.y <= acc.extreme || cut_away(node);
 #endif
+    return skip && !keeps_surface(node);
 }
 
 fn acc_leap_target(k: u32, after: u32) -> u32 {
@@ -65,7 +78,9 @@ fn acc_prime(acc: ptr<function, Acc>, ray: Ray, part: u32, parts: u32) -> vec2<u
         let t = sample_distance(ray, k);
         let p = ray.entry + ray.box_per_mm * t;
         taken += 1u;
-        if (acc_sample(acc, ray, k, t, p, sample_value(p)) & SAMPLE_STOP) != 0u {
+        // The projection's samples only (the surfaces are gathered in order by the march); a
+        // saturated projection settles nothing where surfaces may lie behind (extreme_sample).
+        if (extreme_sample(acc, p, sample_value(p)) & SAMPLE_STOP) != 0u {
             return vec2<u32>(taken, 1u);
         }
     }
@@ -97,6 +112,21 @@ fn acc_enter(acc: ptr<function, Acc>, ray: Ray, first: u32) -> u32 {
 #endif
 
 fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s_in: f32) -> u32 {
+#ifdef LABEL_SURFACES
+    var over = (*acc).over;
+    let surfaced = over_sample(&over, ray, k, t, p);
+    (*acc).over = over;
+    if (surfaced & SAMPLE_STOP) != 0u {
+        return surfaced;
+    }
+    return extreme_sample(acc, p, s_in) | surfaced;
+#else
+    return extreme_sample(acc, p, s_in);
+#endif
+}
+
+// Sample value s_in at p in the projection.
+fn extreme_sample(acc: ptr<function, Acc>, p: vec3<f32>, s_in: f32) -> u32 {
     let s = labelled_value(s_in, p);
     if s < MISSING_BELOW {
         return 0u;
@@ -107,25 +137,39 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
     (*acc).extreme = min((*acc).extreme, s);
     (*acc).at = select((*acc).at, p, better);
 #ifdef EARLY_TERMINATION
+#ifndef LABEL_SURFACES
     if (*acc).extreme <= frame.saturation {
         return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
     }
+#endif
 #endif
 #else
     let better = s > (*acc).extreme;
     (*acc).extreme = max((*acc).extreme, s);
     (*acc).at = select((*acc).at, p, better);
 #ifdef EARLY_TERMINATION
-    // Nothing can change the image once the value reaches the saturation point.
+#ifndef LABEL_SURFACES
+    // Nothing can change the image once the value reaches the saturation point (but a label's
+    // surface behind it can).
     if (*acc).extreme >= frame.saturation {
         return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
     }
+#endif
 #endif
 #endif
     return select(0u, SAMPLE_CONTRIBUTED, better);
 }
 
 fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
+#ifdef LABEL_SURFACES
+    return over_finish(acc.over, projection(acc));
+#else
+    return projection(acc);
+#endif
+}
+
+// The projection's colour.
+fn projection(acc: Acc) -> vec4<f32> {
     if !acc.seen {
         return frame.background;
     }

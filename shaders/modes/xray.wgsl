@@ -4,13 +4,25 @@
 // attenuation mode shows 1 − exp(−density · ∫f ds), like a radiograph.
 
 #include "shared/classify.wgsl"
+#ifdef LABEL_SURFACES
+#include "shared/label_surface.wgsl"
+#endif
 
 struct Acc {
     integral_mm: f32,
+#ifdef LABEL_SURFACES
+    // The labels' surfaces over the projection.
+    over: SurfaceOver,
+#endif
 }
 
 fn acc_init() -> Acc {
-    return Acc(0.0);
+    var acc: Acc;
+    acc.integral_mm = 0.0;
+#ifdef LABEL_SURFACES
+    acc.over = surface_over();
+#endif
+    return acc;
 }
 
 #ifdef LEAP
@@ -18,7 +30,8 @@ fn acc_init() -> Acc {
 // integral (and the mean divides by the analytic path length).
 fn acc_skips(acc: Acc, node: u32) -> bool {
     let m = minmax[node];
-    return holds_no_finite_voxel(m) || m.y <= frame.window_lo || cut_away(node);
+    let skip = holds_no_finite_voxel(m) || m.y <= frame.window_lo || cut_away(node);
+    return skip && !keeps_surface(node);
 }
 
 fn acc_leap_target(k: u32, after: u32) -> u32 {
@@ -51,7 +64,9 @@ fn acc_prime(acc: ptr<function, Acc>, ray: Ray, part: u32, parts: u32) -> vec2<u
 #ifdef RAY_SPLIT
 // The integral over two parts of a ray.
 fn acc_combine(front: Acc, back: Acc) -> Acc {
-    return Acc(front.integral_mm + back.integral_mm);
+    var joined = front;
+    joined.integral_mm += back.integral_mm;
+    return joined;
 }
 
 // A part of a ray needs nothing from before it.
@@ -61,6 +76,21 @@ fn acc_enter(acc: ptr<function, Acc>, ray: Ray, first: u32) -> u32 {
 #endif
 
 fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s_in: f32) -> u32 {
+#ifdef LABEL_SURFACES
+    var over = (*acc).over;
+    let surfaced = over_sample(&over, ray, k, t, p);
+    (*acc).over = over;
+    if (surfaced & SAMPLE_STOP) != 0u {
+        return surfaced;
+    }
+    return integral_sample(acc, ray, k, p, s_in) | surfaced;
+#else
+    return integral_sample(acc, ray, k, p, s_in);
+#endif
+}
+
+// Sample k's value s_in at p in the integral.
+fn integral_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, p: vec3<f32>, s_in: f32) -> u32 {
     let s = labelled_value(s_in, p);
     if s < MISSING_BELOW {
         return 0u;
@@ -73,16 +103,28 @@ fn acc_sample(acc: ptr<function, Acc>, ray: Ray, k: u32, t: f32, p: vec3<f32>, s
     (*acc).integral_mm += f * segment;
 #ifdef MODE_XRAY_ATTENUATION
 #ifdef EARLY_TERMINATION
-    // Past an optical depth of ln(255) the radiograph is within 1/255 of white.
+#ifndef LABEL_SURFACES
+    // Past an optical depth of ln(255) the radiograph is within 1/255 of white (a label's
+    // surface behind can still show).
     if frame.xray_density_per_mm * (*acc).integral_mm > 5.5413 {
         return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
     }
+#endif
 #endif
 #endif
     return SAMPLE_CONTRIBUTED;
 }
 
 fn acc_finish(acc: Acc, ray: Ray) -> vec4<f32> {
+#ifdef LABEL_SURFACES
+    return over_finish(acc.over, projection(acc, ray));
+#else
+    return projection(acc, ray);
+#endif
+}
+
+// The projection's grey.
+fn projection(acc: Acc, ray: Ray) -> vec4<f32> {
 #ifdef MODE_XRAY_ATTENUATION
     let grey = 1.0 - exp(-frame.xray_density_per_mm * acc.integral_mm);
 #else

@@ -1,4 +1,4 @@
-// Labels as surfaces (LABEL_SURFACES, DVR): the shown labels' boundary as a smooth lit surface,
+// Labels as surfaces (LABEL_SURFACES): the shown labels' boundary as a smooth lit surface,
 // found in the ray loop without a mesh. The mask (build/label_surface.wgsl: the shown labels'
 // indicator smoothed by a Gaussian) is sampled trilinearly; where it rises through one half
 // between two samples the crossing is refined by false position, lit by the mask's gradient and
@@ -6,7 +6,9 @@
 // leaving a label draws nothing), and a shown label at the box's face shows a cap facing the eye.
 // Leaping skips only nodes with no shown label within the kernel's reach (the label flags'
 // apron), where the mask stays below one half: a sample after a leap starts outside, as the
-// sample before it in plain ray casting is. The f64 twin is src/reference/modes.rs.
+// sample before it in plain ray casting is. DVR composites each surface in front of the sample
+// after it; the isosurface, MIP, MinIP and X-ray show the surfaces over their picture
+// (SurfaceOver below). The f64 twin is src/reference/surfaces.rs.
 
 #include "shared/labels.wgsl"
 #include "shared/shade.wgsl"
@@ -73,15 +75,21 @@ fn surface_label(p: vec3<f32>, g: vec3<f32>) -> vec4<f32> {
     return best;
 }
 
+// A surface a ray enters: its colour, lit, and opacity (a = 0: none), and its distance (mm).
+struct SurfaceHit {
+    colour: vec4<f32>,
+    t: f32,
+}
+
 // The surface the ray enters between the sample before k (or the entry point) and sample k at
-// distance t (box position p): its colour, lit, and its opacity; a = 0 where it enters none.
-fn surface_before(track: ptr<function, SurfaceTrack>, ray: Ray, k: u32, t: f32, p: vec3<f32>) -> vec4<f32> {
+// distance t (box position p).
+fn surface_before(track: ptr<function, SurfaceTrack>, ray: Ray, k: u32, t: f32, p: vec3<f32>) -> SurfaceHit {
     let was_inside = (*track).inside & ((*track).next_k == k);
     let f = mask_at(p);
     (*track).inside = f >= SURFACE_LEVEL;
     (*track).next_k = k + 1u;
     if was_inside | (f < SURFACE_LEVEL) {
-        return vec4<f32>(0.0);
+        return SurfaceHit(vec4<f32>(0.0), t);
     }
     var t0 = 0.0;
     if k > 0u {
@@ -111,7 +119,47 @@ fn surface_before(track: ptr<function, SurfaceTrack>, ray: Ray, k: u32, t: f32, 
     let hit = ray.entry + ray.box_per_mm * th;
     let c = surface_label(hit, g);
     if c.a <= 0.0 {
-        return vec4<f32>(0.0);
+        return SurfaceHit(vec4<f32>(0.0), th);
     }
-    return vec4<f32>(phong(c.rgb, g, ray.dir_world), c.a);
+    return SurfaceHit(vec4<f32>(phong(c.rgb, g, ray.dir_world), c.a), th);
+}
+
+// The surfaces a ray has entered, composited front to back over the picture of a mode that does
+// not composite (isosurface, MIP, MinIP, X-ray), and where it stands among them.
+struct SurfaceOver {
+    track: SurfaceTrack,
+    // Premultiplied colour and opacity.
+    colour: vec4<f32>,
+}
+
+fn surface_over() -> SurfaceOver {
+    return SurfaceOver(surface_track(), vec4<f32>(0.0));
+}
+
+// Adds a surface behind those gathered; SAMPLE_STOP (with early termination) once they hide
+// everything behind.
+fn over_add(over: ptr<function, SurfaceOver>, c: vec4<f32>) -> u32 {
+    (*over).colour += (1.0 - (*over).colour.a) * vec4<f32>(c.rgb * c.a, c.a);
+#ifdef EARLY_TERMINATION
+    if (*over).colour.a > frame.termination_alpha {
+        return SAMPLE_STOP | SAMPLE_CONTRIBUTED;
+    }
+#endif
+    return SAMPLE_CONTRIBUTED;
+}
+
+// The surface entered before sample k, added (see over_add; 0 where there is none).
+fn over_sample(over: ptr<function, SurfaceOver>, ray: Ray, k: u32, t: f32, p: vec3<f32>) -> u32 {
+    var track = (*over).track;
+    let hit = surface_before(&track, ray, k, t, p);
+    (*over).track = track;
+    if hit.colour.a > 0.0 {
+        return over_add(over, hit.colour);
+    }
+    return 0u;
+}
+
+// The surfaces over the mode's picture `under` (opaque).
+fn over_finish(over: SurfaceOver, under: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(over.colour.rgb + (1.0 - over.colour.a) * under.rgb, 1.0);
 }

@@ -31,7 +31,7 @@ pub struct LabelArgs {
     pub label_names: Option<PathBuf>,
     /// How the labels show: colour (each sample in its label's colour), inside (the image only
     /// inside the shown labels, the rest cut away), colour-inside (both), surfaces (each shown
-    /// label's boundary as a smooth lit surface, DVR) or off.
+    /// label's boundary as a smooth lit surface) or off.
     #[arg(
         long,
         value_enum,

@@ -10,7 +10,7 @@ use crate::transfer::{TransferFunction, preintegration};
 use crate::volume::{ValueRange, Volume};
 
 use super::shade::{gradient, phong};
-use super::surfaces::SurfaceWalk;
+use super::surfaces::{Surface, SurfaceWalk};
 use super::trilinear::{sample_colour, sample_trilinear};
 use crate::counters::FrameCounters;
 
@@ -191,7 +191,12 @@ fn dvr(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     for s in ray.grid().samples() {
         counts.samples += 1;
         // A label's surface the ray enters before this sample lies in front of it.
-        if let Some((c, a)) = walk.before(ray, std::mem::replace(&mut before, s.t_mm), s.t_mm) {
+        if let Some(Surface {
+            colour: c,
+            alpha: a,
+            ..
+        }) = walk.before(ray, std::mem::replace(&mut before, s.t_mm), s.t_mm)
+        {
             color += (1.0 - alpha) * a * c;
             alpha += (1.0 - alpha) * a;
             if stops_early(ray) && alpha > ray.settings.termination_alpha {
@@ -235,7 +240,12 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     let mut walk = SurfaceWalk::default();
     for s in ray.grid().samples() {
         counts.samples += 1;
-        if let Some((c, a)) = walk.before(ray, front.0, s.t_mm) {
+        if let Some(Surface {
+            colour: c,
+            alpha: a,
+            ..
+        }) = walk.before(ray, front.0, s.t_mm)
+        {
             color += (1.0 - alpha) * a * c;
             alpha += (1.0 - alpha) * a;
             if stops_early(ray) && alpha > ray.settings.termination_alpha {
@@ -281,40 +291,63 @@ fn iso(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
     let range = ray.range();
     let iso = ray.settings.iso.threshold(range);
     let mut prev: Option<(f64, f64)> = None;
+    let mut walk = SurfaceWalk::default();
+    let mut before = 0.0;
+    let background = DVec3::from_array(ray.settings.background);
     for s in ray.grid().samples() {
         counts.samples += 1;
-        let Some(v) = ray.value(s.t_mm) else { continue };
-        let d = v - iso;
-        if let Some((t0, d0)) = prev
-            && (d >= 0.0) != (d0 >= 0.0)
+        // A label's surface entered before this sample: in front of the isosurface unless its
+        // crossing in the same step lies nearer.
+        let surface = walk.before(ray, std::mem::replace(&mut before, s.t_mm), s.t_mm);
+        let crossing = iso_crossing(ray, counts, (iso, &mut prev), s.t_mm);
+        if let Some(surface) = &surface
+            && crossing.is_none_or(|(hit, _)| surface.t <= hit)
+            && walk.add(ray, surface)
+            && crossing.is_none()
         {
-            let (mut t0, mut d0, mut t1, mut d1) = (t0, d0, s.t_mm, d);
-            let root = |t0: f64, d0: f64, t1: f64, d1: f64| {
-                t0 + (t1 - t0) * (d0 / (d0 - d1)).clamp(0.0, 1.0)
-            };
-            for _ in 0..ray.settings.iso.refine_iterations {
-                let tm = root(t0, d0, t1, d1);
-                let dm = ray.value(tm).unwrap_or(d0 + iso) - iso;
-                if (dm >= 0.0) == (d0 >= 0.0) {
-                    (t0, d0) = (tm, dm);
-                } else {
-                    (t1, d1) = (tm, dm);
-                }
-            }
-            let hit = root(t0, d0, t1, d1);
-            // A crossing the labels cut away: the ray goes on, on its new side.
-            if !ray.shown(hit) {
-                prev = Some((s.t_mm, d));
-                continue;
-            }
-            counts.visible_samples += 1;
-            let colour = sample_colour(ray.volume, ray.entry + ray.dir * hit)
-                .unwrap_or_else(|| ray.tf_color(iso));
-            return Some(ray.lit(ray.labelled_colour(colour, hit), hit));
+            return Some(walk.over(background));
         }
-        prev = Some((s.t_mm, d));
+        if let Some((_, colour)) = crossing {
+            return Some(walk.over(colour));
+        }
     }
-    None
+    SurfaceWalk::drawn(ray).then(|| walk.over(background))
+}
+
+/// The isosurface's crossing between the previous finite sample (`prev`: its distance and
+/// value − iso) and the sample at `t`, if any: its distance and lit colour.
+fn iso_crossing(
+    ray: &RayInput,
+    counts: &mut FrameCounters,
+    (iso, prev): (f64, &mut Option<(f64, f64)>),
+    t: f64,
+) -> Option<(f64, DVec3)> {
+    let d = ray.value(t)? - iso;
+    let (t0, d0) = prev.replace((t, d))?;
+    if (d >= 0.0) == (d0 >= 0.0) {
+        return None;
+    }
+    let (mut t0, mut d0, mut t1, mut d1) = (t0, d0, t, d);
+    let root =
+        |t0: f64, d0: f64, t1: f64, d1: f64| t0 + (t1 - t0) * (d0 / (d0 - d1)).clamp(0.0, 1.0);
+    for _ in 0..ray.settings.iso.refine_iterations {
+        let tm = root(t0, d0, t1, d1);
+        let dm = ray.value(tm).unwrap_or(d0 + iso) - iso;
+        if (dm >= 0.0) == (d0 >= 0.0) {
+            (t0, d0) = (tm, dm);
+        } else {
+            (t1, d1) = (tm, dm);
+        }
+    }
+    let hit = root(t0, d0, t1, d1);
+    // A crossing the labels cut away: the ray goes on, on its new side.
+    if !ray.shown(hit) {
+        return None;
+    }
+    counts.visible_samples += 1;
+    let colour =
+        sample_colour(ray.volume, ray.entry + ray.dir * hit).unwrap_or_else(|| ray.tf_color(iso));
+    Some((hit, ray.lit(ray.labelled_colour(colour, hit), hit)))
 }
 
 fn extreme(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
@@ -327,8 +360,17 @@ fn extreme(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
         (false, MipColor::Tf) => 1.0,
     };
     let mut best: Option<(f64, f64)> = None;
+    // Labels' surfaces over the projection of the whole ray (which they may hide).
+    let mut walk = SurfaceWalk::default();
+    let surfaces = SurfaceWalk::drawn(ray);
+    let mut before = 0.0;
     for s in ray.grid().samples() {
         counts.samples += 1;
+        if let Some(surface) = walk.before(ray, std::mem::replace(&mut before, s.t_mm), s.t_mm)
+            && walk.add(ray, &surface)
+        {
+            break;
+        }
         let Some(v) = ray.labelled_value(s.t_mm) else {
             continue;
         };
@@ -337,7 +379,9 @@ fn extreme(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
             counts.visible_samples += 1;
             best = Some((v, s.t_mm));
         }
+        // A saturated projection ends the ray unless a surface may lie behind.
         if stops_early(ray)
+            && !surfaces
             && (if minimum {
                 v <= saturation
             } else {
@@ -347,8 +391,17 @@ fn extreme(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
             break;
         }
     }
-    let (v, at) = best?;
-    Some(match ray.settings.mip_color {
+    let background = DVec3::from_array(ray.settings.background);
+    let projection = best.map(|(v, at)| extreme_colour(ray, (v, at), (lo, hi)));
+    if surfaces {
+        return Some(walk.over(projection.unwrap_or(background)));
+    }
+    projection
+}
+
+/// The colour of the extreme `v` taken at `at` through the window `(lo, hi)` or the function.
+fn extreme_colour(ray: &RayInput, (v, at): (f64, f64), (lo, hi): (f64, f64)) -> DVec3 {
+    match ray.settings.mip_color {
         // Grey, tinted by the label where the extreme was taken.
         MipColor::Window => {
             ((v - lo) / (hi - lo)).clamp(0.0, 1.0) * ray.labelled_colour(DVec3::ONE, at)
@@ -359,7 +412,7 @@ fn extreme(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
             a * ray.labelled_colour(ray.tf_color(v), at)
                 + (1.0 - a) * DVec3::from_array(ray.settings.background)
         }
-    })
+    }
 }
 
 fn xray(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
@@ -368,8 +421,17 @@ fn xray(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     let density = ray.settings.xray_density_per_mm;
     let grid = ray.grid();
     let mut integral = 0.0;
+    // Labels' surfaces over the projection of the whole ray (which they may hide).
+    let mut walk = SurfaceWalk::default();
+    let surfaces = SurfaceWalk::drawn(ray);
+    let mut before = 0.0;
     for (k, s) in grid.samples().enumerate() {
         counts.samples += 1;
+        if let Some(surface) = walk.before(ray, std::mem::replace(&mut before, s.t_mm), s.t_mm)
+            && walk.add(ray, &surface)
+        {
+            break;
+        }
         let Some(v) = ray.labelled_value(s.t_mm) else {
             continue;
         };
@@ -379,7 +441,7 @@ fn xray(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
         }
         counts.visible_samples += 1;
         integral += f * grid.step_mm.min(grid.length_mm - k as f64 * grid.step_mm);
-        if attenuation && stops_early(ray) && density * integral > 255f64.ln() {
+        if attenuation && stops_early(ray) && !surfaces && density * integral > 255f64.ln() {
             break;
         }
     }
@@ -388,5 +450,5 @@ fn xray(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
     } else {
         (integral / ray.length_mm).clamp(0.0, 1.0)
     };
-    DVec3::splat(grey)
+    walk.over(DVec3::splat(grey))
 }

@@ -15,16 +15,46 @@ const LEVEL: f64 = 0.5;
 /// False-position steps refining a crossing (the shader's `SURFACE_REFINE`).
 const REFINE: usize = 5;
 
-/// A ray's walk through the surfaces: whether its last sample was inside.
+/// A ray's walk through the surfaces: whether its last sample was inside, and the surfaces it
+/// entered composited front to back (premultiplied) for the modes that show them over their
+/// picture (isosurface, MIP, MinIP, X-ray).
 #[derive(Default)]
 pub(super) struct SurfaceWalk {
     inside: bool,
+    colour: DVec3,
+    alpha: f64,
+}
+
+/// A surface a ray enters: its lit colour, opacity and distance (mm).
+pub(super) struct Surface {
+    pub colour: DVec3,
+    pub alpha: f64,
+    pub t: f64,
 }
 
 impl SurfaceWalk {
+    /// Adds `s` behind the surfaces gathered; whether they now hide what lies behind (the
+    /// ray may stop, where it stops early).
+    pub(super) fn add(&mut self, ray: &RayInput, s: &Surface) -> bool {
+        self.colour += (1.0 - self.alpha) * s.alpha * s.colour;
+        self.alpha += (1.0 - self.alpha) * s.alpha;
+        ray.settings.strategy != crate::settings::Strategy::Rc
+            && self.alpha > ray.settings.termination_alpha
+    }
+
+    /// The surfaces gathered over `under`.
+    pub(super) fn over(&self, under: DVec3) -> DVec3 {
+        self.colour + (1.0 - self.alpha) * under
+    }
+
+    /// Whether the ray draws surfaces.
+    pub(super) fn drawn(ray: &RayInput) -> bool {
+        ray.labels.is_some_and(|l| l.mask.is_some())
+    }
+
     /// The surface the ray enters between `t0` (the previous sample, or 0 at the entry) and `t`
-    /// (mm): its lit colour and opacity, if it enters one.
-    pub(super) fn before(&mut self, ray: &RayInput, t0: f64, t: f64) -> Option<(DVec3, f64)> {
+    /// (mm), if it enters one.
+    pub(super) fn before(&mut self, ray: &RayInput, t0: f64, t: f64) -> Option<Surface> {
         let mask = ray.labels?.mask?;
         let f = mask_at(ray, mask, t);
         let was_inside = std::mem::replace(&mut self.inside, f >= LEVEL);
@@ -52,10 +82,11 @@ impl SurfaceWalk {
         let [r, gr, b, a] = label_around(ray, ray.entry + ray.dir * th, g)?;
         let colour = DVec3::new(f64::from(r), f64::from(gr), f64::from(b)) / 255.0;
         let s = ray.settings;
-        Some((
-            phong(colour, g, ray.dir, &s.phong, &s.light),
-            f64::from(a) / 255.0,
-        ))
+        Some(Surface {
+            colour: phong(colour, g, ray.dir, &s.phong, &s.light),
+            alpha: f64::from(a) / 255.0,
+            t: th,
+        })
     }
 }
 

@@ -94,8 +94,9 @@ pub enum LabelView {
     /// Both: only inside the shown labels, each sample in its label's colour.
     #[value(name = "colour-inside")]
     ColourInside,
-    /// The image's transfer function with each shown label's boundary drawn as a smooth lit
-    /// surface in the label's colour, at its opacity (DVR; the other modes show the image alone).
+    /// Each shown label's boundary drawn as a smooth lit surface in the label's colour, at its
+    /// opacity: composited with the image in DVR, in front of the isosurface, over the MIP,
+    /// MinIP or X-ray of the whole ray.
     Surfaces,
 }
 

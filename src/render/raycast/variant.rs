@@ -149,14 +149,13 @@ impl PipelineKey {
 
     /// The same variant showing a segmentation as `view` says (`Off`: none loaded). X-ray, a
     /// density integral that no one sample colours, drops the colouring.
-    /// Surfaces are drawn in DVR only (the other modes show the image alone), and a ray drawing
-    /// them is never split (its parts would each need the mask's side at their start).
+    /// A ray drawing surfaces is never split (its parts would each need the mask's side at
+    /// their start).
     pub fn with_labels(self, view: LabelView) -> Self {
         let xray = matches!(self.mode, Mode::Xray | Mode::XrayAttenuation);
         let labels = match view {
             LabelView::Colour if xray => LabelView::Off,
             LabelView::ColourInside if xray => LabelView::Inside,
-            LabelView::Surfaces if self.mode != Mode::Dvr => LabelView::Off,
             view => view,
         };
         let split = self.split && !labels.surfaces();

@@ -165,7 +165,7 @@ impl ShownLabels {
                 (
                     LabelView::Surfaces,
                     "surfaces",
-                    "each shown label's boundary as a smooth lit surface over the image (DVR)",
+                    "each shown label's boundary as a smooth lit surface over the image",
                 ),
                 (LabelView::Off, "off", "the image alone"),
             ] {
