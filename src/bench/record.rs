@@ -52,6 +52,9 @@ pub struct DatasetInfo {
     /// results written before it was recorded.
     #[serde(default)]
     pub gpu_layout: Option<String>,
+    /// The segmentation shown in every run (its file, segments and view), if one was.
+    #[serde(default)]
+    pub labels: Option<String>,
 }
 
 /// What identifies a run: the dataset and every setting that was varied.

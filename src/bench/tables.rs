@@ -284,7 +284,10 @@ fn write_environment(md: &mut String, summary: &Summary) {
             md,
             "| {} | {} | {}×{}×{} | {:.3}, {:.3}, {:.3} | {} | {} | {} | {} |",
             d.name,
-            d.source,
+            match &d.labels {
+                Some(l) => format!("{}, labels {l}", d.source),
+                None => d.source.clone(),
+            },
             d.dims[0],
             d.dims[1],
             d.dims[2],

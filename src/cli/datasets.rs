@@ -88,6 +88,7 @@ pub fn load(
         tf: spec.tf.clone(),
         why: spec.why.clone(),
         gpu_layout: None,
+        labels: None,
     };
     Ok(Loaded {
         volume: std::sync::Arc::new(volume),

@@ -317,3 +317,78 @@ fn stream_measures_an_orbit_while_bricks_arrive() {
         "{small:?} against {rows:?}"
     );
 }
+
+/// `bench --labels`: the CT head with its Slicer segmentation (pynrrd) shown as surfaces in every
+/// run; leaping stays exact with them (the image check), the report names them; a segmentation
+/// over several datasets is refused.
+#[test]
+fn bench_measures_a_dataset_with_its_segmentation() {
+    let data = common::data_dir();
+    let dir = common::TempDir::new("bench-labels");
+    let config = serde_json::json!({
+        "datasets": [
+            {"name": "ct_head", "source": {"kind": "file", "file": "ct_head_cthead_256x256x113_uint16.nrrd"},
+             "tf": "ct-bone", "why": "bone"},
+            {"name": "tiny_vessels", "source": {"kind": "vessel-tree", "n": 32, "seed": 7},
+             "tf": "mr-angio", "why": "vessels"}
+        ],
+        "modes": ["dvr", "mip"],
+        "strategies": ["rc-t", "rc-s"],
+        "paths": ["compute"],
+        "resolutions": [[40, 32]],
+        "views": 1,
+        "elevation_deg": 20,
+        "warmup_frames": 1,
+        "step_vox": 0.5,
+        "phong": true,
+        "rebuild_repeats": 1,
+        "image_check_size": [40, 32],
+        "block_sweep": {"datasets": [], "sizes": [8], "modes": ["dvr"], "resolution": [40, 32]}
+    })
+    .to_string();
+    let config = dir.write("config.json", config.as_bytes());
+    let out = dir.path().join("out");
+    let labels = data.join("labels/ct_head_cthead.seg.nrrd");
+    let run = |datasets: &str| {
+        bench_command(&config, &data, &out)
+            .args([
+                "--datasets",
+                datasets,
+                "--label-view",
+                "surfaces",
+                "--labels",
+            ])
+            .arg(&labels)
+            .output()
+            .expect("run leapview bench")
+    };
+    let both = run("ct_head,tiny_vessels");
+    assert_eq!(both.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&both.stderr);
+    assert!(err.contains("one dataset"), "{err}");
+    let one = run("ct_head");
+    assert!(
+        one.status.success(),
+        "{}",
+        String::from_utf8_lossy(&one.stderr)
+    );
+    let results: BenchResults =
+        serde_json::from_str(&read(&out.join("frames.json"))).expect("frames.json parses");
+    let labelled = results.datasets[0]
+        .labels
+        .as_deref()
+        .expect("labels recorded");
+    assert!(
+        labelled.contains("3 segments") && labelled.contains("Surfaces"),
+        "{labelled}"
+    );
+    assert!(read(&out.join("tables.md")).contains("labels ct_head_cthead.seg.nrrd"));
+    let summary: Summary =
+        serde_json::from_str(&read(&out.join("summary.json"))).expect("summary.json parses");
+    assert!(!summary.image_checks.is_empty());
+    assert_eq!(
+        summary.image_check_failures, 0,
+        "{:?}",
+        summary.image_checks
+    );
+}

@@ -46,6 +46,13 @@ pub struct BenchArgs {
     /// GPU memory.
     #[command(flatten)]
     pub gpu: crate::cli::args::GpuArgs,
+    /// A segmentation of the one dataset measured (--datasets names it), shown in every run as
+    /// --label-view says (NIfTI, NRRD, .seg.nrrd, MetaImage or DICOM SEG).
+    #[arg(long, value_name = "FILE", requires = "datasets")]
+    pub labels: Option<PathBuf>,
+    /// With --labels: how the labels show (colour, inside, colour-inside, surfaces, off).
+    #[arg(long, value_enum, default_value = "colour", requires = "labels")]
+    pub label_view: leapview::settings::LabelView,
     /// Lighting in DVR and isosurfaces, in place of the configuration's phong.
     #[arg(long, value_enum)]
     pub shading: Option<Shading>,
@@ -54,7 +61,7 @@ pub struct BenchArgs {
     ///
     /// Takes --gpu-budget, --bricks, the first of --modes, --strategies (default rc-s-df) and
     /// --paths, and the --stream-* options below.
-    #[arg(long, conflicts_with_all = ["quick", "datasets", "block", "shading", "merge"])]
+    #[arg(long, conflicts_with_all = ["quick", "datasets", "block", "shading", "merge", "labels"])]
     pub stream: Option<PathBuf>,
     /// With --stream: frames of the orbit.
     #[arg(long, default_value_t = 120, requires = "stream")]

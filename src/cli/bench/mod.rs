@@ -56,6 +56,13 @@ pub fn run(args: BenchArgs, raw: &crate::cli::args::RawArgs) -> Result<(), Failu
         shading: args.shading,
     };
     config.narrow(&filters).bad_input()?;
+    if args.labels.is_some() && config.datasets.len() != 1 {
+        return Err(Failure::BadInput(anyhow::anyhow!(
+            "--labels shows one segmentation over one dataset, and --datasets leaves {}: name \
+             the one it belongs to",
+            config.datasets.len()
+        )));
+    }
     let config_dir = args.config.parent().unwrap_or(Path::new(".")).to_path_buf();
     let ctx = GpuContext::headless().failed()?;
     let environment = environment(&ctx, args.quick);
@@ -81,7 +88,12 @@ pub fn run(args: BenchArgs, raw: &crate::cli::args::RawArgs) -> Result<(), Failu
         .sum();
     let mut progress = Progress::new(units as u64);
     for spec in &config.datasets {
-        let runs = run::plan(&config, spec);
+        let mut runs = run::plan(&config, spec);
+        if args.labels.is_some() {
+            for planned in &mut runs {
+                planned.settings.labels = args.label_view;
+            }
+        }
         progress.show(&format!("{}: loading", spec.name));
         let skip = |reason: String, bad_input: bool| Skipped {
             dataset: spec.name.clone(),
@@ -112,6 +124,15 @@ pub fn run(args: BenchArgs, raw: &crate::cli::args::RawArgs) -> Result<(), Failu
             continue;
         }
         renderer.set_transfer_function(&loaded.tf);
+        let labelled = match &args.labels {
+            Some(path) => Some(show_labels(
+                &mut renderer,
+                path,
+                &loaded.volume,
+                args.label_view,
+            )?),
+            None => None,
+        };
         if config.paths.contains(&RenderPath::Auto)
             && let Err(e) = auto_path::choose(&mut renderer, RenderPath::Auto)
         {
@@ -124,6 +145,7 @@ pub fn run(args: BenchArgs, raw: &crate::cli::args::RawArgs) -> Result<(), Failu
         let cameras = super::measuring::orbit(&bounds, config.views, config.elevation_deg);
         let mut info = loaded.info;
         info.gpu_layout = renderer.volume_texture().map(|t| t.describe());
+        info.labels = labelled;
         results.datasets.push(info);
         for (index, planned) in runs.iter().enumerate() {
             let s = &planned.settings;
@@ -272,4 +294,26 @@ fn default_out(env: &Environment) -> PathBuf {
     let slug = slug.trim_matches('-');
     let suffix = if env.quick { "-quick" } else { "" };
     PathBuf::from("docs/benchmarks").join(format!("{slug}{suffix}"))
+}
+
+/// Reads the segmentation at `path` onto `volume`'s grid and shows every segment over it in the
+/// renderer; returns what the report says of it.
+fn show_labels(
+    renderer: &mut VolumeRenderer,
+    path: &Path,
+    volume: &leapview::volume::Volume,
+    view: leapview::settings::LabelView,
+) -> Result<String, Failure> {
+    let map = crate::cli::label_args::read_labels(path, None, volume)?;
+    let ctx = renderer.context();
+    let gpu = leapview::render::labels::GpuLabels::new(&ctx.device, &ctx.queue, &map)
+        .map_err(|e| Failure::BadInput(anyhow::anyhow!("{}: {e}", path.display())))?;
+    renderer
+        .set_labels(Some(std::sync::Arc::new(gpu)))
+        .map_err(|e| Failure::BadInput(anyhow::anyhow!("{}: {e}", path.display())))?;
+    Ok(format!(
+        "{} ({} segments, view {view:?})",
+        map.name(),
+        map.segments().len()
+    ))
 }
