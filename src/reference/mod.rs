@@ -56,10 +56,20 @@ pub fn render_labelled(
 ) -> ReferenceImage {
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let world_from_clip = camera.clip_from_world(size, &bounds).inverse();
+    // Surfaces are found in the shown labels' smoothed mask, as the GPU builds it.
+    let mask = labels.filter(|_| settings.labels.surfaces()).map(|l| {
+        let shown = l.map.shown_voxels(l.table);
+        crate::labels::surface::smoothed_mask(
+            volume.dims(),
+            &shown,
+            settings.label_smoothing as f32,
+        )
+    });
     let caster = Caster {
         volume,
         tf,
         labels,
+        surface_mask: mask.as_deref(),
         // Rays run through the cropping box (the whole bounding box when nothing is cropped).
         bounds: settings.crop.world(&bounds),
         world_from_clip,
@@ -113,6 +123,7 @@ struct Caster<'a> {
     volume: &'a Volume,
     tf: &'a TransferFunction,
     labels: Option<&'a Labelled<'a>>,
+    surface_mask: Option<&'a [u8]>,
     bounds: Aabb,
     world_from_clip: DMat4,
     size: [u32; 2],
@@ -134,6 +145,7 @@ impl Caster<'_> {
                     volume: self.volume,
                     tf: self.tf,
                     labels: self.labels,
+                    surface_mask: self.surface_mask,
                     settings: self.settings,
                     entry: origin + dir * entry,
                     dir,

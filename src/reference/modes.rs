@@ -21,9 +21,6 @@ pub struct Labelled<'a> {
     pub map: &'a LabelMap,
     /// Each label value's sRGB colour, alpha 255 where shown.
     pub table: &'a [[u8; 4]],
-    /// Where the view draws the shown labels as surfaces, their smoothed mask
-    /// ([`crate::labels::surface::smoothed_mask`] of this table's shown labels).
-    pub mask: Option<&'a [u8]>,
 }
 
 impl Labelled<'_> {
@@ -56,6 +53,9 @@ pub struct RayInput<'a> {
     pub tf: &'a TransferFunction,
     /// A segmentation over the volume, if any.
     pub labels: Option<&'a Labelled<'a>>,
+    /// Where the settings draw the labels as surfaces, the shown labels' smoothed mask
+    /// ([`crate::labels::surface::smoothed_mask`]).
+    pub surface_mask: Option<&'a [u8]>,
     /// The settings.
     pub settings: &'a RenderSettings,
     /// Entry point, world millimetres.

@@ -49,13 +49,13 @@ impl SurfaceWalk {
 
     /// Whether the ray draws surfaces.
     pub(super) fn drawn(ray: &RayInput) -> bool {
-        ray.labels.is_some_and(|l| l.mask.is_some())
+        ray.surface_mask.is_some()
     }
 
     /// The surface the ray enters between `t0` (the previous sample, or 0 at the entry) and `t`
     /// (mm), if it enters one.
     pub(super) fn before(&mut self, ray: &RayInput, t0: f64, t: f64) -> Option<Surface> {
-        let mask = ray.labels?.mask?;
+        let mask = ray.surface_mask?;
         let f = mask_at(ray, mask, t);
         let was_inside = std::mem::replace(&mut self.inside, f >= LEVEL);
         if was_inside || f < LEVEL {

@@ -1,13 +1,12 @@
 //! Labels as surfaces (`LabelView::Surfaces`): the shared CT head with its labels (written by
 //! SimpleITK), the soft tissue at half opacity around the brain, in DVR and over every other
-//! mode's picture, against the f64 reference rendering from the CPU twin of the smoothed mask;
-//! leaping exact; the mask rebuilt only when the shown labels or the smoothing change; the CLI.
+//! mode's picture, against the f64 reference (which renders from the CPU twin of the smoothed
+//! mask); leaping exact; the mask rebuilt only when the shown labels or the smoothing change; the CLI.
 
 use std::sync::Arc;
 
 use leapview::camera::{Camera, ProjectionKind, ViewPreset};
 use leapview::imaging::ImageF32;
-use leapview::labels::surface::smoothed_mask;
 use leapview::labels::{LabelMap, LabelOptions, Segment, load_labels};
 use leapview::reference::{self, Labelled};
 use leapview::render::VolumeRenderer;
@@ -82,15 +81,9 @@ fn surfaces_match_the_reference_on_both_paths() {
             preintegrated,
             ..surfaces(smoothing)
         };
-        let mask = smoothed_mask(
-            volume.dims(),
-            &labels.shown_voxels(&table),
-            smoothing as f32,
-        );
         let labelled = Labelled {
             map: &labels,
             table: &table,
-            mask: Some(&mask),
         };
         let expected =
             reference::render_labelled(&volume, &tf, &camera, SIZE, &settings, Some(&labelled))
@@ -173,11 +166,9 @@ fn surfaces_over_every_other_mode_match_the_reference() {
     let table = labels.styled_table(style);
     let mut r = renderer(&volume, &labels, &tf);
     let camera = common::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
-    let mask = smoothed_mask(volume.dims(), &labels.shown_voxels(&table), 0.7);
     let labelled = Labelled {
         map: &labels,
         table: &table,
-        mask: Some(&mask),
     };
     for (name, settings) in over_cases() {
         let expected =

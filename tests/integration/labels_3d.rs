@@ -176,7 +176,6 @@ fn labels_colour_and_cut_every_mode_as_the_reference_does() {
     };
     let table = labels.styled_table(style);
     let labelled = Labelled {
-        mask: None,
         map: &labels,
         table: &table,
     };
