@@ -326,13 +326,17 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
                 labels.gpu_bytes() as f64 / 1e6
             );
             let toggles = label_toggles(&mut renderer, &request, (map, labels, shown))?;
-            if let Some((rebuild, frame, wall)) = toggles {
+            if let Some(t) = toggles {
                 outln!(
                     out,
-                    "label_toggle_ms: {frame:.3} (the frame after a label's toggle, of which \
-                     {rebuild:.3} rebuilding the leaping flags; {wall:.1} from the toggle to \
-                     the frame done, on the clock, with any surface mask's rebuild; medians \
-                     of {} toggles)",
+                    "label_toggle_ms: {:.3} (the GPU's work for the frame after a label's \
+                     toggle: {:.3} rebuilding the leaping flags and {:.3} casting; {:.1} from \
+                     the toggle to the frame done, on the clock, with any surface mask's \
+                     rebuild; medians of {} toggles)",
+                    t.total,
+                    t.rebuild,
+                    t.cast,
+                    t.wall,
                     TIMED_FRAMES * 2
                 );
             }
@@ -356,10 +360,20 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+/// Medians over toggles of one label, in milliseconds.
+struct ToggleTimes {
+    /// The GPU's rebuild of the leaping flags that read the shown labels.
+    rebuild: f64,
+    /// The GPU's ray casting of the frame after the toggle.
+    cast: f64,
+    /// Both, per toggle (the timestamps time them apart).
+    total: f64,
+    /// On the clock from the toggle to the frame done.
+    wall: f64,
+}
+
 /// Times toggling one shown label (hidden, then shown again, and so on), each followed by a
-/// frame: the medians of the GPU time the frame spent rebuilding the leaping flags that read the
-/// shown labels and of the whole frame (the rebuild included); `None` without timestamps or
-/// with no label shown.
+/// frame; `None` without timestamps or with no label shown.
 fn label_toggles(
     renderer: &mut VolumeRenderer,
     request: &FrameRequest<'_>,
@@ -368,11 +382,12 @@ fn label_toggles(
         &GpuLabels,
         &std::collections::BTreeSet<(u16, u16)>,
     ),
-) -> Result<Option<(f64, f64, f64)>, Failure> {
+) -> Result<Option<ToggleTimes>, Failure> {
     let Some(&toggled) = shown.iter().next() else {
         return Ok(None);
     };
-    let (mut rebuilds, mut frames, mut walls) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut rebuilds, mut casts, mut totals, mut walls) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for k in 0..TIMED_FRAMES * 2 {
         let started = std::time::Instant::now();
         let hide = k % 2 == 0;
@@ -383,21 +398,24 @@ fn label_toggles(
         });
         let (_, r) = renderer.render_and_wait(request).map_err(render_failure)?;
         walls.push(started.elapsed().as_secs_f64() * 1e3);
-        rebuilds.push(r.rebuild_ms.unwrap_or(0.0));
-        frames.extend(r.gpu_ms);
-    }
-    if frames.len() < rebuilds.len() {
-        return Ok(None);
+        let Some(cast) = r.gpu_ms else {
+            return Ok(None);
+        };
+        let rebuild = r.rebuild_ms.unwrap_or(0.0);
+        rebuilds.push(rebuild);
+        casts.push(cast);
+        totals.push(rebuild + cast);
     }
     let median = |v: &mut Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]
     };
-    Ok(Some((
-        median(&mut rebuilds),
-        median(&mut frames),
-        median(&mut walls),
-    )))
+    Ok(Some(ToggleTimes {
+        rebuild: median(&mut rebuilds),
+        cast: median(&mut casts),
+        total: median(&mut totals),
+        wall: median(&mut walls),
+    }))
 }
 
 /// The strategy a frame ran with, for people: the name asked for, and for `auto` what it stood
