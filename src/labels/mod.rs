@@ -10,14 +10,17 @@
 
 mod dicom_seg;
 mod error;
+mod layered;
 mod names;
 mod palette;
 mod read;
 mod resample;
+mod sniff;
 pub mod surface;
 
 pub use self::error::LabelError;
 pub use self::read::{LabelOptions, load_labels};
+pub use self::sniff::{DropGuess, guess_dropped};
 
 /// Whether the file at `path` can only be a segmentation: a Slicer `.seg.nrrd` or a DICOM SEG
 /// (a dropped file is opened as the labels of the volume on screen then).

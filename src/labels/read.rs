@@ -7,13 +7,14 @@ use rayon::prelude::*;
 
 use super::dicom_seg::{self, Seg};
 use super::error::LabelError;
+use super::layered;
 use super::names::{self, Described};
 use super::resample::{self, GridMap, Placement};
 use super::{LabelMap, Segment, palette};
 use crate::mpr::frame::PatientFrame;
 use crate::volume::dicom::scan::looks_like_dicom;
 use crate::volume::error::{LoadError, fmt_dims};
-use crate::volume::load::{LoadOptions, load_volume};
+use crate::volume::load::load_layers;
 use crate::volume::model::Volume;
 use crate::volume::samples::Samples;
 
@@ -58,12 +59,18 @@ pub fn load_labels(
             (layers, inside, seg.described, true)
         }
         None => {
-            let volume = load_volume(path, &LoadOptions::default())?;
-            let samples = volume.samples().ok_or_else(|| LabelError::Streamed {
-                path: path.to_path_buf(),
-            })?;
-            let file_labels = labels_of(samples, &volume, path)?;
-            let (layers, inside) = on_grid(vec![file_labels], &volume, image, path, &mut notes)?;
+            let volumes = load_layers(path)?;
+            let file_labels = volumes
+                .iter()
+                .map(|volume| {
+                    let samples = volume.samples().ok_or_else(|| LabelError::Streamed {
+                        path: path.to_path_buf(),
+                    })?;
+                    labels_of(samples, volume, path)
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            let volume = &volumes[0];
+            let (layers, inside) = on_grid(file_labels, volume, image, path, &mut notes)?;
             let (described, from_seg_nrrd) = descriptions(path, options)?;
             (layers, inside, described, from_seg_nrrd)
         }
@@ -77,6 +84,13 @@ pub fn load_labels(
             inside as f64 * 100.0 / total as f64
         ));
     }
+    let (mut layers, mut described) = (layers, described);
+    layered::unique_across_layers(&mut layers, &mut described, &mut notes).map_err(|reason| {
+        LabelError::Disagrees {
+            path: path.to_path_buf(),
+            reason,
+        }
+    })?;
     let segments = segments(&layers, &described, strict, path, &mut notes)?;
     Ok(LabelMap {
         dims: image.dims(),
@@ -202,7 +216,7 @@ fn descriptions(path: &Path, options: &LabelOptions) -> Result<(Vec<Described>, 
 }
 
 /// A names file beside the labels: their name without its extension, with `.txt` or `.ctbl`.
-fn beside(path: &Path) -> Option<PathBuf> {
+pub(super) fn beside(path: &Path) -> Option<PathBuf> {
     let name = path.file_name()?.to_string_lossy().into_owned();
     let lower = name.to_ascii_lowercase();
     let stem_len = [

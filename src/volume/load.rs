@@ -4,6 +4,7 @@ use std::path::Path;
 
 use super::error::{LoadError, VolumeError};
 use super::raw::RawParams;
+use super::samples::{ScalarType, ValueMapping};
 use super::{decode, dicom, metaimage, model::Volume, nifti, nrrd, raw, tiff, zarr};
 
 /// How to open a file beyond what its name tells.
@@ -68,6 +69,91 @@ pub fn load_volume(path: &Path, options: &LoadOptions) -> Result<Volume, LoadErr
             path: path.to_path_buf(),
             problem,
         })
+}
+
+/// What a volume file's header says, read without its samples: enough to tell a label volume
+/// from an image.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeaderFacts {
+    /// Samples along x, y, z.
+    pub dims: [u64; 3],
+    /// Whether every stored value maps to a whole number (integer samples, and a whole slope
+    /// and intercept).
+    pub whole: bool,
+    /// A NIfTI header's intent says label map (`NIFTI_INTENT_LABEL`).
+    pub label_intent: bool,
+    /// A NRRD header describes segments (Slicer's `Segment0_…` fields) or holds layers.
+    pub segments: bool,
+}
+
+impl HeaderFacts {
+    pub(crate) fn new(dims: [u64; 3], scalar_type: ScalarType, mapping: ValueMapping) -> Self {
+        let integer = !matches!(scalar_type, ScalarType::F32 | ScalarType::F64);
+        let whole = |v: f64| v.is_finite() && v.fract() == 0.0;
+        Self {
+            dims,
+            whole: integer && whole(mapping.slope) && whole(mapping.intercept),
+            label_intent: false,
+            segments: false,
+        }
+    }
+
+    pub(crate) fn with_label_intent(self, label_intent: bool) -> Self {
+        Self {
+            label_intent,
+            ..self
+        }
+    }
+
+    pub(crate) fn with_segments(self, segments: bool) -> Self {
+        Self { segments, ..self }
+    }
+}
+
+/// The header facts of a NRRD, NIfTI or MetaImage file (by its name); `None` for another
+/// format or a header that does not read.
+pub fn header_facts(path: &Path) -> Option<HeaderFacts> {
+    let name = path.file_name()?.to_string_lossy().to_ascii_lowercase();
+    let has = |suffix: &str| name.ends_with(suffix);
+    let facts = if has(".nrrd") || has(".nhdr") {
+        nrrd::header_facts(path)
+    } else if has(".nii") || has(".nii.gz") {
+        nifti::header_facts(path)
+    } else if has(".mha") || has(".mhd") {
+        metaimage::header_facts(path)
+    } else {
+        return None;
+    };
+    facts
+        .map_err(|e| log::debug!("{}: {e}", path.display()))
+        .ok()
+}
+
+/// The layers of a label file, each a volume of the file's grid: a NRRD file's interleaved
+/// layers (the first axis of a 4-D `.seg.nrrd`), else the one volume [`load_volume`] reads;
+/// mirrored files come back unmirrored as there.
+pub fn load_layers(path: &Path) -> Result<Vec<Volume>, LoadError> {
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let lower = name.to_ascii_lowercase();
+    if !(lower.ends_with(".nrrd") || lower.ends_with(".nhdr")) || !path.is_file() {
+        return load_volume(path, &LoadOptions::default()).map(|v| vec![v]);
+    }
+    let layers = nrrd::read_nrrd_layers(path, name).map_err(|problem| LoadError {
+        path: path.to_path_buf(),
+        problem,
+    })?;
+    Ok(layers
+        .into_iter()
+        .map(|v| {
+            let v = v.unmirrored();
+            let mut provenance = v.provenance().clone();
+            provenance.path = Some(path.to_path_buf());
+            v.with_provenance(provenance)
+        })
+        .collect())
 }
 
 fn load(path: &Path, options: &LoadOptions) -> Result<Volume, VolumeError> {

@@ -387,6 +387,18 @@ fn open_data(header: &Path, name: &str) -> Result<(File, u64), VolumeError> {
     })
 }
 
+/// What the header of the MetaImage file at `path` says, its samples unread.
+pub(crate) fn header_facts(path: &Path) -> Result<super::load::HeaderFacts, VolumeError> {
+    let (file, file_len) = decode::open_file(path)?;
+    let (text, _) = read_header_text(&mut BufReader::new(file), file_len)?;
+    let meta = parse_header(&text)?;
+    Ok(super::load::HeaderFacts::new(
+        meta.dims,
+        meta.scalar_type,
+        ValueMapping::IDENTITY,
+    ))
+}
+
 /// Reads a MetaImage volume; `name` becomes the volume's name.
 pub(crate) fn read_metaimage(
     path: &Path,

@@ -32,19 +32,61 @@ pub(crate) fn key_values(
     Ok(text.key_values)
 }
 
+/// What the header of the NRRD file at `path` says, its samples unread (a layered file's grid is
+/// one layer's).
+pub(crate) fn header_facts(path: &Path) -> Result<super::load::HeaderFacts, VolumeError> {
+    let (file, _) = decode::open_file(path)?;
+    let (text, _, _) = header::read_header_text(&mut BufReader::new(file))?;
+    let nrrd = fields::interpret(&text, true)?;
+    let segments = text.key_values.keys().any(|k| k.starts_with("Segment0_"));
+    Ok(
+        super::load::HeaderFacts::new(nrrd.dims, nrrd.scalar_type, nrrd.mapping)
+            .with_segments(segments || nrrd.layers > 1),
+    )
+}
+
 /// Reads a NRRD volume; `name` becomes the volume's name.
 pub(crate) fn read_nrrd(
     path: &Path,
     name: String,
     progress: Option<&LoadProgress>,
 ) -> Result<Volume, VolumeError> {
+    let (nrrd, dims, samples) = read_file(path, false, progress)?;
+    volume_of(&nrrd, name, dims, samples, progress)
+}
+
+/// Reads a NRRD file whose 4-D samples interleave layers along the first axis (Slicer's
+/// `.seg.nrrd` of overlapping segments), or a 3-D one (one layer): each layer as a volume of the
+/// file's grid and geometry.
+pub(crate) fn read_nrrd_layers(path: &Path, name: String) -> Result<Vec<Volume>, VolumeError> {
+    let (nrrd, dims, samples) = read_file(path, true, None)?;
+    // At most `MOST_LAYERS`: a usize.
+    let n = nrrd.layers as usize;
+    if n == 1 {
+        return Ok(vec![volume_of(&nrrd, name, dims, samples, None)?]);
+    }
+    (0..n)
+        .map(|k| volume_of(&nrrd, name.clone(), dims, samples.channel(k, n), None))
+        .collect()
+}
+
+/// The header and samples of the NRRD file at `path` (`layered`: the first axis of a 4-D file
+/// may be layers, read interleaved), with the grid's dimensions (one layer's).
+fn read_file(
+    path: &Path,
+    layered: bool,
+    progress: Option<&LoadProgress>,
+) -> Result<(NrrdHeader, [u32; 3], Samples), VolumeError> {
     let (file, file_len) = decode::open_file(path)?;
     let mut reader = BufReader::new(file);
     let (text, end, header_len) = header::read_header_text(&mut reader)?;
-    let nrrd = fields::interpret(&text)?;
-    let (dims, _) = limits::check_dims(nrrd.dims, nrrd.scalar_type)?;
+    let nrrd = fields::interpret(&text, layered)?;
+    let [x, y, z] = nrrd.dims;
+    // Layers interleave fastest: the samples read as a grid `layers` times as wide.
+    let (wide, _) = limits::check_dims([x * nrrd.layers, y, z], nrrd.scalar_type)?;
+    let dims = [wide[0] / nrrd.layers as u32, wide[1], wide[2]];
     let layout = SampleLayout {
-        dims,
+        dims: wide,
         scalar_type: nrrd.scalar_type,
         big_endian: nrrd.big_endian,
     };
@@ -62,12 +104,23 @@ pub(crate) fn read_nrrd(
         }
         None => read_data(&mut reader, file_len - header_len, &nrrd, layout, progress)?,
     };
+    Ok((nrrd, dims, samples))
+}
+
+/// The volume of `samples` on the grid `dims` with the header's geometry and value mapping.
+fn volume_of(
+    nrrd: &NrrdHeader,
+    name: String,
+    dims: [u32; 3],
+    samples: Samples,
+    progress: Option<&LoadProgress>,
+) -> Result<Volume, VolumeError> {
     Ok({
         let (dims, spacing) = super::progress::strided(dims, nrrd.spacing_mm, progress);
         Volume::new(name, dims, spacing, samples, nrrd.mapping)?
     }
     .with_orientation(nrrd.orientation)
-    .with_modality(nrrd.modality)
+    .with_modality(nrrd.modality.clone())
     .with_provenance(super::model::Provenance {
         origin_lps: nrrd.origin_lps,
         ..super::model::Provenance::default()

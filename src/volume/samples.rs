@@ -190,6 +190,21 @@ impl Samples {
         }
     }
 
+    /// Every `step`-th sample from `start` (`start < step`): one channel of samples that
+    /// interleave `step` channels.
+    pub(crate) fn channel(&self, start: usize, step: usize) -> Self {
+        match self {
+            Self::U8(v) => Self::U8(v.iter().skip(start).step_by(step).copied().collect()),
+            Self::I8(v) => Self::I8(v.iter().skip(start).step_by(step).copied().collect()),
+            Self::U16(v) => Self::U16(v.iter().skip(start).step_by(step).copied().collect()),
+            Self::I16(v) => Self::I16(v.iter().skip(start).step_by(step).copied().collect()),
+            Self::U32(v) => Self::U32(v.iter().skip(start).step_by(step).copied().collect()),
+            Self::I32(v) => Self::I32(v.iter().skip(start).step_by(step).copied().collect()),
+            Self::F32(v) => Self::F32(v.iter().skip(start).step_by(step).copied().collect()),
+            Self::F64(v) => Self::F64(v.iter().skip(start).step_by(step).copied().collect()),
+        }
+    }
+
     /// The samples at `indices`, in their order (each inside the samples).
     pub(crate) fn gather(&self, indices: &[usize]) -> Self {
         match self {

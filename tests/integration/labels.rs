@@ -9,7 +9,7 @@
 use std::path::Path;
 
 use glam::DVec3;
-use leapview::labels::{LabelMap, LabelOptions, load_labels};
+use leapview::labels::{DropGuess, LabelMap, LabelOptions, guess_dropped, load_labels};
 use leapview::mpr::{PatientFrame, Plane, PlaneKind, SliceView};
 use leapview::render::labels::GpuLabels;
 use leapview::render::slice::{LabelLook, SliceLook, SliceRenderer};
@@ -46,16 +46,27 @@ fn the_ct_heads_nifti_and_seg_nrrd_give_the_same_labels_on_its_dicom_series() {
         "the two files' labels differ"
     );
     let want = vec![(1, 831_700), (2, 394_132), (3, 381_662)];
-    // A dropped .seg.nrrd or DICOM SEG is taken for labels; a NIfTI of labels is not told apart.
-    assert!(leapview::labels::is_segmentation_file(
-        &data.join("labels/ct_head_cthead.seg.nrrd")
-    ));
-    assert!(leapview::labels::is_segmentation_file(
-        &data.join("labels/ct_head_cthead_seg.dcm")
-    ));
-    assert!(!leapview::labels::is_segmentation_file(
-        &data.join("labels/ct_head_cthead_labels.nii.gz")
-    ));
+    // Dropped over the series: a .seg.nrrd or DICOM SEG is its labels; SimpleITK's NIfTI, named
+    // "labels", is asked about; the MR's parcels, their names beside them, are labels; a CT of
+    // another grid is an image, and so is the MR image of the dataset called "seg3D".
+    let guess = |name: &str, dims: [u32; 3]| guess_dropped(&data.join(name), dims);
+    let labelled = |g: DropGuess| matches!(g, DropGuess::Labels(_));
+    let asked = |g: DropGuess| matches!(g, DropGuess::Ask(_));
+    let dims = series.dims();
+    assert!(labelled(guess("labels/ct_head_cthead.seg.nrrd", dims)));
+    assert!(labelled(guess("labels/ct_head_cthead_seg.dcm", dims)));
+    assert!(asked(guess("labels/ct_head_cthead_labels.nii.gz", dims)));
+    assert!(labelled(guess(
+        "labels/mr_head_t1_seg3d_parcels.nii.gz",
+        dims
+    )));
+    assert_eq!(
+        guess("cta_stent_128x128x256_int16.nrrd", dims),
+        DropGuess::Image
+    );
+    let mr = "mr_head_t1_seg3d_160x232x160_uint8.nrrd";
+    // Its stored values scale to fractions (slope 2.00784): an image, whatever its name says.
+    assert_eq!(guess(mr, dims), DropGuess::Image);
     assert_eq!(counts(&nifti), want);
     assert_eq!(counts(&seg), want);
     assert!(nifti.notes().is_empty(), "{:?}", nifti.notes());
@@ -255,6 +266,113 @@ fn a_seg_nrrd_that_disagrees_with_its_voxels_and_grids_without_geometry_are_refu
         "{:?}",
         map.notes()
     );
+}
+
+#[test]
+fn a_layered_seg_nrrd_from_pynrrd_gives_each_overlapping_layer_on_the_images_grid() {
+    let dir = common::TempDir::new("labels-layered");
+    common::run_python("layered_seg.py", &[dir.path()]);
+    let at = |name: &str| dir.path().join(name);
+    let img = image(&at("image.nii.gz"));
+    let map = labels(&at("layered.seg.nrrd"), &img);
+    assert_eq!(map.layers().len(), 2, "two layers");
+    // The file's segments: (layer, value) → name, colour.
+    let cases = common::cases_json(dir.path());
+    let file: Vec<(u16, u16, String, [u8; 3])> = cases
+        .as_array()
+        .expect("segments")
+        .iter()
+        .map(|c| {
+            let n = |v: &serde_json::Value| v.as_u64().expect("a number") as u16;
+            let rgb: Vec<u8> = c["colour"]
+                .as_array()
+                .expect("a colour")
+                .iter()
+                .map(|v| n(v) as u8)
+                .collect();
+            (
+                n(&c["layer"]),
+                n(&c["value"]),
+                c["name"].as_str().expect("a name").to_string(),
+                [rgb[0], rgb[1], rgb[2]],
+            )
+        })
+        .collect();
+    let file_name = |layer: usize, value: u16| {
+        file.iter()
+            .find(|f| usize::from(f.0) == layer && f.1 == value)
+            .map_or("", |f| f.2.as_str())
+    };
+    let our_name = |layer: usize, value: u16| {
+        map.segments()
+            .iter()
+            .find(|s| usize::from(s.layer) == layer && s.value == value)
+            .map_or("", |s| s.name.as_str())
+    };
+    // Each layer's segment under every voxel is numpy's, by name (a value two layers hold is
+    // renumbered in the later one: the colour table is indexed by value).
+    let [nx, ny, nz] = img.dims().map(|d| d as usize);
+    for (k, layer) in map.layers().iter().enumerate() {
+        let want: Vec<u16> = std::fs::read(at(&format!("layer{k}.u16")))
+            .expect("expected")
+            .chunks_exact(2)
+            .map(|b| u16::from_le_bytes([b[0], b[1]]))
+            .collect();
+        let mut mismatched = 0;
+        for z in 0..nz {
+            for y in 0..ny {
+                for x in 0..nx {
+                    let file_x = if img.reversed_i() { nx - 1 - x } else { x };
+                    let w = file_name(k, want[file_x + nx * (y + ny * z)]);
+                    mismatched += usize::from(our_name(k, layer[x + nx * (y + ny * z)]) != w);
+                }
+            }
+        }
+        assert_eq!(mismatched, 0, "layer {k}: voxels differ from numpy's");
+    }
+    let got: Vec<(u16, String, [u8; 3])> = map
+        .segments()
+        .iter()
+        .map(|s| (s.layer, s.name.clone(), s.colour))
+        .collect();
+    let want: Vec<(u16, String, [u8; 3])> = file
+        .iter()
+        .map(|(layer, _, name, rgb)| (*layer, name.clone(), *rgb))
+        .collect();
+    assert_eq!(got, want);
+    assert!(map.segments().iter().all(|s| s.voxels > 0));
+    let mut values: Vec<u16> = map.segments().iter().map(|s| s.value).collect();
+    values.sort_unstable();
+    values.dedup();
+    assert_eq!(values.len(), 4, "values unique across layers");
+    assert!(
+        map.notes()
+            .iter()
+            .any(|n| n.contains("layer 1's label 1 (tumour)")),
+        "{:?}",
+        map.notes()
+    );
+    // More layers than a segmentation may have: refused, saying why.
+    let e = load_labels(&at("too_many.seg.nrrd"), &img, &LabelOptions::default())
+        .map(|_| ())
+        .expect_err("17 layers")
+        .to_string();
+    assert!(e.contains("at most 16 layers"), "{e}");
+    // As a volume, a layered file is still no image.
+    let e = load_volume(&at("layered.seg.nrrd"), &LoadOptions::default())
+        .map(|_| ())
+        .expect_err("4-D")
+        .to_string();
+    assert!(e.contains("--labels"), "{e}");
+    // Dropped over the image: told apart by the headers nibabel and pynrrd wrote.
+    let dims = img.dims();
+    let guess = |name: &str| guess_dropped(&at(name), dims);
+    assert!(matches!(guess("layered.seg.nrrd"), DropGuess::Labels(_)));
+    assert!(matches!(guess("intent.nii.gz"), DropGuess::Labels(w) if w.contains("NIfTI")));
+    assert!(matches!(guess("plain.nii.gz"), DropGuess::Ask(w) if w.contains("grid")));
+    assert_eq!(guess("liver_seg.nii.gz"), DropGuess::Image, "floats");
+    // The image itself, whole numbers on its own grid: asked about too.
+    assert!(matches!(guess("image.nii.gz"), DropGuess::Ask(_)));
 }
 
 /// The stored index of the voxel nearest each pixel of `view` (row-major; `None` outside a

@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 
 use egui::{CentralPanel, Key, KeyboardShortcut, Modifiers, Panel, ViewportCommand};
 
+use crate::labels::DropGuess;
 use crate::render::RenderError;
 use crate::transfer::fit::preset_for_kind;
 use crate::ui::frames::redraw::FrameInputs;
@@ -445,11 +446,16 @@ impl LeapViewApp {
             self.apply(Action::Quit, ctx);
         }
         if let Some(path) = dropped {
-            // A segmentation dropped over a volume is its labels; anything else opens.
-            if crate::labels::is_segmentation_file(&path) && self.slices.volume().is_some() {
-                self.open_labels(path, ctx);
-            } else {
-                self.open_file(path, ctx);
+            // Over a volume, a file that is its labels opens as them; one that may be is asked
+            // about; anything else opens as an image.
+            let dims = self.slices.volume().map(|v| v.dims());
+            match dims.map(|d| crate::labels::guess_dropped(&path, d)) {
+                Some(DropGuess::Labels(why)) => {
+                    log::info!("{} opens as the segmentation: {why}", path.display());
+                    self.open_labels(path, ctx);
+                }
+                Some(DropGuess::Ask(why)) => self.dialogs.ask_dropped(path, why),
+                Some(DropGuess::Image) | None => self.open_file(path, ctx),
             }
         }
     }

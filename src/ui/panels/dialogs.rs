@@ -38,6 +38,8 @@ pub struct Dialogs {
     prompt: Option<(String, bool)>,
     /// The system file dialog while it is open: (started, answer).
     picker: Option<(Instant, mpsc::Receiver<Option<PathBuf>>)>,
+    /// A dropped file that may be labels or an image, and why it may be labels.
+    dropped: Option<(PathBuf, String)>,
 }
 
 impl Dialogs {
@@ -49,6 +51,12 @@ impl Dialogs {
         if !self.errors.contains(&message) {
             self.errors.push(message);
         }
+    }
+
+    /// Asks whether the dropped file at `path` is the segmentation of the image on screen
+    /// (`why` it may be) or an image to open.
+    pub(crate) fn ask_dropped(&mut self, path: PathBuf, why: String) {
+        self.dropped = Some((path, why));
     }
 
     /// Whether an error is on screen.
@@ -139,10 +147,50 @@ impl Dialogs {
             if response.inner || response.should_close() {
                 self.errors.remove(0);
             }
+        } else if self.dropped.is_some() {
+            return self.dropped_ui(ctx);
         } else if self.prompt.is_some() {
             chosen = chosen.or_else(|| self.prompt_ui(ctx));
         }
         chosen.map(|path| (path, self.purpose))
+    }
+
+    /// The question about a dropped file: its segmentation, or a new image? The file and what
+    /// for once answered.
+    fn dropped_ui(&mut self, ctx: &egui::Context) -> Option<(PathBuf, Purpose)> {
+        let (path, why) = self.dropped.as_ref()?;
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into(),
+        );
+        // `Some(None)`: cancelled.
+        let mut answer: Option<Option<Purpose>> = None;
+        let response = Modal::new(Id::unique("leapview dropped")).show(ctx, |ui| {
+            ui.set_max_width(480.0);
+            ui.heading(format!("Open {name}"));
+            ui.add_space(4.0);
+            ui.label(format!(
+                "It may be the segmentation of the image on screen: {why}."
+            ));
+            ui.add_space(8.0);
+            ui.horizontal(|ui| {
+                if ui.button("As its segmentation").clicked() {
+                    answer = Some(Some(Purpose::Labels));
+                }
+                if ui.button("As a new image").clicked() {
+                    answer = Some(Some(Purpose::Volume));
+                }
+                if ui.button("Cancel").clicked() {
+                    answer = Some(None);
+                }
+            });
+        });
+        if response.should_close() {
+            answer = answer.or(Some(None));
+        }
+        let purpose = answer?;
+        let (path, _) = self.dropped.take()?;
+        purpose.map(|p| (path, p))
     }
 
     /// The answer of the system file dialog; opens the prompt when the dialog could not show.

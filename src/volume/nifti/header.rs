@@ -15,6 +15,8 @@ pub struct Header {
     pub pixdim: [f64; 8],
     /// `datatype` code.
     pub datatype: i16,
+    /// `intent_code`: what the samples mean (1002, `NIFTI_INTENT_LABEL`: a label map).
+    pub intent_code: i32,
     /// `bitpix`.
     pub bitpix: i16,
     /// `vox_offset`: where the samples start.
@@ -103,6 +105,7 @@ pub fn parse(bytes: &[u8], version: u8, big_endian: bool) -> Result<Header, Stri
             dim: std::array::from_fn(|i| i64::from(f.i16(40 + 2 * i))),
             pixdim: std::array::from_fn(|i| f.f32(76 + 4 * i)),
             datatype: f.i16(70),
+            intent_code: i32::from(f.i16(68)),
             bitpix: f.i16(72),
             vox_offset: f.f32(108),
             scl_slope: f.f32(112),
@@ -133,6 +136,7 @@ pub fn parse(bytes: &[u8], version: u8, big_endian: bool) -> Result<Header, Stri
             dim: std::array::from_fn(|i| f.i64(16 + 8 * i)),
             pixdim: std::array::from_fn(|i| f.f64(104 + 8 * i)),
             datatype: f.i16(12),
+            intent_code: f.i32(504),
             bitpix: f.i16(14),
             vox_offset: f.i64(168) as f64,
             scl_slope: f.f64(176),

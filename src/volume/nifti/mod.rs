@@ -59,6 +59,28 @@ struct Stream<'a> {
     progress: Option<&'a LoadProgress>,
 }
 
+/// `NIFTI_INTENT_LABEL`: the samples are label indices.
+const INTENT_LABEL: i32 = 1002;
+
+/// What the header of the NIfTI file at `path` says, its samples unread.
+pub(crate) fn header_facts(path: &Path) -> Result<super::load::HeaderFacts, VolumeError> {
+    let (file, _) = decode::open_file(path)?;
+    let mut reader = BufReader::new(file);
+    let gzip = reader.fill_buf()?.starts_with(&[0x1f, 0x8b]);
+    let header = if gzip {
+        read_header(&mut MultiGzDecoder::new(reader), Encoding::Gzip)?
+    } else {
+        read_header(&mut reader, Encoding::Raw)?
+    };
+    check_dimension_count(&header)?;
+    Ok(super::load::HeaderFacts::new(
+        dims_of(&header)?,
+        scalar_type_of(&header)?,
+        mapping_of(&header),
+    )
+    .with_label_intent(header.intent_code == INTENT_LABEL))
+}
+
 /// Reads the header: its first 348 bytes, and the rest of a NIfTI-2 header.
 fn read_header(reader: &mut impl Read, encoding: Encoding) -> Result<Header, VolumeError> {
     let mut bytes = vec![0u8; NIFTI1_BYTES];

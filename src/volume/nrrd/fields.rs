@@ -17,6 +17,9 @@ const NRRD: &str = "NRRD";
 pub struct NrrdHeader {
     /// Samples along x, y, z as declared (a leading axis of size 1 in 4-D files is dropped).
     pub dims: [u64; 3],
+    /// Interleaved layers: the leading axis of a 4-D file read as layers (Slicer's `.seg.nrrd`
+    /// with overlapping segments), else 1.
+    pub layers: u64,
     /// Stored type.
     pub scalar_type: ScalarType,
     /// How the data are encoded.
@@ -42,8 +45,11 @@ pub struct NrrdHeader {
     pub byte_skip: Option<u64>,
 }
 
-/// Interprets the fields of a header.
-pub(crate) fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
+/// Most interleaved layers a 4-D file may hold (as many as a DICOM SEG's overlapping segments).
+pub(crate) const MOST_LAYERS: u64 = 16;
+
+/// Interprets the fields of a header; `layered` accepts a 4-D file's leading axis as layers.
+pub(crate) fn interpret(text: &HeaderText, layered: bool) -> Result<NrrdHeader, VolumeError> {
     let field = |name: &'static str| text.fields.get(name).map(String::as_str);
     let required = |name: &'static str, why: &'static str| {
         field(name).ok_or(VolumeError::MissingField {
@@ -61,9 +67,25 @@ pub(crate) fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
     let sizes_text = required("sizes", "")?;
     let sizes = parse_sizes(sizes_text, dimension)?;
     // Axes to keep: all three of a 3-D file, or the last three of a 4-D file whose first is 1.
-    let first = match (dimension, sizes.as_slice()) {
-        (3, _) => 0,
-        (4, [1, ..]) => 1,
+    let (first, layers) = match (dimension, sizes.as_slice()) {
+        (3, _) => (0, 1),
+        (4, [1, ..]) => (1, 1),
+        (4, [n, ..]) if layered && *n <= MOST_LAYERS => (1, *n),
+        (4, [_, ..]) if layered => {
+            return Err(bad_field(
+                "sizes",
+                sizes_text,
+                &format!("at most {MOST_LAYERS} layers (its first axis) in a segmentation"),
+            ));
+        }
+        (4, _) => {
+            return Err(VolumeError::UnsupportedDimension {
+                dimension: dimension_text.to_string(),
+                hint: " (or 4-D with a first axis of size 1); a segmentation in layers (Slicer's \
+                       4-D .seg.nrrd) opens as the labels of an image: --labels FILE, or File › \
+                       Open segmentation…",
+            });
+        }
         _ => {
             return Err(VolumeError::UnsupportedDimension {
                 dimension: dimension_text.to_string(),
@@ -132,6 +154,7 @@ pub(crate) fn interpret(text: &HeaderText) -> Result<NrrdHeader, VolumeError> {
 
     Ok(NrrdHeader {
         dims,
+        layers,
         scalar_type,
         encoding,
         big_endian,
@@ -350,7 +373,7 @@ mod tests {
     fn header(lines: &[&str]) -> Result<NrrdHeader, VolumeError> {
         let text = format!("NRRD0004\n{}\n\n", lines.join("\n"));
         let (text, _, _) = super::super::header::read_header_text(&mut text.as_bytes())?;
-        interpret(&text)
+        interpret(&text, false)
     }
 
     const BASE: [&str; 3] = ["dimension: 3", "sizes: 4 5 6", "encoding: raw"];
