@@ -51,6 +51,17 @@ pub struct LabelArgs {
         hide_short_help = true
     )]
     pub label_smoothing: f64,
+    /// The shown labels' opacity in 3D, 0 to 1: their surfaces' and their colour's weight.
+    #[arg(
+        long,
+        value_name = "OPACITY",
+        default_value_t = 1.0,
+        value_parser = unit_interval,
+        requires = "labels",
+        help_heading = "Segmentation",
+        hide_short_help = true
+    )]
+    pub label_opacity: f64,
     /// Show only these labels, by value or name (comma-separated); the rest are hidden.
     #[arg(
         long,
@@ -60,6 +71,28 @@ pub struct LabelArgs {
         help_heading = "Segmentation"
     )]
     pub show_labels: Option<Vec<String>>,
+}
+
+/// A number 0 … 1.
+fn unit_interval(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!("'{text}' is no opacity: a number 0 … 1")),
+    }
+}
+
+impl LabelArgs {
+    /// A segment's colour and opacity in 3D: its colour at --label-opacity where `shown` holds
+    /// it, hidden (alpha 0) elsewhere.
+    pub fn style(&self, shown: &BTreeSet<(u16, u16)>, s: &Segment) -> [u8; 4] {
+        let [r, g, b] = s.colour;
+        let alpha = if shown.contains(&(s.layer, s.value)) {
+            (self.label_opacity * 255.0).round() as u8
+        } else {
+            0
+        };
+        [r, g, b, alpha]
+    }
 }
 
 /// Reads the label file at `path` onto `volume`'s grid, named by `names` where given; prints

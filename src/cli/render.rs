@@ -177,7 +177,7 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
             let shown = args.segmentation.shown(&map)?;
             let ctx = renderer.context();
             let labels = GpuLabels::new(&ctx.device, &ctx.queue, &map).bad_input()?;
-            labels.show(&ctx.queue, &map, |s| shown.contains(&(s.layer, s.value)));
+            labels.show_styled(&ctx.queue, &map, |s| args.segmentation.style(&shown, s));
             let labels = std::sync::Arc::new(labels);
             renderer
                 .set_labels(Some(std::sync::Arc::clone(&labels)))
@@ -325,7 +325,12 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
                 settings.labels,
                 labels.gpu_bytes() as f64 / 1e6
             );
-            let toggles = label_toggles(&mut renderer, &request, (map, labels, shown))?;
+            let toggles = label_toggles(
+                &mut renderer,
+                &request,
+                &args.segmentation,
+                (map, labels, shown),
+            )?;
             if let Some(t) = toggles {
                 outln!(
                     out,
@@ -377,6 +382,7 @@ struct ToggleTimes {
 fn label_toggles(
     renderer: &mut VolumeRenderer,
     request: &FrameRequest<'_>,
+    segmentation: &crate::cli::label_args::LabelArgs,
     (map, labels, shown): (
         &leapview::labels::LabelMap,
         &GpuLabels,
@@ -392,10 +398,11 @@ fn label_toggles(
         let started = std::time::Instant::now();
         let hide = k % 2 == 0;
         let queue = &renderer.context().queue;
-        labels.show(queue, map, |s| {
-            let key = (s.layer, s.value);
-            shown.contains(&key) && !(hide && key == toggled)
-        });
+        let mut now = shown.clone();
+        if hide {
+            now.remove(&toggled);
+        }
+        labels.show_styled(queue, map, |s| segmentation.style(&now, s));
         let (_, r) = renderer.render_and_wait(request).map_err(render_failure)?;
         walls.push(started.elapsed().as_secs_f64() * 1e3);
         let Some(cast) = r.gpu_ms else {

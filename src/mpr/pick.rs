@@ -40,24 +40,123 @@ pub fn pick_shown(
     px: DVec2,
     shown: impl Fn([u32; 3]) -> bool,
 ) -> Option<DVec3> {
-    let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
-    let (origin, dir) = camera.pixel_ray(px.x - 0.5, px.y - 0.5, size, &bounds);
-    let (t0, t1) = bounds.intersect(origin, dir)?;
-    let t0 = t0.max(0.0);
-    let spacing = DVec3::from(volume.spacing_mm());
-    let d0 = volume.min_spacing_mm();
-    let step = d0 / 2.0;
-    let range = volume.value_range()?;
-    let dims = volume.dims();
-    let value_at = |p: DVec3| -> Option<f64> {
-        let v = p / spacing;
-        let i: [u32; 3] = std::array::from_fn(|a| {
-            (v[a] + 0.5).floor().clamp(0.0, f64::from(dims[a]) - 1.0) as u32
-        });
-        Some(volume.value(i[0], i[1], i[2])).filter(|x| x.is_finite() && shown(i))
-    };
-    let samples = ((t1 - t0) / step).ceil().max(0.0) as usize;
-    let points = (0..samples).map(|k| origin + dir * (t0 + (k as f64 + 0.5) * step));
+    let ray = RayPick::new(volume, camera, size, px)?;
+    ray.image(settings, tf, shown)
+}
+
+/// [`pick`] in a view that draws a segmentation's labels as surfaces over the image: the first
+/// point where the surfaces entered so far (`surface` gives a voxel's shown label and its
+/// opacity; a surface where the label changes) hide half of what lies behind, else what [`pick`]
+/// finds (the isosurface's crossing where it lies in front).
+pub fn pick_surfaces(
+    volume: &Volume,
+    settings: &RenderSettings,
+    tf: &TransferFunction,
+    camera: &Camera,
+    size: [u32; 2],
+    px: DVec2,
+    surface: impl Fn([u32; 3]) -> Option<(u16, f64)>,
+) -> Option<DVec3> {
+    let ray = RayPick::new(volume, camera, size, px)?;
+    let mut accumulated = 0.0;
+    let mut before = None;
+    let mut hit = None;
+    for (t, p) in ray.points() {
+        let here = surface(ray.voxel(p));
+        let entered = here.filter(|&(l, _)| before != Some(l));
+        before = here.map(|(l, _)| l);
+        if let Some((_, alpha)) = entered {
+            accumulated += (1.0 - accumulated) * alpha.clamp(0.0, 1.0);
+            if accumulated >= SURFACE_OPACITY {
+                hit = Some((t, p));
+                break;
+            }
+        }
+    }
+    let image = ray.image(settings, tf, |_| true);
+    match (hit, image) {
+        (Some((t, p)), Some(q)) if settings.mode == Mode::Iso || settings.mode == Mode::Dvr => {
+            // The nearer of the two.
+            Some(if (q - ray.origin).dot(ray.dir) < t {
+                q
+            } else {
+                p
+            })
+        }
+        (Some((_, p)), _) => Some(p),
+        (None, q) => q,
+    }
+}
+
+/// A pixel's ray through the volume, sampled at half the finest spacing.
+struct RayPick<'a> {
+    volume: &'a Volume,
+    origin: DVec3,
+    dir: DVec3,
+    t0: f64,
+    t1: f64,
+    step: f64,
+}
+
+impl<'a> RayPick<'a> {
+    fn new(volume: &'a Volume, camera: &Camera, size: [u32; 2], px: DVec2) -> Option<Self> {
+        let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
+        let (origin, dir) = camera.pixel_ray(px.x - 0.5, px.y - 0.5, size, &bounds);
+        let (t0, t1) = bounds.intersect(origin, dir)?;
+        Some(Self {
+            volume,
+            origin,
+            dir,
+            t0: t0.max(0.0),
+            t1,
+            step: volume.min_spacing_mm() / 2.0,
+        })
+    }
+
+    /// The samples: their distance along the ray and their point.
+    fn points(&self) -> impl Iterator<Item = (f64, DVec3)> + '_ {
+        let samples = ((self.t1 - self.t0) / self.step).ceil().max(0.0) as usize;
+        (0..samples).map(|k| {
+            let t = self.t0 + (k as f64 + 0.5) * self.step;
+            (t, self.origin + self.dir * t)
+        })
+    }
+
+    /// The voxel nearest world point `p`.
+    fn voxel(&self, p: DVec3) -> [u32; 3] {
+        let v = p / DVec3::from(self.volume.spacing_mm());
+        let dims = self.volume.dims();
+        std::array::from_fn(|a| (v[a] + 0.5).floor().clamp(0.0, f64::from(dims[a]) - 1.0) as u32)
+    }
+
+    /// What the image shows along the ray by `settings`' mode, only the voxels `shown` admits.
+    fn image(
+        &self,
+        settings: &RenderSettings,
+        tf: &TransferFunction,
+        shown: impl Fn([u32; 3]) -> bool,
+    ) -> Option<DVec3> {
+        let volume = self.volume;
+        let range = volume.value_range()?;
+        let (step, d0) = (self.step, volume.min_spacing_mm());
+        let value_at = |p: DVec3| -> Option<f64> {
+            let i = self.voxel(p);
+            Some(volume.value(i[0], i[1], i[2])).filter(|x| x.is_finite() && shown(i))
+        };
+        let points = self.points().map(|(_, p)| p);
+        image_pick(settings, tf, range, (step, d0), points, value_at)
+    }
+}
+
+/// The mode's pick among `points`.
+fn image_pick(
+    settings: &RenderSettings,
+    tf: &TransferFunction,
+    range: crate::volume::stats::ValueRange,
+    (step, d0): (f64, f64),
+    points: impl Iterator<Item = DVec3>,
+    value_at: impl Fn(DVec3) -> Option<f64>,
+) -> Option<DVec3> {
     match settings.mode {
         Mode::Dvr => {
             let mut accumulated = 0.0;
@@ -173,5 +272,27 @@ mod tests {
             pick_shown(&volume, &settings, &tf, &camera, size, px, |_| false),
             None
         );
+        // Labels drawn as surfaces over an image that shows nothing: the first surface that
+        // hides half (the near one at 0.3 does not, the one behind the centre makes it 0.79).
+        let clear = TransferFunction {
+            opacity: vec![[0.0, 0.0], [1000.0, 0.0]],
+            ..tf.clone()
+        };
+        // The camera looks along -y: high y is near.
+        let near = |v: [u32; 3]| f64::from(v[1]) >= centre.y + 8.0;
+        let surfaces = |v: [u32; 3]| {
+            if near(v) {
+                Some((1, 0.3))
+            } else {
+                (f64::from(v[1]) <= centre.y).then_some((2, 0.7))
+            }
+        };
+        let hit = pick_surfaces(&volume, &settings, &clear, &camera, size, px, surfaces)
+            .expect("the surface behind the centre");
+        assert!((hit.y - centre.y).abs() <= 1.0, "{hit} is not at label 2");
+        // In front of them, the ball's opaque surface is picked (10 mm from the centre).
+        let far = |v: [u32; 3]| (f64::from(v[1]) <= centre.y - 12.0).then_some((3, 1.0));
+        let hit = pick_surfaces(&volume, &settings, &tf, &camera, size, px, far).expect("the ball");
+        assert!(((hit - centre).length() - 10.0).abs() <= 1.0, "{hit}");
     }
 }

@@ -55,8 +55,8 @@ pub struct GpuLabels {
 pub enum LabelUploadError {
     /// The label grid is larger than this GPU's 3D textures.
     #[error(
-        "the labels' grid {0:?} is larger than this GPU's 3D textures ({1} a side): labels over \
-         a bricked volume are not shown yet"
+        "the labels' grid {0:?} is larger than this GPU's 3D textures ({1} a side): labels do \
+         not travel in bricks yet"
     )]
     TooLarge([u32; 3], u32),
     /// More layers of overlapping segments than a texel holds.

@@ -1,7 +1,8 @@
 //! Segmentations in the ray loop: the shared CT head (its DICOM series) with its labels (written
 //! by SimpleITK; the palette's colours, far from any transfer function's), every mode with the labels colouring the image and
 //! cutting it to the shown labels, on both paths, against the f64 reference; leaping exact with
-//! labels; a label toggle against a render without it.
+//! labels; labels over a bricked volume as over one texture; a label toggle against a render
+//! without it.
 
 use std::sync::Arc;
 
@@ -12,7 +13,7 @@ use leapview::reference::{self, Labelled};
 use leapview::render::VolumeRenderer;
 use leapview::render::labels::GpuLabels;
 use leapview::settings::effects::{IsoSettings, LabelView, MipColor, Shading};
-use leapview::settings::{Mode, RenderPath, RenderSettings, Strategy};
+use leapview::settings::{Bricking, Mode, RenderPath, RenderSettings, Strategy, Upload};
 use leapview::transfer::TransferFunction;
 use leapview::volume::{LoadOptions, Volume, load_volume};
 
@@ -237,6 +238,70 @@ fn leaping_stays_exact_with_labels() {
                     &leapt,
                     &plain,
                     1.0 / 255.0,
+                    0.0,
+                );
+            }
+        }
+    }
+}
+
+/// A bricked volume (an atlas of bricks, fully resident) shows its labels as one texture does,
+/// in every view including surfaces, with and without leaping, on both paths.
+#[test]
+fn labels_over_a_bricked_volume_draw_as_over_one_texture() {
+    let (volume, labels, tf) = scene();
+    let mut single = renderer(&volume, &labels, &tf, skull_and_brain);
+    let mut bricked = common::renderer();
+    bricked
+        .set_volume_with(
+            &Arc::new(volume.clone()),
+            &Upload {
+                bricking: Bricking::On,
+                ..Upload::default()
+            },
+        )
+        .expect("upload");
+    assert!(bricked.volume_texture().is_some_and(|t| t.view.bricked));
+    bricked.set_transfer_function(&tf);
+    let ctx = bricked.context();
+    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, &labels).expect("labels upload");
+    gpu.show(&ctx.queue, &labels, skull_and_brain);
+    bricked
+        .set_labels(Some(Arc::new(gpu)))
+        .expect("labels over a bricked volume");
+    let camera = common::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
+    let surfaces = RenderSettings {
+        step_vox: 0.5,
+        strategy: Strategy::RcT,
+        labels: LabelView::Surfaces,
+        ..RenderSettings::default()
+    };
+    let mip_surfaces = RenderSettings {
+        mode: Mode::Mip,
+        window: Some([0.0, 1500.0]),
+        ..surfaces
+    };
+    let all = cases()
+        .into_iter()
+        .chain([("dvr-surfaces", surfaces), ("mip-surfaces", mip_surfaces)]);
+    for (name, settings) in all {
+        for path in [RenderPath::Fragment, RenderPath::Compute] {
+            for strategy in [Strategy::RcT, Strategy::RcS, Strategy::RcSDistance] {
+                if strategy.for_mode(settings.mode) != strategy {
+                    continue;
+                }
+                let settings = RenderSettings {
+                    path,
+                    strategy,
+                    ..settings
+                };
+                let want = render(&mut single, &camera, settings);
+                let got = render(&mut bricked, &camera, settings);
+                common::assert_close(
+                    &format!("labels-bricked-{name}-{path:?}-{strategy:?}"),
+                    &got,
+                    &want,
+                    1.0 / 255.0 + 1e-6,
                     0.0,
                 );
             }

@@ -118,7 +118,10 @@ fn variants_carry_only_the_effects_their_scene_needs() {
         let module = validate(&format!("{key:?}"), &key.source().expect("composes"));
         let names = function_names(&module);
         let has = |f: &str| names.iter().any(|n| n == f);
-        let lit = key.shading == Shading::Phong;
+        // Labels drawn as surfaces are lit whatever the image's shading (shade.wgsl comes with
+        // them).
+        let image_lit = key.shading == Shading::Phong;
+        let lit = image_lit || key.labels.surfaces();
         let labelled = key.labels != LabelView::Off;
         assert_eq!(
             has("labels_at"),
@@ -135,11 +138,16 @@ fn variants_carry_only_the_effects_their_scene_needs() {
             lit,
             "{key:?}: lighting code exactly in lit variants"
         );
-        if matches!(
+        let projection = matches!(
             key.mode,
             Mode::Mip | Mode::MinIp | Mode::Xray | Mode::XrayAttenuation
-        ) {
-            assert!(!lit, "{key:?}: MIP, MinIP and X-ray are never lit");
+        );
+        if projection {
+            assert!(!image_lit, "{key:?}: MIP, MinIP and X-ray are never lit");
+        }
+        // (Surfaces over a projection read the mask and the labels where they find one:
+        // tests/integration/label_surfaces.rs.)
+        if projection && !key.labels.surfaces() {
             // The loop's one volume read, the table read of MIP colours, the exit (and entry)
             // point loads, and the texel loads of a sample where a non-finite voxel takes part
             // (`sample_finite`), and with labels the label and colour-table loads of the cut

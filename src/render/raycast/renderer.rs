@@ -166,25 +166,19 @@ impl VolumeRenderer {
     }
 
     /// Shows `labels` over the volume loaded (on its grid: `labels::load_labels` puts them
-    /// there), or none. Refused where no volume is loaded, where the labels lie on another grid,
-    /// and over a bricked volume (labels do not travel in bricks yet).
+    /// there), or none. Refused where no volume is loaded and where the labels lie on another
+    /// grid. Over a bricked volume the labels stay one texture of the full grid (they do not
+    /// travel in bricks yet: `GpuLabels::new` refuses a grid past one texture).
     pub fn set_labels(&mut self, labels: Option<Arc<GpuLabels>>) -> Result<(), RenderError> {
         let volume = self.volume.as_mut().ok_or(RenderError::NoVolume)?;
-        if let Some(l) = &labels {
-            if l.dims() != volume.dims {
-                return Err(RenderError::Labels(format!(
-                    "the labels lie on a {:?} grid, the volume on {:?}",
-                    l.dims(),
-                    volume.dims
-                )));
-            }
-            if volume.texture.view.bricked {
-                return Err(RenderError::Labels(
-                    "this volume is drawn in bricks (past one GPU texture or the memory \
-                     budget); segmentations over bricked volumes are not shown in 3D yet"
-                        .into(),
-                ));
-            }
+        if let Some(l) = &labels
+            && l.dims() != volume.dims
+        {
+            return Err(RenderError::Labels(format!(
+                "the labels lie on a {:?} grid, the volume on {:?}",
+                l.dims(),
+                volume.dims
+            )));
         }
         let shared = FrameShared {
             uniforms: &self.uniforms,

@@ -213,14 +213,18 @@ impl PipelineKey {
                                         let others = [(true, false), (false, true), (true, true)]
                                             .map(|(m, b)| key.for_volume(m, b));
                                         let others = others.iter().filter(|_| sampled).copied();
-                                        // Segmentations in every view, on the plain volume.
+                                        // Segmentations in every view, on the plain
+                                        // volume and a bricked one.
                                         let labelled = [
                                             LabelView::Colour,
                                             LabelView::Inside,
                                             LabelView::ColourInside,
+                                            LabelView::Surfaces,
                                         ]
-                                        .map(|view| key.with_labels(view));
-                                        let labelled = labelled.iter().filter(|_| sampled).copied();
+                                        .map(|view| key.with_labels(view))
+                                        .into_iter()
+                                        .flat_map(|k| [k, k.for_volume(false, true)])
+                                        .filter(|_| sampled);
                                         for key in
                                             std::iter::once(key).chain(others).chain(labelled)
                                         {

@@ -272,6 +272,13 @@ impl ShownLabels {
         action
     }
 
+    /// The shown segment at stored voxel `[i, j, k]`, as its surface in 3D is drawn: its value
+    /// and opacity (0 … 1).
+    pub fn surface_at(&self, voxel: [u32; 3]) -> Option<(u16, f64)> {
+        let s = self.segment_at(voxel)?;
+        Some((s.value, f64::from(self.style_of(s)[3]) / 255.0))
+    }
+
     /// The shown segment at stored voxel `[i, j, k]` of the volume, if any.
     pub fn segment_at(&self, [i, j, k]: [u32; 3]) -> Option<&Segment> {
         let [nx, ny, _] = self.map.dims().map(|d| d as usize);

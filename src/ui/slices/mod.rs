@@ -361,7 +361,7 @@ impl SliceViews {
     }
 
     /// The world point the 3D view's pixel `px` shows (`mpr::pick`), only the shown labels'
-    /// voxels where the view cuts the image to them.
+    /// voxels where the view cuts the image to them, their surfaces first where it draws them.
     fn pick_world(
         &self,
         settings: &crate::settings::RenderSettings,
@@ -372,14 +372,19 @@ impl SliceViews {
     ) -> Option<DVec3> {
         let source = self.source.as_ref()?;
         let volume = &source.volume;
-        let cut = (self.labels.as_ref()).filter(|_| settings.labels.cuts());
-        match cut {
-            Some(labels) => {
+        let labels = self.labels.as_ref();
+        match labels {
+            Some(labels) if settings.labels.cuts() => {
                 crate::mpr::pick::pick_shown(volume, settings, tf, camera, size, px, |v| {
                     labels.segment_at(v).is_some()
                 })
             }
-            None => crate::mpr::pick::pick(volume, settings, tf, camera, size, px),
+            Some(labels) if settings.labels.surfaces() => {
+                crate::mpr::pick::pick_surfaces(volume, settings, tf, camera, size, px, |v| {
+                    labels.surface_at(v)
+                })
+            }
+            _ => crate::mpr::pick::pick(volume, settings, tf, camera, size, px),
         }
     }
 

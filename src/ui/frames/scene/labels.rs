@@ -11,7 +11,7 @@ use crate::render::labels::GpuLabels;
 pub(super) struct SceneLabels {
     /// The labels offered last, and the visibility generation they came with.
     offered: Option<(Arc<GpuLabels>, u64)>,
-    /// Labels the renderer refused (bricked volume): not offered again.
+    /// Labels the renderer refused (on another grid): not offered again.
     refused: Option<Arc<GpuLabels>>,
     /// Whether the renderer holds what was offered.
     applied: bool,
