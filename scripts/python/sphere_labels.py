@@ -1,13 +1,10 @@
-"""A ball of label 1, the same ball split in two labels by a tilted plane, and an empty image
-beside them, written by nibabel: LeapView's label surfaces are checked against the analytic
-sphere's normals and the wall between two labels against the plane's
-(tests/integration/label_surfaces.rs).
+"""A ball of label 1 and an empty image beside it, written by nibabel: LeapView's label surfaces
+are checked against the analytic sphere's normals (tests/integration/label_surfaces.rs).
 
     python sphere_labels.py OUT
 
 Writes `OUT/sphere_image.nii.gz` (uint8 zeros, 40³, 1 mm, identity affine) and
-`OUT/sphere_labels.nii.gz` (uint8: 1 within 13.3 voxels of the grid's centre, else 0) and
-`OUT/halves_labels.nii.gz` (the ball: 1 where (k - c) + (i - c) / 2 < 0, else 2; c the centre).
+`OUT/sphere_labels.nii.gz` (uint8: 1 within 13.3 voxels of the grid's centre, else 0).
 """
 
 import os
@@ -30,11 +27,6 @@ def main(out):
     nib.save(
         nib.Nifti1Image(ball.astype(np.uint8), affine),
         os.path.join(out, "sphere_labels.nii.gz"),
-    )
-    halves = np.where((k - c) + (i - c) / 2 < 0, 1, 2) * ball
-    nib.save(
-        nib.Nifti1Image(halves.astype(np.uint8), affine),
-        os.path.join(out, "halves_labels.nii.gz"),
     )
 
 

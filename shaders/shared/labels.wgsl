@@ -42,27 +42,16 @@ fn shown_label(p: vec3<f32>) -> vec4<f32> {
 
 // The first layer's shown label of voxel i (a = 0 where none is shown).
 fn shown_label_of(i: vec3<i32>) -> vec4<f32> {
-    return shown_of(i).colour;
-}
-
-// A shown label: its value (unique across layers; 0: none) and colour.
-struct ShownLabel {
-    value: u32,
-    colour: vec4<f32>,
-}
-
-// The first layer's shown label of voxel i.
-fn shown_of(i: vec3<i32>) -> ShownLabel {
     let here = labels_of(i);
     for (var layer = 0u; layer < min(frame.label_layers, 4u); layer++) {
         if here[layer] != 0u {
             let c = label_colour(here[layer]);
             if c.a > 0.0 {
-                return ShownLabel(here[layer], c);
+                return c;
             }
         }
     }
-    return ShownLabel(0u, vec4<f32>(0.0));
+    return vec4<f32>(0.0);
 }
 
 // Whether some layer's label at p is shown.

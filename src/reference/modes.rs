@@ -27,16 +27,6 @@ impl Labelled<'_> {
     /// The shown labels of the voxel nearest world position `p` (mm; voxel i's centre at
     /// i · spacing), by layer (at most four, as the GPU reads): (value, colour).
     pub(super) fn shown_at(&self, volume: &Volume, p: DVec3) -> impl Iterator<Item = [u8; 4]> + '_ {
-        self.shown_values_at(volume, p)
-            .map(|l| self.table[usize::from(l)])
-    }
-
-    /// The values of the shown labels of the voxel nearest `p`, by layer (at most four).
-    pub(super) fn shown_values_at(
-        &self,
-        volume: &Volume,
-        p: DVec3,
-    ) -> impl Iterator<Item = u16> + '_ {
         let dims = volume.dims();
         let spacing = volume.spacing_mm();
         let i: [u32; 3] = std::array::from_fn(|a| {
@@ -49,7 +39,9 @@ impl Labelled<'_> {
             .iter()
             .take(4)
             .map(move |layer| layer[index])
-            .filter(|&l| l != 0 && self.table[usize::from(l)][3] > 0)
+            .filter(|&l| l != 0)
+            .map(|l| self.table[usize::from(l)])
+            .filter(|c| c[3] > 0)
     }
 }
 

@@ -1,9 +1,7 @@
 //! Labels as surfaces in f64 (the twin of shaders/shared/label_surface.wgsl): the smoothed mask
 //! of the shown labels ([`crate::labels::surface::smoothed_mask`]) filtered trilinearly, a
 //! surface where it rises through one half between two samples, refined by false position, lit
-//! by the mask's gradient and coloured by the shown label around it; inside the shown labels, a
-//! wall where the nearest voxel's label changes, placed where the later label's indicator
-//! overtakes the earlier one's (both smoothed by the cubic B-spline).
+//! by the mask's gradient and coloured by the shown label around it.
 
 use glam::DVec3;
 
@@ -17,20 +15,12 @@ const LEVEL: f64 = 0.5;
 /// False-position steps refining a crossing (the shader's `SURFACE_REFINE`).
 const REFINE: usize = 5;
 
-/// False-position steps refining a wall between two labels (the shader's `WALL_REFINE`).
-const WALL_REFINE: usize = 3;
-
-/// Steps a wall's bracket may move before or after its two samples (the shader's `WALL_REACH`).
-const WALL_REACH: usize = 3;
-
 /// A ray's walk through the surfaces: whether its last sample was inside, and the surfaces it
 /// entered composited front to back (premultiplied) for the modes that show them over their
 /// picture (isosurface, MIP, MinIP, X-ray).
 #[derive(Default)]
 pub(super) struct SurfaceWalk {
     inside: bool,
-    /// The shown label the last sample inside was in (0: none known).
-    label: u16,
     colour: DVec3,
     alpha: f64,
 }
@@ -68,24 +58,9 @@ impl SurfaceWalk {
         let mask = ray.surface_mask?;
         let f = mask_at(ray, mask, t);
         let was_inside = std::mem::replace(&mut self.inside, f >= LEVEL);
-        if f < LEVEL {
-            self.label = 0;
+        if was_inside || f < LEVEL {
             return None;
         }
-        let labels = ray.labels?;
-        let here = (labels
-            .shown_values_at(ray.volume, ray.entry + ray.dir * t)
-            .next())
-        .unwrap_or(0);
-        if was_inside {
-            let from = self.label;
-            if here == 0 {
-                return None;
-            }
-            self.label = here;
-            return (from != 0 && from != here).then(|| wall(ray, t0, t, from, here));
-        }
-        self.label = here;
         let (mut t0, mut d0) = (t0, mask_at(ray, mask, t0) - LEVEL);
         let (th, g) = if d0 >= 0.0 {
             // A label at the box's face: a cap facing the eye.
@@ -112,117 +87,6 @@ impl SurfaceWalk {
             alpha: f64::from(a) / 255.0,
             t: th,
         })
-    }
-}
-
-/// Cubic B-spline weights for a fraction `f` of a voxel: the four voxels from the one before to
-/// the one two after.
-fn spline(f: f64) -> [f64; 4] {
-    let g = 1.0 - f;
-    [
-        g * g * g / 6.0,
-        ((3.0 * f - 6.0) * f * f + 4.0) / 6.0,
-        (((-3.0 * f + 3.0) * f + 3.0) * f + 1.0) / 6.0,
-        f * f * f / 6.0,
-    ]
-}
-
-/// Label `b`'s indicator less label `a`'s (any of the first four layers), each smoothed by the
-/// cubic B-spline over the 4³ voxels around `p` (clamped to the grid).
-fn wall_field(ray: &RayInput, p: DVec3, a: u16, b: u16) -> f64 {
-    let Some(labels) = ray.labels else {
-        return 0.0;
-    };
-    let v = ray.volume;
-    let dims = v.dims();
-    let spacing = DVec3::from_array(v.spacing_mm());
-    let x = p / spacing;
-    let base = x.floor();
-    let w = [0, 1, 2].map(|axis| spline(x[axis] - base[axis]));
-    let mut value = 0.0;
-    for o in 0..64usize {
-        let off = [o % 4, o / 4 % 4, o / 16];
-        let i: [u32; 3] = std::array::from_fn(|axis| {
-            let at = base[axis] + off[axis] as f64 - 1.0;
-            at.clamp(0.0, f64::from(dims[axis] - 1)) as u32
-        });
-        let index = v.index(i[0], i[1], i[2]);
-        let holds = |l: u16| {
-            labels
-                .map
-                .layers()
-                .iter()
-                .take(4)
-                .any(|layer| layer[index] == l)
-        };
-        let s = f64::from(u8::from(holds(b))) - f64::from(u8::from(holds(a)));
-        value += s * w[0][off[0]] * w[1][off[1]] * w[2][off[2]];
-    }
-    value
-}
-
-/// [`wall_field`]'s gradient per mm, by central differences one voxel apart.
-fn wall_gradient(ray: &RayInput, p: DVec3, a: u16, b: u16) -> DVec3 {
-    let spacing = DVec3::from_array(ray.volume.spacing_mm());
-    let mut g = DVec3::ZERO;
-    for axis in 0..3 {
-        let mut e = DVec3::ZERO;
-        e[axis] = spacing[axis];
-        g[axis] =
-            0.5 * (wall_field(ray, p + e, a, b) - wall_field(ray, p - e, a, b)) / spacing[axis];
-    }
-    g
-}
-
-/// The wall a ray crosses from shown label `a` into shown label `b` between `t0` and `t`: where
-/// [`wall_field`] rises through 0 (the bracket moved up to `WALL_REACH` steps before or after
-/// where it does not between them), refined by false position, lit by its gradient, in `b`'s
-/// colour at its opacity; lit by [`wall_gradient`].
-fn wall(ray: &RayInput, t0: f64, t: f64, a: u16, b: u16) -> Surface {
-    let field = |t: f64| wall_field(ray, ray.entry + ray.dir * t, a, b);
-    let step = (t - t0).max(1e-6);
-    let (mut t0, mut t1) = (t0, t);
-    let (mut d0, mut d1) = (field(t0), field(t1));
-    for _ in 0..WALL_REACH {
-        if d0 < 0.0 {
-            break;
-        }
-        (t1, d1) = (t0, d0);
-        t0 = (t1 - step).max(0.0);
-        d0 = field(t0);
-    }
-    for _ in 0..WALL_REACH {
-        if d1 >= 0.0 {
-            break;
-        }
-        (t0, d0) = (t1, d1);
-        t1 = t0 + step;
-        d1 = field(t1);
-    }
-    let mut th = t;
-    if d0 < 0.0 && d1 >= 0.0 {
-        for _ in 0..WALL_REFINE {
-            let tm = t0 + (t1 - t0) * (d0 / (d0 - d1)).clamp(0.0, 1.0);
-            let dm = field(tm);
-            if dm >= 0.0 {
-                (t1, d1) = (tm, dm);
-            } else {
-                (t0, d0) = (tm, dm);
-            }
-        }
-        th = t0 + (t1 - t0) * (d0 / (d0 - d1)).clamp(0.0, 1.0);
-    }
-    let mut g = wall_gradient(ray, ray.entry + ray.dir * th, a, b);
-    if g == DVec3::ZERO {
-        g = ray.dir;
-    }
-    let [r, gr, bl, al] = ray.labels.map_or([0; 4], |l| l.table[usize::from(b)]);
-    let colour = DVec3::new(f64::from(r), f64::from(gr), f64::from(bl)) / 255.0;
-    let s = ray.settings;
-    Surface {
-        colour: phong(colour, g, ray.dir, &s.phong, &s.light),
-        alpha: f64::from(al) / 255.0,
-        t: th,
     }
 }
 
