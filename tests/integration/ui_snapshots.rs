@@ -492,6 +492,54 @@ fn error_dialog_shows_the_message_on_one_line_until_ok() {
     assert!(h.query_by_label(message).is_none());
 }
 
+/// A dropped file that may be the labels of the image on screen: the dialog says why and opens
+/// it as the answer says (Escape or Cancel: not at all).
+#[test]
+fn a_dropped_file_that_may_be_labels_is_asked_about() {
+    use leapview::ui::panels::dialogs::Purpose;
+    use std::path::PathBuf;
+    let path = PathBuf::from("/data/ct_labels.nii.gz");
+    let why = "its name says 'labels' and its samples are whole numbers";
+    for (button, want) in [
+        ("As its segmentation", Some(Purpose::Labels)),
+        ("As a new image", Some(Purpose::Volume)),
+        ("Cancel", None),
+    ] {
+        let mut dialogs = Dialogs::default();
+        dialogs.ask_dropped(path.clone(), why.into());
+        type State = (Dialogs, Option<(PathBuf, Purpose)>);
+        let mut h = harness([560.0, 220.0]).build_ui_state(
+            |ui, (d, chosen): &mut State| {
+                if let Some(c) = d.ui(ui.ctx()) {
+                    *chosen = Some(c);
+                }
+            },
+            (dialogs, None),
+        );
+        assert!(
+            h.query_by_label("Open ct_labels.nii.gz").is_some(),
+            "{h:#?}"
+        );
+        assert!(
+            h.query_by_label_contains("may be the segmentation of the image on screen")
+                .is_some(),
+            "{h:#?}"
+        );
+        if button == "Cancel" && std::env::var_os("LEAPVIEW_SAVE_IMAGES").is_some() {
+            let image = h.render().expect("render");
+            let out = crate::common::output_dir().join("dropped-dialog.png");
+            image.save(out).expect("save");
+        }
+        h.get_by_label(button).click();
+        h.run();
+        assert_eq!(h.state().1, want.map(|p| (path.clone(), p)), "{button}");
+        assert!(
+            h.query_by_label("Open ct_labels.nii.gz").is_none(),
+            "{button}: still open"
+        );
+    }
+}
+
 #[test]
 fn loading_shows_a_bar_then_says_the_histogram_is_being_computed() {
     let status = |fraction| leapview::ui::loading::LoadStatus {

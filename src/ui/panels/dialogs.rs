@@ -55,7 +55,7 @@ impl Dialogs {
 
     /// Asks whether the dropped file at `path` is the segmentation of the image on screen
     /// (`why` it may be) or an image to open.
-    pub(crate) fn ask_dropped(&mut self, path: PathBuf, why: String) {
+    pub fn ask_dropped(&mut self, path: PathBuf, why: String) {
         self.dropped = Some((path, why));
     }
 
