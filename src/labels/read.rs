@@ -46,7 +46,7 @@ pub fn load_labels(
     } else {
         None
     };
-    let (layers, inside, described, strict) = match seg {
+    let (mut layers, inside, mut described, strict) = match seg {
         Some(seg) => {
             check_references(&seg, image, path, &mut notes)?;
             notes.extend(seg.notes.iter().cloned());
@@ -84,7 +84,6 @@ pub fn load_labels(
             inside as f64 * 100.0 / total as f64
         ));
     }
-    let (mut layers, mut described) = (layers, described);
     layered::unique_across_layers(&mut layers, &mut described, &mut notes).map_err(|reason| {
         LabelError::Disagrees {
             path: path.to_path_buf(),

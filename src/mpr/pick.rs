@@ -144,41 +144,31 @@ impl<'a> RayPick<'a> {
             Some(volume.value(i[0], i[1], i[2])).filter(|x| x.is_finite() && shown(i))
         };
         let points = self.points().map(|(_, p)| p);
-        image_pick(settings, tf, range, (step, d0), points, value_at)
-    }
-}
-
-/// The mode's pick among `points`.
-fn image_pick(
-    settings: &RenderSettings,
-    tf: &TransferFunction,
-    range: crate::volume::stats::ValueRange,
-    (step, d0): (f64, f64),
-    points: impl Iterator<Item = DVec3>,
-    value_at: impl Fn(DVec3) -> Option<f64>,
-) -> Option<DVec3> {
-    match settings.mode {
-        Mode::Dvr => {
-            let mut accumulated = 0.0;
-            for p in points {
-                let Some(v) = value_at(p) else { continue };
-                let alpha = tf.opacity_at(v, range).clamp(0.0, 1.0);
-                let alpha = 1.0 - (1.0 - alpha).powf(step / d0);
-                accumulated += (1.0 - accumulated) * alpha;
-                if accumulated >= SURFACE_OPACITY {
-                    return Some(p);
+        match settings.mode {
+            Mode::Dvr => {
+                let mut accumulated = 0.0;
+                for p in points {
+                    let Some(v) = value_at(p) else { continue };
+                    let alpha = tf.opacity_at(v, range).clamp(0.0, 1.0);
+                    let alpha = 1.0 - (1.0 - alpha).powf(step / d0);
+                    accumulated += (1.0 - accumulated) * alpha;
+                    if accumulated >= SURFACE_OPACITY {
+                        return Some(p);
+                    }
                 }
+                None
             }
-            None
+            Mode::Iso => {
+                let threshold = range.denormalize(settings.iso.threshold(range));
+                points
+                    .into_iter()
+                    .find(|p| value_at(*p).is_some_and(|v| v >= threshold))
+            }
+            Mode::MinIp => extreme(points, value_at, |a, b| a < b),
+            Mode::Mip | Mode::Xray | Mode::XrayAttenuation => {
+                extreme(points, value_at, |a, b| a > b)
+            }
         }
-        Mode::Iso => {
-            let threshold = range.denormalize(settings.iso.threshold(range));
-            points
-                .into_iter()
-                .find(|p| value_at(*p).is_some_and(|v| v >= threshold))
-        }
-        Mode::MinIp => extreme(points, value_at, |a, b| a < b),
-        Mode::Mip | Mode::Xray | Mode::XrayAttenuation => extreme(points, value_at, |a, b| a > b),
     }
 }
 

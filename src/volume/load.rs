@@ -59,16 +59,28 @@ pub fn load_volume(path: &Path, options: &LoadOptions) -> Result<Volume, LoadErr
             Some(o) => v.with_user_orientation(o),
             None => v,
         })
-        .map(Volume::unmirrored)
-        .map(|v| {
-            let mut provenance = v.provenance().clone();
-            provenance.path = Some(path.to_path_buf());
-            v.with_provenance(provenance)
-        })
+        .map(|v| from_file(v, path))
         .map_err(|problem| LoadError {
             path: path.to_path_buf(),
             problem,
         })
+}
+
+/// A volume read from the file at `path` as every loader hands it out: unmirrored, the path in
+/// its provenance.
+fn from_file(volume: Volume, path: &Path) -> Volume {
+    let v = volume.unmirrored();
+    let mut provenance = v.provenance().clone();
+    provenance.path = Some(path.to_path_buf());
+    v.with_provenance(provenance)
+}
+
+/// The file's name, which a volume read from it is called.
+fn name_of(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }
 
 /// What a volume file's header says, read without its samples: enough to tell a label volume
@@ -113,16 +125,11 @@ impl HeaderFacts {
 /// The header facts of a NRRD, NIfTI or MetaImage file (by its name); `None` for another
 /// format or a header that does not read.
 pub fn header_facts(path: &Path) -> Option<HeaderFacts> {
-    let name = path.file_name()?.to_string_lossy().to_ascii_lowercase();
-    let has = |suffix: &str| name.ends_with(suffix);
-    let facts = if has(".nrrd") || has(".nhdr") {
-        nrrd::header_facts(path)
-    } else if has(".nii") || has(".nii.gz") {
-        nifti::header_facts(path)
-    } else if has(".mha") || has(".mhd") {
-        metaimage::header_facts(path)
-    } else {
-        return None;
+    let facts = match format_of(&name_of(path), &LoadOptions::default(), || false) {
+        Ok(Format::Nrrd) => nrrd::header_facts(path),
+        Ok(Format::Nifti) => nifti::header_facts(path),
+        Ok(Format::MetaImage) => metaimage::header_facts(path),
+        _ => return None,
     };
     facts
         .map_err(|e| log::debug!("{}: {e}", path.display()))
@@ -133,34 +140,23 @@ pub fn header_facts(path: &Path) -> Option<HeaderFacts> {
 /// layers (the first axis of a 4-D `.seg.nrrd`), else the one volume [`load_volume`] reads;
 /// mirrored files come back unmirrored as there.
 pub fn load_layers(path: &Path) -> Result<Vec<Volume>, LoadError> {
-    let name = path.file_name().map_or_else(
-        || path.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
+    let name = name_of(path);
+    let nrrd = matches!(
+        format_of(&name, &LoadOptions::default(), || false),
+        Ok(Format::Nrrd)
     );
-    let lower = name.to_ascii_lowercase();
-    if !(lower.ends_with(".nrrd") || lower.ends_with(".nhdr")) || !path.is_file() {
+    if !nrrd || !path.is_file() {
         return load_volume(path, &LoadOptions::default()).map(|v| vec![v]);
     }
     let layers = nrrd::read_nrrd_layers(path, name).map_err(|problem| LoadError {
         path: path.to_path_buf(),
         problem,
     })?;
-    Ok(layers
-        .into_iter()
-        .map(|v| {
-            let v = v.unmirrored();
-            let mut provenance = v.provenance().clone();
-            provenance.path = Some(path.to_path_buf());
-            v.with_provenance(provenance)
-        })
-        .collect())
+    Ok(layers.into_iter().map(|v| from_file(v, path)).collect())
 }
 
 fn load(path: &Path, options: &LoadOptions) -> Result<Volume, VolumeError> {
-    let name = path.file_name().map_or_else(
-        || path.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
+    let name = name_of(path);
     let progress = options.progress.as_deref();
     // An http(s)://, s3://, gs:// or az:// address is a remote OME-Zarr store.
     if zarr::is_remote(path) {
