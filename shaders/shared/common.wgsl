@@ -87,7 +87,8 @@ struct Frame {
     colour_volume: u32,
     // Layers of labels in label_tex (shared/labels.wgsl), 0 without a segmentation.
     label_layers: u32,
-    _pad0: u32,
+    // Channels of the label surfaces' mask (1, 2 or 4; 0 without surfaces).
+    surface_channels: u32,
     _pad1: u32,
     _pad2: u32,
 }

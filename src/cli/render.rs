@@ -318,12 +318,15 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         if let Some((map, labels, shown)) = &labelled {
             outln!(
                 out,
-                "labels: {}: {} segments, {} shown, view {:?}, {:.1} MB on the GPU",
+                "labels: {}: {} segments, {} shown, view {:?}, {:.1} MB on the GPU; {} \
+                 neighbouring pairs found in {:.1} ms at upload",
                 map.name(),
                 map.segments().len(),
                 shown.len(),
                 settings.labels,
-                labels.gpu_bytes() as f64 / 1e6
+                labels.gpu_bytes() as f64 / 1e6,
+                labels.neighbour_facts().0,
+                labels.neighbour_facts().1
             );
             let toggles = label_toggles(
                 &mut renderer,
@@ -345,11 +348,12 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
                     TIMED_FRAMES * 2
                 );
             }
-            if let Some(bytes) = renderer.label_surface_bytes() {
+            if let Some((bytes, channels, clashes)) = renderer.label_surface_facts() {
                 outln!(
                     out,
-                    "label_surfaces: smoothing {} voxels, {:.1} MB on the GPU (the mask and \
-                     its build's buffer)",
+                    "label_surfaces: smoothing {} voxels, {channels} classes (mask channels), \
+                     {clashes} touching pairs sharing a class (no wall between them), {:.1} MB \
+                     on the GPU (the mask, its class table and its build's buffer)",
                     settings.label_smoothing,
                     bytes as f64 / 1e6
                 );

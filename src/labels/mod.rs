@@ -8,6 +8,7 @@
 //! are layers of their own (a DICOM SEG's overlapping segments go into as few layers as hold them
 //! apart).
 
+pub mod classes;
 mod dicom_seg;
 mod error;
 mod layered;
@@ -121,6 +122,25 @@ impl LabelMap {
                     let l = layer[i];
                     l != 0 && table.get(usize::from(l)).is_some_and(|c| c[3] > 0)
                 })
+            })
+            .collect()
+    }
+
+    /// Per voxel, the classes of its shown labels as bits (bit c: some layer's label there is
+    /// shown by `table` and of class c in `class`): each bit's indicator is a channel of the
+    /// surfaces' mask ([`classes`]).
+    pub fn shown_classes(&self, table: &[[u8; 4]], class: &[Option<u8>]) -> Vec<u8> {
+        let voxels = self.dims.iter().map(|&d| d as usize).product::<usize>();
+        (0..voxels)
+            .map(|i| {
+                let mut bits = 0u8;
+                for layer in self.layers.iter().take(4) {
+                    let l = usize::from(layer[i]);
+                    if l != 0 && table.get(l).is_some_and(|c| c[3] > 0) {
+                        bits |= class.get(l).copied().flatten().map_or(0, |c| 1 << c);
+                    }
+                }
+                bits
             })
             .collect()
     }

@@ -23,6 +23,7 @@ use crate::volume::Volume;
 
 pub use modes::{Labelled, RayInput};
 pub use shade::{gradient, phong};
+pub use surfaces::SurfaceMasks;
 pub use trilinear::sample_trilinear;
 
 /// A reference image and its counts.
@@ -57,19 +58,14 @@ pub fn render_labelled(
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let world_from_clip = camera.clip_from_world(size, &bounds).inverse();
     // Surfaces are found in the shown labels' smoothed mask, as the GPU builds it.
-    let mask = labels.filter(|_| settings.labels.surfaces()).map(|l| {
-        let shown = l.map.shown_voxels(l.table);
-        crate::labels::surface::smoothed_mask(
-            volume.dims(),
-            &shown,
-            settings.label_smoothing as f32,
-        )
-    });
+    let mask = labels
+        .filter(|_| settings.labels.surfaces())
+        .map(|l| surfaces::SurfaceMasks::new(l, settings.label_smoothing as f32));
     let caster = Caster {
         volume,
         tf,
         labels,
-        surface_mask: mask.as_deref(),
+        surface_mask: mask.as_ref(),
         // Rays run through the cropping box (the whole bounding box when nothing is cropped).
         bounds: settings.crop.world(&bounds),
         world_from_clip,
@@ -123,7 +119,7 @@ struct Caster<'a> {
     volume: &'a Volume,
     tf: &'a TransferFunction,
     labels: Option<&'a Labelled<'a>>,
-    surface_mask: Option<&'a [u8]>,
+    surface_mask: Option<&'a surfaces::SurfaceMasks>,
     bounds: Aabb,
     world_from_clip: DMat4,
     size: [u32; 2],

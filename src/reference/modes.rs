@@ -27,6 +27,15 @@ impl Labelled<'_> {
     /// The shown labels of the voxel nearest world position `p` (mm; voxel i's centre at
     /// i · spacing), by layer (at most four, as the GPU reads): (value, colour).
     pub(super) fn shown_at(&self, volume: &Volume, p: DVec3) -> impl Iterator<Item = [u8; 4]> + '_ {
+        self.shown_values_at(volume, p).map(|(_, c)| c)
+    }
+
+    /// [`Self::shown_at`] with each label's value.
+    pub(super) fn shown_values_at(
+        &self,
+        volume: &Volume,
+        p: DVec3,
+    ) -> impl Iterator<Item = (u16, [u8; 4])> + '_ {
         let dims = volume.dims();
         let spacing = volume.spacing_mm();
         let i: [u32; 3] = std::array::from_fn(|a| {
@@ -40,8 +49,8 @@ impl Labelled<'_> {
             .take(4)
             .map(move |layer| layer[index])
             .filter(|&l| l != 0)
-            .map(|l| self.table[usize::from(l)])
-            .filter(|c| c[3] > 0)
+            .map(|l| (l, self.table[usize::from(l)]))
+            .filter(|(_, c)| c[3] > 0)
     }
 }
 
@@ -53,9 +62,9 @@ pub struct RayInput<'a> {
     pub tf: &'a TransferFunction,
     /// A segmentation over the volume, if any.
     pub labels: Option<&'a Labelled<'a>>,
-    /// Where the settings draw the labels as surfaces, the shown labels' smoothed mask
-    /// ([`crate::labels::surface::smoothed_mask`]).
-    pub surface_mask: Option<&'a [u8]>,
+    /// Where the settings draw the labels as surfaces, the shown labels' smoothed mask, a
+    /// channel per class.
+    pub surface_mask: Option<&'a super::surfaces::SurfaceMasks>,
     /// The settings.
     pub settings: &'a RenderSettings,
     /// Entry point, world millimetres.

@@ -1,13 +1,16 @@
-//! Labels as surfaces in f64 (the twin of shaders/shared/label_surface.wgsl): the smoothed mask
-//! of the shown labels ([`crate::labels::surface::smoothed_mask`]) filtered trilinearly, a
-//! surface where it rises through one half between two samples, refined by false position, lit
-//! by the mask's gradient and coloured by the shown label around it.
+//! Labels as surfaces in f64 (the twin of shaders/shared/label_surface.wgsl): per class of shown
+//! labels the smoothed mask of that class's labels ([`crate::labels::surface::smoothed_mask`])
+//! filtered trilinearly, a surface where a class's mask rises through one half between two
+//! samples (walls between touching labels of two classes included), refined by false position,
+//! lit by that mask's gradient and coloured by the shown label of that class around it.
 
 use glam::DVec3;
 
-use super::modes::RayInput;
+use super::modes::{Labelled, RayInput};
 use super::shade::phong;
 use super::trilinear::corners;
+use crate::labels::classes::{self, Classes};
+use crate::labels::surface::smoothed_mask;
 
 /// Where the mask crosses the surface.
 const LEVEL: f64 = 0.5;
@@ -15,12 +18,44 @@ const LEVEL: f64 = 0.5;
 /// False-position steps refining a crossing (the shader's `SURFACE_REFINE`).
 const REFINE: usize = 5;
 
-/// A ray's walk through the surfaces: whether its last sample was inside, and the surfaces it
-/// entered composited front to back (premultiplied) for the modes that show them over their
-/// picture (isosurface, MIP, MinIP, X-ray).
+/// The surfaces' mask as the GPU builds it: the shown labels' classes
+/// ([`crate::labels::classes`], from the same neighbour graph) and per class the smoothed
+/// indicator of its shown labels ([`smoothed_mask`]).
+pub struct SurfaceMasks {
+    classes: Classes,
+    channels: Vec<Vec<u8>>,
+}
+
+impl SurfaceMasks {
+    /// The masks of `labels` as shown by their table, smoothed by `sigma` voxels.
+    pub(super) fn new(labels: &Labelled<'_>, sigma: f32) -> Self {
+        let shown: Vec<bool> = labels.table.iter().map(|c| c[3] > 0).collect();
+        let classes = classes::classes(&shown, &classes::neighbours(labels.map));
+        let bits = labels.map.shown_classes(labels.table, &classes.class);
+        let channels = (0..classes.used.max(1))
+            .map(|c| {
+                let inside: Vec<bool> = bits.iter().map(|b| b >> c & 1 == 1).collect();
+                smoothed_mask(labels.map.dims(), &inside, sigma)
+            })
+            .collect();
+        Self { classes, channels }
+    }
+
+    fn class_of(&self, value: u16) -> Option<u8> {
+        self.classes
+            .class
+            .get(usize::from(value))
+            .copied()
+            .flatten()
+    }
+}
+
+/// A ray's walk through the surfaces: the channels its last sample was inside (bits), and the
+/// surfaces it entered composited front to back (premultiplied) for the modes that show them
+/// over their picture (isosurface, MIP, MinIP, X-ray).
 #[derive(Default)]
 pub(super) struct SurfaceWalk {
-    inside: bool,
+    inside: u8,
     colour: DVec3,
     alpha: f64,
 }
@@ -52,42 +87,84 @@ impl SurfaceWalk {
         ray.surface_mask.is_some()
     }
 
-    /// The surface the ray enters between `t0` (the previous sample, or 0 at the entry) and `t`
-    /// (mm), if it enters one.
+    /// The surfaces the ray enters between `t0` (the previous sample, or 0 at the entry) and
+    /// `t` (mm), where a class's channel rises through the level, composited in order of
+    /// distance into one (its distance the nearest's), if it enters any.
     pub(super) fn before(&mut self, ray: &RayInput, t0: f64, t: f64) -> Option<Surface> {
-        let mask = ray.surface_mask?;
-        let f = mask_at(ray, mask, t);
-        let was_inside = std::mem::replace(&mut self.inside, f >= LEVEL);
-        if was_inside || f < LEVEL {
+        let masks = ray.surface_mask?;
+        let now = above(ray, masks, t);
+        let risen = now & !std::mem::replace(&mut self.inside, now);
+        if risen == 0 {
             return None;
         }
-        let (mut t0, mut d0) = (t0, mask_at(ray, mask, t0) - LEVEL);
-        let (th, g) = if d0 >= 0.0 {
-            // A label at the box's face: a cap facing the eye.
-            (t0, ray.dir)
-        } else {
-            let (mut t1, mut d1) = (t, f - LEVEL);
-            for _ in 0..REFINE {
-                let tm = t0 + (t1 - t0) * (d0 / (d0 - d1)).clamp(0.0, 1.0);
-                let dm = mask_at(ray, mask, tm) - LEVEL;
-                if dm >= 0.0 {
-                    (t1, d1) = (tm, dm);
-                } else {
-                    (t0, d0) = (tm, dm);
-                }
+        let mut hits: Vec<(f64, usize, Option<Surface>)> = Vec::new();
+        for (c, mask) in masks.channels.iter().enumerate() {
+            if risen >> c & 1 == 0 {
+                continue;
             }
-            let th = t0 + (t1 - t0) * (d0 / (d0 - d1)).clamp(0.0, 1.0);
-            (th, gradient(ray, mask, ray.entry + ray.dir * th))
-        };
-        let [r, gr, b, a] = label_around(ray, ray.entry + ray.dir * th, g)?;
+            let (th, surface) = enter(ray, masks, c, mask, (t0, t));
+            hits.push((th, c, surface));
+        }
+        // Front to back by distance (ties: the lower class first).
+        hits.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let nearest = hits.first().map_or(t, |h| h.0.min(t));
+        let (mut colour, mut alpha) = (DVec3::ZERO, 0.0);
+        for s in hits.iter().filter_map(|h| h.2.as_ref()) {
+            colour += (1.0 - alpha) * s.alpha * s.colour;
+            alpha += (1.0 - alpha) * s.alpha;
+        }
+        (alpha > 0.0).then(|| Surface {
+            colour: colour / alpha,
+            alpha,
+            t: nearest,
+        })
+    }
+}
+
+/// The channels at or above the level at distance `t`, as bits.
+fn above(ray: &RayInput, masks: &SurfaceMasks, t: f64) -> u8 {
+    (masks.channels.iter().enumerate())
+        .filter(|(_, mask)| mask_at(ray, mask, t) >= LEVEL)
+        .fold(0, |bits, (c, _)| bits | 1 << c)
+}
+
+/// Where channel `c` (`mask`) rises through the level between `t0` and `t1` (mm) and the
+/// surface there, lit (none where no shown label of that class lies around it).
+fn enter(
+    ray: &RayInput,
+    masks: &SurfaceMasks,
+    c: usize,
+    mask: &[u8],
+    (t0, t1): (f64, f64),
+) -> (f64, Option<Surface>) {
+    let (mut t0, mut d0) = (t0, mask_at(ray, mask, t0) - LEVEL);
+    let (th, g) = if d0 >= 0.0 {
+        // A label at the box's face: a cap facing the eye.
+        (t0, ray.dir)
+    } else {
+        let (mut t1, mut d1) = (t1, mask_at(ray, mask, t1) - LEVEL);
+        for _ in 0..REFINE {
+            let tm = t0 + (t1 - t0) * (d0 / (d0 - d1)).clamp(0.0, 1.0);
+            let dm = mask_at(ray, mask, tm) - LEVEL;
+            if dm >= 0.0 {
+                (t1, d1) = (tm, dm);
+            } else {
+                (t0, d0) = (tm, dm);
+            }
+        }
+        let th = t0 + (t1 - t0) * (d0 / (d0 - d1)).clamp(0.0, 1.0);
+        (th, gradient(ray, mask, ray.entry + ray.dir * th))
+    };
+    let surface = label_around(ray, masks, c, ray.entry + ray.dir * th, g).map(|[r, gr, b, a]| {
         let colour = DVec3::new(f64::from(r), f64::from(gr), f64::from(b)) / 255.0;
         let s = ray.settings;
-        Some(Surface {
+        Surface {
             colour: phong(colour, g, ray.dir, &s.phong, &s.light),
             alpha: f64::from(a) / 255.0,
             t: th,
-        })
-    }
+        }
+    });
+    (th, surface)
 }
 
 fn mask_value(ray: &RayInput, mask: &[u8], p: DVec3) -> f64 {
@@ -115,10 +192,22 @@ fn gradient(ray: &RayInput, mask: &[u8], p: DVec3) -> DVec3 {
     g
 }
 
-/// The shown label of the voxel around `p` weighing most in the trilinear filter (the first in
-/// corner order on a tie), else that of the voxel one step along `g` (inwards).
-fn label_around(ray: &RayInput, p: DVec3, g: DVec3) -> Option<[u8; 4]> {
+/// The shown label of class `c` of the voxel around `p` weighing most in the trilinear filter
+/// (the first in corner order on a tie), else that of the voxel one step along `g` (inwards).
+fn label_around(
+    ray: &RayInput,
+    masks: &SurfaceMasks,
+    c: usize,
+    p: DVec3,
+    g: DVec3,
+) -> Option<[u8; 4]> {
     let labels = ray.labels?;
+    let in_class = |q: DVec3| {
+        labels
+            .shown_values_at(ray.volume, q)
+            .find(|&(l, _)| masks.class_of(l).map(usize::from) == Some(c))
+            .map(|(_, colour)| colour)
+    };
     let v = ray.volume;
     let spacing = DVec3::from_array(v.spacing_mm());
     let dims = v.dims();
@@ -136,14 +225,12 @@ fn label_around(ray: &RayInput, p: DVec3, g: DVec3) -> Option<[u8; 4]> {
             i[a] = idx.clamp(0.0, f64::from(dims[a] - 1)) as u32;
         }
         let centre = DVec3::new(f64::from(i[0]), f64::from(i[1]), f64::from(i[2])) * spacing;
-        if let Some(c) = labels.shown_at(v, centre).next()
+        if let Some(colour) = in_class(centre)
             && best.is_none_or(|(_, bw)| w > bw)
         {
-            best = Some((c, w));
+            best = Some((colour, w));
         }
     }
-    best.map(|(c, _)| c).or_else(|| {
-        let inward = p + g.normalize_or_zero() * spacing;
-        labels.shown_at(v, inward).next()
-    })
+    best.map(|(c, _)| c)
+        .or_else(|| in_class(p + g.normalize_or_zero() * spacing))
 }

@@ -201,7 +201,7 @@ pub fn layouts() -> Vec<StructLayout> {
             phong_ambient, phong_diffuse, phong_specular, phong_shininess, window_lo, window_hi,
             saturation, xray_density_per_mm, iso_threshold, steps_per_d0, depth_units_per_mm,
             iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight, row_offset,
-            row_end, all_finite, colour_volume, label_layers, _pad0, _pad1, _pad2,
+            row_end, all_finite, colour_volume, label_layers, surface_channels, _pad1, _pad2,
         }),
         layout!(VolumeGeometry = "VolumeGeometry" in "shared/volume_geometry.wgsl" {
             dims, brick_vox, texel_size, _pad0, bricks_per_box, _pad1, last_brick, _pad2,
@@ -220,7 +220,7 @@ pub fn layouts() -> Vec<StructLayout> {
             cells, level, apron, _pad0, _pad1, _pad2,
         }),
         layout!(SurfaceParams = "SurfaceParams" in "build/label_surface.wgsl" {
-            dims, axis, origin, row_words, extent, radius, weights, layers, _pad0, _pad1, _pad2,
+            dims, axis, origin, row_words, extent, radius, weights, layers, channels, _pad1, _pad2,
         }),
         layout!(DistanceParams = "DistanceParams" in "build/distance.wgsl" {
             leaf_level, axis, sides, _pad1,
@@ -334,8 +334,8 @@ pub struct FrameUniforms {
     pub colour_volume: u32,
     /// Layers of labels bound beside the volume (0 without a segmentation).
     pub label_layers: u32,
-    /// Padding to 16 bytes.
-    pub _pad0: u32,
+    /// Channels of the label surfaces' mask the ray loop reads (1, 2 or 4; 0 without surfaces).
+    pub surface_channels: u32,
     /// Padding.
     pub _pad1: u32,
     /// Padding.
@@ -461,7 +461,7 @@ pub struct SurfaceParams {
     pub axis: u32,
     /// The slab's first voxel.
     pub origin: [u32; 3],
-    /// Words (four voxels) per row of the buffer.
+    /// Words (four bytes: 4 / channels voxels) per row of the buffer.
     pub row_words: u32,
     /// The slab's extent in voxels.
     pub extent: [u32; 3],
@@ -471,8 +471,8 @@ pub struct SurfaceParams {
     pub weights: [f32; 4],
     /// Layers of labels the label texture holds.
     pub layers: u32,
-    /// Padding to 16 bytes.
-    pub _pad0: u32,
+    /// The mask's channels (classes): 1, 2 or 4.
+    pub channels: u32,
     /// Padding.
     pub _pad1: u32,
     /// Padding.

@@ -11,6 +11,7 @@ use wgpu::util::DeviceExt;
 
 use crate::accel::label_cells::LabelCells;
 use crate::labels::LabelMap;
+use crate::labels::classes::{self, Classes};
 
 use super::texture::full_view;
 
@@ -48,6 +49,11 @@ pub struct GpuLabels {
     generation: AtomicU64,
     /// The visibility bits last written.
     last_bits: Mutex<Vec<u32>>,
+    /// Every pair of labels near enough for their smoothed surfaces to run together
+    /// ([`classes::neighbours`]): the graph the surfaces' classes colour.
+    neighbours: Vec<(u16, u16)>,
+    /// How long finding [`Self::neighbours`] took (ms, on the CPU at upload).
+    neighbours_ms: f64,
 }
 
 /// Why labels could not go to the GPU.
@@ -148,6 +154,9 @@ impl GpuLabels {
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             })
         };
+        let started = std::time::Instant::now();
+        let neighbours = classes::neighbours(labels);
+        let neighbours_ms = started.elapsed().as_secs_f64() * 1e3;
         let made = Self {
             labels: full_view(&texture),
             colours: full_view(&colour_texture),
@@ -160,6 +169,8 @@ impl GpuLabels {
             shown_bits: storage("shown labels", &[0; SHOWN_WORDS]),
             generation: AtomicU64::new(0),
             last_bits: Mutex::new(vec![0; SHOWN_WORDS]),
+            neighbours,
+            neighbours_ms,
         };
         made.show(queue, labels, |_| true);
         Ok(made)
@@ -188,6 +199,22 @@ impl GpuLabels {
     /// The voxel grid the labels lie on (the image's).
     pub fn dims(&self) -> [u32; 3] {
         self.dims
+    }
+
+    /// The shown labels' classes: the channels of the surfaces' mask, neighbours apart where
+    /// [`classes::MOST_CLASSES`] allow.
+    pub fn classes(&self) -> Classes {
+        let last = self.last_bits.lock().unwrap_or_else(|e| e.into_inner());
+        let shown: Vec<bool> = (0..1usize << 16)
+            .map(|v| last[v / 32] >> (v % 32) & 1 == 1)
+            .collect();
+        drop(last);
+        classes::classes(&shown, &self.neighbours)
+    }
+
+    /// The neighbouring labels (pairs) and how long finding them took at upload (ms).
+    pub fn neighbour_facts(&self) -> (usize, f64) {
+        (self.neighbours.len(), self.neighbours_ms)
     }
 
     /// How many layers of labels the texture holds.
@@ -257,13 +284,15 @@ impl GpuLabels {
     }
 }
 
-/// Bound where a pass shows no labels: a 1³ texture of label 0, a 1 × 1 colour table and a 1³
-/// surface mask.
+/// Bound where a pass shows no labels: a 1³ texture of label 0, a 1 × 1 colour table, a 1³
+/// surface mask and a 1 × 1 class table.
 pub(crate) struct NoLabels {
     pub(crate) labels: wgpu::TextureView,
     pub(crate) colours: wgpu::TextureView,
     /// A 1³ label-surface mask of 0.
     pub(crate) mask: wgpu::TextureView,
+    /// A 1 × 1 class table.
+    pub(crate) classes: wgpu::TextureView,
 }
 
 impl NoLabels {
@@ -299,6 +328,11 @@ impl NoLabels {
                 "no label surface",
                 wgpu::TextureDimension::D3,
                 wgpu::TextureFormat::R8Unorm,
+            ),
+            classes: make(
+                "no label classes",
+                wgpu::TextureDimension::D2,
+                wgpu::TextureFormat::R8Uint,
             ),
         }
     }

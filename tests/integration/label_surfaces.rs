@@ -400,3 +400,65 @@ fn a_sphere_label_has_the_sphere_s_normals_without_a_staircase() {
         "1.5: {wide_mean}°, {wide_p95}°"
     );
 }
+
+/// Walls between touching labels on real data: the MR head's 120 watershed parcels (nibabel;
+/// every parcel touches others), all shown at half opacity. The shown labels are coloured into
+/// classes (a channel of the mask each), so a ray that enters a parcel through its neighbour
+/// draws the wall between them; the GPU matches the f64 reference (which colours the same
+/// neighbour graph and smooths each class on the CPU) on both paths, and RC-s matches RC-t.
+#[test]
+fn walls_between_the_mr_parcels_match_the_reference() {
+    let data = common::data_dir();
+    let volume = load_volume(
+        &data.join("originals/VolumeRenderingData_seg3D_MR.nii.gz"),
+        &LoadOptions::default(),
+    )
+    .expect("the MR head");
+    let labels = load_labels(
+        &data.join("labels/mr_head_t1_seg3d_parcels.nii.gz"),
+        &volume,
+        &LabelOptions::default(),
+    )
+    .expect("its parcels");
+    let half = |s: &Segment| [s.colour[0], s.colour[1], s.colour[2], 128];
+    let table = labels.styled_table(half);
+    let tf = leapview::transfer::presets::preset("ct-bone").expect("preset");
+    let mut r = common::renderer_for(&volume, &tf);
+    let ctx = r.context().clone();
+    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, &labels).expect("labels upload");
+    gpu.show_styled(&ctx.queue, &labels, half);
+    let classes = gpu.classes();
+    assert!(classes.used >= 3, "{} classes", classes.used);
+    // Every parcel touches another: with one class no wall would be drawn.
+    let touching = classes.class.iter().flatten().count();
+    assert_eq!(touching, 120);
+    r.set_labels(Some(Arc::new(gpu))).expect("labels");
+    let camera = common::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
+    let settings = surfaces(0.7);
+    let labelled = Labelled {
+        map: &labels,
+        table: &table,
+    };
+    let expected =
+        reference::render_labelled(&volume, &tf, &camera, SIZE, &settings, Some(&labelled)).image;
+    for (strategy, path) in [
+        (Strategy::RcT, RenderPath::Compute),
+        (Strategy::RcT, RenderPath::Fragment),
+        (Strategy::RcS, RenderPath::Compute),
+    ] {
+        let actual = render(
+            &mut r,
+            &camera,
+            RenderSettings {
+                strategy,
+                path,
+                ..settings
+            },
+        );
+        // As surfaces_match_the_reference_on_both_paths: a crossing may move by a fraction of
+        // a voxel where the texture unit's 8-bit weights filter; many more surfaces here.
+        let name = format!("walls-mr-parcels-{strategy:?}-{path:?}");
+        let diff = common::assert_close(&name, &actual, &expected, 1.0, 0.05);
+        assert!(diff.rmse < 0.015, "{name}: {diff:?}");
+    }
+}

@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use crate::render::context::GpuContext;
-use crate::render::label_surface::{SurfaceMask, SurfacePipelines};
+use crate::render::label_surface::{SurfaceMask, SurfacePipelines, channels_for};
 use crate::render::labels::{GpuLabels, NoLabels};
 use crate::render::volume_texture::{VolumeTexture, VolumeTextureError};
 use crate::settings::{RenderSettings, Upload};
@@ -101,9 +101,9 @@ fn frame_group(
     (labels, surface): (Option<&GpuLabels>, Option<&SurfaceMask>),
 ) -> wgpu::BindGroup {
     let none = shared.no_labels;
-    let mask = surface.map_or(&none.mask, |s| &s.view);
-    let labels = labels.map_or((&none.labels, &none.colours, mask), |l| {
-        (&l.labels, &l.colours, mask)
+    let mask = surface.map_or((&none.mask, &none.classes), |s| (&s.view, &s.classes));
+    let labels = labels.map_or((&none.labels, &none.colours, mask.0, mask.1), |l| {
+        (&l.labels, &l.colours, mask.0, mask.1)
     });
     layouts.frame_group(
         &ctx.device,
@@ -147,15 +147,30 @@ impl GpuVolume {
         let Some(labels) = self.labels.as_deref() else {
             return false;
         };
-        if !self.surface.as_ref().is_some_and(|s| s.fits(labels)) {
-            let mask = SurfaceMask::new(ctx, labels);
+        if self
+            .surface
+            .as_ref()
+            .is_some_and(|s| s.holds(labels, smoothing))
+        {
+            return false;
+        }
+        let classes = labels.classes();
+        let channels = channels_for(classes.used);
+        if !self
+            .surface
+            .as_ref()
+            .is_some_and(|s| s.fits(labels, channels))
+        {
+            // A new mask (and group 0 again) for a new grid or another number of classes.
+            self.surface = None;
+            let mask = SurfaceMask::new(ctx, labels, channels);
             let group = (Some(labels), Some(&mask));
             self.frame_group = frame_group(ctx, layouts, shared, &self.texture, group);
             self.surface = Some(mask);
         }
         self.surface
             .as_mut()
-            .is_some_and(|s| s.build(ctx, pipelines, labels, smoothing, encoder))
+            .is_some_and(|s| s.build(ctx, pipelines, (labels, &classes), smoothing, encoder))
     }
 
     /// The uniforms of a frame of this volume of `size` pixels seen through `geometry`, for a

@@ -37,9 +37,11 @@ pub struct FrameResources<'a> {
     pub lut: &'a wgpu::TextureView,
     /// The pre-integration table.
     pub integrals: &'a wgpu::TextureView,
-    /// The labels on the volume's grid, each label's colour and the label surfaces' mask (a 1³
-    /// texture of none, a 1 × 1 table and a 1³ mask without a segmentation or surfaces).
+    /// The labels on the volume's grid, each label's colour, the label surfaces' mask and each
+    /// label's class (its channel of the mask) (a 1³ texture of none, a 1 × 1 table, a 1³ mask
+    /// and a 1 × 1 table without a segmentation or surfaces).
     pub labels: (
+        &'a wgpu::TextureView,
         &'a wgpu::TextureView,
         &'a wgpu::TextureView,
         &'a wgpu::TextureView,
@@ -185,6 +187,16 @@ impl Layouts {
                 },
                 texture_entry(8, D2, false, RAY_LOOP),
                 texture_entry(9, D3, true, RAY_LOOP),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 10,
+                    visibility: RAY_LOOP,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Uint,
+                        view_dimension: D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
             ],
         );
         let fragment_io = layout(
@@ -243,6 +255,7 @@ impl Layouts {
                 TextureView(r.labels.0),
                 TextureView(r.labels.1),
                 TextureView(r.labels.2),
+                TextureView(r.labels.3),
             ],
         )
     }

@@ -8,6 +8,7 @@
 use std::sync::Arc;
 
 use crate::render::context::GpuContext;
+use crate::render::label_surface::SurfaceMask;
 use crate::render::labels::{GpuLabels, NoLabels};
 use crate::render::pack::Rgba8Reader;
 use crate::render::probe::{FrameResults, ProbePool};
@@ -190,10 +191,11 @@ impl VolumeRenderer {
         Ok(())
     }
 
-    /// Bytes on the GPU of the label surfaces' mask, where a frame drew them.
-    pub fn label_surface_bytes(&self) -> Option<u64> {
+    /// The label surfaces' mask, where a frame drew them: its bytes on the GPU, channels
+    /// (classes) and the touching shown labels that share a class (no wall between them).
+    pub fn label_surface_facts(&self) -> Option<(u64, u32, usize)> {
         let volume = self.volume.as_ref()?;
-        volume.surface.as_ref().map(|s| s.gpu_bytes())
+        (volume.surface.as_ref()).map(|s| (s.gpu_bytes(), s.channels(), s.clashes()))
     }
 
     /// How long each frame may spend uploading bricks of a bricked volume before it renders
@@ -501,6 +503,8 @@ impl VolumeRenderer {
             if volume.prepare_surfaces(&self.ctx, builders, &shared, smoothing, &mut encoder) {
                 self.measurements.work.label_surface_builds += 1;
             }
+            // The mask's channels may have changed with the shown labels' classes.
+            uniforms.surface_channels = volume.surface.as_ref().map_or(0, SurfaceMask::channels);
         }
         let m = &mut self.measurements;
         let slot = m.begin(&self.ctx.device, request.stats, [first, last], &mut encoder);

@@ -145,7 +145,7 @@ pub(crate) fn frame_uniforms(
         all_finite: u32::from(decoding.all_finite),
         colour_volume: u32::from(decoding.colour),
         label_layers: 0,
-        _pad0: 0,
+        surface_channels: 0,
         _pad1: 0,
         _pad2: 0,
     }

@@ -1,0 +1,373 @@
+//! Classes for drawing the walls between touching labels as surfaces. Labels whose smoothed
+//! indicators would run together are neighbours; the shown labels are coloured so that
+//! neighbours differ wherever [`MOST_CLASSES`] classes allow (DSatur, the fewest clashes
+//! otherwise); each class becomes a channel of the surfaces' mask, so that where one class's
+//! channel rises through one half is every boundary of its labels, walls against the labels of
+//! other classes included.
+
+use rayon::prelude::*;
+use rustc_hash::FxHashSet;
+
+use super::LabelMap;
+
+/// Edge (voxels) of the cells neighbours are found between: labels in one cell or in two cells
+/// that touch (at a face, an edge or a corner) are neighbours, which holds every pair within
+/// two voxels of each other along each axis (the smoothing's reach) and some up to three apart.
+const CELL: u32 = 2;
+
+/// Most classes: the channels of an RGBA8 mask.
+pub const MOST_CLASSES: usize = 4;
+
+/// Most shown labels coloured by DSatur (each pick scans those left); more by degree alone.
+const MOST_DSATUR: usize = 1024;
+
+/// The cells after a cell in the same slab of cells (fixed z) that it touches, as (dx, dy).
+const SAME_SLAB: [(i64, i64); 4] = [(1, 0), (-1, 1), (0, 1), (1, 1)];
+
+/// The distinct non-zero labels of every cell of slab `cz` (cells x fastest), as a CSR pair.
+fn slab_lists(map: &LabelMap, cells: [u32; 3], cz: u32) -> (Vec<u32>, Vec<u16>) {
+    let dims = map.dims();
+    let layers = map.layers();
+    let span = |c: u32, a: usize| c * CELL..((c + 1) * CELL).min(dims[a]);
+    let mut offsets = Vec::with_capacity((cells[0] * cells[1]) as usize + 1);
+    let mut labels = Vec::new();
+    offsets.push(0);
+    for cy in 0..cells[1] {
+        for cx in 0..cells[0] {
+            let start = labels.len();
+            for z in span(cz, 2) {
+                for y in span(cy, 1) {
+                    for x in span(cx, 0) {
+                        let i = x as usize
+                            + dims[0] as usize * (y as usize + dims[1] as usize * z as usize);
+                        for layer in layers {
+                            let l = layer[i];
+                            if l != 0 && !labels[start..].contains(&l) {
+                                labels.push(l);
+                            }
+                        }
+                    }
+                }
+            }
+            offsets.push(labels.len() as u32);
+        }
+    }
+    (offsets, labels)
+}
+
+/// The labels of cell (x, y) of a slab's lists (none past the grid).
+fn cell_labels(lists: &(Vec<u32>, Vec<u16>), cells: [u32; 3], x: i64, y: i64) -> &[u16] {
+    let (offsets, labels) = lists;
+    if x < 0 || y < 0 || x >= i64::from(cells[0]) || y >= i64::from(cells[1]) {
+        return &[];
+    }
+    let c = (x + i64::from(cells[0]) * y) as usize;
+    &labels[offsets[c] as usize..offsets[c + 1] as usize]
+}
+
+/// Every pair of labels (a < b) that are neighbours in `map`, sorted.
+pub fn neighbours(map: &LabelMap) -> Vec<(u16, u16)> {
+    let cells = map.dims().map(|d| d.div_ceil(CELL).max(1));
+    // Runs of slabs, each slab's lists made once within a run (and once more as the next of
+    // the run before).
+    let runs = cells[2].div_ceil(SLABS_A_RUN);
+    let pairs = (0..runs)
+        .into_par_iter()
+        .fold(FxHashSet::default, |mut pairs, run| {
+            let first = run * SLABS_A_RUN;
+            let last = (first + SLABS_A_RUN).min(cells[2]);
+            let mut next = Some(slab_lists(map, cells, first));
+            for cz in first..last {
+                let Some(here) = next.take() else { break };
+                next = (cz + 1 < cells[2]).then(|| slab_lists(map, cells, cz + 1));
+                pairs_between(&here, next.as_ref(), cells, &mut pairs);
+            }
+            pairs
+        })
+        .reduce(FxHashSet::default, |mut a, b| {
+            a.extend(b);
+            a
+        });
+    let mut pairs: Vec<(u16, u16)> = pairs.into_iter().collect();
+    pairs.sort_unstable();
+    pairs
+}
+
+/// Slabs of cells one task of [`neighbours`] walks.
+const SLABS_A_RUN: u32 = 8;
+
+/// The pairs of neighbours in slab `here` and between it and the slab after it (`next`).
+fn pairs_between(
+    here: &(Vec<u32>, Vec<u16>),
+    next: Option<&(Vec<u32>, Vec<u16>)>,
+    cells: [u32; 3],
+    pairs: &mut FxHashSet<(u16, u16)>,
+) {
+    let list = |lists, x, y| cell_labels(lists, cells, x, y);
+    let mut add = |a: &[u16], b: &[u16]| {
+        // Most cells hold one label, and most neighbours the same one.
+        if a.len() == 1 && a == b {
+            return;
+        }
+        for &p in a {
+            for &q in b {
+                if p != q {
+                    pairs.insert((p.min(q), p.max(q)));
+                }
+            }
+        }
+    };
+    for cy in 0..i64::from(cells[1]) {
+        for cx in 0..i64::from(cells[0]) {
+            let own = list(here, cx, cy);
+            if own.is_empty() {
+                continue;
+            }
+            add(own, own);
+            for (dx, dy) in SAME_SLAB {
+                add(own, list(here, cx + dx, cy + dy));
+            }
+            if let Some(next) = next {
+                for dy in -1..=1 {
+                    for dx in -1..=1 {
+                        add(own, list(next, cx + dx, cy + dy));
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The shown labels' classes: each shown label value's class (`None` for the rest), and the
+/// neighbouring pairs that share one (their wall is not drawn).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Classes {
+    /// By label value: the class, where the label is shown.
+    pub class: Vec<Option<u8>>,
+    /// Neighbouring shown labels in one class.
+    pub clashes: Vec<(u16, u16)>,
+    /// How many classes are used (the mask's channels).
+    pub used: usize,
+}
+
+/// Colours the shown labels (`shown[value]`) of the neighbour graph `pairs` with at most
+/// [`MOST_CLASSES`] classes: DSatur (the label whose neighbours hold the most distinct classes
+/// first, then the one with the most shown neighbours, then the smallest; past
+/// `MOST_DSATUR` shown labels, by most neighbours alone), each taking the lowest class none of
+/// its neighbours holds, else the one fewest of them hold.
+pub fn classes(shown: &[bool], pairs: &[(u16, u16)]) -> Classes {
+    let is_shown = |l: u16| shown.get(usize::from(l)).copied().unwrap_or(false);
+    let mut adjacent: Vec<Vec<u16>> = vec![Vec::new(); shown.len().max(1)];
+    for &(a, b) in pairs.iter().filter(|&&(a, b)| is_shown(a) && is_shown(b)) {
+        adjacent[usize::from(a)].push(b);
+        adjacent[usize::from(b)].push(a);
+    }
+    let mut class: Vec<Option<u8>> = vec![None; shown.len()];
+    let mut left: Vec<u16> = (0..shown.len())
+        .filter(|&l| l != 0 && shown[l])
+        .map(|l| l as u16)
+        .collect();
+    // DSatur's pick scans every label left: past MOST_DSATUR labels, the order of degree alone
+    // (Welsh-Powell), whose picks cost nothing.
+    let dsatur = left.len() <= MOST_DSATUR;
+    if !dsatur {
+        left.sort_unstable_by_key(|&l| (adjacent[usize::from(l)].len(), std::cmp::Reverse(l)));
+    }
+    while !left.is_empty() {
+        let l = if dsatur {
+            let saturation = |l: u16| {
+                let mut seen = [false; MOST_CLASSES];
+                for &n in &adjacent[usize::from(l)] {
+                    if let Some(c) = class[usize::from(n)] {
+                        seen[usize::from(c)] = true;
+                    }
+                }
+                seen.iter().filter(|&&s| s).count()
+            };
+            let pick = left
+                .iter()
+                .enumerate()
+                .max_by_key(|&(_, &l)| {
+                    (
+                        saturation(l),
+                        adjacent[usize::from(l)].len(),
+                        std::cmp::Reverse(l),
+                    )
+                })
+                .map_or(0, |(i, _)| i);
+            left.swap_remove(pick)
+        } else {
+            match left.pop() {
+                Some(l) => l,
+                None => break,
+            }
+        };
+        let mut holding = [0usize; MOST_CLASSES];
+        for &n in &adjacent[usize::from(l)] {
+            if let Some(c) = class[usize::from(n)] {
+                holding[usize::from(c)] += 1;
+            }
+        }
+        let best = (0..MOST_CLASSES)
+            .min_by_key(|&c| (holding[c], c))
+            .unwrap_or(0);
+        class[usize::from(l)] = Some(best as u8);
+    }
+    let clashes = pairs
+        .iter()
+        .copied()
+        .filter(|&(a, b)| {
+            is_shown(a) && is_shown(b) && class[usize::from(a)] == class[usize::from(b)]
+        })
+        .collect();
+    let used = class
+        .iter()
+        .flatten()
+        .map(|&c| usize::from(c) + 1)
+        .max()
+        .unwrap_or(0);
+    Classes {
+        class,
+        clashes,
+        used,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Labels of `dims` from `f(x, y, z)`, one layer.
+    fn map(dims: [u32; 3], f: impl Fn(u32, u32, u32) -> u16) -> LabelMap {
+        let mut layer = Vec::new();
+        for z in 0..dims[2] {
+            for y in 0..dims[1] {
+                for x in 0..dims[0] {
+                    layer.push(f(x, y, z));
+                }
+            }
+        }
+        LabelMap::bare(dims, vec![layer])
+    }
+
+    /// Every pair of labels within `reach` voxels of each other along each axis, by brute force.
+    fn brute_force(map: &LabelMap, reach: i64) -> Vec<(u16, u16)> {
+        let [nx, ny, nz] = map.dims().map(i64::from);
+        let layer = &map.layers()[0];
+        let at = |x: i64, y: i64, z: i64| layer[(x + nx * (y + ny * z)) as usize];
+        let mut pairs = FxHashSet::default();
+        for z in 0..nz {
+            for y in 0..ny {
+                for x in 0..nx {
+                    let a = at(x, y, z);
+                    if a == 0 {
+                        continue;
+                    }
+                    for dz in -reach..=reach {
+                        for dy in -reach..=reach {
+                            for dx in -reach..=reach {
+                                let (u, v, w) = (x + dx, y + dy, z + dz);
+                                if u < 0 || v < 0 || w < 0 || u >= nx || v >= ny || w >= nz {
+                                    continue;
+                                }
+                                let b = at(u, v, w);
+                                if b != 0 && b != a {
+                                    pairs.insert((a.min(b), a.max(b)));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let mut pairs: Vec<_> = pairs.into_iter().collect();
+        pairs.sort_unstable();
+        pairs
+    }
+
+    #[test]
+    fn neighbours_hold_every_pair_within_two_voxels() {
+        // Irregular blobs of 9 labels in 23 × 17 × 13 voxels (odd sizes: partial cells).
+        let m = map([23, 17, 13], |x, y, z| {
+            let h = (x * 7 + y * 13 + z * 29) / 9 + (x * y + z) % 3;
+            if (x + 2 * y + 3 * z) % 11 == 0 {
+                0
+            } else {
+                (h % 9 + 1) as u16
+            }
+        });
+        let found = neighbours(&m);
+        let near = brute_force(&m, 2);
+        for pair in &near {
+            assert!(
+                found.contains(pair),
+                "{pair:?} within two voxels, not found"
+            );
+        }
+        // And none farther than two cells reach (three voxels).
+        let far = brute_force(&m, 3);
+        for pair in &found {
+            assert!(
+                far.contains(pair),
+                "{pair:?} found but more than three voxels apart"
+            );
+        }
+    }
+
+    #[test]
+    fn neighbours_get_different_classes_where_four_allow() {
+        // A row of slabs 1 | 2 | 3 | 1 | 2 … along x, three voxels each: a path graph.
+        let m = map([30, 4, 4], |x, _, _| (x / 3 % 6 + 1) as u16);
+        let pairs = neighbours(&m);
+        let shown = vec![true; 7];
+        let c = classes(&shown, &pairs);
+        assert!(c.clashes.is_empty(), "{c:?}");
+        assert!(c.used <= 3, "{c:?}");
+        // Five labels all touching each other (a clique) need five: one clash left.
+        let pairs: Vec<(u16, u16)> = (1..=5u16)
+            .flat_map(|a| (a + 1..=5).map(move |b| (a, b)))
+            .collect();
+        let c = classes(&[true; 6], &pairs);
+        assert_eq!(c.clashes.len(), 1, "{c:?}");
+        assert_eq!(c.used, MOST_CLASSES);
+        // Hidden labels take no class and clash with none.
+        let mut shown = vec![true; 6];
+        shown[5] = false;
+        let c = classes(&shown, &pairs);
+        assert!(c.clashes.is_empty() && c.class[5].is_none(), "{c:?}");
+        // Past DSatur's reach (a path of 3000 labels): by degree, still no clash.
+        let pairs: Vec<(u16, u16)> = (1..3000u16).map(|a| (a, a + 1)).collect();
+        let c = classes(&vec![true; 3001], &pairs);
+        assert!(c.clashes.is_empty() && c.used <= 3, "{:?}", c.clashes);
+        assert!(c.class[1..].iter().all(Option::is_some));
+    }
+}
+#[cfg(test)]
+mod measure {
+    #[test]
+    #[ignore]
+    fn mr_parcels() {
+        let data = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data"));
+        let image = crate::volume::load_volume(
+            &data.join("originals/VolumeRenderingData_seg3D_MR.nii.gz"),
+            &crate::volume::LoadOptions::default(),
+        )
+        .unwrap();
+        let map = crate::labels::load_labels(
+            &data.join("labels/mr_head_t1_seg3d_parcels.nii.gz"),
+            &image,
+            &Default::default(),
+        )
+        .unwrap();
+        let t = std::time::Instant::now();
+        let pairs = super::neighbours(&map);
+        let took = t.elapsed();
+        let c = super::classes(&[true; 121], &pairs);
+        eprintln!(
+            "pairs {} in {took:?}; classes used {}, clashes {}",
+            pairs.len(),
+            c.used,
+            c.clashes.len()
+        );
+    }
+}
