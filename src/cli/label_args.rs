@@ -74,7 +74,7 @@ pub struct LabelArgs {
 }
 
 /// A number 0 … 1.
-fn unit_interval(text: &str) -> Result<f64, String> {
+pub(crate) fn unit_interval(text: &str) -> Result<f64, String> {
     match text.parse::<f64>() {
         Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
         _ => Err(format!("'{text}' is no opacity: a number 0 … 1")),

@@ -213,6 +213,9 @@ pub fn classes(shown: &[bool], pairs: &[(u16, u16)]) -> Classes {
             .unwrap_or(0);
         class[usize::from(l)] = Some(best as u8);
     }
+    if dsatur {
+        mend(&mut class, &adjacent);
+    }
     let clashes = pairs
         .iter()
         .copied()
@@ -231,6 +234,75 @@ pub fn classes(shown: &[bool], pairs: &[(u16, u16)]) -> Classes {
         clashes,
         used,
     }
+}
+
+/// Moves a local search makes after DSatur, at most.
+const MOST_MOVES: usize = 500;
+
+/// Labels a move leaves where they are for a while (tabu), so the search does not undo it.
+const TABU_MOVES: usize = 7;
+
+/// Lessens the neighbours sharing a class: a tabu search that moves a label in a clash to the
+/// class fewest of its neighbours hold (sideways too, where no class is better), keeping the
+/// best colouring seen. On the MR's 120 parcels (396 pairs) DSatur leaves 18 sharing a class,
+/// the search 16, in 1.6 ms (the ignored `measure` test; more moves found no fewer).
+fn mend(class: &mut [Option<u8>], adjacent: &[Vec<u16>]) {
+    let clashes_of = |class: &[Option<u8>], l: usize| {
+        let c = class[l];
+        adjacent[l]
+            .iter()
+            .filter(|&&n| class[usize::from(n)] == c)
+            .count()
+    };
+    let total = |class: &[Option<u8>]| -> usize {
+        (0..class.len())
+            .filter(|&l| class[l].is_some())
+            .map(|l| clashes_of(class, l))
+            .sum()
+    };
+    let mut now = total(class);
+    let mut best = (now, class.to_vec());
+    let mut moved_at: Vec<usize> = vec![0; class.len()];
+    for step in 1..=MOST_MOVES {
+        if now == 0 {
+            break;
+        }
+        // The best move of any label in a clash, tabu labels aside (unless it beats the best).
+        let mut pick: Option<(isize, usize, u8)> = None;
+        for l in 0..class.len() {
+            let Some(c) = class[l] else { continue };
+            let here = clashes_of(class, l);
+            if here == 0 {
+                continue;
+            }
+            let mut holding = [0usize; MOST_CLASSES];
+            for &n in &adjacent[l] {
+                if let Some(k) = class[usize::from(n)] {
+                    holding[usize::from(k)] += 1;
+                }
+            }
+            for k in 0..MOST_CLASSES as u8 {
+                if k == c {
+                    continue;
+                }
+                let gain = here as isize - holding[usize::from(k)] as isize;
+                let tabu = moved_at[l] + TABU_MOVES > step && moved_at[l] != 0;
+                let aspires = (now as isize - 2 * gain) < best.0 as isize;
+                if (!tabu || aspires) && pick.is_none_or(|(g, _, _)| gain > g) {
+                    pick = Some((gain, l, k));
+                }
+            }
+        }
+        let Some((gain, l, k)) = pick else { break };
+        class[l] = Some(k);
+        moved_at[l] = step;
+        // Each clash counts at both its labels.
+        now = (now as isize - 2 * gain) as usize;
+        if now < best.0 {
+            best = (now, class.to_vec());
+        }
+    }
+    class.copy_from_slice(&best.1);
 }
 
 #[cfg(test)]
@@ -315,6 +387,34 @@ mod tests {
     }
 
     #[test]
+    fn the_search_parts_neighbours_that_one_class_held() {
+        // A 12 × 12 grid graph (two classes suffice), every label in class 0: 264 clashes.
+        let id = |x: u16, y: u16| 1 + x + 12 * y;
+        let mut adjacent: Vec<Vec<u16>> = vec![Vec::new(); 145];
+        for y in 0..12u16 {
+            for x in 0..12u16 {
+                for (u, v) in [(x + 1, y), (x, y + 1)] {
+                    if u < 12 && v < 12 {
+                        adjacent[usize::from(id(x, y))].push(id(u, v));
+                        adjacent[usize::from(id(u, v))].push(id(x, y));
+                    }
+                }
+            }
+        }
+        let mut class: Vec<Option<u8>> = (0..145).map(|l| (l > 0).then_some(0)).collect();
+        mend(&mut class, &adjacent);
+        let left: usize = (1..145)
+            .map(|l| {
+                (adjacent[l].iter())
+                    .filter(|&&n| class[usize::from(n)] == class[l])
+                    .count()
+            })
+            .sum();
+        assert_eq!(left, 0);
+        assert!(class[0].is_none() && class[1..].iter().all(Option::is_some));
+    }
+
+    #[test]
     fn neighbours_get_different_classes_where_four_allow() {
         // A row of slabs 1 | 2 | 3 | 1 | 2 … along x, three voxels each: a path graph.
         let m = map([30, 4, 4], |x, _, _| (x / 3 % 6 + 1) as u16);
@@ -362,7 +462,9 @@ mod measure {
         let t = std::time::Instant::now();
         let pairs = super::neighbours(&map);
         let took = t.elapsed();
+        let t = std::time::Instant::now();
         let c = super::classes(&[true; 121], &pairs);
+        eprintln!("classes in {:?}", t.elapsed());
         eprintln!(
             "pairs {} in {took:?}; classes used {}, clashes {}",
             pairs.len(),

@@ -54,6 +54,8 @@ pub struct GpuLabels {
     neighbours: Vec<(u16, u16)>,
     /// How long finding [`Self::neighbours`] took (ms, on the CPU at upload).
     neighbours_ms: f64,
+    /// The classes last found, with the generation they were found for.
+    last_classes: Mutex<Option<(u64, Classes)>>,
 }
 
 /// Why labels could not go to the GPU.
@@ -171,6 +173,7 @@ impl GpuLabels {
             last_bits: Mutex::new(vec![0; SHOWN_WORDS]),
             neighbours,
             neighbours_ms,
+            last_classes: Mutex::new(None),
         };
         made.show(queue, labels, |_| true);
         Ok(made)
@@ -203,13 +206,23 @@ impl GpuLabels {
 
     /// The shown labels' classes: the channels of the surfaces' mask, neighbours apart where
     /// [`classes::MOST_CLASSES`] allow.
+    /// Found again only when the shown labels change.
     pub fn classes(&self) -> Classes {
+        let mut cached = self.last_classes.lock().unwrap_or_else(|e| e.into_inner());
+        let generation = self.generation();
+        if let Some((g, c)) = cached.as_ref()
+            && *g == generation
+        {
+            return c.clone();
+        }
         let last = self.last_bits.lock().unwrap_or_else(|e| e.into_inner());
         let shown: Vec<bool> = (0..1usize << 16)
             .map(|v| last[v / 32] >> (v % 32) & 1 == 1)
             .collect();
         drop(last);
-        classes::classes(&shown, &self.neighbours)
+        let found = classes::classes(&shown, &self.neighbours);
+        *cached = Some((generation, found.clone()));
+        found
     }
 
     /// The neighbouring labels (pairs) and how long finding them took at upload (ms).

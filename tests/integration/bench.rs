@@ -356,6 +356,8 @@ fn bench_measures_a_dataset_with_its_segmentation() {
                 datasets,
                 "--label-view",
                 "surfaces",
+                "--label-opacity",
+                "0.5",
                 "--labels",
             ])
             .arg(&labels)
@@ -379,7 +381,9 @@ fn bench_measures_a_dataset_with_its_segmentation() {
         .as_deref()
         .expect("labels recorded");
     assert!(
-        labelled.contains("3 segments") && labelled.contains("Surfaces"),
+        labelled.contains("3 segments")
+            && labelled.contains("Surfaces")
+            && labelled.contains("opacity 0.5"),
         "{labelled}"
     );
     assert!(read(&out.join("tables.md")).contains("labels ct_head_cthead.seg.nrrd"));

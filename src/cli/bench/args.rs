@@ -53,6 +53,16 @@ pub struct BenchArgs {
     /// With --labels: how the labels show (colour, inside, colour-inside, surfaces, off).
     #[arg(long, value_enum, default_value = "colour", requires = "labels")]
     pub label_view: leapview::settings::LabelView,
+    /// With --labels: every label's opacity in 3D, 0 to 1 (see-through surfaces meet more
+    /// walls).
+    #[arg(
+        long,
+        value_name = "OPACITY",
+        default_value_t = 1.0,
+        value_parser = crate::cli::label_args::unit_interval,
+        requires = "labels"
+    )]
+    pub label_opacity: f64,
     /// Lighting in DVR and isosurfaces, in place of the configuration's phong.
     #[arg(long, value_enum)]
     pub shading: Option<Shading>,

@@ -129,7 +129,7 @@ pub fn run(args: BenchArgs, raw: &crate::cli::args::RawArgs) -> Result<(), Failu
                 &mut renderer,
                 path,
                 &loaded.volume,
-                args.label_view,
+                (args.label_view, args.label_opacity),
             )?),
             None => None,
         };
@@ -302,17 +302,21 @@ fn show_labels(
     renderer: &mut VolumeRenderer,
     path: &Path,
     volume: &leapview::volume::Volume,
-    view: leapview::settings::LabelView,
+    (view, opacity): (leapview::settings::LabelView, f64),
 ) -> Result<String, Failure> {
     let map = crate::cli::label_args::read_labels(path, None, volume)?;
     let ctx = renderer.context();
     let gpu = leapview::render::labels::GpuLabels::new(&ctx.device, &ctx.queue, &map)
         .map_err(|e| Failure::BadInput(anyhow::anyhow!("{}: {e}", path.display())))?;
+    let alpha = (opacity * 255.0).round() as u8;
+    gpu.show_styled(&ctx.queue, &map, |s| {
+        [s.colour[0], s.colour[1], s.colour[2], alpha]
+    });
     renderer
         .set_labels(Some(std::sync::Arc::new(gpu)))
         .map_err(|e| Failure::BadInput(anyhow::anyhow!("{}: {e}", path.display())))?;
     Ok(format!(
-        "{} ({} segments, view {view:?})",
+        "{} ({} segments, view {view:?}, opacity {opacity})",
         map.name(),
         map.segments().len()
     ))

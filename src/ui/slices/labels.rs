@@ -182,6 +182,19 @@ impl ShownLabels {
                          steps away and thins structures one or two voxels across",
                     );
             });
+            let classes = self.gpu.classes();
+            if !classes.clashes.is_empty() {
+                ui.label(format!(
+                    "{} touching pairs share a class: no wall between them",
+                    classes.clashes.len()
+                ))
+                .on_hover_text(format!(
+                    "walls between touching labels are drawn where their classes differ; the \
+                     shown labels take {} classes (the most there are), so some neighbours \
+                     share one and show as one body: hide some labels to part them",
+                    classes.used
+                ));
+            }
         }
         let before = self.look;
         ui.horizontal(|ui| {
