@@ -3,15 +3,19 @@ DICOM SEG reader (tests/integration/labels.rs).
 
     python seg_files.py OUT
 
-Writes OUT/series/ (12 axial CT slices of 24 x 20 pixels, 0.7 x 0.9 mm, 2.5 mm apart),
+Writes OUT/series/ (12 axial CT slices of 32 x 32 pixels, 0.7 x 0.9 mm, 2.5 mm apart),
 OUT/other/ (the same slices as another series in the same frame of reference) and:
 - binary.dcm: three BINARY segments, the first two overlapping (two spheres), the third apart
   (a box); highdicom leaves out the frames a segment does not touch;
 - fractional.dcm: one FRACTIONAL segment of values 0, 0.3, 0.7 and 1 (shown where above half);
+- binary_j2k.dcm: binary.dcm's segments compressed as JPEG 2000 lossless (the only codec
+  highdicom writes BINARY frames with); fractional_rle.dcm, fractional_jls.dcm and
+  fractional_j2k.dcm: fractional.dcm's segment as RLE, JPEG-LS and JPEG 2000 lossless;
 - other.dcm: a BINARY segment of the other series;
 bad_*.dcm: binary.dcm altered with pydicom to lie (more frames than functional groups,
 pixel data cut short, a frame of a segment not described, a type its bits do not fit, a frame
-moved 10 m away); and, for each segment of binary.dcm and fractional.dcm, `<file>_<segment>.u8`: 1 where the voxel
+moved 10 m away), fractional_rle.dcm with a frame's fragment left out, binary_j2k.dcm with
+Columns two fewer than its JPEG 2000 frames hold; and, for each segment of binary.dcm and fractional.dcm, `<file>_<segment>.u8`: 1 where the voxel
 is in the segment, 0 elsewhere, index = column + columns * (row + rows * slice), slices in
 order of z. cases.json gives the geometry (first voxel's centre, spacing: x, y, z in mm,
 LPS) and the segments' numbers, labels and colours as highdicom converts their CIELab values to
@@ -27,9 +31,17 @@ import numpy as np
 import pydicom
 from pydicom.dataset import Dataset, FileMetaDataset
 from pydicom.sr.codedict import codes
-from pydicom.uid import CTImageStorage, ExplicitVRLittleEndian, generate_uid
+from pydicom.uid import (
+    CTImageStorage,
+    ExplicitVRLittleEndian,
+    JPEG2000Lossless,
+    JPEGLSLossless,
+    RLELossless,
+    generate_uid,
+)
 
-ROWS, COLS, SLICES = 20, 24, 12
+# 32 x 32: highdicom encodes no smaller frame as JPEG 2000.
+ROWS, COLS, SLICES = 32, 32, 12
 DX, DY, DZ = 0.7, 0.9, 2.5
 ORIGIN = (-8.05, -9.1, 30.0)
 
@@ -118,8 +130,8 @@ def lying(out):
     say of each."""
     cases = []
 
-    def alter(name, said, change):
-        ds = pydicom.dcmread(os.path.join(out, "binary.dcm"))
+    def alter(name, said, change, source="binary.dcm"):
+        ds = pydicom.dcmread(os.path.join(out, source))
         change(ds)
         ds.save_as(os.path.join(out, name))
         cases.append({"file": name, "said": said})
@@ -142,7 +154,16 @@ def lying(out):
         x, y, z = (float(v) for v in position.ImagePositionPatient)
         position.ImagePositionPatient = [x, y, z + 10000.0]
 
+    def drop_fragment(ds):
+        frames = list(pydicom.encaps.generate_frames(ds.PixelData, number_of_frames=int(ds.NumberOfFrames)))
+        ds.PixelData = pydicom.encaps.encapsulate(frames[:-1])
+
+    def narrower(ds):
+        ds.Columns = int(ds.Columns) - 2
+
     alter("bad_frames.dcm", "functional groups", more_frames)
+    alter("bad_rle_fragments.dcm", "fragments", drop_fragment, "fractional_rle.dcm")
+    alter("bad_j2k_size.dcm", "the header says 30", narrower, "binary_j2k.dcm")
     alter("bad_pixels.dcm", "pixel data holds", cut_pixels)
     alter("bad_segment.dcm", "does not describe", unknown_segment)
     alter("bad_type.dcm", "BitsAllocated 1", wrong_type)
@@ -178,13 +199,28 @@ def main(out):
     d = np.sqrt((x - 8) ** 2 + (y - 9) ** 2 + ((z - 15) / 2) ** 2)
     fraction = np.select([d < 2, d < 4, d < 6], [1.0, 0.7, 0.3], 0.0).astype(np.float32)
     write_seg(
-        os.path.join(out, "fractional.dcm"),
+        os.path.join(out, "binary_j2k.dcm"),
         series,
-        fraction,
-        hd.seg.SegmentationTypeValues.FRACTIONAL,
-        [description(1, "fraction", colours[0])],
-        max_fractional_value=255,
+        binary,
+        hd.seg.SegmentationTypeValues.BINARY,
+        [description(i + 1, labels[i], colours[i]) for i in range(3)],
+        transfer_syntax_uid=JPEG2000Lossless,
     )
+    for name, syntax in [
+        ("fractional", ExplicitVRLittleEndian),
+        ("fractional_rle", RLELossless),
+        ("fractional_jls", JPEGLSLossless),
+        ("fractional_j2k", JPEG2000Lossless),
+    ]:
+        write_seg(
+            os.path.join(out, f"{name}.dcm"),
+            series,
+            fraction,
+            hd.seg.SegmentationTypeValues.FRACTIONAL,
+            [description(1, "fraction", colours[0])],
+            max_fractional_value=255,
+            transfer_syntax_uid=syntax,
+        )
     write_seg(
         os.path.join(out, "other.dcm"),
         other,
@@ -194,8 +230,10 @@ def main(out):
     )
     refused = lying(out)
     for i in range(3):
-        binary[..., i].astype(np.uint8).tofile(os.path.join(out, f"binary_{i + 1}.u8"))
-    (fraction > 0.5).astype(np.uint8).tofile(os.path.join(out, "fractional_1.u8"))
+        for name in ["binary", "binary_j2k"]:
+            binary[..., i].astype(np.uint8).tofile(os.path.join(out, f"{name}_{i + 1}.u8"))
+    for name in ["fractional", "fractional_rle", "fractional_jls", "fractional_j2k"]:
+        (fraction > 0.5).astype(np.uint8).tofile(os.path.join(out, f"{name}_1.u8"))
     cases = {
         "origin": ORIGIN,
         "spacing": [DX, DY, DZ],
@@ -207,6 +245,9 @@ def main(out):
         "fractional": [{"number": 1, "label": "fraction", "rgb": rgb(colours[0])}],
         "refused": refused,
     }
+    cases["binary_j2k"] = cases["binary"]
+    for name in ["fractional_rle", "fractional_jls", "fractional_j2k"]:
+        cases[name] = cases["fractional"]
     with open(os.path.join(out, "cases.json"), "w") as f:
         json.dump(cases, f, indent=1)
 

@@ -2,7 +2,8 @@
 //! label, recommended display CIELab colour), the frames (each one plane of one segment, placed
 //! by its functional groups' position and the shared orientation and pixel spacing), binary
 //! (1 bit a pixel, packed across frames) or fractional (8 bits, shown where at least half the
-//! maximum). The frames are put on the SEG's own grid, one layer per set of segments that do not
+//! maximum), native or compressed (RLE, JPEG-LS, JPEG 2000, JPEG: each frame decoded by the
+//! volume reader's codecs). The frames are put on the SEG's own grid, one layer per set of segments that do not
 //! overlap.
 
 use std::path::Path;
@@ -12,6 +13,7 @@ use dicom_object::{InMemDicomObject, OpenFileOptions};
 use glam::{DMat3, DVec3};
 
 use super::names::Described;
+use crate::volume::dicom::codec::{Codec, FrameSpec, fragments};
 use crate::volume::dicom::guard::{self, Encoding, ImplicitForExplicit};
 use crate::volume::dicom::tags::{Object, first_item, floats, group_attr, text, us};
 
@@ -182,27 +184,45 @@ pub(super) fn read(path: &Path, image_voxels: u64) -> Result<Option<Seg>, String
     let pixel_data = obj
         .get(tags::PIXEL_DATA)
         .ok_or("the file holds no PixelData element")?;
-    if !matches!(pixel_data.value(), dicom_core::DicomValue::Primitive(_)) {
-        return Err(format!(
-            "its pixel data is compressed (transfer syntax {syntax}), which LeapView does not read \
-             in a segmentation yet"
-        ));
-    }
-    let bytes = pixel_data.to_bytes().map_err(|e| e.to_string())?;
     let plane = rows as usize * cols as usize;
-    let needed = (plane * frames.len() * bits as usize).div_ceil(8);
-    if bytes.len() < needed {
-        return Err(format!(
-            "its pixel data holds {} bytes, {needed} are needed for {} frames of {cols}×{rows}",
-            bytes.len(),
-            frames.len()
-        ));
-    }
+    let samples = match pixel_data.value() {
+        dicom_core::DicomValue::PixelSequence(sequence) => {
+            let spec = FrameSpec {
+                rows,
+                columns: cols,
+                samples_per_pixel: 1,
+                bits_allocated: bits as u16,
+                bits_stored: bits as u16,
+                signed: false,
+                rgb: false,
+            };
+            decoded(&syntax, sequence, frames.len(), &spec)?
+        }
+        _ => {
+            let bytes = pixel_data.to_bytes().map_err(|e| e.to_string())?;
+            let needed = (plane * frames.len() * bits as usize).div_ceil(8);
+            if bytes.len() < needed {
+                return Err(format!(
+                    "its pixel data holds {} bytes, {needed} are needed for {} frames of \
+                     {cols}×{rows}",
+                    bytes.len(),
+                    frames.len()
+                ));
+            }
+            match fractional {
+                // Binary frames are packed across frames, a bit a pixel.
+                None => (0..plane * frames.len())
+                    .map(|i| bytes[i / 8] >> (i % 8) & 1)
+                    .collect(),
+                Some(_) => bytes[..plane * frames.len()].to_vec(),
+            }
+        }
+    };
     let inside = |f: usize, p: usize| -> bool {
-        let i = f * plane + p;
+        let v = samples[f * plane + p];
         match fractional {
-            None => bytes[i / 8] >> (i % 8) & 1 == 1,
-            Some(max) => i64::from(bytes[i]) * 2 >= max,
+            None => v != 0,
+            Some(max) => i64::from(v) * 2 >= max,
         }
     };
     let mut layers: Vec<Vec<u16>> = Vec::new();
@@ -279,6 +299,42 @@ pub(super) fn read(path: &Path, image_voxels: u64) -> Result<Option<Seg>, String
         frame_of_reference: text(obj.get(tags::FRAME_OF_REFERENCE_UID)),
         notes,
     }))
+}
+
+/// The frames of encapsulated pixel data (`frames` of `spec`) decoded, a byte a pixel (0 or 1
+/// for binary frames, the fraction for fractional ones), each codestream checked against the
+/// header by the volume reader's codecs.
+fn decoded(
+    syntax: &str,
+    sequence: &dicom_core::value::PixelFragmentSequence<Vec<u8>>,
+    frames: usize,
+    spec: &FrameSpec,
+) -> Result<Vec<u8>, String> {
+    let codec = Codec::of(syntax).ok_or_else(|| {
+        format!("its pixel data is compressed with transfer syntax {syntax}, which LeapView does not decode")
+    })?;
+    let streams =
+        fragments::frame_streams(sequence.fragments(), sequence.offset_table(), frames as u32)?;
+    let plane = spec.pixels();
+    let mut samples = Vec::new();
+    samples
+        .try_reserve_exact(plane * frames)
+        .map_err(|_| "not enough memory for its decoded frames".to_string())?;
+    for (f, stream) in streams.iter().enumerate() {
+        let frame = codec
+            .decode(stream, spec)
+            .map_err(|e| format!("{} frame {}: {e}", codec.name(), f + 1))?;
+        if frame.bytes.len() != plane {
+            return Err(format!(
+                "{} frame {} decodes to {} bytes where {plane} pixels of one byte were expected",
+                codec.name(),
+                f + 1,
+                frame.bytes.len()
+            ));
+        }
+        samples.extend_from_slice(&frame.bytes);
+    }
+    Ok(samples)
 }
 
 /// The segments of `SegmentSequence`: number, label, colour.

@@ -530,7 +530,16 @@ fn highdicom_segs_overlapping_fractional_and_of_another_series_are_read_or_refus
         .iter()
         .map(|d| d.as_u64().expect("a size") as usize)
         .collect();
-    for file in ["binary", "fractional"] {
+    // Native, and compressed as highdicom writes them (binary: JPEG 2000; fractional: RLE,
+    // JPEG-LS, JPEG 2000), each read to the same labels.
+    for file in [
+        "binary",
+        "fractional",
+        "binary_j2k",
+        "fractional_rle",
+        "fractional_jls",
+        "fractional_j2k",
+    ] {
         let map = labels(&dir.path().join(format!("{file}.dcm")), &series);
         for want in cases[file].as_array().expect("segments") {
             let number = want["number"].as_u64().expect("number") as u16;
