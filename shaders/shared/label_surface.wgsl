@@ -141,6 +141,56 @@ fn refine_crossing(ray: Ray, c: u32, t0_in: f32, d0_in: f32, t1_in: f32, d1_in: 
     return t0 + (t1 - t0) * clamp(d0 / (d0 - d1), 0.0, 1.0);
 }
 
+// The surface of class c the ray enters between t0 (mask m0 there) and t (mask m): where its
+// channel rises through the level, lit (a = 0 where no shown label of that class lies there).
+fn surface_entered(ray: Ray, c: u32, t0: f32, m0: vec4<f32>, t: f32, m: vec4<f32>) -> SurfaceHit {
+    let d0 = m0[c] - SURFACE_LEVEL;
+    var th = t0;
+    // A crossing at the entry point (a label at the box's face) is a cap facing the eye.
+    var g = ray.dir_world;
+    if d0 < 0.0 {
+        th = refine_crossing(ray, c, t0, d0, t, m[c] - SURFACE_LEVEL);
+        g = mask_gradient(ray.entry + ray.box_per_mm * th, c);
+    }
+    let l = surface_label(ray.entry + ray.box_per_mm * th, g, c);
+    if l.a <= 0.0 {
+        return SurfaceHit(vec4<f32>(0.0), th);
+    }
+    return SurfaceHit(vec4<f32>(phong(l.rgb, g, ray.dir_world), l.a), th);
+}
+
+// Several classes' surfaces entered in one step (`risen`, bits): composited front to back by
+// distance (ties: the lower class first) into one, its distance the nearest's.
+fn surfaces_entered(ray: Ray, risen: u32, t0: f32, m0: vec4<f32>, t: f32, m: vec4<f32>) -> SurfaceHit {
+    var hits = array<SurfaceHit, 4>();
+    for (var c = 0u; c < 4u; c++) {
+        if ((risen >> c) & 1u) != 0u {
+            hits[c] = surface_entered(ray, c, t0, m0, t, m);
+        }
+    }
+    var sum = vec4<f32>(0.0);
+    var nearest = t;
+    var left = risen;
+    while left != 0u {
+        var pick = 0u;
+        var best = 3.4e38;
+        for (var c = 0u; c < 4u; c++) {
+            if ((left >> c) & 1u) != 0u && hits[c].t < best {
+                best = hits[c].t;
+                pick = c;
+            }
+        }
+        left &= ~(1u << pick);
+        nearest = min(nearest, best);
+        let s = hits[pick].colour;
+        sum += (1.0 - sum.a) * vec4<f32>(s.rgb * s.a, s.a);
+    }
+    if sum.a <= 0.0 {
+        return SurfaceHit(vec4<f32>(0.0), nearest);
+    }
+    return SurfaceHit(vec4<f32>(sum.rgb / sum.a, sum.a), nearest);
+}
+
 // The surfaces the ray enters between the sample before k (or the entry point) and sample k at
 // distance t (box position p): where a class's channel rises through the level (a wall between
 // labels of two classes is where the second's rises). Several in one step are composited in
@@ -160,48 +210,11 @@ fn surface_before(track: ptr<function, SurfaceTrack>, ray: Ray, k: u32, t: f32, 
         t0 = sample_distance(ray, k - 1u);
     }
     let m0 = mask_at(ray.entry + ray.box_per_mm * t0);
-    var ts = array<f32, 4>(0.0, 0.0, 0.0, 0.0);
-    var colours = array<vec4<f32>, 4>(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
-    for (var c = 0u; c < 4u; c++) {
-        if ((risen >> c) & 1u) == 0u {
-            continue;
-        }
-        let d0 = m0[c] - SURFACE_LEVEL;
-        var th = t0;
-        // A crossing at the entry point (a label at the box's face) is a cap facing the eye.
-        var g = ray.dir_world;
-        if d0 < 0.0 {
-            th = refine_crossing(ray, c, t0, d0, t, m[c] - SURFACE_LEVEL);
-            g = mask_gradient(ray.entry + ray.box_per_mm * th, c);
-        }
-        let l = surface_label(ray.entry + ray.box_per_mm * th, g, c);
-        ts[c] = th;
-        if l.a > 0.0 {
-            colours[c] = vec4<f32>(phong(l.rgb, g, ray.dir_world), l.a);
-        }
+    // One class (nearly always): no list to sort.
+    if (risen & (risen - 1u)) == 0u {
+        return surface_entered(ray, firstTrailingBit(risen), t0, m0, t, m);
     }
-    // Front to back by distance (ties: the lower class first).
-    var sum = vec4<f32>(0.0);
-    var nearest = t;
-    var left = risen;
-    while left != 0u {
-        var pick = 0u;
-        var best = 3.4e38;
-        for (var c = 0u; c < 4u; c++) {
-            if ((left >> c) & 1u) != 0u && ts[c] < best {
-                best = ts[c];
-                pick = c;
-            }
-        }
-        left &= ~(1u << pick);
-        nearest = min(nearest, best);
-        let s = colours[pick];
-        sum += (1.0 - sum.a) * vec4<f32>(s.rgb * s.a, s.a);
-    }
-    if sum.a <= 0.0 {
-        return SurfaceHit(vec4<f32>(0.0), nearest);
-    }
-    return SurfaceHit(vec4<f32>(sum.rgb / sum.a, sum.a), nearest);
+    return surfaces_entered(ray, risen, t0, m0, t, m);
 }
 
 // The surfaces a ray has entered, composited front to back over the picture of a mode that does

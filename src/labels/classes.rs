@@ -254,12 +254,10 @@ fn mend(class: &mut [Option<u8>], adjacent: &[Vec<u16>]) {
             .filter(|&&n| class[usize::from(n)] == c)
             .count()
     };
-    let total = |class: &[Option<u8>]| -> usize {
-        (0..class.len())
-            .filter(|&l| class[l].is_some())
-            .map(|l| clashes_of(class, l))
-            .sum()
-    };
+    // The shown labels: a move scans them, not every value.
+    let shown: Vec<usize> = (0..class.len()).filter(|&l| class[l].is_some()).collect();
+    let total =
+        |class: &[Option<u8>]| -> usize { shown.iter().map(|&l| clashes_of(class, l)).sum() };
     let mut now = total(class);
     let mut best = (now, class.to_vec());
     let mut moved_at: Vec<usize> = vec![0; class.len()];
@@ -269,7 +267,7 @@ fn mend(class: &mut [Option<u8>], adjacent: &[Vec<u16>]) {
         }
         // The best move of any label in a clash, tabu labels aside (unless it beats the best).
         let mut pick: Option<(isize, usize, u8)> = None;
-        for l in 0..class.len() {
+        for &l in &shown {
             let Some(c) = class[l] else { continue };
             let here = clashes_of(class, l);
             if here == 0 {
@@ -463,7 +461,8 @@ mod measure {
         let pairs = super::neighbours(&map);
         let took = t.elapsed();
         let t = std::time::Instant::now();
-        let c = super::classes(&[true; 121], &pairs);
+        let shown: Vec<bool> = (0..1usize << 16).map(|v| v <= 120).collect();
+        let c = super::classes(&shown, &pairs);
         eprintln!("classes in {:?}", t.elapsed());
         eprintln!(
             "pairs {} in {took:?}; classes used {}, clashes {}",
