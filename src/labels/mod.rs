@@ -129,7 +129,7 @@ impl LabelMap {
     /// Per voxel, the classes of its shown labels as bits (bit c: some layer's label there is
     /// shown by `table` and of class c in `class`): each bit's indicator is a channel of the
     /// surfaces' mask ([`classes`]).
-    pub fn shown_classes(&self, table: &[[u8; 4]], class: &[Option<u8>]) -> Vec<u8> {
+    pub(crate) fn shown_classes(&self, table: &[[u8; 4]], class: &[Option<u8>]) -> Vec<u8> {
         let voxels = self.dims.iter().map(|&d| d as usize).product::<usize>();
         (0..voxels)
             .map(|i| {

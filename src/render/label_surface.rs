@@ -12,7 +12,7 @@ use crate::labels::classes::Classes;
 use crate::labels::surface::smoothing_kernel;
 use crate::render::context::GpuContext;
 use crate::render::gpu_data::SurfaceParams;
-use crate::render::labels::GpuLabels;
+use crate::render::labels::{GpuLabels, TABLE_EDGE, table_texture};
 use crate::render::shader::{ShaderError, compose, compute_pipeline, shader_module};
 
 use super::texture::full_view;
@@ -53,11 +53,8 @@ struct SlabPass {
     extent: [u32; 3],
 }
 
-/// Label values a class table holds: every `u16` (256 × 256).
-const TABLE_EDGE: u32 = 256;
-
 /// The channels of a mask for `used` classes (there is no three-channel format).
-pub fn channels_for(used: usize) -> u32 {
+pub(crate) fn channels_for(used: usize) -> u32 {
     match used {
         0 | 1 => 1,
         2 => 2,
@@ -76,8 +73,6 @@ pub struct SurfaceMask {
     pub(crate) classes: wgpu::TextureView,
     /// Channels of the mask: 1, 2 or 4.
     channels: u32,
-    /// Neighbouring shown labels that share a class (no wall between them) at the last build.
-    clashes: usize,
     buffer: wgpu::Buffer,
     row_words: u32,
     passes: Vec<SlabPass>,
@@ -107,20 +102,7 @@ impl SurfaceMask {
             2 => wgpu::TextureFormat::Rg8Unorm,
             _ => wgpu::TextureFormat::Rgba8Unorm,
         };
-        let class_texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("label surface classes"),
-            size: wgpu::Extent3d {
-                width: TABLE_EDGE,
-                height: TABLE_EDGE,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R8Uint,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
+        let class_texture = table_texture(device, wgpu::TextureFormat::R8Uint, "label classes");
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("label surface mask"),
             size: wgpu::Extent3d {
@@ -175,7 +157,6 @@ impl SurfaceMask {
             classes: full_view(&class_texture),
             class_texture,
             channels,
-            clashes: 0,
             buffer: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("label surface slab"),
                 size: slab_bytes,
@@ -214,12 +195,6 @@ impl SurfaceMask {
         self.channels
     }
 
-    /// Neighbouring shown labels sharing a class at the last build: no wall is drawn between
-    /// them.
-    pub fn clashes(&self) -> usize {
-        self.clashes
-    }
-
     /// Bytes on the GPU: the mask (a byte a voxel and channel), the class table and the build's
     /// buffer.
     pub fn gpu_bytes(&self) -> u64 {
@@ -255,7 +230,6 @@ impl SurfaceMask {
             },
             self.class_texture.size(),
         );
-        self.clashes = classes.clashes.len();
         if self.params_for != Some(key.2) {
             let (weights, radius) = smoothing_kernel(smoothing);
             for pass in &self.passes {
@@ -404,7 +378,7 @@ mod tests {
         }
         labels.write_table_for_tests(&ctx.queue, &table);
         let pipelines = SurfacePipelines::new(&ctx.device).unwrap();
-        let shown = labels.classes();
+        let shown = (*labels.classes()).clone();
         assert!(shown.used >= 2, "{shown:?}");
         // One class for all, the labels' own classes, and each label a class of its own.
         let one = Classes {

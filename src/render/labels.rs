@@ -4,8 +4,8 @@
 //! and a 256 × 256 table of each label value's colour, its alpha 0 where the label is hidden
 //! ([`LabelMap::colour_table`]).
 
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 
 use wgpu::util::DeviceExt;
 
@@ -13,10 +13,11 @@ use crate::accel::label_cells::LabelCells;
 use crate::labels::LabelMap;
 use crate::labels::classes::{self, Classes};
 
-use super::texture::full_view;
+use super::texture::{full_view, texture_2d};
 
-/// Label values a colour table holds: every `u16`.
-const TABLE_EDGE: u32 = 256;
+/// Edge of a table indexed by label value (the colours, the surfaces' classes): 256 × 256
+/// texels hold every `u16`.
+pub(crate) const TABLE_EDGE: u32 = 256;
 
 /// Most layers of labels drawn: a texel's channels.
 const MOST_LAYERS: usize = 4;
@@ -55,7 +56,7 @@ pub struct GpuLabels {
     /// How long finding [`Self::neighbours`] took (ms, on the CPU at upload).
     neighbours_ms: f64,
     /// The classes last found, with the generation they were found for.
-    last_classes: Mutex<Option<(u64, Classes)>>,
+    last_classes: Mutex<Option<(u64, Arc<Classes>)>>,
 }
 
 /// Why labels could not go to the GPU.
@@ -132,20 +133,8 @@ impl GpuLabels {
             },
             size,
         );
-        let colour_texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("label colours"),
-            size: wgpu::Extent3d {
-                width: TABLE_EDGE,
-                height: TABLE_EDGE,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8Unorm,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
+        let colour_texture =
+            table_texture(device, wgpu::TextureFormat::Rgba8Unorm, "label colours");
         let cells = LabelCells::of(labels);
         let storage = |label, words: &[u32]| {
             // A binding holds at least one word.
@@ -206,22 +195,22 @@ impl GpuLabels {
 
     /// The shown labels' classes: the channels of the surfaces' mask, neighbours apart where
     /// [`classes::MOST_CLASSES`] allow.
-    /// Found again only when the shown labels change.
-    pub fn classes(&self) -> Classes {
+    /// Found again only when the shown labels change (the window's panel asks every frame).
+    pub fn classes(&self) -> Arc<Classes> {
         let mut cached = self.last_classes.lock().unwrap_or_else(|e| e.into_inner());
         let generation = self.generation();
         if let Some((g, c)) = cached.as_ref()
             && *g == generation
         {
-            return c.clone();
+            return Arc::clone(c);
         }
         let last = self.last_bits.lock().unwrap_or_else(|e| e.into_inner());
         let shown: Vec<bool> = (0..1usize << 16)
             .map(|v| last[v / 32] >> (v % 32) & 1 == 1)
             .collect();
         drop(last);
-        let found = classes::classes(&shown, &self.neighbours);
-        *cached = Some((generation, found.clone()));
+        let found = Arc::new(classes::classes(&shown, &self.neighbours));
+        *cached = Some((generation, Arc::clone(&found)));
         found
     }
 
@@ -295,6 +284,16 @@ impl GpuLabels {
             },
         );
     }
+}
+
+/// A [`TABLE_EDGE`]² table indexed by label value, written from the CPU.
+pub(crate) fn table_texture(
+    device: &wgpu::Device,
+    format: wgpu::TextureFormat,
+    label: &str,
+) -> wgpu::Texture {
+    let usage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
+    texture_2d(device, [TABLE_EDGE; 2], format, usage, label)
 }
 
 /// Bound where a pass shows no labels: a 1³ texture of label 0, a 1 × 1 colour table, a 1³

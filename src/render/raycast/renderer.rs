@@ -195,7 +195,11 @@ impl VolumeRenderer {
     /// (classes) and the touching shown labels that share a class (no wall between them).
     pub fn label_surface_facts(&self) -> Option<(u64, u32, usize)> {
         let volume = self.volume.as_ref()?;
-        (volume.surface.as_ref()).map(|s| (s.gpu_bytes(), s.channels(), s.clashes()))
+        let clashes = volume
+            .labels
+            .as_ref()
+            .map_or(0, |l| l.classes().clashes.len());
+        (volume.surface.as_ref()).map(|s| (s.gpu_bytes(), s.channels(), clashes))
     }
 
     /// How long each frame may spend uploading bricks of a bricked volume before it renders
