@@ -4,6 +4,10 @@ with numpy from the affines alone: for LeapView's segmentation tests
 
     python label_files.py OUT
     python label_files.py --counts FILE.nii.gz    prints {"LABEL": VOXELS, …} of FILE (nibabel)
+    python label_files.py --long N OUT            writes OUT/long_image.nii.gz and
+                                                  OUT/long_labels.nii.gz, N × 48 × 48: a bar
+                                                  along x past a GPU's 3D textures, labelled 1
+                                                  in its first half, 2 in its second
 
 Writes into OUT, for each case, `<case>_image.nii.gz`, `<case>_labels.nii.gz` and, where LeapView
 must accept it, `<case>_expected.u16`: the label each image voxel takes (the label voxel nearest
@@ -115,8 +119,26 @@ def counts(path):
     print(json.dumps({str(int(v)): int(c) for v, c in zip(values, n) if v != 0}))
 
 
+def long(n, out):
+    """A bar along x of n voxels (past a 3D texture's side), its halves labelled 1 and 2."""
+    shape = (n, 48, 48)
+    i, j, k = np.meshgrid(*[np.arange(s) for s in shape], indexing="ij", sparse=True)
+    bar = (j - 23.5) ** 2 + (k - 23.5) ** 2 < 14**2
+    image = np.where(bar, 1000, 0).astype(np.int16) + np.zeros(shape, np.int16)
+    labels = (np.where(bar & (i < n // 2), 1, 0) + np.where(bar & (i >= n // 2), 2, 0)).astype(
+        np.uint16
+    )
+    for name, data in (("image", image), ("labels", labels)):
+        img = nib.Nifti1Image(data, np.eye(4))
+        img.set_qform(np.eye(4), code=1)
+        img.set_sform(np.eye(4), code=1)
+        nib.save(img, os.path.join(out, f"long_{name}.nii.gz"))
+
+
 if __name__ == "__main__":
     if sys.argv[1] == "--counts":
         counts(sys.argv[2])
+    elif sys.argv[1] == "--long":
+        long(int(sys.argv[2]), sys.argv[3])
     else:
         main(sys.argv[1])

@@ -89,7 +89,8 @@ struct Frame {
     label_layers: u32,
     // Channels of the label surfaces' mask (1, 2 or 4; 0 without surfaces).
     surface_channels: u32,
-    _pad1: u32,
+    // 1 where the labels travel in the volume's bricks (shared/labels.wgsl), else 0.
+    label_bricks: u32,
     _pad2: u32,
 }
 

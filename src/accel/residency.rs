@@ -123,6 +123,11 @@ impl Residency {
         self.resident.contains_key(key)
     }
 
+    /// Every slot holding a brick, and which.
+    pub fn held_slots(&self) -> impl Iterator<Item = (u32, BrickKey)> + '_ {
+        (self.held.iter().enumerate()).filter_map(|(s, k)| k.map(|k| (s as u32, k)))
+    }
+
     /// Whether every brick of level 0 fits beside the coarsest (then all are held, whatever
     /// the view).
     pub fn holds_everything(&self) -> bool {

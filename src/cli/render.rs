@@ -174,9 +174,10 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
     renderer.set_transfer_function(&tf);
     let labelled = match args.segmentation.load(&volume)? {
         Some(map) => {
+            let map = std::sync::Arc::new(map);
             let shown = args.segmentation.shown(&map)?;
             let ctx = renderer.context();
-            let labels = GpuLabels::new(&ctx.device, &ctx.queue, &map).bad_input()?;
+            let labels = GpuLabels::new(&ctx.device, &ctx.queue, map.clone()).bad_input()?;
             labels.show_styled(&ctx.queue, &map, |s| args.segmentation.style(&shown, s));
             let labels = std::sync::Arc::new(labels);
             renderer
@@ -318,15 +319,26 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         if let Some((map, labels, shown)) = &labelled {
             outln!(
                 out,
-                "labels: {}: {} segments, {} shown, view {:?}, {:.1} MB on the GPU; {} \
-                 neighbouring pairs found in {:.1} ms at upload",
+                "labels: {}: {} segments, {} shown, view {:?}, {:.1} MB on the GPU{}{}",
                 map.name(),
                 map.segments().len(),
                 shown.len(),
                 settings.labels,
                 labels.gpu_bytes() as f64 / 1e6,
-                labels.neighbour_facts().0,
-                labels.neighbour_facts().1
+                renderer
+                    .volume_texture()
+                    .map(|t| t.label_atlas_bytes())
+                    .filter(|&b| b > 0)
+                    .map_or(String::new(), |b| format!(
+                        " and {:.1} MB in the bricks' label atlas",
+                        b as f64 / 1e6
+                    )),
+                labels
+                    .neighbour_facts()
+                    .map_or(String::new(), |(pairs, ms)| format!(
+                        "; {pairs} neighbouring pairs found in {ms:.1} ms (on the first frame of \
+                     surfaces)"
+                    ))
             );
             let toggles = label_toggles(
                 &mut renderer,

@@ -185,7 +185,7 @@ pub fn write_slice(
         gpu_budget: args.gpu.gpu_budget,
         ..Default::default()
     };
-    let texture = VolumeTexture::upload_with(ctx, volume, &upload).map_err(|e| match e {
+    let mut texture = VolumeTexture::upload_with(ctx, volume, &upload).map_err(|e| match e {
         VolumeTextureError::TooLarge { .. }
         | VolumeTextureError::Layout { .. }
         | VolumeTextureError::OutOfMemory { .. } => Failure::BadInput(e.into()),
@@ -206,7 +206,12 @@ pub fn write_slice(
     let labels = match &args.labels {
         Some(path) => {
             let map = super::label_args::read_labels(path, args.label_names.as_ref(), volume)?;
-            Some(GpuLabels::new(&ctx.device, &ctx.queue, &map).bad_input()?)
+            let gpu = GpuLabels::new(&ctx.device, &ctx.queue, map).bad_input()?;
+            // Labels past one texture travel in the volume's bricks.
+            texture
+                .attach_labels(ctx, Some(&gpu))
+                .map_err(|e| Failure::BadInput(e.into()))?;
+            Some(gpu)
         }
         None => None,
     };

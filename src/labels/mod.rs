@@ -12,6 +12,7 @@ pub mod classes;
 mod dicom_seg;
 mod error;
 mod layered;
+pub mod levels;
 mod names;
 mod palette;
 mod read;

@@ -201,7 +201,7 @@ pub fn layouts() -> Vec<StructLayout> {
             phong_ambient, phong_diffuse, phong_specular, phong_shininess, window_lo, window_hi,
             saturation, xray_density_per_mm, iso_threshold, steps_per_d0, depth_units_per_mm,
             iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight, row_offset,
-            row_end, all_finite, colour_volume, label_layers, surface_channels, _pad1, _pad2,
+            row_end, all_finite, colour_volume, label_layers, surface_channels, label_bricks, _pad2,
         }),
         layout!(VolumeGeometry = "VolumeGeometry" in "shared/volume_geometry.wgsl" {
             dims, brick_vox, texel_size, _pad0, bricks_per_box, _pad1, last_brick, _pad2,
@@ -232,6 +232,7 @@ pub fn layouts() -> Vec<StructLayout> {
             first, step_x, step_y, slab_step, width, height, nearest, pitch, texel_max,
             unit_scale, unit_bias, window_lo, window_hi, slab_count, slab_mode, leap, colour,
             colour_lo, colour_hi, invert, volume_colour, labels, label_opacity, label_outline,
+            label_bricks, _pad0, _pad1, _pad2,
         }),
     ]
 }
@@ -336,8 +337,9 @@ pub struct FrameUniforms {
     pub label_layers: u32,
     /// Channels of the label surfaces' mask the ray loop reads (1, 2 or 4; 0 without surfaces).
     pub surface_channels: u32,
-    /// Padding.
-    pub _pad1: u32,
+    /// 1 where the labels travel in the volume's bricks (its label atlas, found through the
+    /// page table), 0 where one texture of the grid holds them.
+    pub label_bricks: u32,
     /// Padding.
     pub _pad2: u32,
 }
@@ -605,6 +607,15 @@ pub struct SliceParams {
     pub label_opacity: f32,
     /// 1: each label's outline drawn opaque (where a neighbouring pixel's label differs).
     pub label_outline: u32,
+    /// 1 where the labels travel in the volume's bricks (its label atlas), 0 where one texture
+    /// of the grid holds them.
+    pub label_bricks: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
+    /// Padding.
+    pub _pad2: u32,
 }
 
 /// `SliceParams.slab_mode`: the largest sample.

@@ -204,7 +204,8 @@ impl SurfaceMask {
 
     /// Records the mask's build for `labels` as shown now, in `classes` (of at most
     /// [`Self::channels`]), at `smoothing` (voxels), unless it holds that already; returns
-    /// whether it recorded one.
+    /// whether it recorded one. Nothing for labels that travel in the volume's bricks (the
+    /// renderer refuses surfaces of those first).
     pub fn build(
         &mut self,
         ctx: &GpuContext,
@@ -214,6 +215,9 @@ impl SurfaceMask {
         encoder: &mut wgpu::CommandEncoder,
     ) -> bool {
         let key = Self::key(labels, smoothing);
+        let Some(label_texels) = labels.whole() else {
+            return false;
+        };
         if self.built_for == Some(key) {
             return false;
         }
@@ -255,7 +259,7 @@ impl SurfaceMask {
             let (pipeline, entries) = if pass.axis == 0 {
                 let entries = vec![
                     entry(0, pass.params.as_entire_binding()),
-                    entry(1, wgpu::BindingResource::TextureView(&labels.labels)),
+                    entry(1, wgpu::BindingResource::TextureView(label_texels)),
                     entry(2, wgpu::BindingResource::TextureView(&labels.colours)),
                     entry(4, self.buffer.as_entire_binding()),
                     entry(5, wgpu::BindingResource::TextureView(&self.classes)),
@@ -371,7 +375,7 @@ mod tests {
         let layer0: Vec<u16> = (0..n).map(|i| ((i * 7 / 13) % 5) as u16).collect();
         let layer1: Vec<u16> = (0..n).map(|i| if i % 17 < 3 { 4 } else { 0 }).collect();
         let map = LabelMap::bare(dims, vec![layer0, layer1]);
-        let labels = GpuLabels::new(&ctx.device, &ctx.queue, &map).unwrap();
+        let labels = GpuLabels::new(&ctx.device, &ctx.queue, map.clone()).unwrap();
         let mut table = vec![[0u8; 4]; 1 << 16];
         for (v, c) in table.iter_mut().enumerate().take(5).skip(1) {
             *c = [200, 100, 50, if v == 3 { 0 } else { 255 }];
@@ -482,7 +486,7 @@ mod tests {
         r.set_volume(&volume).unwrap();
         r.set_transfer_function(&tf);
         let ctx = r.context().clone();
-        let labels = GpuLabels::new(&ctx.device, &ctx.queue, &map).unwrap();
+        let labels = GpuLabels::new(&ctx.device, &ctx.queue, map.clone()).unwrap();
         labels.write_table_for_tests(&ctx.queue, &table);
         assert_eq!(labels.classes().used, 2);
         r.set_labels(Some(Arc::new(labels))).unwrap();

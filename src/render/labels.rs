@@ -1,7 +1,9 @@
 //! A segmentation on the GPU, one upload for the slice views and the ray caster: its layers of
 //! labels (up to four, one per channel: `R16Uint`, `Rg16Uint` or `Rgba16Uint`) as a 3D texture
-//! on the image's grid (read with `textureLoad`, nearest voxel: labels are never interpolated)
-//! and a 256 × 256 table of each label value's colour, its alpha 0 where the label is hidden
+//! on the image's grid (read with `textureLoad`, nearest voxel: labels are never interpolated),
+//! or, where the grid is past the GPU's 3D textures or its memory, in the bricked volume's label
+//! atlas (`render::volume_texture::label_atlas`, slot for slot with the volume's bricks); and a
+//! 256 × 256 table of each label value's colour, its alpha 0 where the label is hidden
 //! ([`LabelMap::colour_table`]).
 
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -28,8 +30,14 @@ const SHOWN_WORDS: usize = (1 << 16) / 32;
 /// A label map's textures, and what leaping over hidden labels reads: which labels each cell of
 /// the grid holds ([`LabelCells`], as two storage buffers) and one visibility bit per label.
 pub struct GpuLabels {
-    /// The labels, a layer per channel.
-    pub(crate) labels: wgpu::TextureView,
+    /// The labels, a layer per channel, as one texture of the grid; `None` where they travel
+    /// in the volume's bricks.
+    whole: Option<wgpu::TextureView>,
+    /// The labels (the volume's label atlas is filled from them where they travel in its
+    /// bricks; the surfaces' neighbour graph is found in them on first use).
+    map: Arc<LabelMap>,
+    /// Whether they travel in the volume's bricks.
+    in_bricks: bool,
     /// Each label value's colour (sRGB) and visibility (alpha).
     pub(crate) colours: wgpu::TextureView,
     colour_texture: wgpu::Texture,
@@ -51,88 +59,63 @@ pub struct GpuLabels {
     /// The visibility bits last written.
     last_bits: Mutex<Vec<u32>>,
     /// Every pair of labels near enough for their smoothed surfaces to run together
-    /// ([`classes::neighbours`]): the graph the surfaces' classes colour.
-    neighbours: Vec<(u16, u16)>,
-    /// How long finding [`Self::neighbours`] took (ms, on the CPU at upload).
-    neighbours_ms: f64,
+    /// ([`classes::neighbours`]): the graph the surfaces' classes colour, found when surfaces
+    /// first ask (1.5 s at 512³ on two cores: not for views that never draw them), and how
+    /// long that took (ms, on the CPU).
+    neighbours: std::sync::OnceLock<(Vec<(u16, u16)>, f64)>,
     /// The classes last found, with the generation they were found for.
     last_classes: Mutex<Option<(u64, Arc<Classes>)>>,
+}
+
+/// Where a segmentation's labels are held on the GPU.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LabelPlacement {
+    /// One texture of the grid where it fits the GPU's 3D textures and memory, else in the
+    /// volume's bricks.
+    Auto,
+    /// In the volume's bricks whatever the grid (the tests compare the two).
+    Bricks,
 }
 
 /// Why labels could not go to the GPU.
 #[derive(Debug, thiserror::Error)]
 pub enum LabelUploadError {
-    /// The label grid is larger than this GPU's 3D textures.
-    #[error(
-        "the labels' grid {0:?} is larger than this GPU's 3D textures ({1} a side): labels do \
-         not travel in bricks yet"
-    )]
-    TooLarge([u32; 3], u32),
     /// More layers of overlapping segments than a texel holds.
     #[error("the segments overlap {0} deep; at most {MOST_LAYERS} overlapping layers are drawn")]
     TooManyLayers(usize),
 }
 
 impl GpuLabels {
-    /// Uploads `labels`'s first layer and its segments' colours, each visible.
+    /// Uploads `labels` and its segments' colours, each visible: one texture where the grid
+    /// fits, else kept to travel in the volume's bricks ([`LabelPlacement::Auto`]).
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        labels: &LabelMap,
+        labels: impl Into<Arc<LabelMap>>,
     ) -> Result<Self, LabelUploadError> {
+        Self::placed(device, queue, labels.into(), LabelPlacement::Auto)
+    }
+
+    /// [`Self::new`], the labels held where `placement` says.
+    pub fn placed(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        map: Arc<LabelMap>,
+        placement: LabelPlacement,
+    ) -> Result<Self, LabelUploadError> {
+        let labels = &*map;
         let dims = labels.dims();
-        let limit = device.limits().max_texture_dimension_3d;
-        if dims.iter().any(|&d| d > limit) {
-            return Err(LabelUploadError::TooLarge(dims, limit));
-        }
         let layers = labels.layers();
         if layers.len() > MOST_LAYERS {
             return Err(LabelUploadError::TooManyLayers(layers.len()));
         }
-        // One channel per layer; three take four (there is no three-channel format).
-        let (format, channels) = match layers.len() {
-            0 | 1 => (wgpu::TextureFormat::R16Uint, 1),
-            2 => (wgpu::TextureFormat::Rg16Uint, 2),
-            _ => (wgpu::TextureFormat::Rgba16Uint, 4),
+        let fits = dims
+            .iter()
+            .all(|&d| d <= device.limits().max_texture_dimension_3d);
+        let whole = match placement {
+            LabelPlacement::Auto if fits => whole_texture(device, queue, labels),
+            _ => None,
         };
-        let size = wgpu::Extent3d {
-            width: dims[0],
-            height: dims[1],
-            depth_or_array_layers: dims[2],
-        };
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("labels"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        let voxels = dims.iter().map(|&d| d as usize).product::<usize>();
-        // One layer goes as it is; several are interleaved, a channel each.
-        let texels: std::borrow::Cow<'_, [u16]> = match layers {
-            [one] => one.into(),
-            _ => (0..voxels * channels)
-                .map(|i| {
-                    layers
-                        .get(i % channels)
-                        .map_or(0, |layer| layer[i / channels])
-                })
-                .collect::<Vec<u16>>()
-                .into(),
-        };
-        queue.write_texture(
-            texture.as_image_copy(),
-            bytemuck::cast_slice(&texels),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(dims[0] * 2 * channels as u32),
-                rows_per_image: Some(dims[1]),
-            },
-            size,
-        );
         let colour_texture =
             table_texture(device, wgpu::TextureFormat::Rgba8Unorm, "label colours");
         let cells = LabelCells::of(labels);
@@ -145,11 +128,10 @@ impl GpuLabels {
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             })
         };
-        let started = std::time::Instant::now();
-        let neighbours = classes::neighbours(labels);
-        let neighbours_ms = started.elapsed().as_secs_f64() * 1e3;
         let made = Self {
-            labels: full_view(&texture),
+            in_bricks: whole.is_none(),
+            map: Arc::clone(&map),
+            whole,
             colours: full_view(&colour_texture),
             colour_texture,
             layers: layers.len().max(1) as u32,
@@ -160,8 +142,7 @@ impl GpuLabels {
             shown_bits: storage("shown labels", &[0; SHOWN_WORDS]),
             generation: AtomicU64::new(0),
             last_bits: Mutex::new(vec![0; SHOWN_WORDS]),
-            neighbours,
-            neighbours_ms,
+            neighbours: std::sync::OnceLock::new(),
             last_classes: Mutex::new(None),
         };
         made.show(queue, labels, |_| true);
@@ -173,19 +154,41 @@ impl GpuLabels {
         self.generation.load(Ordering::Relaxed)
     }
 
-    /// Bytes on the GPU: the labels, the colour table, the cell lists and the visibility bits.
+    /// Bytes on the GPU: the labels (where one texture holds them: the volume's label atlas
+    /// counts those in bricks), the colour table, the cell lists and the visibility bits.
     pub fn gpu_bytes(&self) -> u64 {
         let voxels: u64 = self.dims.iter().map(|&d| u64::from(d)).product();
-        let texel: u64 = match self.layers {
-            1 => 2,
-            2 => 4,
-            _ => 8,
-        };
-        voxels * texel
+        let texel = 2 * u64::from(label_format(self.layers as usize).1);
+        u64::from(self.whole.is_some()) * voxels * texel
             + u64::from(TABLE_EDGE * TABLE_EDGE * 4)
             + self.cell_offsets.size()
             + self.cell_labels.size()
             + self.shown_bits.size()
+    }
+
+    /// Whether the labels travel in the volume's bricks (its label atlas holds them) rather
+    /// than in one texture of their own.
+    pub fn in_bricks(&self) -> bool {
+        self.in_bricks
+    }
+
+    /// The labels the volume's label atlas is filled from, where they travel in its bricks.
+    pub(crate) fn brick_source(&self) -> Option<&Arc<LabelMap>> {
+        self.in_bricks.then_some(&self.map)
+    }
+
+    /// The texture of one grid holding the labels, where one does.
+    pub(crate) fn whole(&self) -> Option<&wgpu::TextureView> {
+        self.whole.as_ref()
+    }
+
+    /// What a pass over `volume` binds as the labels: their texture, else `volume`'s label
+    /// atlas (`None` where the labels travel in bricks the volume does not hold).
+    pub(crate) fn texels<'a>(
+        &'a self,
+        volume: &'a crate::render::volume_texture::VolumeView,
+    ) -> Option<&'a wgpu::TextureView> {
+        self.whole.as_ref().or(volume.labels.as_ref())
     }
 
     /// The voxel grid the labels lie on (the image's).
@@ -209,14 +212,24 @@ impl GpuLabels {
             .map(|v| last[v / 32] >> (v % 32) & 1 == 1)
             .collect();
         drop(last);
-        let found = Arc::new(classes::classes(&shown, &self.neighbours));
+        let found = Arc::new(classes::classes(&shown, &self.neighbour_graph().0));
         *cached = Some((generation, Arc::clone(&found)));
         found
     }
 
-    /// The neighbouring labels (pairs) and how long finding them took at upload (ms).
-    pub fn neighbour_facts(&self) -> (usize, f64) {
-        (self.neighbours.len(), self.neighbours_ms)
+    /// The neighbouring labels (pairs) and how long finding them took (ms): `None` until
+    /// surfaces first asked for them.
+    pub fn neighbour_facts(&self) -> Option<(usize, f64)> {
+        (self.neighbours.get()).map(|(pairs, ms)| (pairs.len(), *ms))
+    }
+
+    /// The neighbour graph, found now where no one asked before.
+    fn neighbour_graph(&self) -> &(Vec<(u16, u16)>, f64) {
+        self.neighbours.get_or_init(|| {
+            let started = std::time::Instant::now();
+            let pairs = classes::neighbours(&self.map);
+            (pairs, started.elapsed().as_secs_f64() * 1e3)
+        })
     }
 
     /// How many layers of labels the texture holds.
@@ -284,6 +297,74 @@ impl GpuLabels {
             },
         );
     }
+}
+
+/// The texture format of `layers` layers of labels, a channel each, and its channels (three
+/// take four: there is no three-channel format).
+pub(crate) fn label_format(layers: usize) -> (wgpu::TextureFormat, u32) {
+    match layers {
+        0 | 1 => (wgpu::TextureFormat::R16Uint, 1),
+        2 => (wgpu::TextureFormat::Rg16Uint, 2),
+        _ => (wgpu::TextureFormat::Rgba16Uint, 4),
+    }
+}
+
+/// One texture of `labels`'s grid, a layer per channel, uploaded; `None` where the GPU has no
+/// memory for it (the labels then travel in the volume's bricks).
+fn whole_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    labels: &LabelMap,
+) -> Option<wgpu::TextureView> {
+    let dims = labels.dims();
+    let layers = labels.layers();
+    let (format, channels) = label_format(layers.len());
+    let channels = channels as usize;
+    let size = wgpu::Extent3d {
+        width: dims[0],
+        height: dims[1],
+        depth_or_array_layers: dims[2],
+    };
+    let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("labels"),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D3,
+        format,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    if let Some(e) = pollster::block_on(oom.pop()) {
+        log::warn!("no GPU memory for the labels as one texture ({e}): they travel in bricks");
+        texture.destroy();
+        return None;
+    }
+    let voxels = dims.iter().map(|&d| d as usize).product::<usize>();
+    // One layer goes as it is; several are interleaved, a channel each.
+    let texels: std::borrow::Cow<'_, [u16]> = match layers {
+        [one] => one.into(),
+        _ => (0..voxels * channels)
+            .map(|i| {
+                layers
+                    .get(i % channels)
+                    .map_or(0, |layer| layer[i / channels])
+            })
+            .collect::<Vec<u16>>()
+            .into(),
+    };
+    queue.write_texture(
+        texture.as_image_copy(),
+        bytemuck::cast_slice(&texels),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(dims[0] * 2 * channels as u32),
+            rows_per_image: Some(dims[1]),
+        },
+        size,
+    );
+    Some(full_view(&texture))
 }
 
 /// A [`TABLE_EDGE`]² table indexed by label value, written from the CPU.

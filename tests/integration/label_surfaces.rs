@@ -48,7 +48,7 @@ fn style(s: &Segment) -> [u8; 4] {
 fn renderer(volume: &Volume, labels: &LabelMap, tf: &TransferFunction) -> VolumeRenderer {
     let mut r = common::renderer_for(volume, tf);
     let ctx = r.context().clone();
-    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, labels).expect("labels upload");
+    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, labels.clone()).expect("labels upload");
     gpu.show_styled(&ctx.queue, labels, style);
     r.set_labels(Some(Arc::new(gpu))).expect("labels");
     r
@@ -339,7 +339,7 @@ fn a_sphere_label_has_the_sphere_s_normals_without_a_staircase() {
     };
     let mut r = common::renderer_for(&volume, &tf);
     let ctx = r.context().clone();
-    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, &labels).expect("labels upload");
+    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, labels.clone()).expect("labels upload");
     gpu.show_styled(&ctx.queue, &labels, |_| [128, 128, 128, 255]);
     r.set_labels(Some(Arc::new(gpu))).expect("labels");
     let camera = common::framing(&volume, ViewPreset::PlusZ, ProjectionKind::Orthographic);
@@ -425,7 +425,7 @@ fn walls_between_the_mr_parcels_match_the_reference() {
     let tf = leapview::transfer::presets::preset("ct-bone").expect("preset");
     let mut r = common::renderer_for(&volume, &tf);
     let ctx = r.context().clone();
-    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, &labels).expect("labels upload");
+    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, labels.clone()).expect("labels upload");
     gpu.show_styled(&ctx.queue, &labels, half);
     let classes = gpu.classes();
     assert!(classes.used >= 3, "{} classes", classes.used);

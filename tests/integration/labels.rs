@@ -432,7 +432,7 @@ fn a_slice_fills_each_shown_label_in_its_colour_and_outlines_its_edges() {
     let ctx = common::gpu();
     let texture = VolumeTexture::upload(&ctx, &series).expect("upload");
     let renderer = SliceRenderer::new(&ctx.device).expect("pipeline");
-    let gpu_labels = GpuLabels::new(&ctx.device, &ctx.queue, &map).expect("labels");
+    let gpu_labels = GpuLabels::new(&ctx.device, &ctx.queue, map.clone()).expect("labels");
     let frame = PatientFrame::of(&series);
     // Through the brain (slices 70 … 104 of 113 hold it), the skull and the soft tissue.
     let at = frame.centre() + DVec3::new(0.3, -0.2, 50.3);
@@ -592,7 +592,7 @@ fn highdicom_segs_overlapping_fractional_and_of_another_series_are_read_or_refus
     let ctx = common::gpu();
     let texture = VolumeTexture::upload(&ctx, &series).expect("upload");
     let renderer = SliceRenderer::new(&ctx.device).expect("pipeline");
-    let gpu_labels = GpuLabels::new(&ctx.device, &ctx.queue, &binary).expect("labels");
+    let gpu_labels = GpuLabels::new(&ctx.device, &ctx.queue, binary.clone()).expect("labels");
     assert_eq!(gpu_labels.layers(), 2);
     let at = DVec3::from(origin) + DVec3::new(8.0, 8.5, 15.0);
     let view = SliceView::fit(

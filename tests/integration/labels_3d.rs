@@ -43,7 +43,7 @@ fn renderer(
 ) -> VolumeRenderer {
     let mut r = common::renderer_for(volume, tf);
     let ctx = r.context();
-    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, labels).expect("labels upload");
+    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, labels.clone()).expect("labels upload");
     gpu.show(&ctx.queue, labels, visible);
     r.set_labels(Some(Arc::new(gpu)))
         .expect("labels over the volume");
@@ -182,7 +182,7 @@ fn labels_colour_and_cut_every_mode_as_the_reference_does() {
     };
     let mut r = renderer(&volume, &labels, &tf, skull_and_brain);
     let ctx = r.context().clone();
-    let gpu = Arc::new(GpuLabels::new(&ctx.device, &ctx.queue, &labels).expect("upload"));
+    let gpu = Arc::new(GpuLabels::new(&ctx.device, &ctx.queue, labels.clone()).expect("upload"));
     gpu.show_styled(&ctx.queue, &labels, style);
     r.set_labels(Some(gpu)).expect("labels");
     let camera = common::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
@@ -264,7 +264,7 @@ fn labels_over_a_bricked_volume_draw_as_over_one_texture() {
     assert!(bricked.volume_texture().is_some_and(|t| t.view.bricked));
     bricked.set_transfer_function(&tf);
     let ctx = bricked.context();
-    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, &labels).expect("labels upload");
+    let gpu = GpuLabels::new(&ctx.device, &ctx.queue, labels.clone()).expect("labels upload");
     gpu.show(&ctx.queue, &labels, skull_and_brain);
     bricked
         .set_labels(Some(Arc::new(gpu)))
@@ -324,7 +324,7 @@ fn a_label_toggle_shows_as_a_render_without_it() {
     // Every label hidden: the image as if none were loaded, to the bit.
     let mut r = common::renderer_for(&volume, &tf);
     let ctx = r.context().clone();
-    let gpu = Arc::new(GpuLabels::new(&ctx.device, &ctx.queue, &labels).expect("upload"));
+    let gpu = Arc::new(GpuLabels::new(&ctx.device, &ctx.queue, labels.clone()).expect("upload"));
     gpu.show(&ctx.queue, &labels, |_| false);
     r.set_labels(Some(Arc::clone(&gpu))).expect("labels");
     assert_eq!(render(&mut r, &camera, colour), without);
@@ -363,7 +363,7 @@ fn cut_views_leap_over_hidden_labels_and_a_toggle_rebuilds_only_their_flags() {
     let camera = common::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
     let mut r = common::renderer_for(&volume, &tf);
     let ctx = r.context().clone();
-    let gpu = Arc::new(GpuLabels::new(&ctx.device, &ctx.queue, &labels).expect("upload"));
+    let gpu = Arc::new(GpuLabels::new(&ctx.device, &ctx.queue, labels.clone()).expect("upload"));
     gpu.show(&ctx.queue, &labels, brain);
     r.set_labels(Some(Arc::clone(&gpu))).expect("labels");
     let size = [48, 48];
@@ -544,4 +544,106 @@ fn render_shows_labels_and_refuses_what_it_cannot_show() {
     // --label-view without --labels is a usage error.
     let (usage, _) = render("usage", &["--label-view", "inside"]);
     assert_eq!(usage.status.code(), Some(2), "{}", stderr(&usage));
+}
+
+/// Labels on a grid past this GPU's 3D textures (a bar one voxel longer than its side, written
+/// by nibabel) travel in the volume's bricks: `render` colours each half of the bar by its
+/// label in 3D, `slice` fills each half, and surfaces, which need one texture, are refused by
+/// name.
+#[test]
+fn labels_past_one_texture_travel_in_the_volumes_bricks() {
+    use common::{leapview, stderr};
+    let max = common::renderer().context().limits.max_texture_dimension_3d;
+    let dir = common::TempDir::new("labels-past-one-texture");
+    let n = (max + 8).to_string();
+    let out = std::process::Command::new(common::python())
+        .arg(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/python/label_files.py"))
+        .args(["--long", &n])
+        .arg(dir.path())
+        .output()
+        .expect("nibabel");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let image = dir.path().join("long_image.nii.gz");
+    let labels = dir.path().join("long_labels.nii.gz");
+    let (image, labels) = (image.to_string_lossy(), labels.to_string_lossy());
+    let png = |name: &str| common::output_dir().join(format!("labels-bricks-{name}.png"));
+    let pixels = |path: &std::path::Path, at: [[u32; 2]; 2]| {
+        let picture = image::open(path).expect("png").to_rgb8();
+        at.map(|[x, y]| picture.get_pixel(x, y).0.map(i32::from))
+    };
+    // Seen from the front, orthographic: the bar across the middle row, a quarter and three
+    // quarters along it.
+    let across = [[128, 256], [384, 256]];
+    let chroma = |p: [i32; 3]| p.iter().max().unwrap_or(&0) - p.iter().min().unwrap_or(&0);
+    let render = |name: &str, extra: &[&str]| {
+        let path = png(name);
+        let path_text = path.to_string_lossy().into_owned();
+        let mut args = vec![
+            "render",
+            &image,
+            "--size",
+            "512x512",
+            "--view",
+            "A",
+            "--projection",
+            "orthographic",
+            "--out",
+            &path_text,
+        ];
+        args.extend(extra);
+        let run = leapview(&args);
+        assert!(run.status.success(), "{name}: {}", stderr(&run));
+        pixels(&path, across)
+    };
+    let plain = render("plain", &[]);
+    assert!(
+        plain.iter().all(|&p| chroma(p) < 16 && p[0] > 100),
+        "{plain:?}"
+    );
+    let coloured = render("colour", &["--labels", &labels, "--label-view", "colour"]);
+    assert!(coloured.iter().all(|&p| chroma(p) > 40), "{coloured:?}");
+    assert!(
+        coloured[0] != coloured[1],
+        "both halves show one label: {coloured:?}"
+    );
+    // The slice through the bar's axis: each half filled with its label's colour.
+    let path = png("slice");
+    let run = leapview(&[
+        "slice",
+        &image,
+        "--labels",
+        &labels,
+        "--plane",
+        "coronal",
+        "--size",
+        "512x16",
+        "--out",
+        &path.to_string_lossy(),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let filled = pixels(&path, [[128, 8], [384, 8]]);
+    assert!(filled.iter().all(|&p| chroma(p) > 40), "{filled:?}");
+    assert!(filled[0] != filled[1], "{filled:?}");
+    let refused = leapview(&[
+        "render",
+        &image,
+        "--labels",
+        &labels,
+        "--label-view",
+        "surfaces",
+        "--size",
+        "32x32",
+        "--out",
+        &png("surfaces").to_string_lossy(),
+    ]);
+    assert_eq!(refused.status.code(), Some(2), "{}", stderr(&refused));
+    let text = stderr(&refused);
+    assert!(
+        text.contains("surfaces") && text.contains("bricks"),
+        "{text}"
+    );
 }

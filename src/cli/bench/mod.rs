@@ -304,9 +304,9 @@ fn show_labels(
     volume: &leapview::volume::Volume,
     (view, opacity): (leapview::settings::LabelView, f64),
 ) -> Result<String, Failure> {
-    let map = crate::cli::label_args::read_labels(path, None, volume)?;
+    let map = std::sync::Arc::new(crate::cli::label_args::read_labels(path, None, volume)?);
     let ctx = renderer.context();
-    let gpu = leapview::render::labels::GpuLabels::new(&ctx.device, &ctx.queue, &map)
+    let gpu = leapview::render::labels::GpuLabels::new(&ctx.device, &ctx.queue, map.clone())
         .map_err(|e| Failure::BadInput(anyhow::anyhow!("{}: {e}", path.display())))?;
     let alpha = (opacity * 255.0).round() as u8;
     gpu.show_styled(&ctx.queue, &map, |s| {

@@ -103,7 +103,8 @@ fn frame_group(
     let none = shared.no_labels;
     let mask = surface.map_or((&none.mask, &none.classes), |s| (&s.view, &s.classes));
     let labels = labels.map_or((&none.labels, &none.colours, mask.0, mask.1), |l| {
-        (&l.labels, &l.colours, mask.0, mask.1)
+        let texels = l.texels(&texture.view).unwrap_or(&none.labels);
+        (texels, &l.colours, mask.0, mask.1)
     });
     layouts.frame_group(
         &ctx.device,
@@ -201,6 +202,7 @@ impl GpuVolume {
             LeapLevels::default(),
         );
         uniforms.label_layers = self.labels.as_ref().map_or(0, |l| l.layers());
+        uniforms.label_bricks = u32::from(self.labels.as_ref().is_some_and(|l| l.in_bricks()));
         uniforms
     }
 }

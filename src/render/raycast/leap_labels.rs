@@ -37,8 +37,11 @@ impl LabelFlagPipelines {
 /// What a view does with the nodes of the shown labels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LabelUse {
-    /// The image is cut to the shown labels: nodes without one are empty.
-    Cut,
+    /// The image is cut to the shown labels: nodes without one are empty. The cells around a
+    /// node whose labels count as its own besides: where labels travel in bricks held at a
+    /// coarser level, a sample reads a label of its block of that level
+    /// ([`coarse_reach`]).
+    Cut(u32),
     /// The shown labels are drawn as surfaces: nodes near one are not empty.
     Surfaces,
 }
@@ -49,10 +52,20 @@ impl LabelUse {
     /// cell past a shown voxel).
     fn apron(self) -> u32 {
         match self {
-            Self::Cut => 0,
+            Self::Cut(reach) => reach,
             Self::Surfaces => 1,
         }
     }
+}
+
+/// Cells of [`CELL_VOX`](crate::accel::label_cells::CELL_VOX) voxels past its own that a
+/// sample's label may come from where the labels are read at level `level`: a coarse voxel
+/// holds a label of the aligned block of 2^level finest voxels it covers
+/// ([`crate::labels::levels`]), which reaches into the blocks' other cells.
+pub fn coarse_reach(level: u32) -> u32 {
+    let cell = crate::accel::label_cells::CELL_VOX;
+    let block = 1u32 << level.min(16);
+    block.div_ceil(cell) - 1
 }
 
 const _: () = assert!(
@@ -190,7 +203,7 @@ impl LabelFlags {
         encoder: &mut wgpu::CommandEncoder,
     ) {
         let pipeline = match use_ {
-            LabelUse::Cut => &pipelines.cut,
+            LabelUse::Cut(_) => &pipelines.cut,
             LabelUse::Surfaces => &pipelines.keep,
         };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -235,4 +248,29 @@ fn param_buffer(device: &wgpu::Device) -> wgpu::Buffer {
         usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::label_cells::CELL_VOX;
+
+    /// A coarse voxel's block of the finest level reaches this many cells past any of its own
+    /// voxels' cells: brute force over every voxel of blocks of levels 0 to 6.
+    #[test]
+    fn the_coarse_reach_covers_every_cell_a_voxels_block_touches() {
+        for level in 0..=6u32 {
+            let block = 1u32 << level;
+            let farthest = (0..4 * block)
+                .map(|v| {
+                    let first = v / block * block;
+                    let cells = [first / CELL_VOX, (first + block - 1) / CELL_VOX];
+                    let own = v / CELL_VOX;
+                    (own - cells[0]).max(cells[1] - own)
+                })
+                .max()
+                .unwrap_or(0);
+            assert_eq!(coarse_reach(level), farthest, "level {level}");
+        }
+    }
 }

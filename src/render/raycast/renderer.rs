@@ -21,7 +21,7 @@ use crate::volume::Volume;
 use super::error::RenderError;
 use super::gpu_volume::{FrameShared, GpuVolume};
 use super::leap::{LeapRequest, LeapStructures};
-use super::leap_labels::LabelUse;
+use super::leap_labels::{LabelUse, coarse_reach};
 use super::measurements::Measurements;
 use super::passes::RaycastPasses;
 use super::pipelines::Pipelines;
@@ -168,8 +168,8 @@ impl VolumeRenderer {
 
     /// Shows `labels` over the volume loaded (on its grid: `labels::load_labels` puts them
     /// there), or none. Refused where no volume is loaded and where the labels lie on another
-    /// grid. Over a bricked volume the labels stay one texture of the full grid (they do not
-    /// travel in bricks yet: `GpuLabels::new` refuses a grid past one texture).
+    /// grid. Labels past one texture ([`GpuLabels::in_bricks`]) go into the bricked volume's
+    /// label atlas, slot for slot with its bricks (refused over a volume in one texture).
     pub fn set_labels(&mut self, labels: Option<Arc<GpuLabels>>) -> Result<(), RenderError> {
         let volume = self.volume.as_mut().ok_or(RenderError::NoVolume)?;
         if let Some(l) = &labels
@@ -181,6 +181,9 @@ impl VolumeRenderer {
                 volume.dims
             )));
         }
+        (volume.texture)
+            .attach_labels(&self.ctx, labels.as_deref())
+            .map_err(|e| RenderError::Labels(e.to_string()))?;
         let shared = FrameShared {
             uniforms: &self.uniforms,
             sampler: &self.sampler,
@@ -495,6 +498,14 @@ impl VolumeRenderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
+        if key.labels.surfaces() && volume.labels.as_ref().is_some_and(|l| l.in_bricks()) {
+            return Err(RenderError::Labels(format!(
+                "label surfaces need the labels in one 3D texture, and these ({:?}) travel in the \
+                 volume's bricks (past this GPU's 3D textures or its memory): show them as \
+                 colour or inside instead",
+                volume.dims
+            )));
+        }
         if key.labels.surfaces() {
             let shared = FrameShared {
                 uniforms: &self.uniforms,
@@ -522,7 +533,11 @@ impl VolumeRenderer {
                 volume: &volume.texture.view,
                 labels: volume.labels.as_deref().and_then(|l| {
                     let use_ = if key.labels.cuts() {
-                        LabelUse::Cut
+                        // Labels in bricks are read at the level each brick is held at.
+                        let coarsest = (volume.texture.residency())
+                            .filter(|_| l.in_bricks())
+                            .map_or(0, |s| u32::BITS - s.levels.leading_zeros());
+                        LabelUse::Cut(coarse_reach(coarsest.saturating_sub(1)))
                     } else if key.labels.surfaces() {
                         LabelUse::Surfaces
                     } else {

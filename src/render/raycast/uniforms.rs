@@ -146,7 +146,7 @@ pub(crate) fn frame_uniforms(
         colour_volume: u32::from(decoding.colour),
         label_layers: 0,
         surface_channels: 0,
-        _pad1: 0,
+        label_bricks: 0,
         _pad2: 0,
     }
 }

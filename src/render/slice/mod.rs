@@ -115,6 +115,11 @@ pub fn slice_params(
         labels: 0,
         label_opacity: look.labels.opacity.clamp(0.0, 1.0),
         label_outline: u32::from(look.labels.outline),
+        // Set by the pass from the labels it is given.
+        label_bricks: 0,
+        _pad0: 0,
+        _pad1: 0,
+        _pad2: 0,
     }
 }
 
@@ -272,6 +277,7 @@ impl SliceRenderer {
             params.colour = 0;
         }
         params.labels = source.labels.map_or(0, GpuLabels::layers);
+        params.label_bricks = u32::from(source.labels.is_some_and(GpuLabels::in_bricks));
         queue.write_buffer(output.params(), 0, bytemuck::bytes_of(&params));
         let pipeline = match output {
             Output::Exact(_) => self.exact.pick(source.texture),
@@ -306,11 +312,13 @@ impl SliceRenderer {
                     binding: 5,
                     resource: wgpu::BindingResource::TextureView(&colours.view),
                 });
-                let (labels, label_colours) = source
-                    .labels
-                    .map_or((&self.no_labels.labels, &self.no_labels.colours), |l| {
-                        (&l.labels, &l.colours)
-                    });
+                let (labels, label_colours) =
+                    source
+                        .labels
+                        .map_or((&self.no_labels.labels, &self.no_labels.colours), |l| {
+                            let texels = l.texels(source.texture).unwrap_or(&self.no_labels.labels);
+                            (texels, &l.colours)
+                        });
                 entries.push(wgpu::BindGroupEntry {
                     binding: 8,
                     resource: wgpu::BindingResource::TextureView(labels),

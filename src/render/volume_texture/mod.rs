@@ -6,6 +6,7 @@ mod admission;
 mod atlas;
 mod encoding;
 mod fetch;
+mod label_atlas;
 mod plan;
 mod ranges;
 mod resident;
@@ -24,6 +25,7 @@ use wgpu::util::DeviceExt;
 
 use super::context::GpuContext;
 use super::gpu_data::VolumeGeometry;
+use super::labels::GpuLabels;
 use encoding::{TexelSource, choose_encoding, encode_texels, encoding_for};
 use plan::{Plan, PlanError, coarser_note, footprint_note, plan};
 use resident::Resident;
@@ -95,6 +97,9 @@ pub struct VolumeView {
     pub bricked: bool,
     /// Edge of its level-0 bricks in voxels (0: one texture).
     pub brick_vox: u32,
+    /// The label atlas, where a segmentation travels in the bricks
+    /// ([`VolumeTexture::attach_labels`]): slot for slot with the texels.
+    pub labels: Option<wgpu::TextureView>,
 }
 
 impl VolumeView {
@@ -392,6 +397,7 @@ impl VolumeTexture {
                 }),
             bricked: resident.is_some(),
             brick_vox: geometry.brick_vox,
+            labels: None,
         };
         let slice_pages = resident.as_ref().map(|r| r.slice_pages().clone());
         let mut texture = Self {
@@ -432,6 +438,69 @@ impl VolumeTexture {
             view.pages = pages.clone();
         }
         view
+    }
+
+    /// Puts `labels` in the bricks beside the volume's samples where they travel in bricks
+    /// ([`GpuLabels::in_bricks`]): a label atlas of the volume atlas's extent, every resident
+    /// brick's labels written at once and each brick's sent with it from then on; `None`, or
+    /// labels of one texture of their own, take the atlas away. Refused where the volume is one
+    /// texture, and where the GPU has no memory for the atlas.
+    pub fn attach_labels(
+        &mut self,
+        ctx: &GpuContext,
+        labels: Option<&GpuLabels>,
+    ) -> Result<(), VolumeTextureError> {
+        let source = labels.and_then(|l| l.brick_source().map(|map| (l, map)));
+        let Some((labels, map)) = source else {
+            if let Some(resident) = &mut self.resident {
+                resident.set_labels(ctx, None);
+            }
+            self.view.labels = None;
+            return Ok(());
+        };
+        let owner = std::ptr::from_ref(labels) as usize;
+        let Some(resident) = &mut self.resident else {
+            return Err(VolumeTextureError::Layout {
+                name: map.name().to_string(),
+                why: format!(
+                    "its labels ({:?}) travel in the volume's bricks, but the volume is one \
+                     texture: open it with --bricks on",
+                    map.dims()
+                ),
+            });
+        };
+        if resident.labels().is_some_and(|a| a.owner == owner) {
+            return Ok(());
+        }
+        // The old atlas goes before the new one is made: both may not fit.
+        resident.set_labels(ctx, None);
+        self.view.labels = None;
+        let size = self.texture.size();
+        let extent = [size.width, size.height, size.depth_or_array_layers];
+        let shape = (extent, resident.brick_vox(), resident.levels());
+        let atlas = label_atlas::LabelAtlas::new(ctx, shape, Arc::clone(map), owner)?;
+        // The atlas was laid out for the volume's texels alone: the labels' go beside them.
+        if let Some(budget) = self.budget
+            && self.taken + atlas.bytes() > budget
+        {
+            log::warn!(
+                "the labels' atlas of bricks ({}) and the volume's ({}) take more than the GPU \
+                 budget of {}",
+                crate::text::bytes(atlas.bytes()),
+                crate::text::bytes(self.taken),
+                crate::text::bytes(budget)
+            );
+        }
+        self.view.labels = Some(atlas.view.clone());
+        resident.set_labels(ctx, Some(atlas));
+        Ok(())
+    }
+
+    /// Bytes of the label atlas, where a segmentation travels in the bricks.
+    pub fn label_atlas_bytes(&self) -> u64 {
+        (self.resident.as_ref())
+            .and_then(Resident::labels)
+            .map_or(0, label_atlas::LabelAtlas::bytes)
     }
 
     /// Decides again which bricks the rays need, leaving out what `unseen` says they cannot
@@ -544,6 +613,10 @@ impl VolumeTexture {
                     crate::text::bytes(s.bytes)
                 )
             }
+        };
+        let held = match self.label_atlas_bytes() {
+            0 => held,
+            b => format!("{held}, and the labels' atlas {}", crate::text::bytes(b)),
         };
         match self.budget {
             Some(budget) => format!("{held} (budget {})", crate::text::bytes(budget)),

@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 use super::atlas::{HeldBox, encode_brick, gpu_page};
 use super::encoding::{TexelEncoding, TexelSource, bytes_per_texel};
 use super::fetch::Fetcher;
+use super::label_atlas::LabelAtlas;
 use super::ranges::{BrickRange, brick_ranges};
 use super::unseen::{REACH, Unseen, brick_box, footprint_levels, in_view};
 use crate::accel::bricks::BrickLayout;
@@ -157,6 +158,9 @@ pub struct Resident {
     /// A streamed volume's readers: under a time budget, bricks are read off the frame's
     /// thread and sent once read.
     fetcher: Option<Fetcher>,
+    /// A segmentation travelling in the bricks: each brick's labels go into the same slot of
+    /// this atlas.
+    labels: Option<LabelAtlas>,
 }
 
 impl Resident {
@@ -216,6 +220,7 @@ impl Resident {
         });
         Self {
             fetcher,
+            labels: None,
             rays: page_table(ctx, pages, "volume page table (rays)"),
             slices: page_table(ctx, pages, "volume page table (slices)"),
             written: None,
@@ -244,6 +249,51 @@ impl Resident {
     /// The slices' page table.
     pub fn slice_pages(&self) -> &wgpu::Buffer {
         &self.slices
+    }
+
+    /// Levels of the volume the bricks may be held at.
+    pub(super) fn levels(&self) -> u32 {
+        self.residency.levels()
+    }
+
+    /// The label atlas, where a segmentation travels in the bricks.
+    pub(super) fn labels(&self) -> Option<&LabelAtlas> {
+        self.labels.as_ref()
+    }
+
+    /// Takes `atlas` as the bricks' labels (`None`: none), writing every resident brick's
+    /// labels into it at once (all cores encode).
+    pub(super) fn set_labels(&mut self, ctx: &GpuContext, atlas: Option<LabelAtlas>) {
+        self.labels = atlas;
+        if self.labels.is_none() {
+            return;
+        }
+        let held: Vec<(BrickKey, u32)> = (self.residency.held_slots())
+            .map(|(slot, key)| (key, slot))
+            .collect();
+        for batch in held.chunks(BATCH * 4) {
+            self.upload_labels(ctx, batch);
+            // One batch's staging copies in memory at a time.
+            ctx.queue.submit([]);
+        }
+    }
+
+    /// Encodes the labels of the bricks `given` (on all cores) and writes each into its slot
+    /// of the label atlas, where there is one.
+    fn upload_labels(&self, ctx: &GpuContext, given: &[(BrickKey, u32)]) {
+        let Some(atlas) = &self.labels else {
+            return;
+        };
+        let s = self.brick_vox + 2;
+        let encoded = parallel(given.len(), &|| false, &|k| {
+            let (key, _) = given[k];
+            atlas.encode(key.level, key.brick)
+        });
+        for ((_, slot), texels) in given.iter().zip(encoded) {
+            let Some(texels) = texels else { continue };
+            let at = self.residency.slot_coords(*slot);
+            atlas.write(ctx, at.map(|a| a * s), s, &texels);
+        }
     }
 
     /// Brick edge in voxels.
@@ -611,6 +661,7 @@ impl Resident {
                 },
             );
         }
+        self.upload_labels(ctx, given);
         (encoded_in, sent, ctx.queue.submit([]))
     }
 

@@ -48,7 +48,8 @@ impl ShownLabels {
         map: Arc<LabelMap>,
         volume: u64,
     ) -> Result<Self, String> {
-        let gpu = Arc::new(GpuLabels::new(device, queue, &map).map_err(|e| e.to_string())?);
+        let gpu =
+            Arc::new(GpuLabels::new(device, queue, Arc::clone(&map)).map_err(|e| e.to_string())?);
         Ok(Self {
             map,
             gpu,
@@ -169,7 +170,16 @@ impl ShownLabels {
                 ),
                 (LabelView::Off, "off", "the image alone"),
             ] {
-                ui.selectable_value(view, value, text).on_hover_text(hover);
+                // Surfaces need the labels in one texture (their mask is built from it).
+                let can = !(value.surfaces() && self.gpu.in_bricks());
+                ui.add_enabled_ui(can, |ui| {
+                    ui.selectable_value(view, value, text)
+                        .on_hover_text(hover)
+                        .on_disabled_hover_text(
+                            "these labels are past one of this GPU's 3D textures and travel in \
+                             the volume's bricks; surfaces need them in one texture",
+                        );
+                });
             }
         });
         if view.surfaces() {
