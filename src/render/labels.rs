@@ -38,6 +38,11 @@ pub struct GpuLabels {
     map: Arc<LabelMap>,
     /// Whether they travel in the volume's bricks.
     in_bricks: bool,
+    /// The volume's label atlas holding them, where they travel in its bricks and a volume
+    /// took them ([`crate::render::volume_texture::VolumeTexture::attach_labels`]).
+    atlas: Mutex<Option<wgpu::TextureView>>,
+    /// Bumped each time [`Self::atlas`] changes: the slice views draw again.
+    atlas_changes: AtomicU64,
     /// Each label value's colour (sRGB) and visibility (alpha).
     pub(crate) colours: wgpu::TextureView,
     colour_texture: wgpu::Texture,
@@ -130,6 +135,8 @@ impl GpuLabels {
         };
         let made = Self {
             in_bricks: whole.is_none(),
+            atlas: Mutex::new(None),
+            atlas_changes: AtomicU64::new(0),
             map: Arc::clone(&map),
             whole,
             colours: full_view(&colour_texture),
@@ -182,13 +189,22 @@ impl GpuLabels {
         self.whole.as_ref()
     }
 
-    /// What a pass over `volume` binds as the labels: their texture, else `volume`'s label
-    /// atlas (`None` where the labels travel in bricks the volume does not hold).
-    pub(crate) fn texels<'a>(
-        &'a self,
-        volume: &'a crate::render::volume_texture::VolumeView,
-    ) -> Option<&'a wgpu::TextureView> {
-        self.whole.as_ref().or(volume.labels.as_ref())
+    /// What a pass binds as the labels: their texture, else the label atlas of the bricked
+    /// volume that took them (`None` where none has yet).
+    pub(crate) fn texels(&self) -> Option<wgpu::TextureView> {
+        let atlas = || self.atlas.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        self.whole.clone().or_else(atlas)
+    }
+
+    /// Records the label atlas holding them (`None`: none does).
+    pub(crate) fn set_atlas(&self, view: Option<wgpu::TextureView>) {
+        *self.atlas.lock().unwrap_or_else(|e| e.into_inner()) = view;
+        self.atlas_changes.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Counts the changes of the label atlas holding them (what a slice view drew with).
+    pub fn atlas_changes(&self) -> u64 {
+        self.atlas_changes.load(Ordering::Relaxed)
     }
 
     /// The voxel grid the labels lie on (the image's).

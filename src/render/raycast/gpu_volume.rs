@@ -102,8 +102,9 @@ fn frame_group(
 ) -> wgpu::BindGroup {
     let none = shared.no_labels;
     let mask = surface.map_or((&none.mask, &none.classes), |s| (&s.view, &s.classes));
+    let texels = labels.and_then(GpuLabels::texels);
     let labels = labels.map_or((&none.labels, &none.colours, mask.0, mask.1), |l| {
-        let texels = l.texels(&texture.view).unwrap_or(&none.labels);
+        let texels = texels.as_ref().unwrap_or(&none.labels);
         (texels, &l.colours, mask.0, mask.1)
     });
     layouts.frame_group(

@@ -295,6 +295,8 @@ impl SliceRenderer {
                 resource: bricks.as_entire_binding(),
             },
         ]);
+        // Owned here: the entries borrow it.
+        let label_texels = source.labels.and_then(GpuLabels::texels);
         match output {
             Output::Exact(t) => {
                 entries.push(wgpu::BindGroupEntry {
@@ -312,13 +314,8 @@ impl SliceRenderer {
                     binding: 5,
                     resource: wgpu::BindingResource::TextureView(&colours.view),
                 });
-                let (labels, label_colours) =
-                    source
-                        .labels
-                        .map_or((&self.no_labels.labels, &self.no_labels.colours), |l| {
-                            let texels = l.texels(source.texture).unwrap_or(&self.no_labels.labels);
-                            (texels, &l.colours)
-                        });
+                let labels = label_texels.as_ref().unwrap_or(&self.no_labels.labels);
+                let label_colours = (source.labels).map_or(&self.no_labels.colours, |l| &l.colours);
                 entries.push(wgpu::BindGroupEntry {
                     binding: 8,
                     resource: wgpu::BindingResource::TextureView(labels),

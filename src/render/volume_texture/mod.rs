@@ -97,9 +97,6 @@ pub struct VolumeView {
     pub bricked: bool,
     /// Edge of its level-0 bricks in voxels (0: one texture).
     pub brick_vox: u32,
-    /// The label atlas, where a segmentation travels in the bricks
-    /// ([`VolumeTexture::attach_labels`]): slot for slot with the texels.
-    pub labels: Option<wgpu::TextureView>,
 }
 
 impl VolumeView {
@@ -397,7 +394,6 @@ impl VolumeTexture {
                 }),
             bricked: resident.is_some(),
             brick_vox: geometry.brick_vox,
-            labels: None,
         };
         let slice_pages = resident.as_ref().map(|r| r.slice_pages().clone());
         let mut texture = Self {
@@ -455,7 +451,6 @@ impl VolumeTexture {
             if let Some(resident) = &mut self.resident {
                 resident.set_labels(ctx, None);
             }
-            self.view.labels = None;
             return Ok(());
         };
         let owner = std::ptr::from_ref(labels) as usize;
@@ -474,7 +469,6 @@ impl VolumeTexture {
         }
         // The old atlas goes before the new one is made: both may not fit.
         resident.set_labels(ctx, None);
-        self.view.labels = None;
         let size = self.texture.size();
         let extent = [size.width, size.height, size.depth_or_array_layers];
         let shape = (extent, resident.brick_vox(), resident.levels());
@@ -491,7 +485,7 @@ impl VolumeTexture {
                 crate::text::bytes(budget)
             );
         }
-        self.view.labels = Some(atlas.view.clone());
+        labels.set_atlas(Some(atlas.view.clone()));
         resident.set_labels(ctx, Some(atlas));
         Ok(())
     }

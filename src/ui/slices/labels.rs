@@ -123,7 +123,14 @@ impl ShownLabels {
 
     /// What a pane draws them with: the textures, the generation and the look.
     pub(super) fn for_pane(&self) -> (&GpuLabels, u64, LabelLook) {
-        (&self.gpu, self.generation, self.look)
+        // A label atlas taken by the volume after the pane drew (labels in bricks) draws again.
+        let generation = self.generation + self.gpu.atlas_changes();
+        (&self.gpu, generation, self.look)
+    }
+
+    /// Whether the labels travel in the volume's bricks (no surfaces for those).
+    pub fn in_bricks(&self) -> bool {
+        self.gpu.in_bricks()
     }
 
     /// The side panel's section: fill opacity, outlines, and each segment (shown or not, its
