@@ -148,6 +148,9 @@ pub struct Classes {
     pub clashes: Vec<(u16, u16)>,
     /// How many classes are used (the mask's channels).
     pub used: usize,
+    /// By label value: the class it last had, shown or not (a label shown again takes it back
+    /// where no shown neighbour holds it).
+    pub last: Vec<Option<u8>>,
 }
 
 /// Colours the shown labels (`shown[value]`) of the neighbour graph `pairs` with at most
@@ -216,6 +219,66 @@ pub fn classes(shown: &[bool], pairs: &[(u16, u16)]) -> Classes {
     if dsatur {
         mend(&mut class, &adjacent);
     }
+    finish(class, shown, pairs)
+}
+
+/// The shown labels' classes after the shown labels changed from those `previous` coloured:
+/// every label still shown keeps its class (hiding a label adds no clash, and no wall elsewhere
+/// comes or goes), each newly shown label takes back the class it last had where no shown
+/// neighbour holds it, else the class fewest of them hold (the lowest of those). Where that leaves more neighbours sharing a class than colouring
+/// afresh ([`classes`]) does, the fresh colouring is taken instead.
+pub fn classes_after(previous: &Classes, shown: &[bool], pairs: &[(u16, u16)]) -> Classes {
+    let fresh = classes(shown, pairs);
+    let is_shown = |l: u16| shown.get(usize::from(l)).copied().unwrap_or(false);
+    let mut class: Vec<Option<u8>> = (0..shown.len())
+        .map(|l| {
+            let kept = previous.class.get(l).copied().flatten();
+            kept.filter(|_| shown[l] && l != 0)
+        })
+        .collect();
+    let mut adjacent: Vec<Vec<u16>> = vec![Vec::new(); shown.len().max(1)];
+    for &(a, b) in pairs.iter().filter(|&&(a, b)| is_shown(a) && is_shown(b)) {
+        adjacent[usize::from(a)].push(b);
+        adjacent[usize::from(b)].push(a);
+    }
+    for l in 1..shown.len() {
+        if !shown[l] || class[l].is_some() {
+            continue;
+        }
+        let mut holding = [0usize; MOST_CLASSES];
+        for &n in &adjacent[l] {
+            if let Some(c) = class[usize::from(n)] {
+                holding[usize::from(c)] += 1;
+            }
+        }
+        let before = previous.last.get(l).copied().flatten();
+        let best = before
+            .filter(|&c| holding[usize::from(c)] == 0)
+            .unwrap_or_else(|| {
+                (0..MOST_CLASSES)
+                    .min_by_key(|&c| (holding[c], c))
+                    .unwrap_or(0) as u8
+            });
+        class[l] = Some(best);
+    }
+    let remember = |mut made: Classes| {
+        for (last, before) in made.last.iter_mut().zip(&previous.last) {
+            *last = last.or(*before);
+        }
+        made
+    };
+    let kept = finish(class, shown, pairs);
+    if kept.clashes.len() <= fresh.clashes.len() {
+        remember(kept)
+    } else {
+        remember(fresh)
+    }
+}
+
+/// The classes `class` gives the shown labels, with the neighbours sharing one and the classes
+/// used.
+fn finish(class: Vec<Option<u8>>, shown: &[bool], pairs: &[(u16, u16)]) -> Classes {
+    let is_shown = |l: u16| shown.get(usize::from(l)).copied().unwrap_or(false);
     let clashes = pairs
         .iter()
         .copied()
@@ -230,6 +293,7 @@ pub fn classes(shown: &[bool], pairs: &[(u16, u16)]) -> Classes {
         .max()
         .unwrap_or(0);
     Classes {
+        last: class.clone(),
         class,
         clashes,
         used,
@@ -410,6 +474,64 @@ mod tests {
             .sum();
         assert_eq!(left, 0);
         assert!(class[0].is_none() && class[1..].iter().all(Option::is_some));
+    }
+
+    /// A toggle keeps every other shown label's class (no wall elsewhere comes or goes) and
+    /// never leaves more neighbours in one class than colouring afresh.
+    #[test]
+    fn a_toggle_keeps_the_other_labels_classes() {
+        // An 8 × 8 king's-move grid graph (each label touches up to 8: four classes suffice).
+        let id = |x: u16, y: u16| 1 + x + 8 * y;
+        let mut pairs = Vec::new();
+        for y in 0..8u16 {
+            for x in 0..8u16 {
+                for (u, v) in [(x + 1, y), (x, y + 1), (x + 1, y + 1)] {
+                    if u < 8 && v < 8 {
+                        pairs.push((id(x, y), id(u, v)));
+                    }
+                }
+                if x > 0 && y + 1 < 8 {
+                    pairs.push((id(x, y), id(x - 1, y + 1)));
+                }
+            }
+        }
+        let all = vec![true; 65];
+        let first = classes(&all, &pairs);
+        assert!(first.clashes.is_empty(), "{first:?}");
+        let mut shown = all.clone();
+        let mut now = first.clone();
+        // Hide labels one by one (each hide keeps every other class: a fresh colouring moved
+        // some other label's class for 55 of the 64 single hides), then show them again in
+        // the reverse order.
+        let order: Vec<usize> = (1..65).map(|i| (i * 23) % 64 + 1).collect();
+        let mut kept_shows = 0;
+        for (step, &l) in order.iter().chain(order.iter().rev()).enumerate() {
+            let hiding = step < order.len();
+            shown[l] = !hiding;
+            let next = classes_after(&now, &shown, &pairs);
+            let fresh = classes(&shown, &pairs);
+            assert!(next.clashes.len() <= fresh.clashes.len(), "step {step}");
+            let kept = (1..65)
+                .filter(|&k| k != l && shown[k])
+                .all(|k| next.class[k] == now.class[k]);
+            assert!(
+                kept || !hiding,
+                "step {step}: a hide moved another label's class"
+            );
+            kept_shows += usize::from(kept && !hiding);
+            assert!((1..65).all(|k| next.class[k].is_some() == shown[k]));
+            now = next;
+        }
+        // Shown again in reverse, each label takes back its old class: where it all began.
+        assert_eq!(kept_shows, 64);
+        assert_eq!(now.class, first.class);
+        // A hidden label's neighbours keep their classes exactly.
+        let mut hidden = all.clone();
+        hidden[id(3, 3) as usize] = false;
+        let after = classes_after(&first, &hidden, &pairs);
+        for k in (1..65).filter(|&k| k != id(3, 3) as usize) {
+            assert_eq!(after.class[k], first.class[k]);
+        }
     }
 
     #[test]

@@ -389,6 +389,7 @@ mod tests {
             class: shown.class.iter().map(|c| c.map(|_| 0)).collect(),
             clashes: Vec::new(),
             used: 1,
+            last: Vec::new(),
         };
         let own = Classes {
             class: (0..shown.class.len())
@@ -396,6 +397,7 @@ mod tests {
                 .collect(),
             clashes: Vec::new(),
             used: 4,
+            last: Vec::new(),
         };
         for classes in [one, shown, own] {
             let channels = channels_for(classes.used);

@@ -228,7 +228,12 @@ impl GpuLabels {
             .map(|v| last[v / 32] >> (v % 32) & 1 == 1)
             .collect();
         drop(last);
-        let found = Arc::new(classes::classes(&shown, &self.neighbour_graph().0));
+        let pairs = &self.neighbour_graph().0;
+        // A toggle keeps the other labels' classes: their walls stay where they were.
+        let found = Arc::new(match cached.as_ref() {
+            Some((_, before)) => classes::classes_after(before, &shown, pairs),
+            None => classes::classes(&shown, pairs),
+        });
         *cached = Some((generation, Arc::clone(&found)));
         found
     }
