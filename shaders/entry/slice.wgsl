@@ -64,7 +64,7 @@ struct SliceParams {
     labels: u32,
     label_opacity: f32,
     label_outline: u32,
-    // 1 where the labels travel in the volume's bricks (volume_labels), else 0.
+    // 1 where the labels travel in the volume's bricks (labels_texel), else 0.
     label_bricks: u32,
     _pad0: u32,
     _pad1: u32,
@@ -337,6 +337,8 @@ fn slab_value(v: vec3<f32>) -> f32 {
 }
 
 #ifdef DISPLAY
+#include "shared/label_texel.wgsl"
+
 // The labels of the voxel nearest voxel coordinates `v`, a layer per component (0 past the
 // layers there are: an R or RG texture's missing channels read 0, 1); 0 outside the volume.
 fn labels_at(v: vec3<f32>) -> vec4<u32> {
@@ -345,16 +347,7 @@ fn labels_at(v: vec3<f32>) -> vec4<u32> {
     if any(i < vec3<i32>(0)) || any(i >= dims) {
         return vec4<u32>(0u);
     }
-#ifdef BRICKED
-    var texel: vec4<u32>;
-    if params.label_bricks != 0u {
-        texel = volume_labels(label_tex, i);
-    } else {
-        texel = textureLoad(label_tex, i, 0);
-    }
-#else
-    let texel = textureLoad(label_tex, i, 0);
-#endif
+    let texel = labels_texel(label_tex, i, params.label_bricks != 0u);
     return select(vec4<u32>(0u), texel, vec4<u32>(0u, 1u, 2u, 3u) < vec4<u32>(params.labels));
 }
 

@@ -6,8 +6,10 @@
 #include "shared/common.wgsl"
 
 #ifdef LABELS
+#include "shared/label_texel.wgsl"
+
 // The labels on the volume's grid, a layer per channel (or, with frame.label_bricks, the label
-// atlas slot for slot with the volume's bricks: volume_labels), and each label value's colour at texel
+// atlas slot for slot with the volume's bricks: labels_texel), and each label value's colour at texel
 // (value % 256, value / 256), its alpha 0 where the label is hidden or absent.
 @group(0) @binding(7) var label_tex: texture_3d<u32>;
 @group(0) @binding(8) var label_colours: texture_2d<f32>;
@@ -26,17 +28,7 @@ fn voxel_of(p: vec3<f32>) -> vec3<i32> {
 
 // The labels of voxel i (on the grid), a layer per component.
 fn labels_of(i: vec3<i32>) -> vec4<u32> {
-#ifdef BRICKED
-    // Uniform across the frame: every lane takes the same side.
-    var texel: vec4<u32>;
-    if frame.label_bricks != 0u {
-        texel = volume_labels(label_tex, i);
-    } else {
-        texel = textureLoad(label_tex, i, 0);
-    }
-#else
-    let texel = textureLoad(label_tex, i, 0);
-#endif
+    let texel = labels_texel(label_tex, i, frame.label_bricks != 0u);
     return select(vec4<u32>(0u), texel, vec4<u32>(0u, 1u, 2u, 3u) < vec4<u32>(frame.label_layers));
 }
 

@@ -53,17 +53,6 @@ fn volume_load(i: vec3<i32>) -> vec4<f32> {
     return select(t, vec4<f32>(e.x, 0.0, 0.0, 1.0), e.w == 0.0);
 }
 
-// The labels of voxel `i` (clamped into the volume) from a label atlas slot for slot with the
-// volume's (src/render/volume_texture/label_atlas.rs), at the level its brick is held at; 0 in
-// a brick held as a constant (no ray sees one).
-fn volume_labels(atlas: texture_3d<u32>, i: vec3<i32>) -> vec4<u32> {
-    let j = clamp(i, vec3<i32>(0), volume_dims() - vec3<i32>(1));
-    let e = volume_pages[page_index(j / i32(volume_geometry.brick_vox))];
-    let at_level = vec3<i32>(floor(vec3<f32>(j) * e.w));
-    let t = textureLoad(atlas, vec3<i32>(e.xyz) + at_level, 0);
-    return select(vec4<u32>(0u), t, e.w != 0.0);
-}
-
 // The texture unit's trilinear sample at box position p inside the box, through the brick
 // holding it, at the level that brick is held at.
 fn volume_inner(linear: sampler, p: vec3<f32>) -> vec4<f32> {

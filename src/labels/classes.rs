@@ -159,12 +159,7 @@ pub struct Classes {
 /// `MOST_DSATUR` shown labels, by most neighbours alone), each taking the lowest class none of
 /// its neighbours holds, else the one fewest of them hold.
 pub fn classes(shown: &[bool], pairs: &[(u16, u16)]) -> Classes {
-    let is_shown = |l: u16| shown.get(usize::from(l)).copied().unwrap_or(false);
-    let mut adjacent: Vec<Vec<u16>> = vec![Vec::new(); shown.len().max(1)];
-    for &(a, b) in pairs.iter().filter(|&&(a, b)| is_shown(a) && is_shown(b)) {
-        adjacent[usize::from(a)].push(b);
-        adjacent[usize::from(b)].push(a);
-    }
+    let adjacent = adjacency(shown, pairs);
     let mut class: Vec<Option<u8>> = vec![None; shown.len()];
     let mut left: Vec<u16> = (0..shown.len())
         .filter(|&l| l != 0 && shown[l])
@@ -205,16 +200,8 @@ pub fn classes(shown: &[bool], pairs: &[(u16, u16)]) -> Classes {
                 None => break,
             }
         };
-        let mut holding = [0usize; MOST_CLASSES];
-        for &n in &adjacent[usize::from(l)] {
-            if let Some(c) = class[usize::from(n)] {
-                holding[usize::from(c)] += 1;
-            }
-        }
-        let best = (0..MOST_CLASSES)
-            .min_by_key(|&c| (holding[c], c))
-            .unwrap_or(0);
-        class[usize::from(l)] = Some(best as u8);
+        let holding = held_by(&class, &adjacent[usize::from(l)]);
+        class[usize::from(l)] = Some(least_held(&holding));
     }
     if dsatur {
         mend(&mut class, &adjacent);
@@ -225,41 +212,26 @@ pub fn classes(shown: &[bool], pairs: &[(u16, u16)]) -> Classes {
 /// The shown labels' classes after the shown labels changed from those `previous` coloured:
 /// every label still shown keeps its class (hiding a label adds no clash, and no wall elsewhere
 /// comes or goes), each newly shown label takes back the class it last had where no shown
-/// neighbour holds it, else the class fewest of them hold (the lowest of those). Where that leaves more neighbours sharing a class than colouring
-/// afresh ([`classes`]) does, the fresh colouring is taken instead.
+/// neighbour holds it, else the class fewest of them hold (the lowest of those). Where that
+/// leaves more neighbours sharing a class than colouring afresh ([`classes`]) does, the fresh
+/// colouring is taken instead.
 pub fn classes_after(previous: &Classes, shown: &[bool], pairs: &[(u16, u16)]) -> Classes {
     let fresh = classes(shown, pairs);
-    let is_shown = |l: u16| shown.get(usize::from(l)).copied().unwrap_or(false);
     let mut class: Vec<Option<u8>> = (0..shown.len())
         .map(|l| {
             let kept = previous.class.get(l).copied().flatten();
             kept.filter(|_| shown[l] && l != 0)
         })
         .collect();
-    let mut adjacent: Vec<Vec<u16>> = vec![Vec::new(); shown.len().max(1)];
-    for &(a, b) in pairs.iter().filter(|&&(a, b)| is_shown(a) && is_shown(b)) {
-        adjacent[usize::from(a)].push(b);
-        adjacent[usize::from(b)].push(a);
-    }
+    let adjacent = adjacency(shown, pairs);
     for l in 1..shown.len() {
         if !shown[l] || class[l].is_some() {
             continue;
         }
-        let mut holding = [0usize; MOST_CLASSES];
-        for &n in &adjacent[l] {
-            if let Some(c) = class[usize::from(n)] {
-                holding[usize::from(c)] += 1;
-            }
-        }
+        let holding = held_by(&class, &adjacent[l]);
         let before = previous.last.get(l).copied().flatten();
-        let best = before
-            .filter(|&c| holding[usize::from(c)] == 0)
-            .unwrap_or_else(|| {
-                (0..MOST_CLASSES)
-                    .min_by_key(|&c| (holding[c], c))
-                    .unwrap_or(0) as u8
-            });
-        class[l] = Some(best);
+        let best = before.filter(|&c| holding[usize::from(c)] == 0);
+        class[l] = Some(best.unwrap_or_else(|| least_held(&holding)));
     }
     let remember = |mut made: Classes| {
         for (last, before) in made.last.iter_mut().zip(&previous.last) {
@@ -273,6 +245,35 @@ pub fn classes_after(previous: &Classes, shown: &[bool], pairs: &[(u16, u16)]) -
     } else {
         remember(fresh)
     }
+}
+
+/// By label value, its shown neighbours in the graph `pairs`.
+fn adjacency(shown: &[bool], pairs: &[(u16, u16)]) -> Vec<Vec<u16>> {
+    let is_shown = |l: u16| shown.get(usize::from(l)).copied().unwrap_or(false);
+    let mut adjacent: Vec<Vec<u16>> = vec![Vec::new(); shown.len().max(1)];
+    for &(a, b) in pairs.iter().filter(|&&(a, b)| is_shown(a) && is_shown(b)) {
+        adjacent[usize::from(a)].push(b);
+        adjacent[usize::from(b)].push(a);
+    }
+    adjacent
+}
+
+/// How many of `neighbours` hold each class.
+fn held_by(class: &[Option<u8>], neighbours: &[u16]) -> [usize; MOST_CLASSES] {
+    let mut holding = [0usize; MOST_CLASSES];
+    for &n in neighbours {
+        if let Some(c) = class[usize::from(n)] {
+            holding[usize::from(c)] += 1;
+        }
+    }
+    holding
+}
+
+/// The class fewest neighbours hold (the lowest of those).
+fn least_held(holding: &[usize; MOST_CLASSES]) -> u8 {
+    (0..MOST_CLASSES)
+        .min_by_key(|&c| (holding[c], c))
+        .unwrap_or(0) as u8
 }
 
 /// The classes `class` gives the shown labels, with the neighbours sharing one and the classes
@@ -337,12 +338,7 @@ fn mend(class: &mut [Option<u8>], adjacent: &[Vec<u16>]) {
             if here == 0 {
                 continue;
             }
-            let mut holding = [0usize; MOST_CLASSES];
-            for &n in &adjacent[l] {
-                if let Some(k) = class[usize::from(n)] {
-                    holding[usize::from(k)] += 1;
-                }
-            }
+            let holding = held_by(class, &adjacent[l]);
             for k in 0..MOST_CLASSES as u8 {
                 if k == c {
                     continue;

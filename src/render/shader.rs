@@ -26,6 +26,7 @@ const MODULES: &[(&str, &str)] = modules![
     "shared/proxy.wgsl",
     "shared/classify.wgsl",
     "shared/labels.wgsl",
+    "shared/label_texel.wgsl",
     "shared/stats.wgsl",
     "shared/shade.wgsl",
     "shared/preintegrate.wgsl",

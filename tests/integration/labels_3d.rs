@@ -556,17 +556,8 @@ fn labels_past_one_texture_travel_in_the_volumes_bricks() {
     let max = common::renderer().context().limits.max_texture_dimension_3d;
     let dir = common::TempDir::new("labels-past-one-texture");
     let n = (max + 8).to_string();
-    let out = std::process::Command::new(common::python())
-        .arg(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/python/label_files.py"))
-        .args(["--long", &n])
-        .arg(dir.path())
-        .output()
-        .expect("nibabel");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (flag, n) = (std::path::Path::new("--long"), std::path::Path::new(&n));
+    common::run_python("label_files.py", &[flag, n, dir.path()]);
     let image = dir.path().join("long_image.nii.gz");
     let labels = dir.path().join("long_labels.nii.gz");
     let (image, labels) = (image.to_string_lossy(), labels.to_string_lossy());

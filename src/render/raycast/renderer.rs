@@ -410,6 +410,14 @@ impl VolumeRenderer {
         self.refresh_tables(&concrete);
         let settings = &concrete;
         let volume = self.volume.as_mut().ok_or(RenderError::NoVolume)?;
+        if settings.labels.surfaces() && volume.labels.as_ref().is_some_and(|l| l.in_bricks()) {
+            return Err(RenderError::Labels(format!(
+                "label surfaces need the labels in one 3D texture, and these ({:?}) travel in the \
+                 volume's bricks (past this GPU's 3D textures or its memory): show them as \
+                 colour or inside instead",
+                volume.dims
+            )));
+        }
         let geometry =
             FrameGeometry::new(request.camera, request.size, volume.dims, volume.spacing_mm);
         let frame = (request.size, settings);
@@ -498,14 +506,6 @@ impl VolumeRenderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
-        if key.labels.surfaces() && volume.labels.as_ref().is_some_and(|l| l.in_bricks()) {
-            return Err(RenderError::Labels(format!(
-                "label surfaces need the labels in one 3D texture, and these ({:?}) travel in the \
-                 volume's bricks (past this GPU's 3D textures or its memory): show them as \
-                 colour or inside instead",
-                volume.dims
-            )));
-        }
         if key.labels.surfaces() {
             let shared = FrameShared {
                 uniforms: &self.uniforms,
