@@ -3,9 +3,11 @@
 // of that class (1 where some layer's label has a colour of alpha above 0 and that class)
 // smoothed by a separable Gaussian, one axis per pass, each pass written as bytes into a buffer
 // laid out as the mask texture's rows (1, 2 or 4 bytes a voxel, 256-byte aligned) and copied into
-// the texture, which the next pass reads. A pass covers a slab of the grid (z slabs for x and y, y slabs for z, so a
-// pass never reads what it replaces). Voxels past the grid count as 0. The CPU twin is
-// src/labels/surface.rs; the builder src/render/label_surface.rs.
+// the texture, which the next pass reads. A pass covers a slab of the grid (z slabs for x and y,
+// y slabs for z, so a pass never reads what it replaces). Voxels past the grid count as 0. After
+// a toggle only the toggled labels' region is made again: the x and y passes over it widened by
+// the kernel's reach into a scratch texture (read from read_origin), the z pass into the mask.
+// The CPU twin is src/labels/surface.rs; the builder src/render/label_surface.rs.
 
 // `SurfaceParams` in src/render/gpu_data.rs.
 struct SurfaceParams {
@@ -26,6 +28,10 @@ struct SurfaceParams {
     channels: u32,
     _pad1: u32,
     _pad2: u32,
+    // The voxel mask_in starts at: 0 for the whole mask, the region's first voxel for the
+    // scratch of a region's build.
+    read_origin: vec3<u32>,
+    _pad3: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: SurfaceParams;
@@ -61,7 +67,7 @@ fn mask_voxel(i: vec3<i32>) -> vec4<f32> {
     if outside(i) {
         return vec4<f32>(0.0);
     }
-    return textureLoad(mask_in, i, 0);
+    return textureLoad(mask_in, i - vec3<i32>(params.read_origin), 0);
 }
 
 fn quantise(v: f32) -> u32 {

@@ -84,6 +84,34 @@ impl LabelCells {
             + self.cells[0] as usize * (y as usize + self.cells[1] as usize * z as usize);
         &self.labels[self.offsets[c] as usize..self.offsets[c + 1] as usize]
     }
+
+    /// Each label's box of voxels (first, end: half open), to the cell on a grid of `dims`:
+    /// every voxel of the label lies inside it, and so does at most a cell's edge more.
+    pub fn boxes(&self, dims: [u32; 3]) -> std::collections::BTreeMap<u16, VoxelBox> {
+        let mut boxes = std::collections::BTreeMap::<u16, VoxelBox>::new();
+        let [nx, ny, _] = self.cells.map(|c| c as usize);
+        for c in 0..self.offsets.len().saturating_sub(1) {
+            let cell = [c % nx, c / nx % ny, c / (nx * ny)].map(|v| v as u32);
+            let first = cell.map(|v| v * CELL_VOX);
+            let end = std::array::from_fn(|a| ((cell[a] + 1) * CELL_VOX).min(dims[a]));
+            for &l in &self.labels[self.offsets[c] as usize..self.offsets[c + 1] as usize] {
+                // Labels are u16 values widened for the GPU's buffers.
+                let b = boxes.entry(l as u16).or_insert(VoxelBox { first, end });
+                b.first = std::array::from_fn(|a| b.first[a].min(first[a]));
+                b.end = std::array::from_fn(|a| b.end[a].max(end[a]));
+            }
+        }
+        boxes
+    }
+}
+
+/// A box of voxels: `first` to `end` (past the last) on each axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct VoxelBox {
+    /// Its first voxel.
+    pub first: [u32; 3],
+    /// Past its last voxel.
+    pub end: [u32; 3],
 }
 
 #[cfg(test)]
@@ -140,5 +168,37 @@ mod tests {
             }
         }
         assert!(cells.labels.contains(&65535) && cells.labels.contains(&300));
+    }
+
+    /// Each label's box holds all its voxels and reaches no further than the cells they lie in.
+    #[test]
+    fn each_labels_box_holds_its_voxels_to_the_cell() {
+        let dims = [21, 10, 9];
+        let n = dims.iter().product::<u32>() as usize;
+        let mut layer = vec![0u16; n];
+        let at = |x: u32, y: u32, z: u32| (x + dims[0] * (y + dims[1] * z)) as usize;
+        layer[at(1, 2, 3)] = 5;
+        layer[at(17, 9, 8)] = 5;
+        layer[at(20, 0, 0)] = 9;
+        let mut second = vec![0u16; n];
+        second[at(6, 6, 6)] = 9;
+        let map = LabelMap::bare(dims, vec![layer, second]);
+        let boxes = LabelCells::of(&map).boxes(dims);
+        assert_eq!(boxes.len(), 2);
+        // Voxels 1..=17, 2..=9, 3..=8 widened to their cells (4 voxels), clipped to the grid.
+        assert_eq!(
+            boxes[&5],
+            VoxelBox {
+                first: [0, 0, 0],
+                end: [20, 10, 9]
+            }
+        );
+        assert_eq!(
+            boxes[&9],
+            VoxelBox {
+                first: [4, 0, 0],
+                end: [21, 8, 8]
+            }
+        );
     }
 }

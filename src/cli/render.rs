@@ -340,34 +340,68 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
                      surfaces)"
                     ))
             );
-            let toggles = label_toggles(
-                &mut renderer,
-                &request,
-                &args.segmentation,
-                (map, labels, shown),
-            )?;
-            if let Some(t) = toggles {
+            // A typical label (the median by voxels) and the largest: the mask's rebuild
+            // covers the toggled label's box.
+            let mut by_size: Vec<&leapview::labels::Segment> = (map.segments().iter())
+                .filter(|s| shown.contains(&(s.layer, s.value)))
+                .collect();
+            by_size.sort_by_key(|s| (s.voxels, s.layer, s.value));
+            let picks = [
+                (
+                    "label_toggle_ms",
+                    "the median shown label by voxels",
+                    by_size.get(by_size.len() / 2),
+                ),
+                (
+                    "label_toggle_largest_ms",
+                    "the largest shown label",
+                    by_size.last(),
+                ),
+            ];
+            for (key, which, segment) in picks {
+                let Some(segment) = segment else { continue };
+                let toggled = (segment.layer, segment.value);
+                let times = label_toggles(
+                    &mut renderer,
+                    &request,
+                    &args.segmentation,
+                    (map, labels, shown),
+                    toggled,
+                )?;
+                let Some(t) = times else { continue };
+                let mask = match (t.mask, t.share) {
+                    (Some(ms), Some(share)) => format!(
+                        ", {ms:.3} remaking the surface mask over {:.2} % of the grid",
+                        100.0 * share
+                    ),
+                    _ => String::new(),
+                };
                 outln!(
                     out,
-                    "label_toggle_ms: {:.3} (the GPU's work for the frame after a label's \
-                     toggle: {:.3} rebuilding the leaping flags and {:.3} casting; {:.1} from \
-                     the toggle to the frame done, on the clock, with any surface mask's \
-                     rebuild; medians of {} toggles)",
+                    "{key}: {:.3} (toggling {:?}, {which}, {} voxels; the GPU's work for the \
+                     frame after the toggle: {:.3} rebuilding the leaping flags{mask} and \
+                     {:.3} casting; {:.1} from the toggle to the frame done, on the clock; \
+                     medians of {} toggles)",
                     t.total,
+                    segment.name,
+                    segment.voxels,
                     t.rebuild,
                     t.cast,
                     t.wall,
                     TIMED_FRAMES * 2
                 );
             }
-            if let Some((bytes, channels, clashes)) = renderer.label_surface_facts() {
+            let facts = renderer.label_surface_facts();
+            if let Some(f) = facts {
                 outln!(
                     out,
-                    "label_surfaces: smoothing {} voxels, {channels} classes (mask channels), \
-                     {clashes} touching pairs sharing a class (no wall between them), {:.1} MB \
-                     on the GPU (the mask, its class table and its build's buffer)",
+                    "label_surfaces: smoothing {} voxels, {} classes (mask channels), {} \
+                     touching pairs sharing a class (no wall between them), {:.1} MB on the \
+                     GPU (the mask, its class table and its build's buffer)",
                     settings.label_smoothing,
-                    bytes as f64 / 1e6
+                    f.channels,
+                    f.clashes,
+                    f.bytes as f64 / 1e6
                 );
             }
         }
@@ -385,16 +419,20 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
 struct ToggleTimes {
     /// The GPU's rebuild of the leaping flags that read the shown labels.
     rebuild: f64,
+    /// The GPU's remaking of the surface mask, where the frame drew surfaces.
+    mask: Option<f64>,
+    /// The share of the grid the mask's last rebuild covered.
+    share: Option<f64>,
     /// The GPU's ray casting of the frame after the toggle.
     cast: f64,
-    /// Both, per toggle (the timestamps time them apart).
+    /// All three, per toggle (the timestamps time them apart).
     total: f64,
     /// On the clock from the toggle to the frame done.
     wall: f64,
 }
 
-/// Times toggling one shown label (hidden, then shown again, and so on), each followed by a
-/// frame; `None` without timestamps or with no label shown.
+/// Times toggling the shown label `toggled` (hidden, then shown again, and so on), each
+/// followed by a frame; `None` without timestamps.
 fn label_toggles(
     renderer: &mut VolumeRenderer,
     request: &FrameRequest<'_>,
@@ -404,12 +442,10 @@ fn label_toggles(
         &GpuLabels,
         &std::collections::BTreeSet<(u16, u16)>,
     ),
+    toggled: (u16, u16),
 ) -> Result<Option<ToggleTimes>, Failure> {
-    let Some(&toggled) = shown.iter().next() else {
-        return Ok(None);
-    };
-    let (mut rebuilds, mut casts, mut totals, mut walls) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut rebuilds, mut masks, mut casts, mut totals, mut walls) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for k in 0..TIMED_FRAMES * 2 {
         let started = std::time::Instant::now();
         let hide = k % 2 == 0;
@@ -426,8 +462,9 @@ fn label_toggles(
         };
         let rebuild = r.rebuild_ms.unwrap_or(0.0);
         rebuilds.push(rebuild);
+        masks.extend(r.mask_ms);
         casts.push(cast);
-        totals.push(rebuild + cast);
+        totals.push(rebuild + r.mask_ms.unwrap_or(0.0) + cast);
     }
     let median = |v: &mut Vec<f64>| {
         v.sort_by(f64::total_cmp);
@@ -435,6 +472,8 @@ fn label_toggles(
     };
     Ok(Some(ToggleTimes {
         rebuild: median(&mut rebuilds),
+        mask: (!masks.is_empty()).then(|| median(&mut masks)),
+        share: (renderer.label_surface_facts()).map(|f| f.last_build_share),
         cast: median(&mut casts),
         total: median(&mut totals),
         wall: median(&mut walls),

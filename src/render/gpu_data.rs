@@ -221,6 +221,7 @@ pub fn layouts() -> Vec<StructLayout> {
         }),
         layout!(SurfaceParams = "SurfaceParams" in "build/label_surface.wgsl" {
             dims, axis, origin, row_words, extent, radius, weights, layers, channels, _pad1, _pad2,
+            read_origin, _pad3,
         }),
         layout!(DistanceParams = "DistanceParams" in "build/distance.wgsl" {
             leaf_level, axis, sides, _pad1,
@@ -479,6 +480,11 @@ pub struct SurfaceParams {
     pub _pad1: u32,
     /// Padding.
     pub _pad2: u32,
+    /// The voxel the texture the pass reads (the mask so far) starts at: 0 for the whole
+    /// mask, the region's first voxel for the scratch of a region's build.
+    pub read_origin: [u32; 3],
+    /// Padding.
+    pub _pad3: u32,
 }
 
 /// Parameters of one axis pass of the distance field (`DistanceParams`).

@@ -8,11 +8,15 @@
 //! most [`MOST_SLAB_BYTES`]: each pass covers the grid in slabs and copies each into the texture.
 //! Built again only when the shown labels or the smoothing change.
 
+use wgpu::util::DeviceExt;
+
+use crate::accel::label_cells::VoxelBox;
 use crate::labels::classes::Classes;
 use crate::labels::surface::smoothing_kernel;
 use crate::render::context::GpuContext;
 use crate::render::gpu_data::SurfaceParams;
 use crate::render::labels::{GpuLabels, TABLE_EDGE, table_texture};
+use crate::render::probe::{ProbePool, ProbeSlot};
 use crate::render::shader::{ShaderError, compose, compute_pipeline, shader_module};
 
 use super::texture::full_view;
@@ -53,6 +57,88 @@ struct SlabPass {
     extent: [u32; 3],
 }
 
+/// The slabs (axis, first voxel, extent) covering `regions[axis]` for each axis's pass: the x
+/// and y passes in slabs of `slices` whole slices (z), the z pass in slabs of `rows` whole rows
+/// (y), so that no pass reads what it replaces.
+fn slabs(regions: [VoxelBox; 3], [slices, rows]: [u32; 2]) -> Vec<(usize, [u32; 3], [u32; 3])> {
+    let mut out = Vec::new();
+    for (axis, r) in regions.into_iter().enumerate() {
+        let (along, step) = if axis < 2 { (2, slices) } else { (1, rows) };
+        let mut start = r.first[along];
+        while start < r.end[along] {
+            let mut origin = r.first;
+            let mut extent: [u32; 3] = std::array::from_fn(|a| r.end[a] - r.first[a]);
+            origin[along] = start;
+            extent[along] = step.min(r.end[along] - start);
+            out.push((axis, origin, extent));
+            start += step;
+        }
+    }
+    out
+}
+
+/// `b` widened by `reach` voxels along `axes`, within the grid `dims`.
+fn widened(b: VoxelBox, reach: u32, axes: &[usize], dims: [u32; 3]) -> VoxelBox {
+    let mut w = b;
+    for &a in axes {
+        w.first[a] = b.first[a].saturating_sub(reach);
+        w.end[a] = (b.end[a] + reach).min(dims[a]);
+    }
+    w
+}
+
+/// What each pass of a build of the mask over `out` covers: the x pass `out` widened by the
+/// kernel's `radius` along y and z (all the y and z passes read), the y pass `out` widened
+/// along z, the z pass `out`.
+fn pass_regions(out: VoxelBox, radius: u32, dims: [u32; 3]) -> [VoxelBox; 3] {
+    [
+        widened(out, radius, &[1, 2], dims),
+        widened(out, radius, &[2], dims),
+        out,
+    ]
+}
+
+fn voxels(b: VoxelBox) -> u64 {
+    (0..3).map(|a| u64::from(b.end[a] - b.first[a])).product()
+}
+
+/// Each label value's code in the mask: its class + 1 where shown, else 0.
+fn class_codes(classes: &Classes) -> Vec<u8> {
+    (0..(TABLE_EDGE * TABLE_EDGE) as usize)
+        .map(|v| {
+            let class = classes.class.get(v).copied().flatten();
+            class.map_or(0, |c| c.saturating_add(1))
+        })
+        .collect()
+}
+
+/// The box of voxels holding every label whose code differs between `before` and `now` (the
+/// voxels whose indicators changed); `None` where none of them lies in the grid.
+fn changed_box(labels: &GpuLabels, before: &[u8], now: &[u8]) -> Option<VoxelBox> {
+    let changed = (before.iter().zip(now).enumerate()).filter(|(_, (b, n))| b != n);
+    changed
+        .filter_map(|(v, _)| labels.label_box(v as u16))
+        .reduce(|a, b| VoxelBox {
+            first: std::array::from_fn(|i| a.first[i].min(b.first[i])),
+            end: std::array::from_fn(|i| a.end[i].max(b.end[i])),
+        })
+}
+
+/// How a build covers the grid.
+enum Extent {
+    /// The mask holds the labels as shown already.
+    Nothing,
+    /// The whole grid, through the mask itself.
+    Whole,
+    /// The mask over a region (the z pass's), the passes before it through a scratch texture of
+    /// the x pass's region.
+    Region([VoxelBox; 3]),
+}
+
+/// A region's build reaching past this share of the grid makes the whole mask instead (its
+/// scratch texture would take as much memory as the mask).
+const MOST_REGION_SHARE: u64 = 2;
+
 /// The channels of a mask for `used` classes (there is no three-channel format).
 pub(crate) fn channels_for(used: usize) -> u32 {
     match used {
@@ -60,6 +146,19 @@ pub(crate) fn channels_for(used: usize) -> u32 {
         2 => 2,
         _ => 4,
     }
+}
+
+/// What the label surfaces' mask holds and costs ([`crate::render::VolumeRenderer::label_surface_facts`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceFacts {
+    /// Bytes on the GPU: the mask, its class table and its build's buffer.
+    pub bytes: u64,
+    /// The mask's channels (classes).
+    pub channels: u32,
+    /// Touching shown labels that share a class (no wall between them).
+    pub clashes: usize,
+    /// The share of the grid its last build made again (1: whole; less after a toggle).
+    pub last_build_share: f64,
 }
 
 /// The smoothed mask of one segmentation's shown labels.
@@ -73,9 +172,17 @@ pub struct SurfaceMask {
     pub(crate) classes: wgpu::TextureView,
     /// Channels of the mask: 1, 2 or 4.
     channels: u32,
+    format: wgpu::TextureFormat,
     buffer: wgpu::Buffer,
     row_words: u32,
+    /// The whole mask's passes.
     passes: Vec<SlabPass>,
+    /// Slices per slab of the x and y passes, rows per slab of the z pass.
+    steps: [u32; 2],
+    /// Each label value's code ([`class_codes`]) the mask was last built for; empty before.
+    codes: Vec<u8>,
+    /// Voxels the last build made again (the whole grid, or a toggle's region).
+    last_voxels: u64,
     dims: [u32; 3],
     layers: u32,
     built_for: Option<MaskKey>,
@@ -123,29 +230,24 @@ impl SurfaceMask {
         // x and y smooth slabs of whole slices (z), z slabs of whole rows (y).
         let slices = (most / (row_bytes * u64::from(dims[1]))).clamp(1, u64::from(dims[2])) as u32;
         let rows = (most / (row_bytes * u64::from(dims[2]))).clamp(1, u64::from(dims[1])) as u32;
-        let mut passes = Vec::new();
-        for axis in 0..3 {
-            let (along, step) = if axis < 2 { (2, slices) } else { (1, rows) };
-            let mut start = 0;
-            while start < dims[along] {
-                let mut origin = [0; 3];
-                let mut extent = dims;
-                origin[along] = start;
-                extent[along] = step.min(dims[along] - start);
-                passes.push(SlabPass {
-                    params: device.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some("label surface params"),
-                        size: std::mem::size_of::<SurfaceParams>() as u64,
-                        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                        mapped_at_creation: false,
-                    }),
-                    axis,
-                    origin,
-                    extent,
-                });
-                start += step;
-            }
-        }
+        let grid = VoxelBox {
+            first: [0; 3],
+            end: dims,
+        };
+        let passes = slabs([grid; 3], [slices, rows])
+            .into_iter()
+            .map(|(axis, origin, extent)| SlabPass {
+                params: device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("label surface params"),
+                    size: std::mem::size_of::<SurfaceParams>() as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }),
+                axis,
+                origin,
+                extent,
+            })
+            .collect::<Vec<_>>();
         let slab_bytes = passes
             .iter()
             .map(|p| row_bytes * u64::from(p.extent[1]) * u64::from(p.extent[2]))
@@ -157,6 +259,7 @@ impl SurfaceMask {
             classes: full_view(&class_texture),
             class_texture,
             channels,
+            format,
             buffer: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("label surface slab"),
                 size: slab_bytes,
@@ -165,6 +268,9 @@ impl SurfaceMask {
             }),
             row_words: (row_bytes / 4) as u32,
             passes,
+            steps: [slices, rows],
+            codes: Vec::new(),
+            last_voxels: 0,
             dims,
             layers: labels.layers(),
             built_for: None,
@@ -195,6 +301,12 @@ impl SurfaceMask {
         self.channels
     }
 
+    /// The share of the grid the last build made again (1 for a whole build).
+    pub fn last_build_share(&self) -> f64 {
+        let grid: u64 = self.dims.iter().map(|&d| u64::from(d)).product();
+        self.last_voxels as f64 / grid.max(1) as f64
+    }
+
     /// Bytes on the GPU: the mask (a byte a voxel and channel), the class table and the build's
     /// buffer.
     pub fn gpu_bytes(&self) -> u64 {
@@ -204,8 +316,10 @@ impl SurfaceMask {
 
     /// Records the mask's build for `labels` as shown now, in `classes` (of at most
     /// [`Self::channels`]), at `smoothing` (voxels), unless it holds that already; returns
-    /// whether it recorded one. Nothing for labels that travel in the volume's bricks (the
-    /// renderer refuses surfaces of those first).
+    /// whether it recorded one. After a toggle only the box of the labels whose class or
+    /// visibility changed is made again (with the kernel's reach), unless it reaches past half
+    /// the grid. Timed into `probe` where given. Nothing for labels that travel in the volume's
+    /// bricks (the renderer refuses surfaces of those first).
     pub fn build(
         &mut self,
         ctx: &GpuContext,
@@ -213,12 +327,21 @@ impl SurfaceMask {
         (labels, classes): (&GpuLabels, &Classes),
         smoothing: f32,
         encoder: &mut wgpu::CommandEncoder,
+        probe: Option<(&mut ProbePool, &ProbeSlot)>,
     ) -> bool {
         let key = Self::key(labels, smoothing);
         let Some(label_texels) = labels.whole() else {
             return false;
         };
         if self.built_for == Some(key) {
+            return false;
+        }
+        let codes = class_codes(classes);
+        let (weights, radius) = smoothing_kernel(smoothing);
+        let extent = self.extent_for(labels, key, &codes, radius);
+        self.built_for = Some(key);
+        if matches!(extent, Extent::Nothing) {
+            self.codes = codes;
             return false;
         }
         let table: Vec<u8> = (0..(TABLE_EDGE * TABLE_EDGE) as usize)
@@ -234,33 +357,127 @@ impl SurfaceMask {
             },
             self.class_texture.size(),
         );
-        if self.params_for != Some(key.2) {
-            let (weights, radius) = smoothing_kernel(smoothing);
-            for pass in &self.passes {
-                let params = SurfaceParams {
-                    dims: self.dims,
-                    axis: pass.axis as u32,
-                    origin: pass.origin,
-                    row_words: self.row_words,
-                    extent: pass.extent,
-                    radius,
-                    weights,
-                    layers: self.layers,
-                    channels: self.channels,
-                    _pad1: 0,
-                    _pad2: 0,
-                };
-                ctx.queue
-                    .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+        self.codes = codes;
+        let params = |axis: usize, origin, extent, read_origin| SurfaceParams {
+            dims: self.dims,
+            axis: axis as u32,
+            origin,
+            row_words: self.row_words,
+            extent,
+            radius,
+            weights,
+            layers: self.layers,
+            channels: self.channels,
+            _pad1: 0,
+            _pad2: 0,
+            read_origin,
+            _pad3: 0,
+        };
+        let sources = (label_texels, &labels.colours);
+        match extent {
+            Extent::Nothing => {}
+            Extent::Whole => {
+                self.last_voxels = self.dims.iter().map(|&d| u64::from(d)).product();
+                if self.params_for != Some(key.2) {
+                    for pass in &self.passes {
+                        let p = params(pass.axis, pass.origin, pass.extent, [0; 3]);
+                        ctx.queue
+                            .write_buffer(&pass.params, 0, bytemuck::bytes_of(&p));
+                    }
+                    self.params_for = Some(key.2);
+                }
+                self.record(ctx, pipelines, sources, &self.passes, None, encoder, probe);
             }
-            self.params_for = Some(key.2);
+            Extent::Region(regions) => {
+                self.last_voxels = voxels(regions[2]);
+                let scratch_box = regions[0];
+                let passes: Vec<SlabPass> = slabs(regions, self.steps)
+                    .into_iter()
+                    .map(|(axis, origin, extent)| {
+                        let p = params(axis, origin, extent, scratch_box.first);
+                        SlabPass {
+                            params: ctx.device.create_buffer_init(
+                                &wgpu::util::BufferInitDescriptor {
+                                    label: Some("label surface region params"),
+                                    contents: bytemuck::bytes_of(&p),
+                                    usage: wgpu::BufferUsages::UNIFORM,
+                                },
+                            ),
+                            axis,
+                            origin,
+                            extent,
+                        }
+                    })
+                    .collect();
+                let scratch = self.scratch(&ctx.device, scratch_box);
+                let scratch_view = full_view(&scratch);
+                let at = (&scratch, &scratch_view, scratch_box.first);
+                self.record(ctx, pipelines, sources, &passes, Some(at), encoder, probe);
+            }
         }
-        for pass in &self.passes {
+        true
+    }
+
+    /// What a build for `key` with `codes` must cover.
+    fn extent_for(&self, labels: &GpuLabels, key: MaskKey, codes: &[u8], radius: u32) -> Extent {
+        // Another segmentation, smoothing or number of channels: all of it.
+        let same = self.built_for.is_some_and(|k| (k.0, k.2) == (key.0, key.2));
+        if !same || self.codes.len() != codes.len() {
+            return Extent::Whole;
+        }
+        let Some(changed) = changed_box(labels, &self.codes, codes) else {
+            return Extent::Nothing;
+        };
+        let out = widened(changed, radius, &[0, 1, 2], self.dims);
+        let regions = pass_regions(out, radius, self.dims);
+        let grid: u64 = self.dims.iter().map(|&d| u64::from(d)).product();
+        if voxels(regions[0]) * MOST_REGION_SHARE > grid {
+            Extent::Whole
+        } else {
+            Extent::Region(regions)
+        }
+    }
+
+    /// A texture in the mask's format holding the passes before the last over `region`.
+    fn scratch(&self, device: &wgpu::Device, region: VoxelBox) -> wgpu::Texture {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("label surface scratch"),
+            size: wgpu::Extent3d {
+                width: region.end[0] - region.first[0],
+                height: region.end[1] - region.first[1],
+                depth_or_array_layers: region.end[2] - region.first[2],
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: self.format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        })
+    }
+
+    /// Records `passes`: each into the build's buffer and from it into the mask, or for the
+    /// passes before the last into `scratch` (its texture, its view, the voxel it starts at)
+    /// where given; timed into `probe` from the first pass to the last (the copy of its slab
+    /// after it is not: wgpu writes timestamps only at passes).
+    #[allow(clippy::too_many_arguments)]
+    fn record(
+        &self,
+        ctx: &GpuContext,
+        pipelines: &SurfacePipelines,
+        (label_texels, colours): (&wgpu::TextureView, &wgpu::TextureView),
+        passes: &[SlabPass],
+        scratch: Option<(&wgpu::Texture, &wgpu::TextureView, [u32; 3])>,
+        encoder: &mut wgpu::CommandEncoder,
+        mut probe: Option<(&mut ProbePool, &ProbeSlot)>,
+    ) {
+        for (i, pass) in passes.iter().enumerate() {
+            let read = scratch.map_or(&self.view, |s| s.1);
             let (pipeline, entries) = if pass.axis == 0 {
                 let entries = vec![
                     entry(0, pass.params.as_entire_binding()),
                     entry(1, wgpu::BindingResource::TextureView(label_texels)),
-                    entry(2, wgpu::BindingResource::TextureView(&labels.colours)),
+                    entry(2, wgpu::BindingResource::TextureView(colours)),
                     entry(4, self.buffer.as_entire_binding()),
                     entry(5, wgpu::BindingResource::TextureView(&self.classes)),
                 ];
@@ -268,7 +485,7 @@ impl SurfaceMask {
             } else {
                 let entries = vec![
                     entry(0, pass.params.as_entire_binding()),
-                    entry(3, wgpu::BindingResource::TextureView(&self.view)),
+                    entry(3, wgpu::BindingResource::TextureView(read)),
                     entry(4, self.buffer.as_entire_binding()),
                 ];
                 (&pipelines.from_mask, entries)
@@ -278,9 +495,14 @@ impl SurfaceMask {
                 layout: &pipeline.get_bind_group_layout(0),
                 entries: &entries,
             });
+            let (first, last) = (i == 0, i + 1 == passes.len());
+            let timestamp_writes = probe
+                .as_mut()
+                .filter(|_| first || last)
+                .and_then(|(p, s)| p.mask_timestamps(s, first, last));
             let mut cpass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("label surface"),
-                timestamp_writes: None,
+                timestamp_writes,
             });
             cpass.set_pipeline(pipeline);
             cpass.set_bind_group(0, &group, &[]);
@@ -291,6 +513,13 @@ impl SurfaceMask {
                 pass.extent[2].div_ceil(GROUP[2]),
             );
             drop(cpass);
+            // The passes before the last write the scratch where there is one, at its place.
+            let (texture, origin) = match scratch {
+                Some((t, _, first)) if pass.axis < 2 => {
+                    (t, std::array::from_fn(|a| pass.origin[a] - first[a]))
+                }
+                _ => (&self.texture, pass.origin),
+            };
             encoder.copy_buffer_to_texture(
                 wgpu::TexelCopyBufferInfo {
                     buffer: &self.buffer,
@@ -301,12 +530,12 @@ impl SurfaceMask {
                     },
                 },
                 wgpu::TexelCopyTextureInfo {
-                    texture: &self.texture,
+                    texture,
                     mip_level: 0,
                     origin: wgpu::Origin3d {
-                        x: pass.origin[0],
-                        y: pass.origin[1],
-                        z: pass.origin[2],
+                        x: origin[0],
+                        y: origin[1],
+                        z: origin[2],
                     },
                     aspect: wgpu::TextureAspect::All,
                 },
@@ -317,8 +546,6 @@ impl SurfaceMask {
                 },
             );
         }
-        self.built_for = Some(key);
-        true
     }
 }
 
@@ -409,7 +636,14 @@ mod tests {
             for sigma in [0.0, 0.7, 1.5] {
                 let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
                 let mut encoder = ctx.device.create_command_encoder(&Default::default());
-                let built = mask.build(&ctx, &pipelines, (&labels, &classes), sigma, &mut encoder);
+                let built = mask.build(
+                    &ctx,
+                    &pipelines,
+                    (&labels, &classes),
+                    sigma,
+                    &mut encoder,
+                    None,
+                );
                 assert!(built);
                 ctx.queue.submit([encoder.finish()]);
                 if let Some(e) = pollster::block_on(scope.pop()) {
@@ -436,8 +670,92 @@ mod tests {
             }
             // The same labels and smoothing: nothing to build.
             let mut encoder = ctx.device.create_command_encoder(&Default::default());
-            assert!(!mask.build(&ctx, &pipelines, (&labels, &classes), 1.5, &mut encoder));
+            assert!(!mask.build(
+                &ctx,
+                &pipelines,
+                (&labels, &classes),
+                1.5,
+                &mut encoder,
+                None
+            ));
         }
+    }
+
+    /// A toggle remakes only the toggled labels' region (with the kernel's reach), through a
+    /// scratch texture, and the mask it leaves equals, byte for byte, one made whole for the
+    /// same labels: hiding a corner block, showing it again, hiding two blocks apart, over
+    /// slabs of four slices; a toggle reaching past half the grid makes it whole.
+    #[test]
+    fn a_toggles_region_leaves_the_mask_a_whole_build_makes() {
+        let ctx = GpuContext::headless().expect("a GPU (lavapipe in CI)");
+        let dims = [40u32, 30, 30];
+        // Blocks of 10 voxels, labels 1..=36, each touching its neighbours.
+        let layer: Vec<u16> = (0..(40 * 30 * 30))
+            .map(|i: u32| {
+                let (x, y, z) = (i % 40 / 10, i / 40 % 30 / 10, i / 1200 / 10);
+                (1 + x + 4 * (y + 3 * z)) as u16
+            })
+            .collect();
+        let map = LabelMap::bare(dims, vec![layer]);
+        let labels = GpuLabels::new(&ctx.device, &ctx.queue, map).unwrap();
+        let pipelines = SurfacePipelines::new(&ctx.device).unwrap();
+        let table_without = |hidden: &[usize]| {
+            let mut table = vec![[0u8; 4]; 1 << 16];
+            for (v, c) in table.iter_mut().enumerate().take(37).skip(1) {
+                *c = [200, 100, 50, if hidden.contains(&v) { 0 } else { 255 }];
+            }
+            table
+        };
+        let build = |mask: &mut SurfaceMask, classes: &Classes| {
+            let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let mut encoder = ctx.device.create_command_encoder(&Default::default());
+            assert!(mask.build(
+                &ctx,
+                &pipelines,
+                (&labels, classes),
+                1.5,
+                &mut encoder,
+                None
+            ));
+            ctx.queue.submit([encoder.finish()]);
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                panic!("{e}");
+            }
+            read_mask(&ctx, mask)
+        };
+        labels.write_table_for_tests(&ctx.queue, &table_without(&[]));
+        let classes = labels.classes();
+        let channels = channels_for(classes.used);
+        let mut mask = SurfaceMask::with_slabs_of(&ctx, &labels, channels, 256 * 30 * 4);
+        let first = build(&mut mask, &classes);
+        assert!(first.iter().any(|&m| m > 128));
+        for hidden in [&[1][..], &[], &[6, 7], &[]] {
+            labels.write_table_for_tests(&ctx.queue, &table_without(hidden));
+            let classes = labels.classes();
+            assert_eq!(channels_for(classes.used), channels, "{hidden:?}");
+            let key = SurfaceMask::key(&labels, 1.5);
+            let codes = class_codes(&classes);
+            let Extent::Region(regions) = mask.extent_for(&labels, key, &codes, 3) else {
+                panic!("{hidden:?}: a region");
+            };
+            assert!(voxels(regions[2]) < 40 * 30 * 30 / 4, "{regions:?}");
+            let toggled = build(&mut mask, &classes);
+            let mut whole = SurfaceMask::with_slabs_of(&ctx, &labels, channels, 256 * 30 * 4);
+            let made_whole = build(&mut whole, &classes);
+            assert!(toggled == made_whole, "{hidden:?}");
+            // Hiding changed the mask; showing all again gave back the first.
+            assert_eq!(toggled == first, hidden.is_empty(), "{hidden:?}");
+        }
+        // Hiding most labels reaches past half the grid: the whole mask.
+        let most: Vec<usize> = (2..37).collect();
+        labels.write_table_for_tests(&ctx.queue, &table_without(&most));
+        let classes = labels.classes();
+        let key = SurfaceMask::key(&labels, 1.5);
+        let codes = class_codes(&classes);
+        assert!(matches!(
+            mask.extent_for(&labels, key, &codes, 3),
+            Extent::Whole
+        ));
     }
 
     /// A wall between two touching labels: a box of label 1 (red) against one of label 2

@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex};
 
 use wgpu::util::DeviceExt;
 
-use crate::accel::label_cells::LabelCells;
+use crate::accel::label_cells::{LabelCells, VoxelBox};
 use crate::labels::LabelMap;
 use crate::labels::classes::{self, Classes};
 
@@ -58,6 +58,8 @@ pub struct GpuLabels {
     pub(crate) cell_labels: wgpu::Buffer,
     /// One bit per label value: shown.
     pub(crate) shown_bits: wgpu::Buffer,
+    /// Each label's box of voxels (to the cell): what a toggle of it can change.
+    boxes: std::collections::BTreeMap<u16, VoxelBox>,
     /// Bumped by every [`GpuLabels::show`] that changes which labels are shown: what depends on
     /// the visibility is built again.
     generation: AtomicU64,
@@ -143,6 +145,7 @@ impl GpuLabels {
             colour_texture,
             layers: layers.len().max(1) as u32,
             dims,
+            boxes: cells.boxes(dims),
             cells: cells.cells,
             cell_offsets: storage("label cell offsets", &cells.offsets),
             cell_labels: storage("label cell labels", &cells.labels),
@@ -251,6 +254,11 @@ impl GpuLabels {
             let pairs = classes::neighbours(&self.map);
             (pairs, started.elapsed().as_secs_f64() * 1e3)
         })
+    }
+
+    /// The box of voxels (to the cell) label `value` lies in; `None` where no voxel holds it.
+    pub(crate) fn label_box(&self, value: u16) -> Option<VoxelBox> {
+        self.boxes.get(&value).copied()
     }
 
     /// How many layers of labels the texture holds.

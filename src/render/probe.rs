@@ -14,11 +14,14 @@ const IN_FLIGHT: u8 = 1;
 const MAPPED: u8 = 2;
 const FAILED: u8 = 3;
 
-/// Timestamps per frame: start and end of the frame's passes, start and end of the
-/// transfer-function rebuild (leaping structures) when the frame did one.
-const TIMESTAMPS: u32 = 4;
+/// Timestamps per frame: start and end of the frame's passes, of the transfer-function rebuild
+/// (leaping structures) when the frame did one, and of the label surfaces' mask build when the
+/// frame did one.
+const TIMESTAMPS: u32 = 6;
 /// Bytes of the timestamps.
 const TIMESTAMP_BYTES: u64 = TIMESTAMPS as u64 * 8;
+/// Each pair of timestamps resolves to its own offset: resolves start at multiples of this.
+const RESOLVE_STRIDE: u64 = wgpu::QUERY_RESOLVE_BUFFER_ALIGNMENT;
 /// Bytes of the counters (a low and a high u32 each).
 const COUNTER_BYTES: u64 = COUNTERS as u64 * 8;
 
@@ -35,6 +38,9 @@ pub struct FrameResults {
     /// GPU time of the leaping structures' rebuild this frame recorded (after a transfer-function
     /// or block-size change), milliseconds.
     pub rebuild_ms: Option<f64>,
+    /// GPU time of the label surfaces' mask build this frame recorded (after a toggle of the
+    /// shown labels or a change of their smoothing), milliseconds.
+    pub mask_ms: Option<f64>,
 }
 
 /// One set of query and read-back resources.
@@ -46,6 +52,7 @@ struct Probe {
     frame: u64,
     has_counters: bool,
     has_rebuild: bool,
+    has_mask: bool,
 }
 
 /// A pool of probes; the counters buffer is shared (frames using statistics are serialised by
@@ -80,7 +87,7 @@ impl ProbePool {
                 }),
                 resolve: device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("timestamp resolve"),
-                    size: TIMESTAMP_BYTES,
+                    size: RESOLVE_STRIDE * u64::from(TIMESTAMPS / 2),
                     usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
                     mapped_at_creation: false,
                 }),
@@ -94,6 +101,7 @@ impl ProbePool {
                 frame: 0,
                 has_counters: false,
                 has_rebuild: false,
+                has_mask: false,
             })
             .collect();
         let counters = device.create_buffer(&wgpu::BufferDescriptor {
@@ -122,6 +130,7 @@ impl ProbePool {
         probe.frame = frame;
         probe.has_counters = has_counters;
         probe.has_rebuild = false;
+        probe.has_mask = false;
         Some(ProbeSlot(index))
     }
 
@@ -191,6 +200,24 @@ impl ProbePool {
         })
     }
 
+    /// Timestamp writes for the label mask build's compute passes: `first` writes its start,
+    /// `last` its end.
+    pub(crate) fn mask_timestamps(
+        &mut self,
+        slot: &ProbeSlot,
+        first: bool,
+        last: bool,
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        let probe = &mut self.probes[slot.0];
+        probe.has_mask = true;
+        let q = probe.queries.as_ref().filter(|_| first || last)?;
+        Some(wgpu::ComputePassTimestampWrites {
+            query_set: q,
+            beginning_of_pass_write_index: first.then_some(4),
+            end_of_pass_write_index: last.then_some(5),
+        })
+    }
+
     /// Clears the counters before a statistics frame.
     pub(crate) fn clear_counters(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.clear_buffer(&self.counters, 0, None);
@@ -200,9 +227,19 @@ impl ProbePool {
     pub fn finish(&self, slot: &ProbeSlot, encoder: &mut wgpu::CommandEncoder) {
         let probe = &self.probes[slot.0];
         if let Some(q) = &probe.queries {
-            let count = if probe.has_rebuild { TIMESTAMPS } else { 2 };
-            encoder.resolve_query_set(q, 0..count, &probe.resolve, 0);
-            encoder.copy_buffer_to_buffer(&probe.resolve, 0, &probe.readback, 0, TIMESTAMP_BYTES);
+            // Only the pairs this frame wrote: the frame's, the rebuild's, the mask's.
+            let pairs = [true, probe.has_rebuild, probe.has_mask];
+            for (pair, _) in pairs.iter().enumerate().filter(|(_, w)| **w) {
+                let (first, at) = (2 * pair as u32, RESOLVE_STRIDE * pair as u64);
+                encoder.resolve_query_set(q, first..first + 2, &probe.resolve, at);
+                encoder.copy_buffer_to_buffer(
+                    &probe.resolve,
+                    at,
+                    &probe.readback,
+                    16 * pair as u64,
+                    16,
+                );
+            }
         }
         if probe.has_counters {
             encoder.copy_buffer_to_buffer(
@@ -265,6 +302,7 @@ impl ProbePool {
                     let gpu_ms = probe.queries.as_ref().map(|_| ms(0, 1));
                     let rebuild_ms =
                         (probe.queries.is_some() && probe.has_rebuild).then(|| ms(2, 3));
+                    let mask_ms = (probe.queries.is_some() && probe.has_mask).then(|| ms(4, 5));
                     let c = TIMESTAMPS as usize;
                     let counters = probe.has_counters.then(|| FrameCounters {
                         samples: ticks(c),
@@ -282,6 +320,7 @@ impl ProbePool {
                         gpu_ms,
                         counters,
                         rebuild_ms,
+                        mask_ms,
                     });
                 }
                 FAILED => {

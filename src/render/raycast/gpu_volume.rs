@@ -7,6 +7,7 @@ use std::sync::Arc;
 use crate::render::context::GpuContext;
 use crate::render::label_surface::{SurfaceMask, SurfacePipelines, channels_for};
 use crate::render::labels::{GpuLabels, NoLabels};
+use crate::render::probe::{ProbePool, ProbeSlot};
 use crate::render::volume_texture::{VolumeTexture, VolumeTextureError};
 use crate::settings::{RenderSettings, Upload};
 use crate::volume::{ValueRange, Volume};
@@ -137,14 +138,17 @@ impl GpuVolume {
 
     /// Records the build of the shown labels' surface mask at `smoothing` (voxels) where it does
     /// not hold them yet, making it (and group 0 again) on first use; returns whether it
-    /// recorded a build. Nothing without labels.
+    /// recorded a build (timed into `probe` where given). Nothing without labels.
     pub(crate) fn prepare_surfaces(
         &mut self,
         ctx: &GpuContext,
         (layouts, pipelines): (&Layouts, &SurfacePipelines),
         shared: &FrameShared<'_>,
         smoothing: f32,
-        encoder: &mut wgpu::CommandEncoder,
+        (encoder, probe): (
+            &mut wgpu::CommandEncoder,
+            Option<(&mut ProbePool, &ProbeSlot)>,
+        ),
     ) -> bool {
         let Some(labels) = self.labels.as_deref() else {
             return false;
@@ -170,9 +174,16 @@ impl GpuVolume {
             self.frame_group = frame_group(ctx, layouts, shared, &self.texture, group);
             self.surface = Some(mask);
         }
-        self.surface
-            .as_mut()
-            .is_some_and(|s| s.build(ctx, pipelines, (labels, &classes), smoothing, encoder))
+        self.surface.as_mut().is_some_and(|s| {
+            s.build(
+                ctx,
+                pipelines,
+                (labels, &classes),
+                smoothing,
+                encoder,
+                probe,
+            )
+        })
     }
 
     /// The uniforms of a frame of this volume of `size` pixels seen through `geometry`, for a

@@ -8,7 +8,7 @@
 use std::sync::Arc;
 
 use crate::render::context::GpuContext;
-use crate::render::label_surface::SurfaceMask;
+use crate::render::label_surface::{SurfaceFacts, SurfaceMask};
 use crate::render::labels::{GpuLabels, NoLabels};
 use crate::render::pack::Rgba8Reader;
 use crate::render::probe::{FrameResults, ProbePool};
@@ -194,15 +194,19 @@ impl VolumeRenderer {
         Ok(())
     }
 
-    /// The label surfaces' mask, where a frame drew them: its bytes on the GPU, channels
-    /// (classes) and the touching shown labels that share a class (no wall between them).
-    pub fn label_surface_facts(&self) -> Option<(u64, u32, usize)> {
+    /// The label surfaces' mask, where a frame drew them.
+    pub fn label_surface_facts(&self) -> Option<SurfaceFacts> {
         let volume = self.volume.as_ref()?;
         let clashes = volume
             .labels
             .as_ref()
             .map_or(0, |l| l.classes().clashes.len());
-        (volume.surface.as_ref()).map(|s| (s.gpu_bytes(), s.channels(), clashes))
+        (volume.surface.as_ref()).map(|s| SurfaceFacts {
+            bytes: s.gpu_bytes(),
+            channels: s.channels(),
+            clashes,
+            last_build_share: s.last_build_share(),
+        })
     }
 
     /// How long each frame may spend uploading bricks of a bricked volume before it renders
@@ -506,6 +510,8 @@ impl VolumeRenderer {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("frame"),
             });
+        let m = &mut self.measurements;
+        let slot = m.begin(&self.ctx.device, request.stats, [first, last], &mut encoder);
         if key.labels.surfaces() {
             let shared = FrameShared {
                 uniforms: &self.uniforms,
@@ -515,14 +521,14 @@ impl VolumeRenderer {
             };
             let builders = (&self.pipelines.layouts, &self.pipelines.surfaces);
             let smoothing = settings.label_smoothing as f32;
-            if volume.prepare_surfaces(&self.ctx, builders, &shared, smoothing, &mut encoder) {
-                self.measurements.work.label_surface_builds += 1;
+            let probe = slot.as_ref().map(|s| (&mut m.probes, s));
+            let into = (&mut encoder, probe);
+            if volume.prepare_surfaces(&self.ctx, builders, &shared, smoothing, into) {
+                m.work.label_surface_builds += 1;
             }
             // The mask's channels may have changed with the shown labels' classes.
             uniforms.surface_channels = volume.surface.as_ref().map_or(0, SurfaceMask::channels);
         }
-        let m = &mut self.measurements;
-        let slot = m.begin(&self.ctx.device, request.stats, [first, last], &mut encoder);
         if key.strategy.leaps() {
             let leap_request = LeapRequest {
                 settings,
