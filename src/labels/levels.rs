@@ -11,7 +11,7 @@ use rayon::prelude::*;
 use crate::volume::downsample::level_dims;
 
 /// The next coarser level of `layer`, a label per voxel of a grid of `dims` (x fastest).
-pub fn halved(layer: &[u16], dims: [u32; 3]) -> Vec<u16> {
+pub(crate) fn halved(layer: &[u16], dims: [u32; 3]) -> Vec<u16> {
     let half = level_dims(dims, 1);
     let [w, h, d] = dims.map(|n| n.max(1) as usize);
     let [hw, hh, hd] = half.map(|n| n as usize);

@@ -12,7 +12,7 @@ pub mod classes;
 mod dicom_seg;
 mod error;
 mod layered;
-pub mod levels;
+pub(crate) mod levels;
 mod names;
 mod palette;
 mod read;

@@ -206,7 +206,7 @@ impl GpuLabels {
     }
 
     /// Counts the changes of the label atlas holding them (what a slice view drew with).
-    pub fn atlas_changes(&self) -> u64 {
+    pub(crate) fn atlas_changes(&self) -> u64 {
         self.atlas_changes.load(Ordering::Relaxed)
     }
 

@@ -432,7 +432,8 @@ fn walls_between_the_mr_parcels_match_the_reference() {
     // Every parcel touches another: with one class no wall would be drawn.
     let touching = classes.class.iter().flatten().count();
     assert_eq!(touching, 120);
-    r.set_labels(Some(Arc::new(gpu))).expect("labels");
+    let gpu = Arc::new(gpu);
+    r.set_labels(Some(Arc::clone(&gpu))).expect("labels");
     let camera = common::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
     let settings = surfaces(0.7);
     let labelled = Labelled {
@@ -460,5 +461,50 @@ fn walls_between_the_mr_parcels_match_the_reference() {
         let name = format!("walls-mr-parcels-{strategy:?}-{path:?}");
         let diff = common::assert_close(&name, &actual, &expected, 1.0, 0.05);
         assert!(diff.rmse < 0.015, "{name}: {diff:?}");
+    }
+    // A toggle of a parcel (the median by voxels) remakes the mask over the box of the labels
+    // whose class or visibility changed: the frame equals one whose mask was made whole (a
+    // change of smoothing and back remakes it whole), hiding the parcel and showing it again.
+    // (Not always the first frame again: a neighbour may have taken the parcel's class
+    // meanwhile to leave fewer touching pairs in one class.)
+    let compute = RenderSettings {
+        strategy: Strategy::RcT,
+        path: RenderPath::Compute,
+        ..settings
+    };
+    let first = render(&mut r, &camera, compute);
+    let mut parcels: Vec<&Segment> = labels.segments().iter().collect();
+    parcels.sort_by_key(|s| s.voxels);
+    let toggled = parcels[parcels.len() / 2].value;
+    let without = |s: &Segment| if s.value == toggled { [0; 4] } else { half(s) };
+    let smoother = RenderSettings {
+        label_smoothing: 0.75,
+        ..compute
+    };
+    for (step, shown) in [("hidden", false), ("shown again", true)] {
+        if shown {
+            gpu.show_styled(&ctx.queue, &labels, half);
+        } else {
+            gpu.show_styled(&ctx.queue, &labels, without);
+        }
+        let toggle = render(&mut r, &camera, compute);
+        let share = r.label_surface_facts().expect("a mask").last_build_share;
+        assert!(
+            share < 0.05,
+            "parcel {toggled} {step}: remade over {share} of the grid"
+        );
+        if !shown {
+            assert!(toggle.diff(&first).expect("same size").max_abs > 0.02);
+        }
+        render(&mut r, &camera, smoother);
+        let remade = render(&mut r, &camera, compute);
+        assert_eq!(
+            r.label_surface_facts().expect("a mask").last_build_share,
+            1.0
+        );
+        assert!(
+            remade == toggle,
+            "parcel {toggled} {step}: against a whole mask"
+        );
     }
 }
