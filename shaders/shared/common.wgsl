@@ -92,6 +92,10 @@ struct Frame {
     // 1 where the labels travel in the volume's bricks (shared/labels.wgsl), else 0.
     label_bricks: u32,
     _pad2: u32,
+    // Box coordinates times this are the surfaces' mask's (1 but where it lies on the labels'
+    // grid reduced k-fold, covering k·ceil(N / k) voxels of N).
+    surface_scale: vec3<f32>,
+    _pad3: u32,
 }
 
 // One ray inside the volume: entry (box coordinates), direction in box units per mm and in

@@ -26,9 +26,11 @@ const SURFACE_REFINE: u32 = 5u;
 // The surface lies where the mask crosses this.
 const SURFACE_LEVEL: f32 = 0.5;
 
-// The mask at p, a class per channel (those past the mask's channels 0: an R8 texel reads alpha 1).
+// The mask at box position p, a class per channel (those past the mask's channels 0: an R8
+// texel reads alpha 1). Labels in bricks past one texture have theirs on a grid reduced k-fold,
+// which covers a little more than the box (frame.surface_scale).
 fn mask_at(p: vec3<f32>) -> vec4<f32> {
-    let m = textureSampleLevel(label_mask, linear_clamp, p, 0.0);
+    let m = textureSampleLevel(label_mask, linear_clamp, p * frame.surface_scale, 0.0);
     return select(vec4<f32>(0.0), m, vec4<u32>(0u, 1u, 2u, 3u) < vec4<u32>(frame.surface_channels));
 }
 
@@ -37,16 +39,17 @@ fn mask_channel(p: vec3<f32>, c: u32) -> f32 {
     return mask_at(p)[c];
 }
 
-// Class c's channel's gradient per millimetre at p, by central differences one voxel apart.
+// Class c's channel's gradient per millimetre at p, by central differences one voxel of the
+// mask's grid apart (box units h: a voxel of the image's, or k of them on a reduced grid).
 fn mask_gradient(p: vec3<f32>, c: u32) -> vec3<f32> {
-    let h = 1.0 / frame.volume_dims;
+    let h = 1.0 / (vec3<f32>(textureDimensions(label_mask)) * frame.surface_scale);
     var g = vec3<f32>(0.0);
     for (var a = 0u; a < 3u; a++) {
         var e = vec3<f32>(0.0);
         e[a] = h[a];
         g[a] = 0.5 * (mask_channel(p + e, c) - mask_channel(p - e, c));
     }
-    return g / frame.spacing_mm;
+    return g / (h * frame.extent_mm);
 }
 
 // The channels at or above the level in mask value m, as bits.
@@ -88,10 +91,11 @@ fn shown_label_in(i: vec3<i32>, c: u32) -> vec4<f32> {
 
 // The colour and opacity of the shown label of class c a surface at p bounds: of the eight
 // voxels around p, the one weighing most in the trilinear filter that holds a shown label of
-// that class (the first in order on a tie); else that of the voxel one step inwards (along the
-// channel's rise `g`).
+// that class (the first in order on a tie); else that of the voxel a step of the mask's grid
+// inwards (along the channel's rise `g`). The labels lie on the image's grid (in one texture or
+// in its bricks).
 fn surface_label(p: vec3<f32>, g: vec3<f32>, c: u32) -> vec4<f32> {
-    let dims = vec3<i32>(textureDimensions(label_tex));
+    let dims = vec3<i32>(frame.volume_dims);
     let v = p * frame.volume_dims - 0.5;
     let base = floor(v);
     let f = v - base;
@@ -109,7 +113,8 @@ fn surface_label(p: vec3<f32>, g: vec3<f32>, c: u32) -> vec4<f32> {
         }
     }
     if (best.a <= 0.0) & (length(g) > 0.0) {
-        best = shown_label_in(voxel_of(p + normalize(g) * frame.spacing_mm / frame.extent_mm), c);
+        let step_box = 1.0 / (vec3<f32>(textureDimensions(label_mask)) * frame.surface_scale);
+        best = shown_label_in(voxel_of(p + normalize(g) * step_box), c);
     }
     return best;
 }

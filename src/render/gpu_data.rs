@@ -202,6 +202,7 @@ pub fn layouts() -> Vec<StructLayout> {
             saturation, xray_density_per_mm, iso_threshold, steps_per_d0, depth_units_per_mm,
             iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight, row_offset,
             row_end, all_finite, colour_volume, label_layers, surface_channels, label_bricks, _pad2,
+            surface_scale, _pad3,
         }),
         layout!(VolumeGeometry = "VolumeGeometry" in "shared/volume_geometry.wgsl" {
             dims, brick_vox, texel_size, _pad0, bricks_per_box, _pad1, last_brick, _pad2,
@@ -343,6 +344,11 @@ pub struct FrameUniforms {
     pub label_bricks: u32,
     /// Padding.
     pub _pad2: u32,
+    /// Box coordinates times this are the label surfaces' mask's: 1 but where the mask lies on
+    /// the labels' grid reduced k-fold (it covers k·ceil(N / k) voxels of N).
+    pub surface_scale: [f32; 3],
+    /// Padding.
+    pub _pad3: u32,
 }
 
 /// Where the shaders find a voxel of the volume (`VolumeGeometry`, shaders/shared/volume.wgsl):

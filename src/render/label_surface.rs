@@ -12,7 +12,7 @@ use wgpu::util::DeviceExt;
 
 use crate::accel::label_cells::VoxelBox;
 use crate::labels::classes::Classes;
-use crate::labels::surface::smoothing_kernel;
+use crate::labels::surface::{occupancy, reduced_grid, smoothing_kernel};
 use crate::render::context::GpuContext;
 use crate::render::gpu_data::SurfaceParams;
 use crate::render::labels::{GpuLabels, TABLE_EDGE, table_texture};
@@ -131,8 +131,20 @@ enum Extent {
     /// The whole grid, through the mask itself.
     Whole,
     /// The mask over a region (the z pass's), the passes before it through a scratch texture of
-    /// the x pass's region.
-    Region([VoxelBox; 3]),
+    /// the x pass's region; first the box whose voxels changed, then each pass's region.
+    Region(VoxelBox, [VoxelBox; 3]),
+}
+
+/// What the mask's first pass smooths.
+enum First<'a> {
+    /// The labels' texture and each label value's colour (its alpha: shown).
+    Labels(&'a wgpu::TextureView, &'a wgpu::TextureView),
+    /// Each class's occupancy (its texture, its view), written from the labels on the CPU.
+    Occupancy(
+        &'a wgpu::Texture,
+        &'a wgpu::TextureView,
+        &'a std::sync::Arc<crate::labels::LabelMap>,
+    ),
 }
 
 /// A region's build reaching past this share of the grid makes the whole mask instead (its
@@ -183,6 +195,15 @@ pub struct SurfaceMask {
     codes: Vec<u8>,
     /// Voxels the last build made again (the whole grid, or a toggle's region).
     last_voxels: u64,
+    /// Where the labels travel in the volume's bricks (no texture of them to read), each
+    /// class's occupancy of the mask's grid, written on the CPU ([`occupancy`]): what the first
+    /// pass smooths there.
+    occupancy: Option<(wgpu::Texture, wgpu::TextureView)>,
+    /// The labels' grid reduced this many times on each axis to the mask's (1 but for labels
+    /// in bricks past the GPU's 3D textures).
+    factor: u32,
+    /// The labels' grid.
+    full_dims: [u32; 3],
     dims: [u32; 3],
     layers: u32,
     built_for: Option<MaskKey>,
@@ -197,34 +218,55 @@ impl SurfaceMask {
         let most = MOST_SLAB_BYTES
             .min(ctx.limits.max_storage_buffer_binding_size)
             .min(ctx.limits.max_buffer_size);
-        Self::with_slabs_of(ctx, labels, channels, most)
+        let side = ctx.limits.max_texture_dimension_3d;
+        Self::with_slabs_of(ctx, labels, channels, (most, side))
     }
 
-    /// [`Self::new`] building through slabs of at most `most` bytes.
-    fn with_slabs_of(ctx: &GpuContext, labels: &GpuLabels, channels: u32, most: u64) -> Self {
+    /// [`Self::new`] building through slabs of at most `most` bytes, on a grid of at most
+    /// `side` voxels an axis where the labels travel in bricks.
+    fn with_slabs_of(
+        ctx: &GpuContext,
+        labels: &GpuLabels,
+        channels: u32,
+        (most, side): (u64, u32),
+    ) -> Self {
         let device = &ctx.device;
-        let dims = labels.dims();
+        let full_dims = labels.dims();
+        // Labels in bricks have no texture of their grid: the mask lies on the grid reduced
+        // until it fits one, from the classes' occupancy.
+        let (factor, dims) = match labels.whole() {
+            Some(_) => (1, full_dims),
+            None => reduced_grid(full_dims, side),
+        };
         let format = match channels {
             1 => wgpu::TextureFormat::R8Unorm,
             2 => wgpu::TextureFormat::Rg8Unorm,
             _ => wgpu::TextureFormat::Rgba8Unorm,
         };
         let class_texture = table_texture(device, wgpu::TextureFormat::R8Uint, "label classes");
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("label surface mask"),
-            size: wgpu::Extent3d {
-                width: dims[0],
-                height: dims[1],
-                depth_or_array_layers: dims[2],
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_DST
-                | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
+        let grid_texture = |label| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: dims[0],
+                    height: dims[1],
+                    depth_or_array_layers: dims[2],
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D3,
+                format,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_DST
+                    | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        };
+        let texture = grid_texture("label surface mask");
+        let occupancy = labels.whole().is_none().then(|| {
+            let t = grid_texture("label occupancy");
+            let view = full_view(&t);
+            (t, view)
         });
         let row_bytes = u64::from(dims[0] * channels).next_multiple_of(256);
         // x and y smooth slabs of whole slices (z), z slabs of whole rows (y).
@@ -271,6 +313,9 @@ impl SurfaceMask {
             steps: [slices, rows],
             codes: Vec::new(),
             last_voxels: 0,
+            occupancy,
+            factor,
+            full_dims,
             dims,
             layers: labels.layers(),
             built_for: None,
@@ -280,7 +325,10 @@ impl SurfaceMask {
 
     /// Whether the mask is of `labels`'s grid with `channels` (else a new one is made).
     pub fn fits(&self, labels: &GpuLabels, channels: u32) -> bool {
-        self.dims == labels.dims() && self.layers == labels.layers() && self.channels == channels
+        self.full_dims == labels.dims()
+            && self.layers == labels.layers()
+            && self.channels == channels
+            && self.occupancy.is_some() == labels.whole().is_none()
     }
 
     /// Whether the mask holds `labels` as shown now at `smoothing`.
@@ -296,6 +344,17 @@ impl SurfaceMask {
         )
     }
 
+    /// Box coordinates times this are the mask's: 1, or where the mask lies on the labels' grid
+    /// reduced k-fold, N / (k · ceil(N / k)) per axis.
+    pub fn scale(&self) -> [f32; 3] {
+        std::array::from_fn(|a| self.full_dims[a] as f32 / (self.factor * self.dims[a]) as f32)
+    }
+
+    /// How many times the labels' grid is reduced on each axis to the mask's.
+    pub fn factor(&self) -> u32 {
+        self.factor
+    }
+
     /// The mask's channels (1, 2 or 4): the shader reads no others.
     pub fn channels(&self) -> u32 {
         self.channels
@@ -307,19 +366,24 @@ impl SurfaceMask {
         self.last_voxels as f64 / grid.max(1) as f64
     }
 
-    /// Bytes on the GPU: the mask (a byte a voxel and channel), the class table and the build's
-    /// buffer.
+    /// Bytes on the GPU: the mask (a byte a voxel and channel), the occupancy where the labels
+    /// travel in bricks, the class table and the build's buffer.
     pub fn gpu_bytes(&self) -> u64 {
         let voxels: u64 = self.dims.iter().map(|&d| u64::from(d)).product();
-        voxels * u64::from(self.channels) + u64::from(TABLE_EDGE * TABLE_EDGE) + self.buffer.size()
+        // The occupancy, where labels in bricks have it, is a second grid of the mask's size.
+        let grids = 1 + u64::from(self.occupancy.is_some());
+        grids * voxels * u64::from(self.channels)
+            + u64::from(TABLE_EDGE * TABLE_EDGE)
+            + self.buffer.size()
     }
 
     /// Records the mask's build for `labels` as shown now, in `classes` (of at most
     /// [`Self::channels`]), at `smoothing` (voxels), unless it holds that already; returns
     /// whether it recorded one. After a toggle only the box of the labels whose class or
     /// visibility changed is made again (with the kernel's reach), unless it reaches past half
-    /// the grid. Timed into `probe` where given. Nothing for labels that travel in the volume's
-    /// bricks (the renderer refuses surfaces of those first).
+    /// the grid. Timed into `probe` where given. Labels that travel in the volume's bricks are
+    /// read on the CPU: each class's occupancy of the mask's grid over the changed box is
+    /// written first, and the first pass smooths that.
     pub fn build(
         &mut self,
         ctx: &GpuContext,
@@ -330,8 +394,10 @@ impl SurfaceMask {
         probe: Option<(&mut ProbePool, &ProbeSlot)>,
     ) -> bool {
         let key = Self::key(labels, smoothing);
-        let Some(label_texels) = labels.whole() else {
-            return false;
+        let source = match (labels.whole(), &self.occupancy, labels.brick_source()) {
+            (Some(texels), _, _) => First::Labels(texels, &labels.colours),
+            (None, Some((texture, view)), Some(map)) => First::Occupancy(texture, view, map),
+            _ => return false,
         };
         if self.built_for == Some(key) {
             return false;
@@ -357,6 +423,41 @@ impl SurfaceMask {
             },
             self.class_texture.size(),
         );
+        let written = match extent {
+            Extent::Nothing => None,
+            Extent::Whole => Some(VoxelBox {
+                first: [0; 3],
+                end: self.dims,
+            }),
+            Extent::Region(changed, _) => Some(changed),
+        };
+        if let (First::Occupancy(texture, _, map), Some(b)) = (&source, written) {
+            let bytes = occupancy(map, &codes, (self.factor, self.channels), (b.first, b.end));
+            let size: [u32; 3] = std::array::from_fn(|a| b.end[a] - b.first[a]);
+            ctx.queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d {
+                        x: b.first[0],
+                        y: b.first[1],
+                        z: b.first[2],
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                &bytes,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(size[0] * self.channels),
+                    rows_per_image: Some(size[1]),
+                },
+                wgpu::Extent3d {
+                    width: size[0],
+                    height: size[1],
+                    depth_or_array_layers: size[2],
+                },
+            );
+        }
         self.codes = codes;
         let params = |axis: usize, origin, extent, read_origin| SurfaceParams {
             dims: self.dims,
@@ -373,7 +474,7 @@ impl SurfaceMask {
             read_origin,
             _pad3: 0,
         };
-        let sources = (label_texels, &labels.colours);
+        let sources = &source;
         match extent {
             Extent::Nothing => {}
             Extent::Whole => {
@@ -388,13 +489,15 @@ impl SurfaceMask {
                 }
                 self.record(ctx, pipelines, sources, &self.passes, None, encoder, probe);
             }
-            Extent::Region(regions) => {
+            Extent::Region(_, regions) => {
                 self.last_voxels = voxels(regions[2]);
                 let scratch_box = regions[0];
                 let passes: Vec<SlabPass> = slabs(regions, self.steps)
                     .into_iter()
                     .map(|(axis, origin, extent)| {
-                        let p = params(axis, origin, extent, scratch_box.first);
+                        // The first pass reads the labels or the whole grid's occupancy.
+                        let read_origin = if axis == 0 { [0; 3] } else { scratch_box.first };
+                        let p = params(axis, origin, extent, read_origin);
                         SlabPass {
                             params: ctx.device.create_buffer_init(
                                 &wgpu::util::BufferInitDescriptor {
@@ -428,13 +531,18 @@ impl SurfaceMask {
         let Some(changed) = changed_box(labels, &self.codes, codes) else {
             return Extent::Nothing;
         };
+        // On the mask's grid (the labels' reduced `factor`-fold).
+        let changed = VoxelBox {
+            first: changed.first.map(|v| v / self.factor),
+            end: std::array::from_fn(|a| changed.end[a].div_ceil(self.factor).min(self.dims[a])),
+        };
         let out = widened(changed, radius, &[0, 1, 2], self.dims);
         let regions = pass_regions(out, radius, self.dims);
         let grid: u64 = self.dims.iter().map(|&d| u64::from(d)).product();
         if voxels(regions[0]) * MOST_REGION_SHARE > grid {
             Extent::Whole
         } else {
-            Extent::Region(regions)
+            Extent::Region(changed, regions)
         }
     }
 
@@ -465,31 +573,35 @@ impl SurfaceMask {
         &self,
         ctx: &GpuContext,
         pipelines: &SurfacePipelines,
-        (label_texels, colours): (&wgpu::TextureView, &wgpu::TextureView),
+        source: &First<'_>,
         passes: &[SlabPass],
         scratch: Option<(&wgpu::Texture, &wgpu::TextureView, [u32; 3])>,
         encoder: &mut wgpu::CommandEncoder,
         mut probe: Option<(&mut ProbePool, &ProbeSlot)>,
     ) {
         for (i, pass) in passes.iter().enumerate() {
-            let read = scratch.map_or(&self.view, |s| s.1);
-            let (pipeline, entries) = if pass.axis == 0 {
-                let entries = vec![
-                    entry(0, pass.params.as_entire_binding()),
-                    entry(1, wgpu::BindingResource::TextureView(label_texels)),
-                    entry(2, wgpu::BindingResource::TextureView(colours)),
-                    entry(4, self.buffer.as_entire_binding()),
-                    entry(5, wgpu::BindingResource::TextureView(&self.classes)),
-                ];
-                (&pipelines.from_labels, entries)
-            } else {
-                let entries = vec![
-                    entry(0, pass.params.as_entire_binding()),
-                    entry(3, wgpu::BindingResource::TextureView(read)),
-                    entry(4, self.buffer.as_entire_binding()),
-                ];
-                (&pipelines.from_mask, entries)
+            let read = match (pass.axis, source) {
+                (0, First::Occupancy(_, view, _)) => view,
+                _ => scratch.map_or(&self.view, |s| s.1),
             };
+            let (pipeline, entries) =
+                if let (0, First::Labels(texels, colours)) = (pass.axis, source) {
+                    let entries = vec![
+                        entry(0, pass.params.as_entire_binding()),
+                        entry(1, wgpu::BindingResource::TextureView(texels)),
+                        entry(2, wgpu::BindingResource::TextureView(colours)),
+                        entry(4, self.buffer.as_entire_binding()),
+                        entry(5, wgpu::BindingResource::TextureView(&self.classes)),
+                    ];
+                    (&pipelines.from_labels, entries)
+                } else {
+                    let entries = vec![
+                        entry(0, pass.params.as_entire_binding()),
+                        entry(3, wgpu::BindingResource::TextureView(read)),
+                        entry(4, self.buffer.as_entire_binding()),
+                    ];
+                    (&pipelines.from_mask, entries)
+                };
             let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("label surface"),
                 layout: &pipeline.get_bind_group_layout(0),
@@ -630,7 +742,7 @@ mod tests {
             let channels = channels_for(classes.used);
             // Slabs of 4 slices (256-byte rows × 13) and of 4 rows (× 11 slices): every pass
             // crosses slab boundaries.
-            let mut mask = SurfaceMask::with_slabs_of(&ctx, &labels, channels, 256 * 13 * 4);
+            let mut mask = SurfaceMask::with_slabs_of(&ctx, &labels, channels, (256 * 13 * 4, 64));
             assert_eq!(mask.passes.len(), 3 + 3 + 4);
             let bits = map.shown_classes(&table, &classes.class);
             for sigma in [0.0, 0.7, 1.5] {
@@ -726,7 +838,7 @@ mod tests {
         labels.write_table_for_tests(&ctx.queue, &table_without(&[]));
         let classes = labels.classes();
         let channels = channels_for(classes.used);
-        let mut mask = SurfaceMask::with_slabs_of(&ctx, &labels, channels, 256 * 30 * 4);
+        let mut mask = SurfaceMask::with_slabs_of(&ctx, &labels, channels, (256 * 30 * 4, 64));
         let first = build(&mut mask, &classes);
         assert!(first.iter().any(|&m| m > 128));
         for hidden in [&[1][..], &[], &[6, 7], &[]] {
@@ -735,12 +847,12 @@ mod tests {
             assert_eq!(channels_for(classes.used), channels, "{hidden:?}");
             let key = SurfaceMask::key(&labels, 1.5);
             let codes = class_codes(&classes);
-            let Extent::Region(regions) = mask.extent_for(&labels, key, &codes, 3) else {
+            let Extent::Region(_, regions) = mask.extent_for(&labels, key, &codes, 3) else {
                 panic!("{hidden:?}: a region");
             };
             assert!(voxels(regions[2]) < 40 * 30 * 30 / 4, "{regions:?}");
             let toggled = build(&mut mask, &classes);
-            let mut whole = SurfaceMask::with_slabs_of(&ctx, &labels, channels, 256 * 30 * 4);
+            let mut whole = SurfaceMask::with_slabs_of(&ctx, &labels, channels, (256 * 30 * 4, 64));
             let made_whole = build(&mut whole, &classes);
             assert!(toggled == made_whole, "{hidden:?}");
             // Hiding changed the mask; showing all again gave back the first.
@@ -756,6 +868,99 @@ mod tests {
             mask.extent_for(&labels, key, &codes, 3),
             Extent::Whole
         ));
+    }
+
+    /// Labels in bricks past the GPU's side (forced here: 12 voxels): the mask lies on their grid
+    /// halved, smoothed from each class's occupancy written on the CPU; it equals its CPU twin
+    /// (the occupancy smoothed) to one step of 1/255, over slabs, and after a toggle its
+    /// region's rebuild equals a whole build byte for byte.
+    #[test]
+    fn labels_in_bricks_take_a_halved_mask_from_their_occupancy() {
+        use crate::labels::surface::{occupancy, smoothed_occupancy};
+        use crate::render::labels::LabelPlacement;
+        let ctx = GpuContext::headless().expect("a GPU (lavapipe in CI)");
+        let dims = [24u32, 18, 12];
+        let n = (dims[0] * dims[1] * dims[2]) as usize;
+        // Blocks of 8 × 6 × 4 voxels, labels 1..=27.
+        let layer: Vec<u16> = (0..n as u32)
+            .map(|i| {
+                let (x, y, z) = (i % 24 / 8, i / 24 % 18 / 6, i / 432 / 4);
+                (1 + x + 3 * (y + 3 * z)) as u16
+            })
+            .collect();
+        let map = std::sync::Arc::new(LabelMap::bare(dims, vec![layer]));
+        let placed =
+            GpuLabels::placed(&ctx.device, &ctx.queue, map.clone(), LabelPlacement::Bricks);
+        let labels = placed.unwrap();
+        assert!(labels.in_bricks());
+        let pipelines = SurfacePipelines::new(&ctx.device).unwrap();
+        let build = |mask: &mut SurfaceMask, classes: &Classes| {
+            let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let mut encoder = ctx.device.create_command_encoder(&Default::default());
+            assert!(mask.build(
+                &ctx,
+                &pipelines,
+                (&labels, classes),
+                0.7,
+                &mut encoder,
+                None
+            ));
+            ctx.queue.submit([encoder.finish()]);
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                panic!("{e}");
+            }
+            read_mask(&ctx, mask)
+        };
+        let table = |hidden: u16| {
+            let mut table = vec![[0u8; 4]; 1 << 16];
+            for (v, c) in table.iter_mut().enumerate().take(28).skip(1) {
+                *c = [90, 160, 30, if v == usize::from(hidden) { 0 } else { 255 }];
+            }
+            table
+        };
+        // Two classes by the block's parity (a toggle keeps every other label's class).
+        let classes_without = |hidden: u16| Classes {
+            class: (0..1usize << 16)
+                .map(|v| (1..28).contains(&v).then_some((v % 2) as u8))
+                .enumerate()
+                .map(|(v, c)| c.filter(|_| v != usize::from(hidden)))
+                .collect(),
+            clashes: Vec::new(),
+            used: 2,
+            last: Vec::new(),
+        };
+        labels.write_table_for_tests(&ctx.queue, &table(0));
+        let classes = classes_without(0);
+        let channels = channels_for(classes.used);
+        let slabs = (256 * 9 * 2, 12);
+        let mut mask = SurfaceMask::with_slabs_of(&ctx, &labels, channels, slabs);
+        assert_eq!((mask.factor, mask.dims), (2, [12, 9, 6]));
+        let gpu = build(&mut mask, &classes);
+        let codes = class_codes(&classes);
+        let all = occupancy(&map, &codes, (2, channels), ([0; 3], mask.dims));
+        for c in 0..channels as usize {
+            let one: Vec<u8> = all
+                .iter()
+                .skip(c)
+                .step_by(channels as usize)
+                .copied()
+                .collect();
+            let cpu = smoothed_occupancy(mask.dims, &one, 0.7);
+            let channel = gpu.iter().skip(c).step_by(channels as usize);
+            let worst = channel.zip(&cpu).map(|(g, c)| g.abs_diff(*c)).max();
+            assert!(worst <= Some(1), "class {c}: {worst:?}");
+            assert!(cpu.iter().any(|&m| m > 128));
+        }
+        // A corner block (label 1) hidden: its region alone, as a whole build makes it.
+        labels.write_table_for_tests(&ctx.queue, &table(1));
+        let classes = classes_without(1);
+        let key = SurfaceMask::key(&labels, 0.7);
+        let extent = mask.extent_for(&labels, key, &class_codes(&classes), 2);
+        assert!(matches!(extent, Extent::Region(..)));
+        let toggled = build(&mut mask, &classes);
+        let mut whole = SurfaceMask::with_slabs_of(&ctx, &labels, channels, slabs);
+        assert!(toggled == build(&mut whole, &classes));
+        assert!(toggled != gpu);
     }
 
     /// A wall between two touching labels: a box of label 1 (red) against one of label 2

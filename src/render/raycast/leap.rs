@@ -693,7 +693,7 @@ impl LeapStructures {
         let labelled = request.labels;
         let key = rule.map(|r| {
             let folds = |&(_, u): &(&GpuLabels, LabelUse)| {
-                u == LabelUse::Surfaces || !matches!(r, FlagRule::Iso(_))
+                matches!(u, LabelUse::Surfaces(_)) || !matches!(r, FlagRule::Iso(_))
             };
             (r, labelled.filter(folds).map(|(l, u)| shown_key(l, u)))
         });

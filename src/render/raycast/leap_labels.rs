@@ -42,20 +42,27 @@ pub enum LabelUse {
     /// coarser level, a sample reads a label of its block of that level
     /// ([`coarse_reach`]).
     Cut(u32),
-    /// The shown labels are drawn as surfaces: nodes near one are not empty.
-    Surfaces,
+    /// The shown labels are drawn as surfaces: nodes near one are not empty, within this many
+    /// cells ([`surface_reach`]).
+    Surfaces(u32),
 }
 
 impl LabelUse {
-    /// Cells around a level-0 node whose labels count as its own: one for surfaces (the mask's
-    /// kernel, at most three voxels, and the trilinear filter's voxel reach no further than one
-    /// cell past a shown voxel).
+    /// Cells around a level-0 node whose labels count as its own.
     fn apron(self) -> u32 {
         match self {
-            Self::Cut(reach) => reach,
-            Self::Surfaces => 1,
+            Self::Cut(reach) | Self::Surfaces(reach) => reach,
         }
     }
+}
+
+/// Cells past a shown voxel that its surface's mask reaches where the mask lies on the labels'
+/// grid reduced `factor`-fold: the kernel's radius and the trilinear filter's voxel, each of
+/// `factor` voxels, from a reduced voxel reaching `factor` − 1 voxels past the shown one; at
+/// factor 1 one cell (three voxels of kernel and one of filter).
+pub fn surface_reach(factor: u32) -> u32 {
+    let voxels = factor * (crate::labels::surface::MOST_RADIUS + 1) + factor - 1;
+    voxels.div_ceil(crate::accel::label_cells::CELL_VOX)
 }
 
 /// Cells of [`CELL_VOX`](crate::accel::label_cells::CELL_VOX) voxels past its own that a
@@ -67,11 +74,6 @@ pub fn coarse_reach(level: u32) -> u32 {
     let block = 1u32 << level.min(16);
     block.div_ceil(cell) - 1
 }
-
-const _: () = assert!(
-    crate::labels::surface::MOST_RADIUS < crate::accel::label_cells::CELL_VOX,
-    "a surface's apron of one cell covers the mask's reach"
-);
 
 /// Which segmentation, at which visibility, flags were built for, and for what: its address
 /// (the same `GpuLabels` while it lives), its generation and the view's use of them.
@@ -204,7 +206,7 @@ impl LabelFlags {
     ) {
         let pipeline = match use_ {
             LabelUse::Cut(_) => &pipelines.cut,
-            LabelUse::Surfaces => &pipelines.keep,
+            LabelUse::Surfaces(_) => &pipelines.keep,
         };
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("cut to the shown labels"),
@@ -253,6 +255,20 @@ fn param_buffer(device: &wgpu::Device) -> wgpu::Buffer {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The reach covers the reduced mask's kernel and filter, and no cell more: one cell at
+    /// factor 1 (three voxels of kernel, one of filter), three at factor 2.
+    #[test]
+    fn a_reduced_masks_reach_covers_its_kernel_and_filter() {
+        use crate::accel::label_cells::CELL_VOX;
+        use crate::labels::surface::MOST_RADIUS;
+        assert_eq!((surface_reach(1), surface_reach(2)), (1, 3));
+        for factor in [1, 2, 4, 8, 16] {
+            let voxels = factor * (MOST_RADIUS + 1) + factor - 1;
+            let reach = surface_reach(factor);
+            assert!(reach * CELL_VOX >= voxels && (reach - 1) * CELL_VOX < voxels);
+        }
+    }
     use crate::accel::label_cells::CELL_VOX;
 
     /// A coarse voxel's block of the finest level reaches this many cells past any of its own

@@ -21,7 +21,7 @@ use crate::volume::Volume;
 use super::error::RenderError;
 use super::gpu_volume::{FrameShared, GpuVolume};
 use super::leap::{LeapRequest, LeapStructures};
-use super::leap_labels::{LabelUse, coarse_reach};
+use super::leap_labels::{LabelUse, coarse_reach, surface_reach};
 use super::measurements::Measurements;
 use super::passes::RaycastPasses;
 use super::pipelines::Pipelines;
@@ -414,14 +414,6 @@ impl VolumeRenderer {
         self.refresh_tables(&concrete);
         let settings = &concrete;
         let volume = self.volume.as_mut().ok_or(RenderError::NoVolume)?;
-        if settings.labels.surfaces() && volume.labels.as_ref().is_some_and(|l| l.in_bricks()) {
-            return Err(RenderError::Labels(format!(
-                "label surfaces need the labels in one 3D texture, and these ({:?}) travel in the \
-                 volume's bricks (past this GPU's 3D textures or its memory): show them as \
-                 colour or inside instead",
-                volume.dims
-            )));
-        }
         let geometry =
             FrameGeometry::new(request.camera, request.size, volume.dims, volume.spacing_mm);
         let frame = (request.size, settings);
@@ -528,6 +520,7 @@ impl VolumeRenderer {
             }
             // The mask's channels may have changed with the shown labels' classes.
             uniforms.surface_channels = volume.surface.as_ref().map_or(0, SurfaceMask::channels);
+            uniforms.surface_scale = volume.surface.as_ref().map_or([1.0; 3], SurfaceMask::scale);
         }
         if key.strategy.leaps() {
             let leap_request = LeapRequest {
@@ -545,7 +538,8 @@ impl VolumeRenderer {
                             .map_or(0, |s| u32::BITS - s.levels.leading_zeros());
                         LabelUse::Cut(coarse_reach(coarsest.saturating_sub(1)))
                     } else if key.labels.surfaces() {
-                        LabelUse::Surfaces
+                        let factor = volume.surface.as_ref().map_or(1, SurfaceMask::factor);
+                        LabelUse::Surfaces(surface_reach(factor))
                     } else {
                         return None;
                     };

@@ -148,6 +148,8 @@ pub(crate) fn frame_uniforms(
         surface_channels: 0,
         label_bricks: 0,
         _pad2: 0,
+        surface_scale: [1.0; 3],
+        _pad3: 0,
     }
 }
 

@@ -300,7 +300,7 @@ mod tests {
     /// Labels that travel in the volume's bricks draw as labels in one texture do: at the
     /// volume's own level the same labels; where the budget holds a coarser level, each
     /// coarse voxel's most frequent label (one texture of those labels, upsampled, draws the
-    /// same), leaping exact as RC-t. Surfaces of labels in bricks are refused by name.
+    /// same), leaping exact as RC-t; surfaces too, at the volume's own level.
     #[test]
     fn labels_in_bricks_draw_as_the_labels_of_their_level_in_one_texture() {
         let (volume, map) = scene();
@@ -363,18 +363,34 @@ mod tests {
                 assert_eq!(coloured, settings.labels.colours(), "{settings:?}");
             }
         }
+        // Surfaces: the mask smoothed from the labels' occupancy, written on the CPU (there is
+        // no texture of them to read), draws as the one built from their texture.
         let mut bricks = renderer(&volume, None, &map, LabelPlacement::Bricks);
-        let surfaces = RenderSettings {
-            labels: LabelView::Surfaces,
-            path: RenderPath::Compute,
-            ..RenderSettings::default()
-        };
-        let refused = bricks.render_image(&camera, size, &surfaces);
-        let message = refused.err().map(|e| e.to_string()).unwrap_or_default();
-        assert!(
-            message.contains("surfaces") && message.contains("bricks"),
-            "{message}"
-        );
+        let mut whole = renderer(&volume, None, &map, LabelPlacement::Auto);
+        for (strategy, path) in [
+            (Strategy::RcT, RenderPath::Compute),
+            (Strategy::RcS, RenderPath::Compute),
+            (Strategy::RcT, RenderPath::Fragment),
+        ] {
+            let surfaces = RenderSettings {
+                labels: LabelView::Surfaces,
+                strategy,
+                path,
+                ..RenderSettings::default()
+            };
+            let got = bricks
+                .render_image(&camera, size, &surfaces)
+                .expect("frame");
+            let want = whole.render_image(&camera, size, &surfaces).expect("frame");
+            let diff = got.diff(&want).expect("same size");
+            assert!(diff.max_abs <= 1.0 / 255.0 + 1e-6, "{surfaces:?}: {diff:?}");
+            let off = RenderSettings {
+                labels: LabelView::Off,
+                ..surfaces
+            };
+            let plain = whole.render_image(&camera, size, &off).expect("frame");
+            assert!(want.diff(&plain).expect("same size").max_abs > 0.1);
+        }
         assert!(
             bricks
                 .volume_texture()

@@ -563,13 +563,6 @@ impl eframe::App for LeapViewApp {
         for action in actions {
             self.apply(action, &ctx);
         }
-        // Surfaces need the labels in one texture: labels in bricks are coloured instead (a
-        // view kept from an earlier file may ask for surfaces).
-        if self.state.render.labels.surfaces()
-            && self.slices.labels().is_some_and(|l| l.in_bricks())
-        {
-            self.state.render.labels = crate::settings::effects::LabelView::Colour;
-        }
         CentralPanel::no_frame().show(ui, |ui| self.view(ui));
 
         match self.dialogs.ui(&ctx) {

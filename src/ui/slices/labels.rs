@@ -177,16 +177,15 @@ impl ShownLabels {
                 ),
                 (LabelView::Off, "off", "the image alone"),
             ] {
-                // Surfaces need the labels in one texture (their mask is built from it).
-                let can = !(value.surfaces() && self.gpu.in_bricks());
-                ui.add_enabled_ui(can, |ui| {
-                    ui.selectable_value(view, value, text)
-                        .on_hover_text(hover)
-                        .on_disabled_hover_text(
-                            "these labels are past one of this GPU's 3D textures and travel in \
-                             the volume's bricks; surfaces need them in one texture",
-                        );
-                });
+                let coarse = value.surfaces() && self.gpu.in_bricks();
+                ui.selectable_value(view, value, text)
+                    .on_hover_text(if coarse {
+                        "each shown label's boundary as a smooth lit surface over the image (these \
+                     labels travel in the volume's bricks: past one of this GPU's 3D textures, \
+                     their surfaces are found on a grid reduced to fit one)"
+                    } else {
+                        hover
+                    });
             }
         });
         if view.surfaces() {
