@@ -171,6 +171,9 @@ pub struct SurfaceFacts {
     pub clashes: usize,
     /// The share of the grid its last build made again (1: whole; less after a toggle).
     pub last_build_share: f64,
+    /// How many times the labels' grid is reduced on each axis to the mask's (1 but for labels
+    /// in bricks past one texture), and the mask's grid.
+    pub grid: (u32, [u32; 3]),
 }
 
 /// The smoothed mask of one segmentation's shown labels.
@@ -353,6 +356,11 @@ impl SurfaceMask {
     /// How many times the labels' grid is reduced on each axis to the mask's.
     pub fn factor(&self) -> u32 {
         self.factor
+    }
+
+    /// The mask's grid.
+    pub fn dims(&self) -> [u32; 3] {
+        self.dims
     }
 
     /// The mask's channels (1, 2 or 4): the shader reads no others.

@@ -630,4 +630,27 @@ fn labels_past_one_texture_travel_in_the_volumes_bricks() {
         let hue = |p: &[i32; 3]| (0..3).max_by_key(|&i| p[i]);
         assert_eq!(hue(s), hue(c), "{surfaces:?} against {coloured:?}");
     }
+    // Leaping over the space far from the shown labels (the halved mask's wider apron) stays
+    // exact: the same picture as RC-t's.
+    let leapt = |strategy: &str| {
+        render(
+            &format!("surfaces-{strategy}"),
+            &[
+                "--labels",
+                &labels,
+                "--label-view",
+                "surfaces",
+                "--strategy",
+                strategy,
+            ],
+        );
+        image::open(png(&format!("surfaces-{strategy}")))
+            .expect("png")
+            .to_rgb8()
+    };
+    let (plain, leaping) = (leapt("rc-t"), leapt("rc-s"));
+    let worst = (plain.pixels().zip(leaping.pixels()))
+        .flat_map(|(a, b)| (0..3).map(move |i| a[i].abs_diff(b[i])))
+        .max();
+    assert!(worst <= Some(1), "RC-s against RC-t: {worst:?}");
 }

@@ -1,6 +1,7 @@
 #!/bin/bash
 # Label toggles with the surfaces' mask remade over the toggled label's box, and labels that
-# travel in the volume's bricks, at 1920x1080 on the GPU machine (compute path, --stats).
+# travel in the volume's bricks (colour, inside, surfaces), at 1920x1080 on the GPU machine
+# (compute path, --stats).
 B=.bench-data
 xz -dkf $B/leapview.xz; chmod +x $B/leapview; L=$B/leapview
 $L generate dense-head --size 512 --out $B/head512.nrrd > /dev/null 2>&1
@@ -27,5 +28,9 @@ for S in rc-t rc-s-df; do
     run bar-$V-$S-colour $BAR ${!V} --strategy $S --tf ct-bone --labels $BL
   done
   run bar-side-$S-inside $BAR $side --strategy $S --tf ct-bone --labels $BL --label-view inside --show-labels 2
+  # Surfaces of labels in bricks: their mask on the labels' grid halved (8200 x 24 x 24).
+  for V in side end; do
+    run bar-$V-$S-surfaces $BAR ${!V} --strategy $S --tf ct-bone --labels $BL --label-view surfaces
+  done
 done
 cd /tmp/o && tar czf $OUT/pngs.tgz mr-rc-t-surfaces-half.png head512-rc-t-surfaces-half.png bar-*-rc-t-*.png

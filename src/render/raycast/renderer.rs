@@ -206,6 +206,7 @@ impl VolumeRenderer {
             channels: s.channels(),
             clashes,
             last_build_share: s.last_build_share(),
+            grid: (s.factor(), s.dims()),
         })
     }
 
