@@ -2,6 +2,15 @@
 # Label toggles with the surfaces' mask remade over the toggled label's box, and labels that
 # travel in the volume's bricks (colour, inside, surfaces), at 1920x1080 on the GPU machine
 # (compute path, --stats).
+# Prepared here (ignored by git; 64 MiB carried at most):
+#   cp ../shared/data/originals/VolumeRenderingData_seg3D_MR.nii.gz \
+#      ../shared/data/labels/mr_head_t1_seg3d_parcels.nii.gz .bench-data/
+#   .venv/bin/python docs/benchmarks/lavapipe-labels-3d/make-scene.py /tmp/p.nrrd, then that
+#      file's gzip payload as a raw NRRD, xz -9: .bench-data/parcels512_raw.nrrd.xz
+#   .venv/bin/python scripts/python/label_files.py --long 16400 .bench-data (long_*.nii.gz)
+#   a stripped release build, xz -9e: .bench-data/leapview.xz
+# Run: for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig; export LEAPVIEW_BACKEND=vulkan;
+#      bash docs/benchmarks/gpu-label-toggle/run.sh   (carry .bench-data and .gl)
 B=.bench-data
 xz -dkf $B/leapview.xz; chmod +x $B/leapview; L=$B/leapview
 $L generate dense-head --size 512 --out $B/head512.nrrd > /dev/null 2>&1
