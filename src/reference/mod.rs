@@ -55,12 +55,26 @@ pub fn render_labelled(
     settings: &RenderSettings,
     labels: Option<&Labelled<'_>>,
 ) -> ReferenceImage {
+    render_labelled_on(volume, tf, camera, (size, settings), labels, 1)
+}
+
+/// [`render_labelled`] with the surfaces' masks on the labels' grid reduced `factor`-fold, as
+/// the GPU makes them for labels in bricks past one texture (1: the labels' own grid).
+pub fn render_labelled_on(
+    volume: &Volume,
+    tf: &TransferFunction,
+    camera: &Camera,
+    (size, settings): ([u32; 2], &RenderSettings),
+    labels: Option<&Labelled<'_>>,
+    factor: u32,
+) -> ReferenceImage {
     let bounds = Aabb::of_volume(volume.dims(), volume.spacing_mm());
     let world_from_clip = camera.clip_from_world(size, &bounds).inverse();
     // Surfaces are found in the shown labels' smoothed mask, as the GPU builds it.
+    let smoothing = settings.label_smoothing as f32;
     let mask = labels
         .filter(|_| settings.labels.surfaces())
-        .map(|l| surfaces::SurfaceMasks::new(l, settings.label_smoothing as f32));
+        .map(|l| surfaces::SurfaceMasks::new(l, smoothing, factor.max(1)));
     let caster = Caster {
         volume,
         tf,

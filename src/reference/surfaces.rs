@@ -10,7 +10,7 @@ use super::modes::{Labelled, RayInput};
 use super::shade::phong;
 use super::trilinear::corners;
 use crate::labels::classes::{self, Classes};
-use crate::labels::surface::smoothed_mask;
+use crate::labels::surface::{occupancy, smoothed_mask, smoothed_occupancy};
 
 /// Where the mask crosses the surface.
 const LEVEL: f64 = 0.5;
@@ -24,21 +24,53 @@ const REFINE: usize = 5;
 pub struct SurfaceMasks {
     classes: Classes,
     channels: Vec<Vec<u8>>,
+    /// The labels' grid reduced this many times on each axis to the masks' (1: the same grid).
+    factor: u32,
+    /// The masks' grid.
+    dims: [u32; 3],
 }
 
 impl SurfaceMasks {
-    /// The masks of `labels` as shown by their table, smoothed by `sigma` voxels.
-    pub(super) fn new(labels: &Labelled<'_>, sigma: f32) -> Self {
+    /// The masks of `labels` as shown by their table, smoothed by `sigma` voxels, on the
+    /// labels' grid (`factor` 1) or, as the GPU makes them for labels in bricks past one
+    /// texture, on it reduced `factor`-fold from each class's occupancy.
+    pub(super) fn new(labels: &Labelled<'_>, sigma: f32, factor: u32) -> Self {
         let shown: Vec<bool> = labels.table.iter().map(|c| c[3] > 0).collect();
         let classes = classes::classes(&shown, &classes::neighbours(labels.map));
+        let full = labels.map.dims();
+        let used = classes.used.max(1);
+        if factor > 1 {
+            let dims = full.map(|d| d.div_ceil(factor));
+            let codes: Vec<u8> = (classes.class.iter())
+                .map(|c| c.map_or(0, |c| c + 1))
+                .collect();
+            let all = occupancy(labels.map, &codes, (factor, used as u32), ([0; 3], dims));
+            let channels = (0..used)
+                .map(|c| {
+                    let one: Vec<u8> = all.iter().skip(c).step_by(used).copied().collect();
+                    smoothed_occupancy(dims, &one, sigma)
+                })
+                .collect();
+            return Self {
+                classes,
+                channels,
+                factor,
+                dims,
+            };
+        }
         let bits = labels.map.shown_classes(labels.table, &classes.class);
-        let channels = (0..classes.used.max(1))
+        let channels = (0..used)
             .map(|c| {
                 let inside: Vec<bool> = bits.iter().map(|b| b >> c & 1 == 1).collect();
-                smoothed_mask(labels.map.dims(), &inside, sigma)
+                smoothed_mask(full, &inside, sigma)
             })
             .collect();
-        Self { classes, channels }
+        Self {
+            classes,
+            channels,
+            factor: 1,
+            dims: full,
+        }
     }
 
     fn class_of(&self, value: u16) -> Option<u8> {
@@ -167,27 +199,63 @@ fn enter(
     (th, surface)
 }
 
-fn mask_value(ray: &RayInput, mask: &[u8], p: DVec3) -> f64 {
+fn mask_value(ray: &RayInput, masks: &SurfaceMasks, mask: &[u8], p: DVec3) -> f64 {
     let v = ray.volume;
-    corners(v, p, |i, j, k| {
-        Some(DVec3::splat(f64::from(mask[v.index(i, j, k)]) / 255.0))
-    })
-    .0
-    .x
+    if masks.factor == 1 {
+        return corners(v, p, |i, j, k| {
+            Some(DVec3::splat(f64::from(mask[v.index(i, j, k)]) / 255.0))
+        })
+        .0
+        .x;
+    }
+    // On the reduced grid: reduced voxel j's centre lies at fine voxel k·j + (k − 1) / 2, the
+    // texture clamped to its edge voxels.
+    let (k, dims, spacing) = (f64::from(masks.factor), masks.dims, v.spacing_mm());
+    let (mut lo, mut hi, mut frac) = ([0usize; 3], [0usize; 3], [0.0; 3]);
+    for a in 0..3 {
+        let u = ((p[a] / spacing[a] + 0.5) / k - 0.5).clamp(0.0, f64::from(dims[a] - 1));
+        let base = u.floor();
+        lo[a] = base as usize;
+        hi[a] = (lo[a] + 1).min(dims[a] as usize - 1);
+        frac[a] = u - base;
+    }
+    let mut sum = 0.0;
+    for corner in 0..8u32 {
+        let mut w = 1.0;
+        let mut i = [0usize; 3];
+        for a in 0..3 {
+            let pick = corner >> a & 1 == 1;
+            w *= if pick { frac[a] } else { 1.0 - frac[a] };
+            i[a] = if pick { hi[a] } else { lo[a] };
+        }
+        let at = i[0] + dims[0] as usize * (i[1] + dims[1] as usize * i[2]);
+        sum += w * f64::from(mask[at]) / 255.0;
+    }
+    sum
 }
 
 fn mask_at(ray: &RayInput, mask: &[u8], t: f64) -> f64 {
-    mask_value(ray, mask, ray.entry + ray.dir * t)
+    let masks = ray
+        .surface_mask
+        .expect("a ray through surfaces has their masks");
+    mask_value(ray, masks, mask, ray.entry + ray.dir * t)
 }
 
-/// The mask's gradient per mm, by central differences one voxel apart.
+/// The mask's gradient per mm, by central differences one voxel of the masks' grid apart.
 fn gradient(ray: &RayInput, mask: &[u8], p: DVec3) -> DVec3 {
-    let spacing = DVec3::from_array(ray.volume.spacing_mm());
+    let masks = ray
+        .surface_mask
+        .expect("a ray through surfaces has their masks");
+    let step = DVec3::from_array(ray.volume.spacing_mm()) * f64::from(masks.factor);
     let mut g = DVec3::ZERO;
     for a in 0..3 {
         let mut e = DVec3::ZERO;
-        e[a] = spacing[a];
-        g[a] = 0.5 * (mask_value(ray, mask, p + e) - mask_value(ray, mask, p - e)) / spacing[a];
+        e[a] = step[a];
+        let (f, b) = (
+            mask_value(ray, masks, mask, p + e),
+            mask_value(ray, masks, mask, p - e),
+        );
+        g[a] = 0.5 * (f - b) / step[a];
     }
     g
 }
@@ -231,6 +299,8 @@ fn label_around(
             best = Some((colour, w));
         }
     }
+    // A step of the masks' grid inwards.
+    let step = spacing * f64::from(masks.factor);
     best.map(|(c, _)| c)
-        .or_else(|| in_class(p + g.normalize_or_zero() * spacing))
+        .or_else(|| in_class(p + g.normalize_or_zero() * step))
 }

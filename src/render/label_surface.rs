@@ -221,7 +221,8 @@ impl SurfaceMask {
         let most = MOST_SLAB_BYTES
             .min(ctx.limits.max_storage_buffer_binding_size)
             .min(ctx.limits.max_buffer_size);
-        let side = ctx.limits.max_texture_dimension_3d;
+        let limit = ctx.limits.max_texture_dimension_3d;
+        let side = labels.surface_side().map_or(limit, |s| s.min(limit));
         Self::with_slabs_of(ctx, labels, channels, (most, side))
     }
 

@@ -58,6 +58,9 @@ pub struct GpuLabels {
     pub(crate) cell_labels: wgpu::Buffer,
     /// One bit per label value: shown.
     pub(crate) shown_bits: wgpu::Buffer,
+    /// The most voxels an axis of the surfaces' grid may have where they travel in bricks, if
+    /// less than the GPU's 3D textures ([`LabelPlacement::BricksWithin`]).
+    surface_side: Option<u32>,
     /// Each label's box of voxels (to the cell): what a toggle of it can change.
     boxes: std::collections::BTreeMap<u16, VoxelBox>,
     /// Bumped by every [`GpuLabels::show`] that changes which labels are shown: what depends on
@@ -82,6 +85,9 @@ pub enum LabelPlacement {
     Auto,
     /// In the volume's bricks whatever the grid (the tests compare the two).
     Bricks,
+    /// In the volume's bricks, their surfaces found on a grid of at most this many voxels an
+    /// axis (the tests force the reduction a grid past the GPU's textures takes).
+    BricksWithin(u32),
 }
 
 /// Why labels could not go to the GPU.
@@ -146,6 +152,10 @@ impl GpuLabels {
             layers: layers.len().max(1) as u32,
             dims,
             boxes: cells.boxes(dims),
+            surface_side: match placement {
+                LabelPlacement::BricksWithin(side) => Some(side.max(1)),
+                _ => None,
+            },
             cells: cells.cells,
             cell_offsets: storage("label cell offsets", &cells.offsets),
             cell_labels: storage("label cell labels", &cells.labels),
@@ -254,6 +264,11 @@ impl GpuLabels {
             let pairs = classes::neighbours(&self.map);
             (pairs, started.elapsed().as_secs_f64() * 1e3)
         })
+    }
+
+    /// The most voxels an axis of the surfaces' grid may have, if less than the GPU's textures.
+    pub(crate) fn surface_side(&self) -> Option<u32> {
+        self.surface_side
     }
 
     /// The box of voxels (to the cell) label `value` lies in; `None` where no voxel holds it.
