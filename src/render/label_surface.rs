@@ -711,6 +711,26 @@ mod tests {
             .collect()
     }
 
+    /// Records and submits `mask`'s build for `labels` in `classes` at `sigma` (it must record
+    /// one, without a validation error), and reads the mask back.
+    fn build_and_read(
+        ctx: &GpuContext,
+        pipelines: &SurfacePipelines,
+        mask: &mut SurfaceMask,
+        (labels, classes): (&GpuLabels, &Classes),
+        sigma: f32,
+    ) -> Vec<u8> {
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        let built = mask.build(ctx, pipelines, (labels, classes), sigma, &mut encoder, None);
+        assert!(built);
+        ctx.queue.submit([encoder.finish()]);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            panic!("{e}");
+        }
+        read_mask(ctx, mask)
+    }
+
     /// Each channel of the GPU's mask equals its CPU twin (the indicator of that class's shown
     /// labels, smoothed) to one step of 1/255 (their sums may round apart where the GPU fuses a
     /// multiply and an add), in a grid cut into several slabs per pass, for 1, 2 and 4 channels.
@@ -755,22 +775,7 @@ mod tests {
             assert_eq!(mask.passes.len(), 3 + 3 + 4);
             let bits = map.shown_classes(&table, &classes.class);
             for sigma in [0.0, 0.7, 1.5] {
-                let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-                let mut encoder = ctx.device.create_command_encoder(&Default::default());
-                let built = mask.build(
-                    &ctx,
-                    &pipelines,
-                    (&labels, &classes),
-                    sigma,
-                    &mut encoder,
-                    None,
-                );
-                assert!(built);
-                ctx.queue.submit([encoder.finish()]);
-                if let Some(e) = pollster::block_on(scope.pop()) {
-                    panic!("{e}");
-                }
-                let gpu = read_mask(&ctx, &mask);
+                let gpu = build_and_read(&ctx, &pipelines, &mut mask, (&labels, &classes), sigma);
                 for c in 0..channels as usize {
                     let shown: Vec<bool> = bits.iter().map(|b| b >> c & 1 == 1).collect();
                     let cpu = smoothed_mask(dims, &shown, sigma);
@@ -828,21 +833,7 @@ mod tests {
             table
         };
         let build = |mask: &mut SurfaceMask, classes: &Classes| {
-            let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let mut encoder = ctx.device.create_command_encoder(&Default::default());
-            assert!(mask.build(
-                &ctx,
-                &pipelines,
-                (&labels, classes),
-                1.5,
-                &mut encoder,
-                None
-            ));
-            ctx.queue.submit([encoder.finish()]);
-            if let Some(e) = pollster::block_on(scope.pop()) {
-                panic!("{e}");
-            }
-            read_mask(&ctx, mask)
+            build_and_read(&ctx, &pipelines, mask, (&labels, classes), 1.5)
         };
         labels.write_table_for_tests(&ctx.queue, &table_without(&[]));
         let classes = labels.classes();
@@ -904,21 +895,7 @@ mod tests {
         assert!(labels.in_bricks());
         let pipelines = SurfacePipelines::new(&ctx.device).unwrap();
         let build = |mask: &mut SurfaceMask, classes: &Classes| {
-            let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let mut encoder = ctx.device.create_command_encoder(&Default::default());
-            assert!(mask.build(
-                &ctx,
-                &pipelines,
-                (&labels, classes),
-                0.7,
-                &mut encoder,
-                None
-            ));
-            ctx.queue.submit([encoder.finish()]);
-            if let Some(e) = pollster::block_on(scope.pop()) {
-                panic!("{e}");
-            }
-            read_mask(&ctx, mask)
+            build_and_read(&ctx, &pipelines, mask, (&labels, classes), 0.7)
         };
         let table = |hidden: u16| {
             let mut table = vec![[0u8; 4]; 1 << 16];

@@ -189,15 +189,8 @@ impl ProbePool {
         first: bool,
         last: bool,
     ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        let probe = &mut self.probes[slot.0];
-        probe.has_rebuild = true;
-        // A pass inside the span writes no timestamp (wgpu refuses a pass that writes neither).
-        let q = probe.queries.as_ref().filter(|_| first || last)?;
-        Some(wgpu::ComputePassTimestampWrites {
-            query_set: q,
-            beginning_of_pass_write_index: first.then_some(2),
-            end_of_pass_write_index: last.then_some(3),
-        })
+        self.probes[slot.0].has_rebuild = true;
+        self.span_timestamps(slot, 1, (first, last))
     }
 
     /// Timestamp writes for the label mask build's compute passes: `first` writes its start,
@@ -208,13 +201,27 @@ impl ProbePool {
         first: bool,
         last: bool,
     ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        let probe = &mut self.probes[slot.0];
-        probe.has_mask = true;
-        let q = probe.queries.as_ref().filter(|_| first || last)?;
+        self.probes[slot.0].has_mask = true;
+        self.span_timestamps(slot, 2, (first, last))
+    }
+
+    /// The writes of timestamp pair `pair` (1: the rebuild's, 2: the mask's) for a pass that
+    /// begins the span (`first`) or ends it (`last`).
+    fn span_timestamps(
+        &self,
+        slot: &ProbeSlot,
+        pair: u32,
+        (first, last): (bool, bool),
+    ) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        // A pass inside the span writes no timestamp (wgpu refuses a pass that writes neither).
+        let q = self.probes[slot.0]
+            .queries
+            .as_ref()
+            .filter(|_| first || last)?;
         Some(wgpu::ComputePassTimestampWrites {
             query_set: q,
-            beginning_of_pass_write_index: first.then_some(4),
-            end_of_pass_write_index: last.then_some(5),
+            beginning_of_pass_write_index: first.then_some(2 * pair),
+            end_of_pass_write_index: last.then_some(2 * pair + 1),
         })
     }
 

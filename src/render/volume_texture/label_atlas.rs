@@ -227,8 +227,33 @@ mod tests {
         (volume, LabelMap::bare(dims, vec![labels]))
     }
 
+    /// Labels 1-5 in colours of their own, every one but 3 shown.
+    fn table() -> Vec<[u8; 4]> {
+        let mut table = vec![[0u8; 4]; 1 << 16];
+        for (v, c) in table.iter_mut().enumerate().take(6).skip(1) {
+            *c = [
+                40 * v as u8,
+                250 - 45 * v as u8,
+                90,
+                if v == 3 { 0 } else { 200 },
+            ];
+        }
+        table
+    }
+
+    /// A perspective camera framing a grid of `dims` (1 mm voxels) obliquely.
+    fn oblique(dims: [u32; 3]) -> Camera {
+        let bounds = Aabb::of_volume(dims, [1.0; 3]);
+        Camera::framing(
+            &bounds,
+            DVec3::new(0.6, -0.7, 0.4).normalize(),
+            DVec3::Z,
+            ProjectionKind::Perspective,
+        )
+    }
+
     /// A bricked renderer of `volume` within `budget`, with `map` placed as `placement` says,
-    /// every label but 3 shown.
+    /// shown by [`table`].
     fn renderer(
         volume: &Volume,
         budget: Option<u64>,
@@ -248,15 +273,7 @@ mod tests {
         let gpu = GpuLabels::placed(&ctx.device, &ctx.queue, Arc::new(map.clone()), placement)
             .expect("labels");
         assert_eq!(gpu.in_bricks(), placement != LabelPlacement::Auto);
-        let mut table = vec![[0u8; 4]; 1 << 16];
-        for (v, c) in table.iter_mut().enumerate().take(6).skip(1) {
-            *c = [
-                40 * v as u8,
-                250 - 45 * v as u8,
-                90,
-                if v == 3 { 0 } else { 200 },
-            ];
-        }
+        let table = table();
         gpu.write_table_for_tests(&ctx.queue, &table);
         r.set_labels(Some(Arc::new(gpu)))
             .expect("labels over the volume");
@@ -305,13 +322,7 @@ mod tests {
     fn labels_in_bricks_draw_as_the_labels_of_their_level_in_one_texture() {
         let (volume, map) = scene();
         let dims = volume.dims();
-        let bounds = Aabb::of_volume(dims, [1.0; 3]);
-        let camera = Camera::framing(
-            &bounds,
-            DVec3::new(0.6, -0.7, 0.4).normalize(),
-            DVec3::Z,
-            ProjectionKind::Perspective,
-        );
+        let camera = oblique(dims);
         let size = [48, 48];
         // Level 1 (2 bricks and the coarsest) fits 8 slots of 34³ 16-bit texels, level 0's 12
         // do not.
@@ -423,23 +434,9 @@ mod tests {
             })
             .collect();
         let map = LabelMap::bare(dims, vec![quarters]);
-        let bounds = Aabb::of_volume(dims, [1.0; 3]);
-        let camera = Camera::framing(
-            &bounds,
-            DVec3::new(0.6, -0.7, 0.4).normalize(),
-            DVec3::Z,
-            ProjectionKind::Perspective,
-        );
+        let camera = oblique(dims);
         let size = [48, 48];
-        let mut table = vec![[0u8; 4]; 1 << 16];
-        for (v, c) in table.iter_mut().enumerate().take(6).skip(1) {
-            *c = [
-                40 * v as u8,
-                250 - 45 * v as u8,
-                90,
-                if v == 3 { 0 } else { 200 },
-            ];
-        }
+        let table = table();
         let surfaces = RenderSettings {
             labels: LabelView::Surfaces,
             step_vox: 0.5,
