@@ -6,6 +6,9 @@
 #include "shared/classify.wgsl"
 #ifdef SHADING
 #include "shared/shade.wgsl"
+#ifdef SHADOWS
+#include "shared/shadow.wgsl"
+#endif
 #endif
 #ifdef LABEL_SURFACES
 #include "shared/label_surface.wgsl"
@@ -220,8 +223,17 @@ fn isosurface(acc: Acc, ray: Ray) -> vec4<f32> {
         color = sample_colour(acc.hit_p);
     }
     color = labelled_colour(color, acc.hit_p);
+#ifdef SHADOWS
+    // Nothing lies in front of the first crossing: a headlight reaches it whole.
+    var light = 1.0;
+    if frame.headlight == 0u {
+        light = light_transmittance(acc.hit_p, acc);
+    }
+    color = phong_shadowed(color, gradient(acc.hit_p), ray.dir_world, light);
+#else
 #ifdef SHADING
     color = phong(color, gradient(acc.hit_p), ray.dir_world);
+#endif
 #endif
     return vec4<f32>(color, 1.0);
 }

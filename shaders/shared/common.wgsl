@@ -96,6 +96,11 @@ struct Frame {
     // grid reduced k-fold, covering k·ceil(N / k) voxels of N).
     surface_scale: vec3<f32>,
     _pad3: u32,
+    // Distance between a shadow ray's samples, and how far it reaches (mm; shared/shadow.wgsl).
+    shadow_step_mm: f32,
+    shadow_reach_mm: f32,
+    _pad4: u32,
+    _pad5: u32,
 }
 
 // One ray inside the volume: entry (box coordinates), direction in box units per mm and in

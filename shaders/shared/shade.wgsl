@@ -33,9 +33,17 @@ const FLAT_GRADIENT: f32 = 1e-7;
 
 // Lights `color` at a sample with gradient `g`, seen along `view_dir` (unit, world).
 fn phong(color: vec3<f32>, g: vec3<f32>, view_dir: vec3<f32>) -> vec3<f32> {
+    return phong_shadowed(color, g, view_dir, 1.0);
+}
+
+// `phong` where a share `light` (0…1) of the light reaches the sample: the diffuse and specular
+// terms scaled by it, the ambient not; a flat gradient's colour scaled from full (light 1) to
+// its ambient share Ka / (Ka + Kd) (light 0).
+fn phong_shadowed(color: vec3<f32>, g: vec3<f32>, view_dir: vec3<f32>, light: f32) -> vec3<f32> {
     let len = length(g);
     if !(len > FLAT_GRADIENT) {
-        return color;
+        let lit = frame.phong_ambient + frame.phong_diffuse;
+        return select(color, color * (frame.phong_ambient + frame.phong_diffuse * light) / lit, light < 1.0 && lit > 0.0);
     }
     let to_eye = -view_dir;
     var n = -g / len;
@@ -44,5 +52,5 @@ fn phong(color: vec3<f32>, g: vec3<f32>, view_dir: vec3<f32>) -> vec3<f32> {
     let diffuse = max(dot(n, to_light), 0.0);
     let r = reflect(-to_light, n);
     let specular = pow(max(dot(r, to_eye), 0.0), frame.phong_shininess);
-    return color * (frame.phong_ambient + frame.phong_diffuse * diffuse) + vec3<f32>(frame.phong_specular * specular);
+    return color * (frame.phong_ambient + frame.phong_diffuse * diffuse * light) + vec3<f32>(frame.phong_specular * specular * light);
 }

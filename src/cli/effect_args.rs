@@ -35,6 +35,18 @@ pub struct EffectArgs {
     /// Gradient estimator for lighting (default: central).
     #[arg(long, value_enum, help_heading = "Lighting", hide_short_help = true)]
     pub gradient: Option<GradientScheme>,
+    /// Shadows in lit DVR: each lit sample shadowed by the opacity between it and the light
+    /// (a directional light by a shadow ray that leaps empty space; the headlight by what lies
+    /// in front of the sample) (default: off).
+    #[arg(long, value_enum, help_heading = "Lighting")]
+    pub shadows: Option<Switch>,
+    /// Distance between a shadow ray's samples in voxels, 1/8 to 4 (default 1).
+    #[arg(long, help_heading = "Lighting", hide_short_help = true)]
+    pub shadow_step: Option<f64>,
+    /// How far a shadow ray reaches, as a share of the volume's diagonal in (0, 1] (default 1:
+    /// all the way; less keeps shadows local).
+    #[arg(long, help_heading = "Lighting", hide_short_help = true)]
+    pub shadow_reach: Option<f64>,
     /// DVR: composite samples whose weight in the pixel, α·(1 − opacity in front), is below this
     /// unlit, skipping their gradients (default 0: light every sample).
     #[arg(long, help_heading = "Lighting", hide_short_help = true)]
@@ -67,9 +79,23 @@ impl EffectArgs {
         settings.phong = self.phong.unwrap_or(settings.phong);
         settings.gradient = self.gradient.unwrap_or(settings.gradient);
         settings.light_min_weight = self.light_min_weight.unwrap_or(settings.light_min_weight);
+        if let Some(on) = self.shadows {
+            settings.shadows.on = on == Switch::On;
+        }
+        settings.shadows.step_vox = self.shadow_step.unwrap_or(settings.shadows.step_vox);
+        settings.shadows.reach = self.shadow_reach.unwrap_or(settings.shadows.reach);
         settings.mip_color = self.mip_color.unwrap_or(settings.mip_color);
         settings.xray_density_per_mm = self.xray_density.unwrap_or(settings.xray_density_per_mm);
     }
+}
+
+/// A feature on or off.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Switch {
+    /// On.
+    On,
+    /// Off.
+    Off,
 }
 
 fn parse_light(s: &str) -> Result<Light, String> {

@@ -157,6 +157,7 @@ impl Caster<'_> {
                     labels: self.labels,
                     surface_mask: self.surface_mask,
                     settings: self.settings,
+                    bounds: self.bounds,
                     entry: origin + dir * entry,
                     dir,
                     length_mm: t1 - entry,

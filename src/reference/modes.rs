@@ -3,13 +3,14 @@
 
 use glam::DVec3;
 
+use crate::camera::Aabb;
 use crate::labels::LabelMap;
 use crate::sampling::{SampleGrid, corrected_opacity};
-use crate::settings::{MipColor, Mode, RenderSettings, Shading, Strategy};
+use crate::settings::{Light, MipColor, Mode, RenderSettings, Shading, Strategy};
 use crate::transfer::{TransferFunction, preintegration};
 use crate::volume::{ValueRange, Volume};
 
-use super::shade::{gradient, phong};
+use super::shade::{gradient, phong_shadowed};
 use super::surfaces::{Surface, SurfaceWalk};
 use super::trilinear::{sample_colour, sample_trilinear};
 use crate::counters::FrameCounters;
@@ -67,6 +68,8 @@ pub struct RayInput<'a> {
     pub surface_mask: Option<&'a super::surfaces::SurfaceMasks>,
     /// The settings.
     pub settings: &'a RenderSettings,
+    /// The crop box in world millimetres: where rays, shadow rays too, end.
+    pub bounds: Aabb,
     /// Entry point, world millimetres.
     pub entry: DVec3,
     /// Unit direction, world.
@@ -99,11 +102,13 @@ impl RayInput<'_> {
     /// Whether the image is shown at distance `t`: everywhere, or where the labels cut the rest
     /// away, only inside a shown label (shaders/shared/labels.wgsl).
     fn shown(&self, t: f64) -> bool {
+        self.shown_at(self.entry + self.dir * t)
+    }
+
+    /// [`Self::shown`] at world position `p`.
+    fn shown_at(&self, p: DVec3) -> bool {
         match self.labels {
-            Some(l) if self.settings.labels.cuts() => l
-                .shown_at(self.volume, self.entry + self.dir * t)
-                .next()
-                .is_some(),
+            Some(l) if self.settings.labels.cuts() => l.shown_at(self.volume, p).next().is_some(),
             _ => true,
         }
     }
@@ -129,7 +134,9 @@ impl RayInput<'_> {
         }
     }
 
-    fn lit(&self, color: DVec3, t: f64) -> DVec3 {
+    /// `color` lit at distance `t` (where the settings light the mode), a share `light` of the
+    /// light reaching it.
+    fn lit_shadowed(&self, color: DVec3, t: f64, light: f64) -> DVec3 {
         let shading = self.settings.mode.can_shade() && self.settings.shading == Shading::Phong;
         if !shading {
             return color;
@@ -139,24 +146,76 @@ impl RayInput<'_> {
             self.entry + self.dir * t,
             self.settings.gradient,
         );
-        phong(
+        phong_shadowed(
             color,
             g,
             self.dir,
-            &self.settings.phong,
-            &self.settings.light,
+            (&self.settings.phong, &self.settings.light),
+            light,
         )
     }
 
-    /// DVR's colour of a sample of weight `weight` in the pixel: lit, or below the settings'
-    /// lighting threshold as if it faced the light, without highlight (the GPU's rule).
-    fn lit_if_seen(&self, color: DVec3, t: f64, weight: f64) -> DVec3 {
+    /// DVR's colour of a sample of opacity `a` behind opacity `front`: lit (shadowed where the
+    /// settings say), or where its weight in the pixel `a · (1 − front)` is below the settings'
+    /// lighting threshold as if it faced the light, without highlight or shadow (the GPU's rule).
+    fn lit_if_seen(&self, color: DVec3, t: f64, front: f64, a: f64) -> DVec3 {
         let shading = self.settings.mode.can_shade() && self.settings.shading == Shading::Phong;
-        if shading && weight < self.settings.light_min_weight {
+        if shading && (1.0 - front) * a < self.settings.light_min_weight {
             let p = &self.settings.phong;
             return color * (p.ambient + p.diffuse);
         }
-        self.lit(color, t)
+        self.lit_shadowed(color, t, self.shadow_transmittance(t, front))
+    }
+
+    /// The share of the light reaching the sample at distance `t` behind opacity `front` where
+    /// DVR or the isosurface is lit and shadowed (shaders/shared/shadow.wgsl): a headlight's
+    /// `1 − front`; a directional light's through the transfer function's opacity at samples
+    /// every shadow step from the sample towards the light (the first one step away) up to the
+    /// crop box or the reach, each sample's opacity corrected to the shadow step (rays that stop
+    /// early call it gone below 1/255); for the isosurface 0 where a sample reaches the iso
+    /// value, else 1.
+    fn shadow_transmittance(&self, t: f64, front: f64) -> f64 {
+        let s = self.settings;
+        if !(s.shadows.on && s.mode.can_shade() && s.shading == Shading::Phong) {
+            return 1.0;
+        }
+        let to_light = match s.light {
+            Light::Headlight => return 1.0 - front,
+            Light::Direction(d) => -DVec3::from_array(d).normalize_or(DVec3::NEG_Z),
+        };
+        let p = self.entry + self.dir * t;
+        let Some((_, exit)) = self.bounds.intersect(p, to_light) else {
+            return 1.0;
+        };
+        let whole = Aabb::of_volume(self.volume.dims(), self.volume.spacing_mm());
+        let length_mm = exit.min(s.shadows.reach * whole.size().length());
+        let d0 = self.volume.min_spacing_mm();
+        let h = s.shadows.step_vox * d0;
+        let per_step = h / (s.step_vox * d0);
+        let range = self.range();
+        let iso = (s.mode == Mode::Iso).then(|| s.iso.threshold(range));
+        let mut light = 1.0;
+        for j in 1u64.. {
+            let t = j as f64 * h;
+            if t >= length_mm {
+                break;
+            }
+            let q = p + to_light * t;
+            if let Some(v) = sample_trilinear(self.volume, q).filter(|_| self.shown_at(q)) {
+                if let Some(iso) = iso {
+                    if range.normalize(v) >= iso {
+                        return 0.0;
+                    }
+                    continue;
+                }
+                let a = self.tf.opacity_at(v, range);
+                light *= 1.0 - corrected_opacity(a, s.opacity_step_vox(), per_step);
+            }
+            if stops_early(self) && light < SHADOW_GONE {
+                return 0.0;
+            }
+        }
+        light
     }
 
     fn tf_color(&self, normalized: f64) -> DVec3 {
@@ -184,6 +243,9 @@ pub fn cast(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
         Mode::Xray | Mode::XrayAttenuation => Some(xray(ray, counts)),
     }
 }
+
+/// Shadow rays that stop early call the light gone below this (one 8-bit level).
+const SHADOW_GONE: f64 = 1.0 / 255.0;
 
 fn stops_early(ray: &RayInput) -> bool {
     ray.settings.strategy != Strategy::Rc
@@ -228,7 +290,7 @@ fn dvr(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
         counts.visible_samples += 1;
         let own = sample_colour(ray.volume, ray.entry + ray.dir * s.t_mm);
         let own = own.unwrap_or_else(|| DVec3::from_array(ray.tf.color_at(value, range)));
-        let c = ray.lit_if_seen(ray.labelled_colour(own, s.t_mm), s.t_mm, (1.0 - alpha) * a);
+        let c = ray.lit_if_seen(ray.labelled_colour(own, s.t_mm), s.t_mm, alpha, a);
         color += (1.0 - alpha) * a * c;
         alpha += (1.0 - alpha) * a;
         if stops_early(ray) && alpha > ray.settings.termination_alpha {
@@ -275,7 +337,7 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
         let c = sample_colour(ray.volume, ray.entry + ray.dir * s.t_mm).unwrap_or(c);
         let c = ray.labelled_colour(c, s.t_mm);
         counts.visible_samples += 1;
-        let c = ray.lit_if_seen(c, s.t_mm, (1.0 - alpha) * a);
+        let c = ray.lit_if_seen(c, s.t_mm, alpha, a);
         color += (1.0 - alpha) * a * c;
         alpha += (1.0 - alpha) * a;
         if stops_early(ray) && alpha > ray.settings.termination_alpha {
@@ -289,7 +351,7 @@ fn dvr_preintegrated(ray: &RayInput, counts: &mut FrameCounters) -> DVec3 {
         let c = sample_colour(ray.volume, ray.entry + ray.dir * ray.length_mm).unwrap_or(c);
         let c = ray.labelled_colour(c, ray.length_mm);
         if a > 0.0 {
-            color += (1.0 - alpha) * a * ray.lit_if_seen(c, ray.length_mm, (1.0 - alpha) * a);
+            color += (1.0 - alpha) * a * ray.lit_if_seen(c, ray.length_mm, alpha, a);
             alpha += (1.0 - alpha) * a;
         }
     }
@@ -356,7 +418,12 @@ fn iso_crossing(
     counts.visible_samples += 1;
     let colour =
         sample_colour(ray.volume, ray.entry + ray.dir * hit).unwrap_or_else(|| ray.tf_color(iso));
-    Some((hit, ray.lit(ray.labelled_colour(colour, hit), hit)))
+    // Nothing lies in front of the first crossing: a headlight reaches it whole.
+    let light = ray.shadow_transmittance(hit, 0.0);
+    Some((
+        hit,
+        ray.lit_shadowed(ray.labelled_colour(colour, hit), hit, light),
+    ))
 }
 
 fn extreme(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {

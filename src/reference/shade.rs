@@ -47,8 +47,25 @@ pub fn gradient(volume: &Volume, p: DVec3, scheme: GradientScheme) -> DVec3 {
 
 /// Lights `color` at a sample with gradient `g`, seen along the unit `view_dir`.
 pub fn phong(color: DVec3, g: DVec3, view_dir: DVec3, phong: &Phong, light: &Light) -> DVec3 {
+    phong_shadowed(color, g, view_dir, (phong, light), 1.0)
+}
+
+/// [`phong`] where a share `reaching` (0…1) of the light reaches the sample: the diffuse and
+/// specular terms scaled by it, the ambient not; a flat gradient's colour scaled from full
+/// (1) to its ambient share Ka / (Ka + Kd) (0), as shaders/shared/shade.wgsl does.
+pub fn phong_shadowed(
+    color: DVec3,
+    g: DVec3,
+    view_dir: DVec3,
+    (phong, light): (&Phong, &Light),
+    reaching: f64,
+) -> DVec3 {
     let len = g.length();
     if len.is_nan() || len <= FLAT_GRADIENT {
+        let lit = phong.ambient + phong.diffuse;
+        if reaching < 1.0 && lit > 0.0 {
+            return color * (phong.ambient + phong.diffuse * reaching) / lit;
+        }
         return color;
     }
     let to_eye = -view_dir;
@@ -63,7 +80,8 @@ pub fn phong(color: DVec3, g: DVec3, view_dir: DVec3, phong: &Phong, light: &Lig
     let diffuse = n.dot(to_light).max(0.0);
     let r = 2.0 * n.dot(to_light) * n - to_light;
     let specular = r.dot(to_eye).max(0.0).powf(phong.shininess);
-    color * (phong.ambient + phong.diffuse * diffuse) + DVec3::splat(phong.specular * specular)
+    color * (phong.ambient + phong.diffuse * diffuse * reaching)
+        + DVec3::splat(phong.specular * specular * reaching)
 }
 
 #[cfg(test)]

@@ -202,7 +202,7 @@ pub fn layouts() -> Vec<StructLayout> {
             saturation, xray_density_per_mm, iso_threshold, steps_per_d0, depth_units_per_mm,
             iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight, row_offset,
             row_end, all_finite, colour_volume, label_layers, surface_channels, label_bricks, _pad2,
-            surface_scale, _pad3,
+            surface_scale, _pad3, shadow_step_mm, shadow_reach_mm, _pad4, _pad5,
         }),
         layout!(VolumeGeometry = "VolumeGeometry" in "shared/volume_geometry.wgsl" {
             dims, brick_vox, texel_size, _pad0, bricks_per_box, _pad1, last_brick, _pad2,
@@ -349,6 +349,14 @@ pub struct FrameUniforms {
     pub surface_scale: [f32; 3],
     /// Padding.
     pub _pad3: u32,
+    /// Distance between a shadow ray's samples, mm (shaders/shared/shadow.wgsl).
+    pub shadow_step_mm: f32,
+    /// How far a shadow ray reaches, mm.
+    pub shadow_reach_mm: f32,
+    /// Padding.
+    pub _pad4: u32,
+    /// Padding.
+    pub _pad5: u32,
 }
 
 /// Where the shaders find a voxel of the volume (`VolumeGeometry`, shaders/shared/volume.wgsl):

@@ -29,6 +29,7 @@ const MODULES: &[(&str, &str)] = modules![
     "shared/label_texel.wgsl",
     "shared/stats.wgsl",
     "shared/shade.wgsl",
+    "shared/shadow.wgsl",
     "shared/preintegrate.wgsl",
     "march/march.wgsl",
     "march/plain.wgsl",

@@ -64,6 +64,35 @@ pub enum Light {
     Direction([f64; 3]),
 }
 
+/// Shadows: the light reaching a lit sample through the transfer function's opacity between it
+/// and the light (DVR), by a secondary ray that leaps over empty space as the primary does.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Shadows {
+    /// Whether lit samples are shadowed.
+    pub on: bool,
+    /// Distance between a shadow ray's samples, in units of the smallest voxel spacing `d0`
+    /// (within [`SHADOW_STEP_RANGE`]).
+    pub step_vox: f64,
+    /// How far a shadow ray reaches, as a share of the bounding box's diagonal (0 < reach ≤ 1):
+    /// 1 lets every voxel between a sample and the light shadow it, less keeps shadows local.
+    pub reach: f64,
+}
+
+/// Smallest and largest shadow step (voxels) accepted: ⅛ to 4, the range the shadows are tested
+/// over.
+pub const SHADOW_STEP_RANGE: (f64, f64) = (0.125, 4.0);
+
+impl Default for Shadows {
+    fn default() -> Self {
+        Self {
+            on: false,
+            step_vox: 1.0,
+            reach: 1.0,
+        }
+    }
+}
+
 /// How MIP and MinIP turn the extreme value into a colour.
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,

@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 pub use crop::{CropBox, CropError};
 pub use effects::{
     GradientScheme, IsoSettings, LabelView, Light, MAX_ISO_REFINEMENT, MipColor, Phong, Shading,
+    Shadows,
 };
 pub use precision::TexturePrecision;
 pub use quality::QualityPreset;
@@ -222,6 +223,8 @@ pub struct RenderSettings {
     pub light: Light,
     /// Gradient estimator for lighting.
     pub gradient: GradientScheme,
+    /// Shadows cast towards the light (lit DVR).
+    pub shadows: Shadows,
     /// DVR: a sample whose weight in the pixel, `α·(1 − A)` with `A` the opacity gathered in
     /// front of it, is below this is composited unlit (as if facing the light, without
     /// highlight), so its gradient and lighting are never computed; 0 lights every sample.
@@ -262,6 +265,7 @@ impl Default for RenderSettings {
             phong: Phong::default(),
             light: Light::Headlight,
             gradient: GradientScheme::Central,
+            shadows: Shadows::default(),
             light_min_weight: 0.0,
             iso: IsoSettings::default(),
             window: None,
@@ -347,6 +351,13 @@ impl RenderSettings {
         {
             return Err(SettingsError::Light(d));
         }
+        let (lo, hi) = effects::SHADOW_STEP_RANGE;
+        if !(lo..=hi).contains(&self.shadows.step_vox) {
+            return Err(SettingsError::ShadowStep(self.shadows.step_vox));
+        }
+        if !(self.shadows.reach > 0.0 && self.shadows.reach <= 1.0) {
+            return Err(SettingsError::ShadowReach(self.shadows.reach));
+        }
         if let Some(v) = self.iso.value.filter(|v| !v.is_finite()) {
             return Err(SettingsError::IsoValue(v));
         }
@@ -401,6 +412,12 @@ pub enum SettingsError {
     /// A zero or non-finite light direction.
     #[error("the light direction must be a non-zero vector, got {0:?}")]
     Light([f64; 3]),
+    /// A shadow step outside [`effects::SHADOW_STEP_RANGE`].
+    #[error("the shadow step must be from 1/8 to 4 voxels, got {0}")]
+    ShadowStep(f64),
+    /// A shadow reach outside (0, 1].
+    #[error("the shadow reach must be a share of the box's diagonal in (0, 1], got {0}")]
+    ShadowReach(f64),
     /// An iso value that is not a finite number.
     #[error("the iso value must be a finite number, got {0}")]
     IsoValue(f64),

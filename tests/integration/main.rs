@@ -41,6 +41,7 @@ mod reference_match;
 mod refine;
 mod remote;
 mod shaders;
+mod shadows;
 mod slice;
 mod slice_real;
 mod strategies;

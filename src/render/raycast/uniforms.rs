@@ -150,6 +150,10 @@ pub(crate) fn frame_uniforms(
         _pad2: 0,
         surface_scale: [1.0; 3],
         _pad3: 0,
+        shadow_step_mm: (settings.shadows.step_vox * d0) as f32,
+        shadow_reach_mm: (settings.shadows.reach * bounds.size().length()) as f32,
+        _pad4: 0,
+        _pad5: 0,
     }
 }
 

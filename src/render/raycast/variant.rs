@@ -27,6 +27,9 @@ pub struct PipelineKey {
     pub mip_color: MipColor,
     /// Pre-integrated classification (DVR only).
     pub preintegrated: bool,
+    /// Shadows towards the light (`SHADOWS`, shaders/shared/shadow.wgsl): lit DVR and
+    /// isosurfaces only.
+    pub shadows: bool,
     /// Whether each ray is split into `RAY_PARTS` parts marched by as many invocations
     /// ([`PipelineKey::new`] says when).
     pub split: bool,
@@ -119,6 +122,8 @@ impl PipelineKey {
         // Whether DVR lights a sample by its weight in the pixel, α·(1 − A): a part of a split
         // ray would not know A in front of it.
         let lit_by_weight = shading == Shading::Phong && settings.light_min_weight > 0.0;
+        // A headlight's shadow is the opacity in front of the sample: a part does not know it.
+        let shadows = shading == Shading::Phong && settings.shadows.on;
         Self {
             mode: settings.mode,
             // `auto` is resolved before a frame; one that was not renders as it does untimed.
@@ -137,9 +142,11 @@ impl PipelineKey {
                 MipColor::Window
             },
             preintegrated: settings.preintegrated && settings.mode == Mode::Dvr,
+            shadows,
             split: path == ConcretePath::Compute
                 && settings.mode != Mode::MinIp
-                && !(settings.mode == Mode::Dvr && (settings.preintegrated || lit_by_weight))
+                && !(settings.mode == Mode::Dvr
+                    && (settings.preintegrated || lit_by_weight || shadows))
                 && u64::from(size[0]) * u64::from(size[1]) <= SPLIT_MAX_PIXELS,
             missing: false,
             bricked: false,
@@ -185,10 +192,12 @@ impl PipelineKey {
                     for stats in [false, true] {
                         for shading in [Shading::Off, Shading::Phong] {
                             for gradient in [GradientScheme::Central, GradientScheme::FourthOrder] {
-                                for (mip_color, preintegrated) in [
-                                    (MipColor::Window, false),
-                                    (MipColor::Tf, false),
-                                    (MipColor::Window, true),
+                                for (mip_color, preintegrated, on) in [
+                                    (MipColor::Window, false, false),
+                                    (MipColor::Tf, false, false),
+                                    (MipColor::Window, true, false),
+                                    (MipColor::Window, false, true),
+                                    (MipColor::Window, true, true),
                                 ] {
                                     let settings = RenderSettings {
                                         mode,
@@ -197,6 +206,10 @@ impl PipelineKey {
                                         gradient,
                                         mip_color,
                                         preintegrated,
+                                        shadows: crate::settings::Shadows {
+                                            on,
+                                            ..Default::default()
+                                        },
                                         ..RenderSettings::default()
                                     };
                                     if settings.validate().is_err() {
@@ -281,6 +294,9 @@ impl PipelineKey {
         }
         if self.preintegrated {
             defines.push("PREINTEGRATED");
+        }
+        if self.shadows {
+            defines.push("SHADOWS");
         }
         if self.missing {
             defines.push("MISSING_VOXELS");

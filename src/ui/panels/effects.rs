@@ -194,6 +194,7 @@ fn lighting_ui(ui: &mut egui::Ui, state: &mut ViewerState) {
                 ui.end_row();
             }
             light_rows(ui, state);
+            shadow_rows(ui, state);
             ui.label("Light only above");
             ui.add(
                 Slider::new(&mut state.render.light_min_weight, 0.0..=0.05)
@@ -217,6 +218,37 @@ fn lighting_ui(ui: &mut egui::Ui, state: &mut ViewerState) {
             ui.end_row();
         });
     });
+}
+
+/// The shadows' rows of the lighting grid: on or off, the shadow rays' step and reach.
+fn shadow_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
+    let shadows = &mut state.render.shadows;
+    ui.label("Shadows");
+    ui.checkbox(&mut shadows.on, "cast").on_hover_text(
+        "DVR: each lit sample dimmed by the opacity between it and the light (a directional \
+         light by a shadow ray that leaps empty space; the headlight by what lies in front of \
+         the sample). Samples below 'Light only above' are not shadowed.",
+    );
+    ui.end_row();
+    if shadows.on {
+        let (lo, hi) = crate::settings::effects::SHADOW_STEP_RANGE;
+        ui.label("shadow step");
+        ui.add(
+            Slider::new(&mut shadows.step_vox, lo..=hi)
+                .logarithmic(true)
+                .suffix(" vox")
+                .clamping(SliderClamping::Always),
+        )
+        .on_hover_text("Distance between a shadow ray's samples: smaller is finer and slower");
+        ui.end_row();
+        ui.label("shadow reach");
+        ui.add(Slider::new(&mut shadows.reach, 0.02..=1.0).clamping(SliderClamping::Always))
+            .on_hover_text(
+                "How far a shadow ray reaches, as a share of the volume's diagonal: 1 all the \
+                 way, less keeps shadows local (and costs less)",
+            );
+        ui.end_row();
+    }
 }
 
 /// The light's rows of the lighting grid: headlight, or where a directional light comes from.
