@@ -22,6 +22,10 @@ pub struct FrameCounters {
     /// blocks with the distance field, entered; the octree's climb to a coarser empty node
     /// counts as one. What leaping pays for the samples it removes.
     pub lookups: u64,
+    /// Shadow rays marched towards a directional light (one per lit sample with shadows on).
+    pub shadow_rays: u64,
+    /// Samples the shadow rays took (leapt ones not counted).
+    pub shadow_samples: u64,
 }
 
 impl FrameCounters {
@@ -46,6 +50,8 @@ impl FrameCounters {
         self.leaps += other.leaps;
         self.leapt_samples += other.leapt_samples;
         self.lookups += other.lookups;
+        self.shadow_rays += other.shadow_rays;
+        self.shadow_samples += other.shadow_samples;
     }
 
     /// Share of the grid samples before each ray's end that leaping skipped (0 without

@@ -93,6 +93,26 @@ pub(crate) fn jittered_offset(x: u32, y: u32, sample_offset: f64) -> f64 {
     (pixel_jitter(x, y) + (sample_offset - 0.5)).rem_euclid(1.0)
 }
 
+/// The point of the unit square the shadow rays of pixel `(x, y)` take on the light's disc
+/// in a frame whose light sample is `sample`: two hashes of the pixel (the second of the
+/// mirrored, shifted pixel) rotated by it (mod 1), as `light_point` in
+/// shaders/shared/shadow.wgsl.
+pub(crate) fn pixel_light_point(x: u32, y: u32, sample: [f64; 2]) -> [f64; 2] {
+    let h = [
+        pixel_jitter(x, y),
+        pixel_jitter(y.wrapping_add(1013), x.wrapping_add(4099)),
+    ];
+    std::array::from_fn(|i| (h[i] + (sample[i] - 0.5)).rem_euclid(1.0))
+}
+
+/// The light sample of refinement frame `k`: ½, ½ first, then the R2 sequence (additive
+/// recurrence by the plastic number's powers), whose every prefix covers the square evenly, so
+/// the mean of any number of frames has sampled the light's disc evenly.
+pub fn light_sample(k: u32) -> [f64; 2] {
+    const A: [f64; 2] = [0.754_877_666_246_692_7, 0.569_840_290_998_053_2];
+    A.map(|a| (0.5 + a * f64::from(k)).fract())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

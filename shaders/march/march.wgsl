@@ -93,6 +93,9 @@ fn ray_between(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> Ray {
     var ray: Ray;
     ray.entry = entry;
     ray.offset = sample_offset_of(px);
+#ifdef SHADOWS
+    ray.light_point = light_point(px);
+#endif
     ray.length_mm = length(segment_mm);
     if ray.length_mm > 0.0 {
         ray.box_per_mm = segment / ray.length_mm;

@@ -150,7 +150,7 @@ fn composite(acc: ptr<function, Acc>, ray: Ray, p: vec3<f32>, c_in: vec4<f32>) -
         // A headlight's shadow is what the ray gathered in front of the sample.
         var light = 1.0 - (*acc).color.a;
         if frame.headlight == 0u {
-            light = light_transmittance(p, *acc);
+            light = light_transmittance(p, ray, *acc);
         }
         c = vec4<f32>(phong_shadowed(c.rgb, gradient(p), ray.dir_world, light), c.a);
 #else

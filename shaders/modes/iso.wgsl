@@ -227,7 +227,7 @@ fn isosurface(acc: Acc, ray: Ray) -> vec4<f32> {
     // Nothing lies in front of the first crossing: a headlight reaches it whole.
     var light = 1.0;
     if frame.headlight == 0u {
-        light = light_transmittance(acc.hit_p, acc);
+        light = light_transmittance(acc.hit_p, ray, acc);
     }
     color = phong_shadowed(color, gradient(acc.hit_p), ray.dir_world, light);
 #else

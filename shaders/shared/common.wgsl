@@ -99,8 +99,13 @@ struct Frame {
     // Distance between a shadow ray's samples, and how far it reaches (mm; shared/shadow.wgsl).
     shadow_step_mm: f32,
     shadow_reach_mm: f32,
+    // The tangent of the light's angular radius (0: hard shadows), and the frame's point of the
+    // unit square on its disc, rotated per pixel (shared/shadow.wgsl's light_point).
+    shadow_tan: f32,
     _pad4: u32,
+    shadow_sample: vec2<f32>,
     _pad5: u32,
+    _pad6: u32,
 }
 
 // One ray inside the volume: entry (box coordinates), direction in box units per mm and in
@@ -113,6 +118,10 @@ struct Ray {
     dir_world: vec3<f32>,
     length_mm: f32,
     count: u32,
+#ifdef SHADOWS
+    // The pixel's point of the unit square on the light's disc (shared/shadow.wgsl).
+    light_point: vec2<f32>,
+#endif
 }
 
 // Distance (mm from the entry) of grid sample k of `ray`: t_k = min((k + offset) · step, L), the

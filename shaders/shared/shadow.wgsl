@@ -22,16 +22,39 @@ fn crop_exit_mm(p: vec3<f32>, box_per_mm: vec3<f32>) -> f32 {
     return max(min(t.x, min(t.y, t.z)), 0.0);
 }
 
-// The directional light's transmittance to box position p, for a ray holding `acc` (its leap
-// predicate decides which nodes are empty).
-fn light_transmittance(p: vec3<f32>, acc_in: Acc) -> f32 {
+// The point of the unit square pixel px's shadow rays take on the light's disc: two hashes of
+// the pixel rotated by the frame's sample, as `pixel_light_point` in src/sampling.rs.
+fn light_point(px: vec2<u32>) -> vec2<f32> {
+    let h = vec2<f32>(pixel_jitter(px), pixel_jitter(vec2<u32>(px.y + 1013u, px.x + 4099u)));
+    return fract(h + (frame.shadow_sample - vec2<f32>(0.5)));
+}
+
+// The unit world direction towards the light from a pixel whose point on the light's disc is
+// `u`: the light's own direction, or with a radius (softness) that point of the disc of radius
+// tan(angle) in the plane across it (uniform over the disc's area).
+fn towards_light(u: vec2<f32>) -> vec3<f32> {
+    let l = -frame.light_dir;
+    if frame.shadow_tan <= 0.0 {
+        return l;
+    }
+    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(l.x) > 0.9);
+    let t = normalize(cross(l, helper));
+    let b = cross(l, t);
+    let r = frame.shadow_tan * sqrt(u.x);
+    let phi = 6.283185307 * u.y;
+    return normalize(l + r * (cos(phi) * t + sin(phi) * b));
+}
+
+// The directional light's transmittance to box position p on `ray`, for a ray holding `acc`
+// (its leap predicate decides which nodes are empty).
+fn light_transmittance(p: vec3<f32>, ray: Ray, acc_in: Acc) -> f32 {
     var acc = acc_in;
 #ifdef MODE_ISO
     // The shadow ray leaves the surface on its side below the iso value: a node wholly below
     // holds nothing that blocks the light.
     acc.side = -1.0;
 #endif
-    let box_per_mm = -frame.light_dir / frame.extent_mm;
+    let box_per_mm = towards_light(ray.light_point) / frame.extent_mm;
     let length_mm = min(crop_exit_mm(p, box_per_mm), frame.shadow_reach_mm);
     let h = frame.shadow_step_mm;
     // The table holds the depth of one primary step.
@@ -42,6 +65,8 @@ fn light_transmittance(p: vec3<f32>, acc_in: Acc) -> f32 {
     var until = 0u;
 #endif
     var j = 1u;
+    // Samples taken (counted with STATS only).
+    var taken = 0u;
     loop {
         let t = f32(j) * h;
         if t >= length_mm {
@@ -61,8 +86,12 @@ fn light_transmittance(p: vec3<f32>, acc_in: Acc) -> f32 {
         }
 #endif
         let s = labelled_value(sample_value(q), q);
+#ifdef STATS
+        taken++;
+#endif
 #ifdef MODE_ISO
         if s >= frame.iso_threshold {
+            shadow_tally(taken);
             return 0.0;
         }
 #else
@@ -70,10 +99,23 @@ fn light_transmittance(p: vec3<f32>, acc_in: Acc) -> f32 {
 #endif
 #ifdef EARLY_TERMINATION
         if depth > SHADOW_GONE_DEPTH {
+            shadow_tally(taken);
             return 0.0;
         }
 #endif
         j++;
     }
+    shadow_tally(taken);
     return exp(-depth);
 }
+
+// A shadow ray ended having taken `taken` samples (STATS: the frame's counters; an atomic per
+// shadow ray, the statistics variants only).
+#ifdef STATS
+fn shadow_tally(taken: u32) {
+    count(COUNTER_SHADOW_RAYS, 1u);
+    count(COUNTER_SHADOW_SAMPLES, taken);
+}
+#else
+fn shadow_tally(taken: u32) {}
+#endif

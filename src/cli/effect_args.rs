@@ -47,6 +47,11 @@ pub struct EffectArgs {
     /// all the way; less keeps shadows local).
     #[arg(long, help_heading = "Lighting", hide_short_help = true)]
     pub shadow_reach: Option<f64>,
+    /// The light's angular radius in degrees, 0 to 20, for soft shadows (default 0: hard).
+    /// Each pixel's shadow rays aim at their own point of the light, so `render` refines soft
+    /// shadows over `--refine` frames (16 where not given).
+    #[arg(long, help_heading = "Lighting", hide_short_help = true)]
+    pub shadow_softness: Option<f64>,
     /// DVR: composite samples whose weight in the pixel, α·(1 − opacity in front), is below this
     /// unlit, skipping their gradients (default 0: light every sample).
     #[arg(long, help_heading = "Lighting", hide_short_help = true)]
@@ -84,6 +89,9 @@ impl EffectArgs {
         }
         settings.shadows.step_vox = self.shadow_step.unwrap_or(settings.shadows.step_vox);
         settings.shadows.reach = self.shadow_reach.unwrap_or(settings.shadows.reach);
+        settings.shadows.softness_deg = self
+            .shadow_softness
+            .unwrap_or(settings.shadows.softness_deg);
         settings.mip_color = self.mip_color.unwrap_or(settings.mip_color);
         settings.xray_density_per_mm = self.xray_density.unwrap_or(settings.xray_density_per_mm);
     }

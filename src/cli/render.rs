@@ -27,6 +27,9 @@ fn render_failure(e: RenderError) -> Failure {
     }
 }
 
+/// Frames `render` averages soft shadows over where `--refine` is not given.
+const SOFT_SHADOW_FRAMES: u32 = 16;
+
 /// Reports a refinement's frames on standard error: on one rewritten line at a terminal, else a
 /// line per tenth of the frames.
 fn refine_progress() -> impl FnMut(u32, u32) {
@@ -204,14 +207,24 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
         }
         log::info!("on the GPU: {}", texture.describe());
     }
-    let image = if args.refine > 1 {
+    // Soft shadows are noise in one frame: their mean over frames is the picture.
+    let soft = settings.shadows.on && settings.shadows.softness_deg > 0.0;
+    let frames = if soft && args.refine <= 1 {
+        eprintln!(
+            "leapview: note: soft shadows refined over {SOFT_SHADOW_FRAMES} frames (--refine N to choose)"
+        );
+        SOFT_SHADOW_FRAMES
+    } else {
+        args.refine
+    };
+    let image = if frames > 1 {
         renderer
             .render_refined(
                 &camera,
                 args.size,
                 &settings,
                 RefineRun {
-                    frames: args.refine,
+                    frames,
                     band_end: None,
                     done: Some(&mut refine_progress()),
                 },
@@ -290,6 +303,16 @@ pub fn run(args: RenderArgs, raw: &RawArgs) -> Result<(), Failure> {
             "samples_over_oracle: {:.2} (samples taken / samples with non-zero opacity)",
             c.samples as f64 / c.visible_samples.max(1) as f64
         );
+        if c.shadow_rays > 0 {
+            outln!(
+                out,
+                "shadow rays: {} ({:.2} per ray), their samples: {} ({:.1} per shadow ray)",
+                c.shadow_rays,
+                c.shadow_rays as f64 / c.rays.max(1) as f64,
+                c.shadow_samples,
+                c.shadow_samples as f64 / c.shadow_rays as f64
+            );
+        }
         if submitted.key.strategy.leaps() {
             outln!(
                 out,

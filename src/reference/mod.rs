@@ -158,6 +158,7 @@ impl Caster<'_> {
                     surface_mask: self.surface_mask,
                     settings: self.settings,
                     bounds: self.bounds,
+                    pixel: [x, y],
                     entry: origin + dir * entry,
                     dir,
                     length_mm: t1 - entry,

@@ -5,7 +5,7 @@ use glam::DVec3;
 
 use crate::camera::Aabb;
 use crate::labels::LabelMap;
-use crate::sampling::{SampleGrid, corrected_opacity};
+use crate::sampling::{SampleGrid, corrected_opacity, pixel_light_point};
 use crate::settings::{Light, MipColor, Mode, RenderSettings, Shading, Strategy};
 use crate::transfer::{TransferFunction, preintegration};
 use crate::volume::{ValueRange, Volume};
@@ -70,6 +70,8 @@ pub struct RayInput<'a> {
     pub settings: &'a RenderSettings,
     /// The crop box in world millimetres: where rays, shadow rays too, end.
     pub bounds: Aabb,
+    /// The pixel the ray is cast for (soft shadows take the pixel's point of the light).
+    pub pixel: [u32; 2],
     /// Entry point, world millimetres.
     pub entry: DVec3,
     /// Unit direction, world.
@@ -183,6 +185,12 @@ impl RayInput<'_> {
             Light::Headlight => return 1.0 - front,
             Light::Direction(d) => -DVec3::from_array(d).normalize_or(DVec3::NEG_Z),
         };
+        let [x, y] = self.pixel;
+        let to_light = towards_light(
+            to_light,
+            s.shadows.softness_deg,
+            pixel_light_point(x, y, s.shadows.sample),
+        );
         let p = self.entry + self.dir * t;
         let Some((_, exit)) = self.bounds.intersect(p, to_light) else {
             return 1.0;
@@ -242,6 +250,22 @@ pub fn cast(ray: &RayInput, counts: &mut FrameCounters) -> Option<DVec3> {
         Mode::Mip | Mode::MinIp => extreme(ray, counts),
         Mode::Xray | Mode::XrayAttenuation => Some(xray(ray, counts)),
     }
+}
+
+/// The unit direction towards a light seen in direction `l` (unit) with angular radius
+/// `softness_deg`, at point `u` of the unit square on its disc (uniform over the disc of
+/// radius tan(angle) across `l`), as `towards_light` in shaders/shared/shadow.wgsl.
+fn towards_light(l: DVec3, softness_deg: f64, u: [f64; 2]) -> DVec3 {
+    let tan = softness_deg.to_radians().tan();
+    if tan <= 0.0 {
+        return l;
+    }
+    let helper = if l.x.abs() > 0.9 { DVec3::Y } else { DVec3::X };
+    let t = l.cross(helper).normalize();
+    let b = l.cross(t);
+    let r = tan * u[0].sqrt();
+    let phi = std::f64::consts::TAU * u[1];
+    (l + r * (phi.cos() * t + phi.sin() * b)).normalize()
 }
 
 /// Shadow rays that stop early call the light gone below this (one 8-bit level).

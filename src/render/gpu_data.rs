@@ -47,7 +47,7 @@ pub const MAX_WORKGROUPS_PER_DIMENSION: u32 = 65535;
 /// Number of 64-bit counters in the statistics buffer, in the order of
 /// [`crate::counters::FrameCounters`]'s fields: samples, visible samples, rays, leaps, samples
 /// leapt, lookups (the `COUNTER_*` indices in WGSL).
-pub const COUNTERS: usize = 6;
+pub const COUNTERS: usize = 8;
 
 /// The constants WGSL shares with Rust, as `(name, WGSL type, value)`.
 fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
@@ -87,8 +87,10 @@ fn shared_constants() -> Vec<(&'static str, &'static str, String)> {
         "COUNTER_LEAPS",
         "COUNTER_LEAPT_SAMPLES",
         "COUNTER_LOOKUPS",
+        "COUNTER_SHADOW_RAYS",
+        "COUNTER_SHADOW_SAMPLES",
     ];
-    const { assert!(COUNTERS == 6, "one name per counter") };
+    const { assert!(COUNTERS == 8, "one name per counter") };
     for (index, name) in counters.into_iter().enumerate() {
         constants.push((name, "u32", u(index as u32)));
     }
@@ -202,7 +204,8 @@ pub fn layouts() -> Vec<StructLayout> {
             saturation, xray_density_per_mm, iso_threshold, steps_per_d0, depth_units_per_mm,
             iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight, row_offset,
             row_end, all_finite, colour_volume, label_layers, surface_channels, label_bricks, _pad2,
-            surface_scale, _pad3, shadow_step_mm, shadow_reach_mm, _pad4, _pad5,
+            surface_scale, _pad3, shadow_step_mm, shadow_reach_mm, shadow_tan,
+            _pad4, shadow_sample, _pad5, _pad6,
         }),
         layout!(VolumeGeometry = "VolumeGeometry" in "shared/volume_geometry.wgsl" {
             dims, brick_vox, texel_size, _pad0, bricks_per_box, _pad1, last_brick, _pad2,
@@ -353,10 +356,16 @@ pub struct FrameUniforms {
     pub shadow_step_mm: f32,
     /// How far a shadow ray reaches, mm.
     pub shadow_reach_mm: f32,
+    /// The tangent of the light's angular radius (0: hard shadows).
+    pub shadow_tan: f32,
     /// Padding.
     pub _pad4: u32,
+    /// The frame's point of the unit square on the light's disc, rotated per pixel.
+    pub shadow_sample: [f32; 2],
     /// Padding.
     pub _pad5: u32,
+    /// Padding.
+    pub _pad6: u32,
 }
 
 /// Where the shaders find a voxel of the volume (`VolumeGeometry`, shaders/shared/volume.wgsl):

@@ -318,6 +318,8 @@ impl ProbePool {
                         leaps: ticks(c + 3),
                         leapt_samples: ticks(c + 4),
                         lookups: ticks(c + 5),
+                        shadow_rays: ticks(c + 6),
+                        shadow_samples: ticks(c + 7),
                     });
                     drop(data);
                     probe.readback.unmap();

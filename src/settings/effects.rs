@@ -77,7 +77,18 @@ pub struct Shadows {
     /// How far a shadow ray reaches, as a share of the bounding box's diagonal (0 < reach ≤ 1):
     /// 1 lets every voxel between a sample and the light shadow it, less keeps shadows local.
     pub reach: f64,
+    /// The light's angular radius in degrees (0…[`MOST_SHADOW_SOFTNESS`]): 0 casts hard
+    /// shadows; above, each pixel's shadow rays aim at their own point of the light's disc, so
+    /// one frame shows soft shadows as noise that refinement averages away.
+    pub softness_deg: f64,
+    /// The point of the unit square this frame's shadow rays take on the light's disc, shifted
+    /// per pixel: refinement moves it frame by frame ([`crate::sampling::light_sample`]).
+    #[serde(skip)]
+    pub sample: [f64; 2],
 }
+
+/// The largest angular radius of the light (degrees) accepted.
+pub const MOST_SHADOW_SOFTNESS: f64 = 20.0;
 
 /// Smallest and largest shadow step (voxels) accepted: ⅛ to 4, the range the shadows are tested
 /// over.
@@ -89,6 +100,8 @@ impl Default for Shadows {
             on: false,
             step_vox: 1.0,
             reach: 1.0,
+            softness_deg: 0.0,
+            sample: [0.5; 2],
         }
     }
 }

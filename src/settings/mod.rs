@@ -358,6 +358,12 @@ impl RenderSettings {
         if !(self.shadows.reach > 0.0 && self.shadows.reach <= 1.0) {
             return Err(SettingsError::ShadowReach(self.shadows.reach));
         }
+        if !(0.0..=effects::MOST_SHADOW_SOFTNESS).contains(&self.shadows.softness_deg) {
+            return Err(SettingsError::ShadowSoftness(self.shadows.softness_deg));
+        }
+        if !self.shadows.sample.iter().all(|u| (0.0..1.0).contains(u)) {
+            return Err(SettingsError::ShadowSample(self.shadows.sample));
+        }
         if let Some(v) = self.iso.value.filter(|v| !v.is_finite()) {
             return Err(SettingsError::IsoValue(v));
         }
@@ -418,6 +424,12 @@ pub enum SettingsError {
     /// A shadow reach outside (0, 1].
     #[error("the shadow reach must be a share of the box's diagonal in (0, 1], got {0}")]
     ShadowReach(f64),
+    /// A light's angular radius outside 0…[`effects::MOST_SHADOW_SOFTNESS`] degrees.
+    #[error("the shadow softness must be from 0 to 20 degrees, got {0}")]
+    ShadowSoftness(f64),
+    /// A light sample outside the unit square.
+    #[error("the light sample must lie in [0, 1)², got {0:?}")]
+    ShadowSample([f64; 2]),
     /// An iso value that is not a finite number.
     #[error("the iso value must be a finite number, got {0}")]
     IsoValue(f64),

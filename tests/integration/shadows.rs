@@ -90,7 +90,7 @@ fn slab_settings(strategy: Strategy, path: RenderPath, step_vox: f64) -> RenderS
         shadows: Shadows {
             on: true,
             step_vox,
-            reach: 1.0,
+            ..Shadows::default()
         },
         step_vox: 0.25,
         background: [0.0; 3],
@@ -185,7 +185,7 @@ fn shadow_rays_match_the_reference_on_every_strategy_and_path() {
             shadows: Shadows {
                 on: true,
                 step_vox: 0.5,
-                reach: 1.0,
+                ..Shadows::default()
             },
             ..hard::settings(Mode::Dvr, Strategy::Rc, RenderPath::Compute)
         };
@@ -331,7 +331,7 @@ fn grazing_lights_an_eye_inside_and_extreme_steps_stay_with_the_reference() {
             shadows: Shadows {
                 on: true,
                 step_vox,
-                reach: 1.0,
+                ..Shadows::default()
             },
             ..hard::settings(Mode::Dvr, Strategy::Rc, RenderPath::Compute)
         };
@@ -346,23 +346,109 @@ fn grazing_lights_an_eye_inside_and_extreme_steps_stay_with_the_reference() {
 }
 
 #[test]
+fn soft_shadows_follow_the_reference_frame_by_frame_and_refined() {
+    let volume = scene::scene();
+    let tf = scene::tf();
+    let camera = hard::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
+    let mut r = renderer_for(&volume, &tf);
+    let base = RenderSettings {
+        light: Light::Direction([0.6, -0.3, 0.75]),
+        shadows: Shadows {
+            on: true,
+            softness_deg: 8.0,
+            ..Shadows::default()
+        },
+        ..hard::settings(Mode::Dvr, Strategy::Rc, RenderPath::Compute)
+    };
+    // One frame: each pixel's shadow rays aim at their own point of the light.
+    check_reference_within(
+        &mut r,
+        "shadows-soft",
+        (&volume, &tf, &camera),
+        base,
+        (4.0 / 255.0, 0.0),
+    );
+    // Refined: the mean of frames at the refinement's offsets and light samples.
+    let frames = 8;
+    let size = [40, 40];
+    for strategy in [Strategy::RcT, Strategy::RcSDistance] {
+        let s = RenderSettings { strategy, ..base };
+        let refined = r
+            .render_refined(
+                &camera,
+                size,
+                &s,
+                leapview::render::RefineRun::frames(frames),
+            )
+            .expect("render");
+        let mut mean = vec![[0.0f64; 4]; (size[0] * size[1]) as usize];
+        for k in 0..frames {
+            let frame = RenderSettings {
+                sample_offset: leapview::render::raycast::refine::offset(k),
+                shadows: Shadows {
+                    sample: leapview::sampling::light_sample(k),
+                    ..s.shadows
+                },
+                ..s
+            };
+            let image = reference::render(&volume, &tf, &camera, size, &frame).image;
+            for (m, p) in mean.iter_mut().zip(&image.pixels) {
+                for c in 0..4 {
+                    m[c] += f64::from(p[c]) / f64::from(frames);
+                }
+            }
+        }
+        let expected = leapview::imaging::ImageF32 {
+            width: size[0],
+            height: size[1],
+            pixels: mean.iter().map(|p| p.map(|c| c as f32)).collect(),
+        };
+        crate::common::assert_close(
+            "shadows-soft-refined",
+            &refined,
+            &expected,
+            4.0 / 255.0,
+            0.0,
+        );
+        // Soft: the mean differs from the hard shadow's picture.
+        let hard = RenderSettings {
+            shadows: Shadows {
+                softness_deg: 0.0,
+                ..s.shadows
+            },
+            ..s
+        };
+        let hard = r.render_image(&camera, size, &hard).expect("render");
+        assert!(refined.diff(&hard).expect("sizes").max_abs > 0.01);
+    }
+}
+
+#[test]
 fn shadow_knobs_out_of_range_are_refused() {
-    for (step_vox, reach) in [
-        (0.1, 1.0),
-        (4.5, 1.0),
-        (f64::NAN, 1.0),
-        (1.0, 0.0),
-        (1.0, 1.5),
+    for (step_vox, reach, softness_deg) in [
+        (0.1, 1.0, 0.0),
+        (4.5, 1.0, 0.0),
+        (f64::NAN, 1.0, 0.0),
+        (1.0, 0.0, 0.0),
+        (1.0, 1.5, 0.0),
+        (1.0, 1.0, -1.0),
+        (1.0, 1.0, 25.0),
+        (1.0, 1.0, f64::NAN),
     ] {
         let s = RenderSettings {
             shadows: Shadows {
                 on: true,
                 step_vox,
                 reach,
+                softness_deg,
+                ..Shadows::default()
             },
             ..RenderSettings::default()
         };
-        assert!(s.validate().is_err(), "step {step_vox}, reach {reach}");
+        assert!(
+            s.validate().is_err(),
+            "step {step_vox}, reach {reach}, softness {softness_deg}"
+        );
     }
     let data = crate::common::data_dir().join("ct_engine_256x256x128_uint8.nrrd");
     let out = crate::common::leapview(&[

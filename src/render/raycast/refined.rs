@@ -84,6 +84,14 @@ impl VolumeRenderer {
                 } else {
                     settings.sample_offset
                 },
+                shadows: crate::settings::Shadows {
+                    sample: if refine {
+                        crate::sampling::light_sample(k)
+                    } else {
+                        settings.shadows.sample
+                    },
+                    ..settings.shadows
+                },
                 ..*settings
             };
             let request = FrameRequest {

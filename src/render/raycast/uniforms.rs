@@ -152,8 +152,11 @@ pub(crate) fn frame_uniforms(
         _pad3: 0,
         shadow_step_mm: (settings.shadows.step_vox * d0) as f32,
         shadow_reach_mm: (settings.shadows.reach * bounds.size().length()) as f32,
+        shadow_tan: settings.shadows.softness_deg.to_radians().tan() as f32,
         _pad4: 0,
+        shadow_sample: settings.shadows.sample.map(|u| u as f32),
         _pad5: 0,
+        _pad6: 0,
     }
 }
 

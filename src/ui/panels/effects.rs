@@ -248,6 +248,18 @@ fn shadow_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
                  way, less keeps shadows local (and costs less)",
             );
         ui.end_row();
+        ui.label("softness");
+        let most = crate::settings::effects::MOST_SHADOW_SOFTNESS;
+        ui.add(
+            Slider::new(&mut shadows.softness_deg, 0.0..=most)
+                .suffix("°")
+                .clamping(SliderClamping::Always),
+        )
+        .on_hover_text(
+            "The light's angular radius: 0 casts hard shadows; above, soft shadows, noisy while \
+             the view moves and smooth once 'refine when still' has averaged its frames",
+        );
+        ui.end_row();
     }
 }
 

@@ -358,6 +358,7 @@ mod tests {
             leaps: 1500,
             leapt_samples: 6_000_000,
             lookups: 2500,
+            ..Default::default()
         };
         let readout = Readout {
             developer: true,

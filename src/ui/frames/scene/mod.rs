@@ -404,6 +404,10 @@ impl Scene {
             let index = self.shown.refinement.done;
             let settings = crate::settings::RenderSettings {
                 sample_offset: crate::render::raycast::refine::offset(index),
+                shadows: crate::settings::Shadows {
+                    sample: crate::sampling::light_sample(index),
+                    ..inputs.settings.shadows
+                },
                 ..inputs.settings
             };
             shared.job = Some(FrameJob::new(inputs, settings, JobKind::Refinement, None));
