@@ -38,7 +38,7 @@ pub struct EffectArgs {
     /// Shadows in lit DVR: each lit sample shadowed by the opacity between it and the light
     /// (a directional light by a shadow ray that leaps empty space; the headlight by what lies
     /// in front of the sample) (default: off).
-    #[arg(long, value_enum, help_heading = "Lighting")]
+    #[arg(long, value_enum, help_heading = "Lighting", hide_short_help = true)]
     pub shadows: Option<Switch>,
     /// Distance between a shadow ray's samples in voxels, 1/8 to 4 (default 1).
     #[arg(long, help_heading = "Lighting", hide_short_help = true)]
@@ -48,8 +48,8 @@ pub struct EffectArgs {
     #[arg(long, help_heading = "Lighting", hide_short_help = true)]
     pub shadow_reach: Option<f64>,
     /// The light's angular radius in degrees, 0 to 20, for soft shadows (default 0: hard).
-    /// Each pixel's shadow rays aim at their own point of the light, so `render` refines soft
-    /// shadows over `--refine` frames (16 where not given).
+    /// Each pixel's shadow rays aim at their own point of the light, so render refines soft
+    /// shadows over --refine frames (16 where not given).
     #[arg(long, help_heading = "Lighting", hide_short_help = true)]
     pub shadow_softness: Option<f64>,
     /// DVR: composite samples whose weight in the pixel, α·(1 − opacity in front), is below this

@@ -2,7 +2,7 @@
 # Shadows in lit DVR (issue 42): frame time with shadow rays against Phong DVR without them, at
 # 1920x1080 on the GPU machine (compute path, `render --stats`: the median of 5 frames' GPU time).
 # Prepared here (ignored by git; 64 MiB carried at most): a stripped release build, xz -9e, as
-# .bench-data/leapview.xz; the shared scans ct_bonsai_256x256x256_uint8.nrrd,
+# .bench-data/leapview.xz; the shared scans
 # mra_head_200x256x120_uint8.nrrd and originals/VolumeRenderingData_seg3D_MR.nii.gz copied into
 # .bench-data; the 512^3 dense head and vessels generated there.
 # Run: for f in .gl/*.deb; do dpkg -x $f /; done; ldconfig; export LEAPVIEW_BACKEND=vulkan;
@@ -15,7 +15,7 @@ nvidia-smi --query-gpu=name,driver_version --format=csv,noheader >> $OUT/shadows
 mkdir -p /tmp/s
 run() { local name=$1; shift; { echo "## $name: $*"; $L render "$@" --size 1920x1080 --stats -o /tmp/s/$name.png 2>&1 | grep -E "gpu_ms|strategy|error"; } >> $OUT/shadows.txt; }
 LIGHT="--light=0.5,0.6,0.62"
-for D in $B/ct_bonsai_256x256x256_uint8.nrrd $B/mra_head_200x256x120_uint8.nrrd $B/VolumeRenderingData_seg3D_MR.nii.gz $B/head512.nrrd $B/vessels512.nrrd; do
+for D in $B/mra_head_200x256x120_uint8.nrrd $B/VolumeRenderingData_seg3D_MR.nii.gz $B/head512.nrrd $B/vessels512.nrrd; do
   n=$(basename $D | cut -d_ -f1-2 | cut -d. -f1)
   for S in rc-s-df rc-t; do
     run $n-$S-phong $D --strategy $S $LIGHT
