@@ -4,5 +4,5 @@
 pub mod plan;
 pub mod results;
 
-pub use plan::{Knob, Variant, plan, reference};
+pub use plan::{Knob, KnobGroup, Variant, plan, reference};
 pub use results::{ErrorStats, Measurement, pareto_front};

@@ -5,7 +5,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::settings::DEFAULT_TERMINATION_ALPHA;
-use crate::settings::effects::{GradientScheme, MAX_ISO_REFINEMENT, Shading};
+use crate::settings::effects::{
+    GradientScheme, Light, MAX_ISO_REFINEMENT, SHADOW_STEP_RANGE, Shading, Shadows,
+};
 use crate::settings::{Mode, QualityPreset, RenderSettings, Strategy, TexturePrecision};
 
 /// One swept quality knob (a series on the plot).
@@ -32,11 +34,49 @@ pub enum Knob {
     Precision,
     /// The window's quality presets (all their knobs at once).
     Preset,
+    /// The shadow rays' step (DVR shadowed by a directional light).
+    ShadowStep,
+    /// The weight below which shadowed DVR's samples are neither lit nor shadowed: the
+    /// culling of shadow rays where a sample cannot change the pixel.
+    ShadowLightMinWeight,
+}
+
+/// The images a knob's variants are compared with: each group has its own reference.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum KnobGroup {
+    /// DVR under the baseline's light.
+    Dvr,
+    /// The isosurface.
+    Iso,
+    /// DVR shadowed by the directional light [`SHADOW_LIGHT`].
+    Shadows,
+}
+
+impl KnobGroup {
+    /// Every group, in the order references are made.
+    pub const ALL: [Self; 3] = [Self::Dvr, Self::Iso, Self::Shadows];
+
+    /// The mode its images are rendered in.
+    pub fn mode(self) -> Mode {
+        match self {
+            Self::Iso => Mode::Iso,
+            Self::Dvr | Self::Shadows => Mode::Dvr,
+        }
+    }
+
+    /// Name in progress lines and plots.
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Dvr => "DVR",
+            Self::Iso => "isosurface",
+            Self::Shadows => "DVR with shadows",
+        }
+    }
 }
 
 impl Knob {
     /// All knobs, in table order.
-    pub const ALL: [Self; 10] = [
+    pub const ALL: [Self; 12] = [
         Self::Step,
         Self::StepPreintegrated,
         Self::StepJittered,
@@ -47,6 +87,8 @@ impl Knob {
         Self::IsoRefinement,
         Self::Precision,
         Self::Preset,
+        Self::ShadowStep,
+        Self::ShadowLightMinWeight,
     ];
 
     /// Name in tables and legends.
@@ -62,16 +104,23 @@ impl Knob {
             Self::IsoRefinement => "iso refinement",
             Self::Precision => "texture precision",
             Self::Preset => "quality preset",
+            Self::ShadowStep => "shadow step",
+            Self::ShadowLightMinWeight => "shadows: lighting threshold",
+        }
+    }
+
+    /// The reference its variants are compared with.
+    pub fn group(self) -> KnobGroup {
+        match self {
+            Self::IsoRefinement => KnobGroup::Iso,
+            Self::ShadowStep | Self::ShadowLightMinWeight => KnobGroup::Shadows,
+            _ => KnobGroup::Dvr,
         }
     }
 
     /// The mode its images are rendered in.
     pub fn mode(self) -> Mode {
-        if self == Self::IsoRefinement {
-            Mode::Iso
-        } else {
-            Mode::Dvr
-        }
+        self.group().mode()
     }
 }
 
@@ -102,6 +151,24 @@ pub const ISO_REFINEMENTS: [u32; 6] = [0, 1, 2, 4, 6, 8];
 
 /// Step of the reference images, in voxels.
 pub const REFERENCE_STEP_VOX: f64 = 1.0 / 16.0;
+
+/// The direction the shadow knobs' light shines along (world; from above one side and in
+/// front, so that most views see shadows fall).
+pub const SHADOW_LIGHT: [f64; 3] = [0.5, 0.6, 0.62];
+
+/// `base` as DVR shadowed by [`SHADOW_LIGHT`] (shadow step 1 voxel): the shadow knobs' baseline.
+fn shadowed(base: &RenderSettings) -> RenderSettings {
+    RenderSettings {
+        mode: Mode::Dvr,
+        shading: Shading::Phong,
+        light: Light::Direction(SHADOW_LIGHT),
+        shadows: Shadows {
+            on: true,
+            ..Shadows::default()
+        },
+        ..*base
+    }
+}
 
 /// Every variant, one knob at a time from `base` (whose mode is replaced by each knob's).
 pub fn plan(base: &RenderSettings) -> Vec<Variant> {
@@ -190,6 +257,22 @@ pub fn plan(base: &RenderSettings) -> Vec<Variant> {
         preset.apply(&mut settings);
         out.push(variant(Knob::Preset, preset.label().to_string(), settings));
     }
+    let lit = shadowed(base);
+    for step_vox in STEPS {
+        let mut settings = lit;
+        settings.shadows.step_vox = step_vox;
+        out.push(variant(Knob::ShadowStep, format!("{step_vox}"), settings));
+    }
+    for light_min_weight in LIGHT_MIN_WEIGHTS {
+        out.push(variant(
+            Knob::ShadowLightMinWeight,
+            format!("{light_min_weight}"),
+            RenderSettings {
+                light_min_weight,
+                ..lit
+            },
+        ));
+    }
     for precision in TexturePrecision::ALL {
         out.push(Variant {
             knob: Knob::Precision,
@@ -201,14 +284,22 @@ pub fn plan(base: &RenderSettings) -> Vec<Variant> {
     out
 }
 
-/// The reference for `mode` under `base`: 1/16-voxel steps, no early termination or leaping,
+/// The reference for `group` under `base`: 1/16-voxel steps, no early termination or leaping,
 /// pre-integrated classification (each 1/16-voxel segment integrated for the TF, so a feature
 /// thinner than the step is not missed; at that step the value is linear along a segment to
 /// within ~10⁻³ of a voxel's change), fourth-order gradients, the most iso refinement, f32
-/// texels.
-pub fn reference(base: &RenderSettings, mode: Mode) -> (RenderSettings, TexturePrecision) {
+/// texels; for the shadows, shadow rays at the finest step offered (⅛ voxel).
+pub fn reference(base: &RenderSettings, group: KnobGroup) -> (RenderSettings, TexturePrecision) {
+    let base = match group {
+        KnobGroup::Shadows => {
+            let mut s = shadowed(base);
+            s.shadows.step_vox = SHADOW_STEP_RANGE.0;
+            s
+        }
+        _ => *base,
+    };
     let mut settings = RenderSettings {
-        mode,
+        mode: group.mode(),
         strategy: Strategy::Rc,
         step_vox: REFERENCE_STEP_VOX,
         termination_alpha: 1.0,
@@ -221,7 +312,7 @@ pub fn reference(base: &RenderSettings, mode: Mode) -> (RenderSettings, TextureP
         } else {
             base.gradient
         },
-        ..*base
+        ..base
     };
     settings.iso.refine_iterations = MAX_ISO_REFINEMENT;
     (settings, TexturePrecision::Float32)
@@ -237,9 +328,18 @@ mod tests {
         let variants = plan(&base);
         assert_eq!(
             variants.len(),
-            4 * STEPS.len() + 5 + 2 + LIGHT_MIN_WEIGHTS.len() + ISO_REFINEMENTS.len() + 4 + 3
+            5 * STEPS.len() + 5 + 2 + 2 * LIGHT_MIN_WEIGHTS.len() + ISO_REFINEMENTS.len() + 4 + 3
         );
+        let lit = shadowed(&base);
         for v in variants.iter().filter(|v| v.knob != Knob::Preset) {
+            if v.knob.group() == KnobGroup::Shadows {
+                let mut undo = v.settings;
+                undo.shadows.step_vox = lit.shadows.step_vox;
+                undo.light_min_weight = lit.light_min_weight;
+                assert_eq!(undo, lit, "{:?} {}", v.knob, v.value);
+                assert!(v.settings.validate().is_ok());
+                continue;
+            }
             let mut undo = v.settings;
             undo.mode = base.mode;
             undo.step_vox = base.step_vox;
@@ -260,8 +360,10 @@ mod tests {
     fn the_reference_is_finer_than_every_variant() {
         let base = RenderSettings::default();
         for v in plan(&base) {
-            let (r, _) = reference(&base, v.knob.mode());
+            let (r, _) = reference(&base, v.knob.group());
             assert!(r.step_vox < v.settings.step_vox);
+            assert!(r.shadows.step_vox <= v.settings.shadows.step_vox);
+            assert_eq!(r.shadows.on, v.settings.shadows.on);
             assert_eq!(r.strategy, Strategy::Rc);
             assert!(r.iso.refine_iterations >= v.settings.iso.refine_iterations);
         }

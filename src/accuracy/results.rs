@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::imaging::ImageDiff;
 
-use super::plan::Knob;
+use super::plan::{Knob, KnobGroup};
 
 /// One setting measured on one dataset.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -107,12 +107,13 @@ pub fn markdown_table(rows: &[&Measurement]) -> String {
     out
 }
 
-/// Pareto-optimal rows among DVR rows and, separately, among isosurface rows.
+/// Pareto-optimal rows within each group of knobs sharing a reference (DVR, isosurface,
+/// shadowed DVR).
 fn front_of(rows: &[&Measurement]) -> Vec<usize> {
     let mut front = Vec::new();
-    for iso in [false, true] {
+    for group in KnobGroup::ALL {
         let idx: Vec<usize> = (0..rows.len())
-            .filter(|&i| (rows[i].knob == Knob::IsoRefinement) == iso)
+            .filter(|&i| rows[i].knob.group() == group)
             .collect();
         let points: Vec<(f64, f64)> = idx
             .iter()

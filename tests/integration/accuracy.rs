@@ -56,6 +56,8 @@ fn the_quick_accuracy_run_measures_every_knob_and_shows_their_effect() {
         "iso refinement",
         "texture precision",
         "quality preset",
+        "shadow step",
+        "shadows: lighting threshold",
     ] {
         assert!(rows.iter().any(|r| r.1 == knob), "{knob} not measured");
     }
@@ -65,6 +67,8 @@ fn the_quick_accuracy_run_measures_every_knob_and_shows_their_effect() {
     // On the thin shell, pre-integration beats post-classification at the same step (measured
     // 2–12× on the H100 at steps up to one voxel; asserted at one voxel with any margin).
     assert!(rmse("phantom-thin", "step; pre-integrated", "1") < rmse("phantom-thin", "step", "1"));
+    // Shadow rays an eighth of a voxel apart are nearer the shadowed reference than 4 apart.
+    assert!(rmse("phantom", "shadow step", "0.125") < rmse("phantom", "shadow step", "4"));
     // The Reference preset is more accurate than Fast.
     assert!(
         rmse("phantom", "quality preset", "Reference") < rmse("phantom", "quality preset", "Fast")

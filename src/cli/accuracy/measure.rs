@@ -1,13 +1,13 @@
 //! Measuring one dataset: the reference images (f64 CPU reference for the phantom, 1/16-voxel
 //! GPU renders for the scans), then every variant's GPU time and error over the same views.
 
-use leapview::accuracy::{ErrorStats, Measurement, Variant, plan, reference};
+use leapview::accuracy::{ErrorStats, KnobGroup, Measurement, Variant, plan, reference};
 use leapview::camera::Camera;
 use leapview::imaging::ImageF32;
 use leapview::reference as cpu;
 use leapview::render::raycast::auto_path;
 use leapview::render::{FrameRequest, RenderError, VolumeRenderer};
-use leapview::settings::{Mode, RenderSettings, TexturePrecision, Upload};
+use leapview::settings::{RenderSettings, TexturePrecision, Upload};
 use leapview::transfer::TransferFunction;
 use leapview::volume::Volume;
 
@@ -70,9 +70,9 @@ pub fn measure(
     auto_path::choose(renderer, method.base.path)?;
     let mut skipped = Vec::new();
     let mut references = Vec::new();
-    for mode in [Mode::Dvr, Mode::Iso] {
-        progress(&format!("{}: {} reference", data.name, mode.label()));
-        let (settings, precision) = reference(&method.base, mode);
+    for group in KnobGroup::ALL {
+        progress(&format!("{}: {} reference", data.name, group.label()));
+        let (settings, precision) = reference(&method.base, group);
         let images = if data.cpu_reference {
             method
                 .cameras
@@ -89,7 +89,7 @@ pub fn measure(
             ) {
                 // Without f32 texels the reference keeps the default precision.
                 skipped.push(NotMeasured {
-                    what: format!("{} reference in f32 texels", mode.label()),
+                    what: format!("{} reference in f32 texels", group.label()),
                     why: e.to_string(),
                 });
                 renderer.set_volume(data.volume)?;
@@ -100,7 +100,7 @@ pub fn measure(
             }
             images
         };
-        references.push((mode, images));
+        references.push((group, images));
     }
     let mut variants = plan(&method.base);
     // Group by precision: one upload each.
@@ -141,7 +141,7 @@ pub fn measure(
         }
         let Some((_, expected)) = references
             .iter()
-            .find(|(mode, _)| *mode == variant.settings.mode)
+            .find(|(group, _)| *group == variant.knob.group())
         else {
             continue;
         };

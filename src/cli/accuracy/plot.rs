@@ -1,11 +1,11 @@
 //! The error-against-time plot of one dataset: RMSE (log) against GPU milliseconds for every
-//! knob, the step series as lines, the Pareto front dashed; the isosurface refinement in its
-//! own panel (its reference is an isosurface image).
+//! knob, the step series as lines, the Pareto front dashed; the shadowed DVR knobs and the
+//! isosurface refinement in panels of their own (each has its own reference image).
 
 use std::path::Path;
 
 use leapview::accuracy::results::pareto_front;
-use leapview::accuracy::{Knob, Measurement};
+use leapview::accuracy::{Knob, KnobGroup, Measurement};
 use plotters::prelude::*;
 
 use crate::cli::plotting::{FONT, err, legend, register};
@@ -22,6 +22,8 @@ fn colour(knob: Knob) -> RGBColor {
         Knob::IsoRefinement => RGBColor(0x17, 0xbe, 0xcf),
         Knob::Precision => RGBColor(0x8c, 0x56, 0x4b),
         Knob::Preset => RGBColor(0x00, 0x00, 0x00),
+        Knob::ShadowStep => RGBColor(0xbc, 0xbd, 0x22),
+        Knob::ShadowLightMinWeight => RGBColor(0x7f, 0x7f, 0x7f),
     }
 }
 
@@ -31,21 +33,31 @@ const FLOOR: f64 = 1e-5;
 /// Draws `rows` (one dataset) into `path`.
 pub fn draw(path: &Path, dataset: &str, rows: &[&Measurement]) -> anyhow::Result<()> {
     register();
-    let root = BitMapBackend::new(path, (1600, 640)).into_drawing_area();
+    let root = BitMapBackend::new(path, (2200, 640)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
-    let (left, right) = root.split_horizontally(1100);
-    let dvr: Vec<&Measurement> = rows
-        .iter()
-        .copied()
-        .filter(|m| m.knob != Knob::IsoRefinement)
-        .collect();
-    let iso: Vec<&Measurement> = rows
-        .iter()
-        .copied()
-        .filter(|m| m.knob == Knob::IsoRefinement)
-        .collect();
-    panel(&left, &format!("{dataset}: DVR, error against time"), &dvr)?;
-    panel(&right, &format!("{dataset}: isosurface refinement"), &iso)?;
+    let (left, rest) = root.split_horizontally(1100);
+    let (middle, right) = rest.split_horizontally(550);
+    let of = |group: KnobGroup| -> Vec<&Measurement> {
+        rows.iter()
+            .copied()
+            .filter(|m| m.knob.group() == group)
+            .collect()
+    };
+    panel(
+        &left,
+        &format!("{dataset}: DVR, error against time"),
+        &of(KnobGroup::Dvr),
+    )?;
+    panel(
+        &middle,
+        &format!("{dataset}: DVR with shadows"),
+        &of(KnobGroup::Shadows),
+    )?;
+    panel(
+        &right,
+        &format!("{dataset}: isosurface refinement"),
+        &of(KnobGroup::Iso),
+    )?;
     root.present().map_err(err)
 }
 
@@ -107,6 +119,7 @@ fn panel<DB: DrawingBackend>(
                 | Knob::StepJittered
                 | Knob::StepUncorrected
                 | Knob::IsoRefinement
+                | Knob::ShadowStep
         );
         if line {
             chart
