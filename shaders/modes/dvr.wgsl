@@ -11,6 +11,9 @@
 #ifdef SHADOWS
 #include "shared/shadow.wgsl"
 #endif
+#ifdef OCCLUSION
+#include "shared/occlusion.wgsl"
+#endif
 #endif
 #ifdef LABEL_SURFACES
 #include "shared/label_surface.wgsl"
@@ -146,16 +149,20 @@ fn composite(acc: ptr<function, Acc>, ray: Ray, p: vec3<f32>, c_in: vec4<f32>) -
     // Only where it shows: a faint sample, or one behind nearly opaque ones, is composited as if
     // it faced the light, without its six or twelve gradient reads.
     if c.a * (1.0 - (*acc).color.a) >= frame.light_min_weight {
+        let g = gradient(p);
+        // The shares of the light and of the ambient light that reach the sample.
+        var reach = vec2<f32>(1.0);
 #ifdef SHADOWS
         // A headlight's shadow is what the ray gathered in front of the sample.
-        var light = 1.0 - (*acc).color.a;
+        reach.x = 1.0 - (*acc).color.a;
         if frame.headlight == 0u {
-            light = light_transmittance(p, ray, *acc);
+            reach.x = light_transmittance(p, ray, *acc);
         }
-        c = vec4<f32>(phong_shadowed(c.rgb, gradient(p), ray.dir_world, light), c.a);
-#else
-        c = vec4<f32>(phong(c.rgb, gradient(p), ray.dir_world), c.a);
 #endif
+#ifdef OCCLUSION
+        reach.y = occlusion_at(p, g, ray);
+#endif
+        c = vec4<f32>(phong_shadowed(c.rgb, g, ray.dir_world, reach), c.a);
     } else {
         c = vec4<f32>(c.rgb * (frame.phong_ambient + frame.phong_diffuse), c.a);
     }

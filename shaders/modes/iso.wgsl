@@ -9,6 +9,9 @@
 #ifdef SHADOWS
 #include "shared/shadow.wgsl"
 #endif
+#ifdef OCCLUSION
+#include "shared/occlusion.wgsl"
+#endif
 #endif
 #ifdef LABEL_SURFACES
 #include "shared/label_surface.wgsl"
@@ -223,17 +226,20 @@ fn isosurface(acc: Acc, ray: Ray) -> vec4<f32> {
         color = sample_colour(acc.hit_p);
     }
     color = labelled_colour(color, acc.hit_p);
+#ifdef SHADING
+    let g = gradient(acc.hit_p);
+    // The shares of the light and of the ambient light that reach the hit.
+    var reach = vec2<f32>(1.0);
 #ifdef SHADOWS
     // Nothing lies in front of the first crossing: a headlight reaches it whole.
-    var light = 1.0;
     if frame.headlight == 0u {
-        light = light_transmittance(acc.hit_p, ray, acc);
+        reach.x = light_transmittance(acc.hit_p, ray, acc);
     }
-    color = phong_shadowed(color, gradient(acc.hit_p), ray.dir_world, light);
-#else
-#ifdef SHADING
-    color = phong(color, gradient(acc.hit_p), ray.dir_world);
 #endif
+#ifdef OCCLUSION
+    reach.y = occlusion_at(acc.hit_p, g, ray);
+#endif
+    color = phong_shadowed(color, g, ray.dir_world, reach);
 #endif
     return vec4<f32>(color, 1.0);
 }

@@ -102,9 +102,11 @@ struct Frame {
     // The tangent of the light's angular radius (0: hard shadows), and the frame's point of the
     // unit square on its disc, rotated per pixel (shared/shadow.wgsl's light_point).
     shadow_tan: f32,
-    _pad4: u32,
+    // How far ambient-occlusion rays reach, and the distance between their samples (mm;
+    // shared/occlusion.wgsl).
+    occlusion_radius_mm: f32,
     shadow_sample: vec2<f32>,
-    _pad5: u32,
+    occlusion_step_mm: f32,
     _pad6: u32,
 }
 

@@ -33,17 +33,21 @@ const FLAT_GRADIENT: f32 = 1e-7;
 
 // Lights `color` at a sample with gradient `g`, seen along `view_dir` (unit, world).
 fn phong(color: vec3<f32>, g: vec3<f32>, view_dir: vec3<f32>) -> vec3<f32> {
-    return phong_shadowed(color, g, view_dir, 1.0);
+    return phong_shadowed(color, g, view_dir, vec2<f32>(1.0));
 }
 
-// `phong` where a share `light` (0…1) of the light reaches the sample: the diffuse and specular
-// terms scaled by it, the ambient not; a flat gradient's colour scaled from full (light 1) to
-// its ambient share Ka / (Ka + Kd) (light 0).
-fn phong_shadowed(color: vec3<f32>, g: vec3<f32>, view_dir: vec3<f32>, light: f32) -> vec3<f32> {
+// `phong` where a share `reach.x` (0…1) of the light and a share `reach.y` of the ambient light
+// reach the sample (shadows, ambient occlusion): the diffuse and specular terms scaled by the
+// first, the ambient by the second; a flat gradient's colour scaled from full (both 1) by
+// (Ka·reach.y + Kd·reach.x) / (Ka + Kd).
+fn phong_shadowed(color: vec3<f32>, g: vec3<f32>, view_dir: vec3<f32>, reach: vec2<f32>) -> vec3<f32> {
+    let light = reach.x;
+    let ambient = frame.phong_ambient * reach.y;
     let len = length(g);
     if !(len > FLAT_GRADIENT) {
         let lit = frame.phong_ambient + frame.phong_diffuse;
-        return select(color, color * (frame.phong_ambient + frame.phong_diffuse * light) / lit, light < 1.0 && lit > 0.0);
+        let dimmed = any(reach < vec2<f32>(1.0)) && lit > 0.0;
+        return select(color, color * (ambient + frame.phong_diffuse * light) / lit, dimmed);
     }
     let to_eye = -view_dir;
     var n = -g / len;
@@ -52,5 +56,5 @@ fn phong_shadowed(color: vec3<f32>, g: vec3<f32>, view_dir: vec3<f32>, light: f3
     let diffuse = max(dot(n, to_light), 0.0);
     let r = reflect(-to_light, n);
     let specular = pow(max(dot(r, to_eye), 0.0), frame.phong_shininess);
-    return color * (frame.phong_ambient + frame.phong_diffuse * diffuse * light) + vec3<f32>(frame.phong_specular * specular * light);
+    return color * (ambient + frame.phong_diffuse * diffuse * light) + vec3<f32>(frame.phong_specular * specular * light);
 }

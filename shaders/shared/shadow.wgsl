@@ -13,14 +13,7 @@
 // Optical depth past which rays that stop early call the light gone: −ln(1/255).
 const SHADOW_GONE_DEPTH: f32 = 5.541264;
 
-// Distance (mm) from box position p along `box_per_mm` to the crop box's face it leaves by;
-// along an axis it runs parallel to, no face.
-fn crop_exit_mm(p: vec3<f32>, box_per_mm: vec3<f32>) -> f32 {
-    let bound = select(frame.crop_min, frame.crop_max, box_per_mm > vec3<f32>(0.0));
-    let parallel = box_per_mm == vec3<f32>(0.0);
-    let t = select((bound - p) / box_per_mm, vec3<f32>(3.0e38), parallel);
-    return max(min(t.x, min(t.y, t.z)), 0.0);
-}
+#include "shared/secondary.wgsl"
 
 // The point of the unit square pixel px's shadow rays take on the light's disc: two hashes of
 // the pixel rotated by the frame's sample, as `pixel_light_point` in src/sampling.rs.

@@ -52,6 +52,13 @@ pub struct EffectArgs {
     /// shadows over --refine frames (16 where not given).
     #[arg(long, help_heading = "Lighting", hide_short_help = true)]
     pub shadow_softness: Option<f64>,
+    /// Ambient occlusion in lit DVR and isosurfaces: each lit sample's ambient light scaled by
+    /// how open its surroundings are (six short rays over its open side) (default: off).
+    #[arg(long, value_enum, help_heading = "Lighting", hide_short_help = true)]
+    pub occlusion: Option<Switch>,
+    /// How far the occlusion rays reach in voxels, 1 to 16 (default 4).
+    #[arg(long, help_heading = "Lighting", hide_short_help = true)]
+    pub occlusion_radius: Option<f64>,
     /// DVR: composite samples whose weight in the pixel, α·(1 − opacity in front), is below this
     /// unlit, skipping their gradients (default 0: light every sample).
     #[arg(long, help_heading = "Lighting", hide_short_help = true)]
@@ -89,6 +96,12 @@ impl EffectArgs {
         }
         settings.shadows.step_vox = self.shadow_step.unwrap_or(settings.shadows.step_vox);
         settings.shadows.reach = self.shadow_reach.unwrap_or(settings.shadows.reach);
+        if let Some(on) = self.occlusion {
+            settings.occlusion.on = on == Switch::On;
+        }
+        settings.occlusion.radius_vox = self
+            .occlusion_radius
+            .unwrap_or(settings.occlusion.radius_vox);
         settings.shadows.softness_deg = self
             .shadow_softness
             .unwrap_or(settings.shadows.softness_deg);

@@ -6,11 +6,12 @@ use glam::DVec3;
 use crate::camera::Aabb;
 use crate::labels::LabelMap;
 use crate::sampling::{SampleGrid, corrected_opacity, pixel_light_point};
+use crate::settings::effects::OCCLUSION_RAYS;
 use crate::settings::{Light, MipColor, Mode, RenderSettings, Shading, Strategy};
 use crate::transfer::{TransferFunction, preintegration};
 use crate::volume::{ValueRange, Volume};
 
-use super::shade::{gradient, phong_shadowed};
+use super::shade::{FLAT_GRADIENT, gradient, phong_shadowed};
 use super::surfaces::{Surface, SurfaceWalk};
 use super::trilinear::{sample_colour, sample_trilinear};
 use crate::counters::FrameCounters;
@@ -137,24 +138,81 @@ impl RayInput<'_> {
     }
 
     /// `color` lit at distance `t` (where the settings light the mode), a share `light` of the
-    /// light reaching it.
+    /// light reaching it, its ambient light occluded where the settings say.
     fn lit_shadowed(&self, color: DVec3, t: f64, light: f64) -> DVec3 {
         let shading = self.settings.mode.can_shade() && self.settings.shading == Shading::Phong;
         if !shading {
             return color;
         }
-        let g = gradient(
-            self.volume,
-            self.entry + self.dir * t,
-            self.settings.gradient,
-        );
+        let p = self.entry + self.dir * t;
+        let g = gradient(self.volume, p, self.settings.gradient);
+        let ambient = if self.settings.occlusion.on {
+            self.occlusion(p, g)
+        } else {
+            1.0
+        };
         phong_shadowed(
             color,
             g,
             self.dir,
             (&self.settings.phong, &self.settings.light),
-            light,
+            [light, ambient],
         )
+    }
+
+    /// The share of the ambient light reaching world position `p` whose gradient is `g`
+    /// (shaders/shared/occlusion.wgsl): the mean transmittance of [`OCCLUSION_RAYS`] rays at 45°
+    /// from −g, evenly around it and turned by the ray's first-sample offset, sampling every
+    /// smallest voxel spacing from one out to the occlusion radius or the crop box (for the
+    /// isosurface: 0 for a ray that reaches the iso value); 1 where g is flat.
+    fn occlusion(&self, p: DVec3, g: DVec3) -> f64 {
+        let len = g.length();
+        if len.is_nan() || len <= FLAT_GRADIENT {
+            return 1.0;
+        }
+        let s = self.settings;
+        let n = -g / len;
+        let helper = if n.x.abs() > 0.9 { DVec3::Y } else { DVec3::X };
+        let t = n.cross(helper).normalize();
+        let b = n.cross(t);
+        let d0 = self.volume.min_spacing_mm();
+        let radius = s.occlusion.radius_vox * d0;
+        let per_step = d0 / (s.step_vox * d0);
+        let range = self.range();
+        let iso = (s.mode == Mode::Iso).then(|| s.iso.threshold(range));
+        let rays = f64::from(OCCLUSION_RAYS);
+        let mut open = 0.0;
+        for k in 0..OCCLUSION_RAYS {
+            let phi = std::f64::consts::TAU * (f64::from(k) + self.offset) / rays;
+            let d = (n + phi.cos() * t + phi.sin() * b).normalize();
+            let Some((_, exit)) = self.bounds.intersect(p, d) else {
+                open += 1.0;
+                continue;
+            };
+            let length_mm = exit.min(radius);
+            let mut light = 1.0;
+            for j in 1u64.. {
+                let at = j as f64 * d0;
+                if at > length_mm {
+                    break;
+                }
+                let q = p + d * at;
+                let Some(v) = sample_trilinear(self.volume, q).filter(|_| self.shown_at(q)) else {
+                    continue;
+                };
+                if let Some(iso) = iso {
+                    if range.normalize(v) >= iso {
+                        light = 0.0;
+                        break;
+                    }
+                    continue;
+                }
+                let a = self.tf.opacity_at(v, range);
+                light *= 1.0 - corrected_opacity(a, s.opacity_step_vox(), per_step);
+            }
+            open += light;
+        }
+        open / rays
     }
 
     /// DVR's colour of a sample of opacity `a` behind opacity `front`: lit (shadowed where the

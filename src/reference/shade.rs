@@ -12,7 +12,7 @@ use super::trilinear::sample_trilinear;
 
 /// Gradients shorter than this (normalised value per mm) are flat (as `FLAT_GRADIENT` in
 /// shaders/shared/shade.wgsl).
-const FLAT_GRADIENT: f64 = 1e-7;
+pub(super) const FLAT_GRADIENT: f64 = 1e-7;
 
 /// The gradient of the normalised value per mm at world position `p`; zero where a read touches
 /// a non-finite voxel.
@@ -47,24 +47,26 @@ pub fn gradient(volume: &Volume, p: DVec3, scheme: GradientScheme) -> DVec3 {
 
 /// Lights `color` at a sample with gradient `g`, seen along the unit `view_dir`.
 pub fn phong(color: DVec3, g: DVec3, view_dir: DVec3, phong: &Phong, light: &Light) -> DVec3 {
-    phong_shadowed(color, g, view_dir, (phong, light), 1.0)
+    phong_shadowed(color, g, view_dir, (phong, light), [1.0, 1.0])
 }
 
-/// [`phong`] where a share `reaching` (0…1) of the light reaches the sample: the diffuse and
-/// specular terms scaled by it, the ambient not; a flat gradient's colour scaled from full
-/// (1) to its ambient share Ka / (Ka + Kd) (0), as shaders/shared/shade.wgsl does.
+/// [`phong`] where a share `[light, ambient]` (0…1 each) of the light and of the ambient
+/// light reach the sample (shadows, ambient occlusion): the diffuse and specular terms scaled by
+/// the first, the ambient by the second; a flat gradient's colour scaled from full by
+/// (Ka·ambient + Kd·light) / (Ka + Kd), as shaders/shared/shade.wgsl does.
 pub fn phong_shadowed(
     color: DVec3,
     g: DVec3,
     view_dir: DVec3,
     (phong, light): (&Phong, &Light),
-    reaching: f64,
+    [reaching, ambient_share]: [f64; 2],
 ) -> DVec3 {
+    let ambient = phong.ambient * ambient_share;
     let len = g.length();
     if len.is_nan() || len <= FLAT_GRADIENT {
         let lit = phong.ambient + phong.diffuse;
-        if reaching < 1.0 && lit > 0.0 {
-            return color * (phong.ambient + phong.diffuse * reaching) / lit;
+        if (reaching < 1.0 || ambient_share < 1.0) && lit > 0.0 {
+            return color * (ambient + phong.diffuse * reaching) / lit;
         }
         return color;
     }
@@ -80,7 +82,7 @@ pub fn phong_shadowed(
     let diffuse = n.dot(to_light).max(0.0);
     let r = 2.0 * n.dot(to_light) * n - to_light;
     let specular = r.dot(to_eye).max(0.0).powf(phong.shininess);
-    color * (phong.ambient + phong.diffuse * diffuse * reaching)
+    color * (ambient + phong.diffuse * diffuse * reaching)
         + DVec3::splat(phong.specular * specular * reaching)
 }
 

@@ -205,7 +205,7 @@ pub fn layouts() -> Vec<StructLayout> {
             iso_refine, leaf_level, level_count, lut_depth_unit, light_min_weight, row_offset,
             row_end, all_finite, colour_volume, label_layers, surface_channels, label_bricks, _pad2,
             surface_scale, _pad3, shadow_step_mm, shadow_reach_mm, shadow_tan,
-            _pad4, shadow_sample, _pad5, _pad6,
+            occlusion_radius_mm, shadow_sample, occlusion_step_mm, _pad6,
         }),
         layout!(VolumeGeometry = "VolumeGeometry" in "shared/volume_geometry.wgsl" {
             dims, brick_vox, texel_size, _pad0, bricks_per_box, _pad1, last_brick, _pad2,
@@ -358,12 +358,12 @@ pub struct FrameUniforms {
     pub shadow_reach_mm: f32,
     /// The tangent of the light's angular radius (0: hard shadows).
     pub shadow_tan: f32,
-    /// Padding.
-    pub _pad4: u32,
+    /// How far ambient-occlusion rays reach, mm (shaders/shared/occlusion.wgsl).
+    pub occlusion_radius_mm: f32,
     /// The frame's point of the unit square on the light's disc, rotated per pixel.
     pub shadow_sample: [f32; 2],
-    /// Padding.
-    pub _pad5: u32,
+    /// The distance between an occlusion ray's samples (the smallest voxel spacing), mm.
+    pub occlusion_step_mm: f32,
     /// Padding.
     pub _pad6: u32,
 }

@@ -30,6 +30,8 @@ const MODULES: &[(&str, &str)] = modules![
     "shared/stats.wgsl",
     "shared/shade.wgsl",
     "shared/shadow.wgsl",
+    "shared/occlusion.wgsl",
+    "shared/secondary.wgsl",
     "shared/preintegrate.wgsl",
     "march/march.wgsl",
     "march/plain.wgsl",

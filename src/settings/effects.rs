@@ -87,6 +87,35 @@ pub struct Shadows {
     pub sample: [f64; 2],
 }
 
+/// Ambient occlusion: the ambient light of each lit sample (DVR, an isosurface's hit) scaled by
+/// how open its surroundings are: the mean transmittance of [`OCCLUSION_RAYS`] short rays over
+/// the side its gradient points away from.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Occlusion {
+    /// Whether the ambient light is occluded.
+    pub on: bool,
+    /// How far the rays reach, in units of the smallest voxel spacing (within
+    /// [`OCCLUSION_RADIUS_RANGE`]); they sample every voxel.
+    pub radius_vox: f64,
+}
+
+/// Rays an occluded sample casts (`OCCLUSION_RAYS` in shaders/shared/occlusion.wgsl): six at 45°
+/// from the normal, turned per pixel by the ray's first-sample offset.
+pub const OCCLUSION_RAYS: u32 = 6;
+
+/// Shortest and longest occlusion rays accepted, voxels.
+pub const OCCLUSION_RADIUS_RANGE: (f64, f64) = (1.0, 16.0);
+
+impl Default for Occlusion {
+    fn default() -> Self {
+        Self {
+            on: false,
+            radius_vox: 4.0,
+        }
+    }
+}
+
 /// The largest angular radius of the light (degrees) accepted.
 pub const MOST_SHADOW_SOFTNESS: f64 = 20.0;
 

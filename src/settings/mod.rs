@@ -12,8 +12,8 @@ use serde::{Deserialize, Serialize};
 
 pub use crop::{CropBox, CropError};
 pub use effects::{
-    GradientScheme, IsoSettings, LabelView, Light, MAX_ISO_REFINEMENT, MipColor, Phong, Shading,
-    Shadows,
+    GradientScheme, IsoSettings, LabelView, Light, MAX_ISO_REFINEMENT, MipColor, Occlusion, Phong,
+    Shading, Shadows,
 };
 pub use precision::TexturePrecision;
 pub use quality::QualityPreset;
@@ -223,8 +223,10 @@ pub struct RenderSettings {
     pub light: Light,
     /// Gradient estimator for lighting.
     pub gradient: GradientScheme,
-    /// Shadows cast towards the light (lit DVR).
+    /// Shadows cast towards the light (lit DVR and isosurfaces).
     pub shadows: Shadows,
+    /// Ambient occlusion (lit DVR and isosurfaces).
+    pub occlusion: Occlusion,
     /// DVR: a sample whose weight in the pixel, `α·(1 − A)` with `A` the opacity gathered in
     /// front of it, is below this is composited unlit (as if facing the light, without
     /// highlight), so its gradient and lighting are never computed; 0 lights every sample.
@@ -266,6 +268,7 @@ impl Default for RenderSettings {
             light: Light::Headlight,
             gradient: GradientScheme::Central,
             shadows: Shadows::default(),
+            occlusion: Occlusion::default(),
             light_min_weight: 0.0,
             iso: IsoSettings::default(),
             window: None,
@@ -361,6 +364,10 @@ impl RenderSettings {
         if !(0.0..=effects::MOST_SHADOW_SOFTNESS).contains(&self.shadows.softness_deg) {
             return Err(SettingsError::ShadowSoftness(self.shadows.softness_deg));
         }
+        let (lo, hi) = effects::OCCLUSION_RADIUS_RANGE;
+        if !(lo..=hi).contains(&self.occlusion.radius_vox) {
+            return Err(SettingsError::OcclusionRadius(self.occlusion.radius_vox));
+        }
         if !self.shadows.sample.iter().all(|u| (0.0..1.0).contains(u)) {
             return Err(SettingsError::ShadowSample(self.shadows.sample));
         }
@@ -427,6 +434,9 @@ pub enum SettingsError {
     /// A light's angular radius outside 0…[`effects::MOST_SHADOW_SOFTNESS`] degrees.
     #[error("the shadow softness must be from 0 to 20 degrees, got {0}")]
     ShadowSoftness(f64),
+    /// An occlusion radius outside [`effects::OCCLUSION_RADIUS_RANGE`].
+    #[error("the occlusion radius must be from 1 to 16 voxels, got {0}")]
+    OcclusionRadius(f64),
     /// A light sample outside the unit square.
     #[error("the light sample must lie in [0, 1)², got {0:?}")]
     ShadowSample([f64; 2]),

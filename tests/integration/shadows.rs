@@ -467,3 +467,82 @@ fn shadow_knobs_out_of_range_are_refused() {
         "{err}"
     );
 }
+
+#[test]
+fn ambient_occlusion_matches_the_reference_in_dvr_and_isosurfaces() {
+    let volume = scene::scene();
+    let tf = scene::tf();
+    let camera = hard::framing(&volume, ViewPreset::Oblique, ProjectionKind::Perspective);
+    let mut r = renderer_for(&volume, &tf);
+    let occluded = leapview::settings::Occlusion {
+        on: true,
+        radius_vox: 5.0,
+    };
+    // Jittered starts turn each pixel's rays differently.
+    for (mode, jitter) in [(Mode::Dvr, false), (Mode::Dvr, true), (Mode::Iso, true)] {
+        let base = RenderSettings {
+            occlusion: occluded,
+            jitter,
+            iso: leapview::settings::IsoSettings {
+                value: Some(450.0),
+                ..Default::default()
+            },
+            ..hard::settings(mode, Strategy::Rc, RenderPath::Compute)
+        };
+        let name = format!("occlusion-{mode:?}-{jitter}");
+        if mode == Mode::Iso {
+            hard::check_reference(&mut r, &name, &volume, &tf, &camera, base);
+        } else {
+            check_reference_within(
+                &mut r,
+                &name,
+                (&volume, &tf, &camera),
+                base,
+                (4.0 / 255.0, 0.0),
+            );
+        }
+        let open = RenderSettings {
+            occlusion: leapview::settings::Occlusion::default(),
+            ..base
+        };
+        let a = reference::render(&volume, &tf, &camera, [40, 40], &base).image;
+        let b = reference::render(&volume, &tf, &camera, [40, 40], &open).image;
+        let d = a.diff(&b).expect("sizes");
+        assert!(d.max_abs > 0.02, "{name}: occlusion changes little: {d:?}");
+    }
+}
+
+#[test]
+fn an_open_floor_is_unoccluded() {
+    // The isosurface's floor lit by the ambient term alone: 1 where nothing lies within the
+    // rays' reach (the slab hangs 20 voxels above).
+    let volume = slab_scene_of(Some(200.0));
+    let tf = slab_tf();
+    let camera = slab_camera(&volume);
+    let size = [128, 128];
+    let pixels = floor_pixels(&camera, &volume, size);
+    let mut r = renderer_for(&volume, &tf);
+    let s = RenderSettings {
+        mode: Mode::Iso,
+        iso: leapview::settings::IsoSettings {
+            value: Some(150.0),
+            ..Default::default()
+        },
+        phong: Phong {
+            ambient: 1.0,
+            diffuse: 0.0,
+            specular: 0.0,
+            shininess: 1.0,
+        },
+        occlusion: leapview::settings::Occlusion {
+            on: true,
+            radius_vox: 4.0,
+        },
+        ..slab_settings(Strategy::RcSDistance, RenderPath::Compute, 1.0)
+    };
+    let image = r.render_image(&camera, size, &s).expect("render");
+    for &(px, py) in &pixels {
+        let v = f64::from(image.pixels[(py * size[0] + px) as usize][0]);
+        assert!((v - 1.0).abs() < 2e-3, "({px}, {py}): {v}");
+    }
+}

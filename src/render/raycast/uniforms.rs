@@ -153,9 +153,9 @@ pub(crate) fn frame_uniforms(
         shadow_step_mm: (settings.shadows.step_vox * d0) as f32,
         shadow_reach_mm: (settings.shadows.reach * bounds.size().length()) as f32,
         shadow_tan: settings.shadows.softness_deg.to_radians().tan() as f32,
-        _pad4: 0,
+        occlusion_radius_mm: (settings.occlusion.radius_vox * d0) as f32,
         shadow_sample: settings.shadows.sample.map(|u| u as f32),
-        _pad5: 0,
+        occlusion_step_mm: d0 as f32,
         _pad6: 0,
     }
 }

@@ -30,6 +30,9 @@ pub struct PipelineKey {
     /// Shadows towards the light (`SHADOWS`, shaders/shared/shadow.wgsl): lit DVR and
     /// isosurfaces only.
     pub shadows: bool,
+    /// Ambient occlusion (`OCCLUSION`, shaders/shared/occlusion.wgsl): lit DVR and isosurfaces
+    /// only.
+    pub occlusion: bool,
     /// Whether each ray is split into `RAY_PARTS` parts marched by as many invocations
     /// ([`PipelineKey::new`] says when).
     pub split: bool,
@@ -143,6 +146,7 @@ impl PipelineKey {
             },
             preintegrated: settings.preintegrated && settings.mode == Mode::Dvr,
             shadows,
+            occlusion: shading == Shading::Phong && settings.occlusion.on,
             split: path == ConcretePath::Compute
                 && settings.mode != Mode::MinIp
                 && !(settings.mode == Mode::Dvr
@@ -192,12 +196,15 @@ impl PipelineKey {
                     for stats in [false, true] {
                         for shading in [Shading::Off, Shading::Phong] {
                             for gradient in [GradientScheme::Central, GradientScheme::FourthOrder] {
-                                for (mip_color, preintegrated, on) in [
-                                    (MipColor::Window, false, false),
-                                    (MipColor::Tf, false, false),
-                                    (MipColor::Window, true, false),
-                                    (MipColor::Window, false, true),
-                                    (MipColor::Window, true, true),
+                                // MIP colouring, pre-integration, shadows, occlusion.
+                                for (mip_color, preintegrated, on, occluded) in [
+                                    (MipColor::Window, false, false, false),
+                                    (MipColor::Tf, false, false, false),
+                                    (MipColor::Window, true, false, false),
+                                    (MipColor::Window, false, true, false),
+                                    (MipColor::Window, true, true, false),
+                                    (MipColor::Window, false, false, true),
+                                    (MipColor::Window, false, true, true),
                                 ] {
                                     let settings = RenderSettings {
                                         mode,
@@ -208,6 +215,10 @@ impl PipelineKey {
                                         preintegrated,
                                         shadows: crate::settings::Shadows {
                                             on,
+                                            ..Default::default()
+                                        },
+                                        occlusion: crate::settings::Occlusion {
+                                            on: occluded,
                                             ..Default::default()
                                         },
                                         ..RenderSettings::default()
@@ -297,6 +308,9 @@ impl PipelineKey {
         }
         if self.shadows {
             defines.push("SHADOWS");
+        }
+        if self.occlusion {
+            defines.push("OCCLUSION");
         }
         if self.missing {
             defines.push("MISSING_VOXELS");

@@ -195,6 +195,7 @@ fn lighting_ui(ui: &mut egui::Ui, state: &mut ViewerState) {
             }
             light_rows(ui, state);
             shadow_rows(ui, state);
+            occlusion_rows(ui, state);
             ui.label("Light only above");
             ui.add(
                 Slider::new(&mut state.render.light_min_weight, 0.0..=0.05)
@@ -259,6 +260,28 @@ fn shadow_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
             "The light's angular radius: 0 casts hard shadows; above, soft shadows, noisy while \
              the view moves and smooth once 'refine when still' has averaged its frames",
         );
+        ui.end_row();
+    }
+}
+
+/// The ambient occlusion's rows of the lighting grid: on or off, and the rays' reach.
+fn occlusion_rows(ui: &mut egui::Ui, state: &mut ViewerState) {
+    let occlusion = &mut state.render.occlusion;
+    ui.label("Occlusion");
+    ui.checkbox(&mut occlusion.on, "ambient").on_hover_text(
+        "Each lit sample's ambient light scaled by how open its surroundings are: six short \
+         rays over the side its gradient points away from (folds and crevices darken)",
+    );
+    ui.end_row();
+    if occlusion.on {
+        let (lo, hi) = crate::settings::effects::OCCLUSION_RADIUS_RANGE;
+        ui.label("occlusion reach");
+        ui.add(
+            Slider::new(&mut occlusion.radius_vox, lo..=hi)
+                .suffix(" vox")
+                .clamping(SliderClamping::Always),
+        )
+        .on_hover_text("How far the occlusion rays look: farther darkens larger hollows, slower");
         ui.end_row();
     }
 }
