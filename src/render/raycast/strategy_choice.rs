@@ -20,9 +20,14 @@ impl ChoiceKey {
     /// The key of a frame with `settings` at `size` under transfer-function generation
     /// `transfer`.
     pub fn new(settings: &RenderSettings, size: [u32; 2], transfer: u64) -> Self {
+        // Refinement moves the first sample and the light's sample frame by frame: one view.
         Self {
             settings: RenderSettings {
                 sample_offset: RenderSettings::default().sample_offset,
+                shadows: crate::settings::Shadows {
+                    sample: crate::settings::Shadows::default().sample,
+                    ..settings.shadows
+                },
                 ..*settings
             },
             size,
@@ -194,9 +199,13 @@ mod tests {
                 Strategy::RcSDistance
             );
         }
-        // Refinement's shifted sample offset is the same inputs.
+        // Refinement's shifted sample offset and light sample are the same inputs.
         let shifted = RenderSettings {
             sample_offset: 0.125,
+            shadows: crate::settings::Shadows {
+                sample: crate::sampling::light_sample(3),
+                ..auto.shadows
+            },
             ..auto
         };
         let shifted_key = ChoiceKey::new(&shifted, [64, 48], 1);
