@@ -94,7 +94,7 @@ fn ray_between(entry: vec3<f32>, exit: vec3<f32>, px: vec2<u32>) -> Ray {
     ray.entry = entry;
     ray.offset = sample_offset_of(px);
 #ifdef SHADOWS
-    ray.light_point = light_point(px);
+    ray.to_light = towards_light(light_point(px)) / frame.extent_mm;
 #endif
     ray.length_mm = length(segment_mm);
     if ray.length_mm > 0.0 {

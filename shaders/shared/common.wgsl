@@ -121,8 +121,9 @@ struct Ray {
     length_mm: f32,
     count: u32,
 #ifdef SHADOWS
-    // The pixel's point of the unit square on the light's disc (shared/shadow.wgsl).
-    light_point: vec2<f32>,
+    // Towards the light, box units per mm, from this pixel's point of the light's disc
+    // (shared/shadow.wgsl): the same for every sample of the ray.
+    to_light: vec3<f32>,
 #endif
 }
 

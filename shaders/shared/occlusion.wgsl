@@ -21,31 +21,21 @@ fn occlusion_at(p: vec3<f32>, g: vec3<f32>, ray: Ray) -> f32 {
         return 1.0;
     }
     let n = -g / len;
-    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n.x) > 0.9);
-    let t = normalize(cross(n, helper));
-    let b = cross(n, t);
+    let across = plane_across(n);
     let h = frame.occlusion_step_mm;
-    // The table holds the depth of one primary step.
     let per_step = h / frame.step_mm;
     var open = 0.0;
     for (var k = 0u; k < OCCLUSION_RAYS; k++) {
         let phi = 6.283185307 * (f32(k) + ray.offset) / f32(OCCLUSION_RAYS);
-        let d = normalize(n + cos(phi) * t + sin(phi) * b);
+        let d = normalize(n + cos(phi) * across[0] + sin(phi) * across[1]);
         let box_per_mm = d / frame.extent_mm;
         let length_mm = min(crop_exit_mm(p, box_per_mm), frame.occlusion_radius_mm);
         var depth = 0.0;
         for (var j = 1u; f32(j) * h <= length_mm; j++) {
-            let q = p + box_per_mm * (f32(j) * h);
-            let s = labelled_value(sample_value(q), q);
-#ifdef MODE_ISO
-            // The isosurface is opaque: a ray that reaches the iso value is blocked.
-            if s >= frame.iso_threshold {
-                depth = 3.0e38;
+            depth += secondary_depth(p + box_per_mm * (f32(j) * h), per_step);
+            if depth >= BLOCKED_DEPTH {
                 break;
             }
-#else
-            depth += classify(s).a * per_step;
-#endif
         }
         open += exp(-depth);
     }

@@ -30,12 +30,10 @@ fn towards_light(u: vec2<f32>) -> vec3<f32> {
     if frame.shadow_tan <= 0.0 {
         return l;
     }
-    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(l.x) > 0.9);
-    let t = normalize(cross(l, helper));
-    let b = cross(l, t);
+    let across = plane_across(l);
     let r = frame.shadow_tan * sqrt(u.x);
     let phi = 6.283185307 * u.y;
-    return normalize(l + r * (cos(phi) * t + sin(phi) * b));
+    return normalize(l + r * (cos(phi) * across[0] + sin(phi) * across[1]));
 }
 
 // The directional light's transmittance to box position p on `ray`, for a ray holding `acc`
@@ -47,10 +45,9 @@ fn light_transmittance(p: vec3<f32>, ray: Ray, acc_in: Acc) -> f32 {
     // holds nothing that blocks the light.
     acc.side = -1.0;
 #endif
-    let box_per_mm = towards_light(ray.light_point) / frame.extent_mm;
+    let box_per_mm = ray.to_light;
     let length_mm = min(crop_exit_mm(p, box_per_mm), frame.shadow_reach_mm);
     let h = frame.shadow_step_mm;
-    // The table holds the depth of one primary step.
     let per_step = h / frame.step_mm;
     var depth = 0.0;
 #ifdef LEAP
@@ -78,18 +75,14 @@ fn light_transmittance(p: vec3<f32>, ray: Ray, acc_in: Acc) -> f32 {
             until = after;
         }
 #endif
-        let s = labelled_value(sample_value(q), q);
+        depth += secondary_depth(q, per_step);
 #ifdef STATS
         taken++;
 #endif
-#ifdef MODE_ISO
-        if s >= frame.iso_threshold {
+        if depth >= BLOCKED_DEPTH {
             shadow_tally(taken);
             return 0.0;
         }
-#else
-        depth += classify(s).a * per_step;
-#endif
 #ifdef EARLY_TERMINATION
         if depth > SHADOW_GONE_DEPTH {
             shadow_tally(taken);

@@ -172,9 +172,7 @@ impl RayInput<'_> {
         }
         let s = self.settings;
         let n = -g / len;
-        let helper = if n.x.abs() > 0.9 { DVec3::Y } else { DVec3::X };
-        let t = n.cross(helper).normalize();
-        let b = n.cross(t);
+        let [t, b] = plane_across(n);
         let d0 = self.volume.min_spacing_mm();
         let radius = s.occlusion.radius_vox * d0;
         let per_step = d0 / (s.step_vox * d0);
@@ -318,12 +316,18 @@ fn towards_light(l: DVec3, softness_deg: f64, u: [f64; 2]) -> DVec3 {
     if tan <= 0.0 {
         return l;
     }
-    let helper = if l.x.abs() > 0.9 { DVec3::Y } else { DVec3::X };
-    let t = l.cross(helper).normalize();
-    let b = l.cross(t);
+    let [t, b] = plane_across(l);
     let r = tan * u[0].sqrt();
     let phi = std::f64::consts::TAU * u[1];
     (l + r * (phi.cos() * t + phi.sin() * b)).normalize()
+}
+
+/// Two unit vectors making an orthonormal basis with the unit `n`, as `plane_across` in
+/// shaders/shared/secondary.wgsl builds them.
+fn plane_across(n: DVec3) -> [DVec3; 2] {
+    let helper = if n.x.abs() > 0.9 { DVec3::Y } else { DVec3::X };
+    let t = n.cross(helper).normalize();
+    [t, n.cross(t)]
 }
 
 /// Shadow rays that stop early call the light gone below this (one 8-bit level).
