@@ -176,8 +176,6 @@ impl RayInput<'_> {
         let d0 = self.volume.min_spacing_mm();
         let radius = s.occlusion.radius_vox * d0;
         let per_step = d0 / (s.step_vox * d0);
-        let range = self.range();
-        let iso = (s.mode == Mode::Iso).then(|| s.iso.threshold(range));
         let rays = f64::from(OCCLUSION_RAYS);
         let mut open = 0.0;
         for k in 0..OCCLUSION_RAYS {
@@ -194,23 +192,35 @@ impl RayInput<'_> {
                 if at > length_mm {
                     break;
                 }
-                let q = p + d * at;
-                let Some(v) = sample_trilinear(self.volume, q).filter(|_| self.shown_at(q)) else {
-                    continue;
-                };
-                if let Some(iso) = iso {
-                    if range.normalize(v) >= iso {
-                        light = 0.0;
-                        break;
-                    }
-                    continue;
+                light *= self.secondary_share(p + d * at, per_step);
+                if light == 0.0 {
+                    break;
                 }
-                let a = self.tf.opacity_at(v, range);
-                light *= 1.0 - corrected_opacity(a, s.opacity_step_vox(), per_step);
             }
             open += light;
         }
         open / rays
+    }
+
+    /// The share of light a secondary ray's sample at world position `q`, `per_step` primary
+    /// steps long, lets through (shaders/shared/secondary.wgsl's `secondary_depth`): the
+    /// transfer function's, corrected to its length; for the isosurface 0 where the sample
+    /// reaches the iso value, else 1; 1 where the sample is missing or cut away.
+    fn secondary_share(&self, q: DVec3, per_step: f64) -> f64 {
+        let s = self.settings;
+        let range = self.range();
+        let Some(v) = sample_trilinear(self.volume, q).filter(|_| self.shown_at(q)) else {
+            return 1.0;
+        };
+        if s.mode == Mode::Iso {
+            return if range.normalize(v) >= s.iso.threshold(range) {
+                0.0
+            } else {
+                1.0
+            };
+        }
+        let a = self.tf.opacity_at(v, range);
+        1.0 - corrected_opacity(a, s.opacity_step_vox(), per_step)
     }
 
     /// DVR's colour of a sample of opacity `a` behind opacity `front`: lit (shadowed where the
@@ -256,26 +266,14 @@ impl RayInput<'_> {
         let d0 = self.volume.min_spacing_mm();
         let h = s.shadows.step_vox * d0;
         let per_step = h / (s.step_vox * d0);
-        let range = self.range();
-        let iso = (s.mode == Mode::Iso).then(|| s.iso.threshold(range));
         let mut light = 1.0;
         for j in 1u64.. {
             let t = j as f64 * h;
             if t >= length_mm {
                 break;
             }
-            let q = p + to_light * t;
-            if let Some(v) = sample_trilinear(self.volume, q).filter(|_| self.shown_at(q)) {
-                if let Some(iso) = iso {
-                    if range.normalize(v) >= iso {
-                        return 0.0;
-                    }
-                    continue;
-                }
-                let a = self.tf.opacity_at(v, range);
-                light *= 1.0 - corrected_opacity(a, s.opacity_step_vox(), per_step);
-            }
-            if stops_early(self) && light < SHADOW_GONE {
+            light *= self.secondary_share(p + to_light * t, per_step);
+            if light == 0.0 || stops_early(self) && light < SHADOW_GONE {
                 return 0.0;
             }
         }
