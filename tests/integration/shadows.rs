@@ -125,6 +125,35 @@ fn floor_pixels(camera: &Camera, volume: &Volume, size: [u32; 2]) -> Vec<(u32, u
     pixels
 }
 
+/// [`slab_settings`] as an isosurface at 150: the floor (and a slab of 200) its surface.
+fn slab_iso(strategy: Strategy, path: RenderPath) -> RenderSettings {
+    RenderSettings {
+        mode: Mode::Iso,
+        iso: leapview::settings::IsoSettings {
+            value: Some(150.0),
+            ..Default::default()
+        },
+        ..slab_settings(strategy, path, 1.0)
+    }
+}
+
+/// The red channel of pixel `(px, py)`.
+fn red_at(image: &leapview::imaging::ImageF32, (px, py): (u32, u32)) -> f64 {
+    f64::from(image.pixels[(py * image.width + px) as usize][0])
+}
+
+/// How far the reference's 40 × 40 picture with `a` lies from the one with `b`: an effect the
+/// GPU is checked against must change it, or the check would pass without the effect.
+fn reference_change(
+    (volume, tf, camera): (&Volume, &TransferFunction, &Camera),
+    a: &RenderSettings,
+    b: &RenderSettings,
+) -> leapview::imaging::ImageDiff {
+    let a = reference::render(volume, tf, camera, [40, 40], a).image;
+    let b = reference::render(volume, tf, camera, [40, 40], b).image;
+    a.diff(&b).expect("sizes")
+}
+
 #[test]
 fn a_slab_shadows_the_floor_by_its_transmittance() {
     let size = [128, 128];
@@ -151,10 +180,7 @@ fn a_slab_shadows_the_floor_by_its_transmittance() {
             .expect("render");
         let mut worst = 0.0f64;
         for &(px, py) in &pixels {
-            let at = |image: &leapview::imaging::ImageF32| {
-                f64::from(image.pixels[(py * size[0] + px) as usize][0])
-            };
-            let l = at(&lit);
+            let l = red_at(&lit, (px, py));
             // The floor faces the light at 45°: at most cos = 0.71 of the white floor's colour,
             // less the floor's own first voxel shadowing the samples behind it (the same with
             // the slab: the ratio holds the slab's alone).
@@ -162,7 +188,7 @@ fn a_slab_shadows_the_floor_by_its_transmittance() {
                 l > 0.3 && l < 0.72,
                 "{strategy:?} {path:?} ({px}, {py}): lit {l}"
             );
-            let ratio = at(&shadowed) / l;
+            let ratio = red_at(&shadowed, (px, py)) / l;
             worst = worst.max((ratio - expected).abs());
         }
         // One shadow step's depth (⅛ voxel at 45°) either way and the f16 output: 1.5 %.
@@ -202,9 +228,7 @@ fn shadow_rays_match_the_reference_on_every_strategy_and_path() {
             shadows: Shadows::default(),
             ..base
         };
-        let a = reference::render(&volume, &tf, &camera, [40, 40], &base).image;
-        let b = reference::render(&volume, &tf, &camera, [40, 40], &plain).image;
-        let d = a.diff(&b).expect("sizes");
+        let d = reference_change((&volume, &tf, &camera), &base, &plain);
         assert!(d.max_abs > 0.05, "{name}: shadows change little: {d:?}");
     }
 }
@@ -218,14 +242,7 @@ fn an_isosurface_shadows_the_floor_wholly_and_matches_the_reference() {
     let size = [128, 128];
     let pixels = floor_pixels(&camera, &volume, size);
     let mut r = renderer_for(&volume, &tf);
-    let iso = RenderSettings {
-        mode: Mode::Iso,
-        iso: leapview::settings::IsoSettings {
-            value: Some(150.0),
-            ..Default::default()
-        },
-        ..slab_settings(Strategy::Rc, RenderPath::Compute, 1.0)
-    };
+    let iso = slab_iso(Strategy::Rc, RenderPath::Compute);
     for (strategy, path) in hard::variants() {
         let s = |on| RenderSettings {
             strategy,
@@ -236,11 +253,8 @@ fn an_isosurface_shadows_the_floor_wholly_and_matches_the_reference() {
         let shadowed = r.render_image(&camera, size, &s(true)).expect("render");
         let lit = r.render_image(&camera, size, &s(false)).expect("render");
         for &(px, py) in &pixels {
-            let at = |image: &leapview::imaging::ImageF32| {
-                f64::from(image.pixels[(py * size[0] + px) as usize][0])
-            };
             // Diffuse only: cos 45° of the white floor lit, nothing in the slab's shadow.
-            let (l, s) = (at(&lit), at(&shadowed));
+            let (l, s) = (red_at(&lit, (px, py)), red_at(&shadowed, (px, py)));
             assert!(
                 (l - 0.5f64.sqrt()).abs() < 0.02,
                 "{strategy:?} {path:?}: lit {l}"
@@ -505,9 +519,7 @@ fn ambient_occlusion_matches_the_reference_in_dvr_and_isosurfaces() {
             occlusion: leapview::settings::Occlusion::default(),
             ..base
         };
-        let a = reference::render(&volume, &tf, &camera, [40, 40], &base).image;
-        let b = reference::render(&volume, &tf, &camera, [40, 40], &open).image;
-        let d = a.diff(&b).expect("sizes");
+        let d = reference_change((&volume, &tf, &camera), &base, &open);
         assert!(d.max_abs > 0.02, "{name}: occlusion changes little: {d:?}");
     }
 }
@@ -523,11 +535,6 @@ fn an_open_floor_is_unoccluded() {
     let pixels = floor_pixels(&camera, &volume, size);
     let mut r = renderer_for(&volume, &tf);
     let s = RenderSettings {
-        mode: Mode::Iso,
-        iso: leapview::settings::IsoSettings {
-            value: Some(150.0),
-            ..Default::default()
-        },
         phong: Phong {
             ambient: 1.0,
             diffuse: 0.0,
@@ -538,11 +545,11 @@ fn an_open_floor_is_unoccluded() {
             on: true,
             radius_vox: 4.0,
         },
-        ..slab_settings(Strategy::RcSDistance, RenderPath::Compute, 1.0)
+        ..slab_iso(Strategy::RcSDistance, RenderPath::Compute)
     };
     let image = r.render_image(&camera, size, &s).expect("render");
     for &(px, py) in &pixels {
-        let v = f64::from(image.pixels[(py * size[0] + px) as usize][0]);
+        let v = red_at(&image, (px, py));
         assert!((v - 1.0).abs() < 2e-3, "({px}, {py}): {v}");
     }
 }
