@@ -9,12 +9,28 @@ use crate::render::context::GpuContext;
 use crate::render::gpu_data::{AccumulateParams, WORKGROUP};
 use crate::render::shader::{ShaderError, compose, compute_pipeline, shader_module};
 use crate::render::texture::{OUTPUT_FORMAT, full_view, texture_2d};
+use crate::settings::{RenderSettings, Shadows};
 
 /// Sample offset (in steps, in `[0, 1)`) of refinement frame `k`: 0.5 for the first (the offset
 /// of an unrefined frame), then the van der Corput sequence rotated by ½, so that the first
 /// `2^m` frames sample the step at `2^m` evenly spaced offsets.
 pub fn offset(k: u32) -> f64 {
     (0.5 + radical_inverse(k)).fract()
+}
+
+/// `settings` as refinement frame `k` renders them: the first sample at [`offset`]`(k)`, soft
+/// shadows at the light's sample [`crate::sampling::light_sample`]`(k)`. Frame 0 is the
+/// unrefined frame of defaulted settings, so one view's frames share frame 0's settings but
+/// for these two.
+pub fn frame_settings(settings: &RenderSettings, k: u32) -> RenderSettings {
+    RenderSettings {
+        sample_offset: offset(k),
+        shadows: Shadows {
+            sample: crate::sampling::light_sample(k),
+            ..settings.shadows
+        },
+        ..*settings
+    }
 }
 
 /// `k`'s bits mirrored behind the binary point (0, ½, ¼, ¾, ⅛, …).
@@ -179,6 +195,15 @@ impl Accumulator {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn frame_zero_is_the_unrefined_frame() {
+        let settings = RenderSettings::default();
+        assert_eq!(frame_settings(&settings, 0), settings);
+        let third = frame_settings(&settings, 3);
+        assert_ne!(third.sample_offset, settings.sample_offset);
+        assert_ne!(third.shadows.sample, settings.shadows.sample);
+    }
 
     #[test]
     fn offsets_start_at_one_half_and_stratify_every_power_of_two() {

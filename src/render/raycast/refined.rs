@@ -78,21 +78,10 @@ impl VolumeRenderer {
         };
         let refine = frames > 1;
         for k in 0..frames.max(1) {
-            let shifted = RenderSettings {
-                sample_offset: if refine {
-                    refine::offset(k)
-                } else {
-                    settings.sample_offset
-                },
-                shadows: crate::settings::Shadows {
-                    sample: if refine {
-                        crate::sampling::light_sample(k)
-                    } else {
-                        settings.shadows.sample
-                    },
-                    ..settings.shadows
-                },
-                ..*settings
+            let shifted = if refine {
+                refine::frame_settings(settings, k)
+            } else {
+                *settings
             };
             let request = FrameRequest {
                 camera,

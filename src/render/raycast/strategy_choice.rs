@@ -20,16 +20,9 @@ impl ChoiceKey {
     /// The key of a frame with `settings` at `size` under transfer-function generation
     /// `transfer`.
     pub fn new(settings: &RenderSettings, size: [u32; 2], transfer: u64) -> Self {
-        // Refinement moves the first sample and the light's sample frame by frame: one view.
+        // Refinement's frames of one view are one input: each keyed as its frame 0.
         Self {
-            settings: RenderSettings {
-                sample_offset: RenderSettings::default().sample_offset,
-                shadows: crate::settings::Shadows {
-                    sample: crate::settings::Shadows::default().sample,
-                    ..settings.shadows
-                },
-                ..*settings
-            },
+            settings: super::refine::frame_settings(settings, 0),
             size,
             transfer,
         }

@@ -402,14 +402,7 @@ impl Scene {
             // A finished frame not yet taken has not counted into the mean: the next
             // refinement waits for it (else its index came twice, a mean of 9/8).
             let index = self.shown.refinement.done;
-            let settings = crate::settings::RenderSettings {
-                sample_offset: crate::render::raycast::refine::offset(index),
-                shadows: crate::settings::Shadows {
-                    sample: crate::sampling::light_sample(index),
-                    ..inputs.settings.shadows
-                },
-                ..inputs.settings
-            };
+            let settings = crate::render::raycast::refine::frame_settings(&inputs.settings, index);
             shared.job = Some(FrameJob::new(inputs, settings, JobKind::Refinement, None));
             true
         } else {
